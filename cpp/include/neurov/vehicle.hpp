@@ -1,0 +1,348 @@
+// 6-DOF vehicle dynamics in Fossen's form, eq. 1 of the paper:
+//   M nu_dot + C(nu) nu + D(nu) nu + g(eta) = tau.
+#pragma once
+
+#include <Eigen/Cholesky>
+#include <cmath>
+#include <cstdint>
+
+#include "neurov/kinematics.hpp"
+#include "neurov/status.hpp"
+#include "neurov/types.hpp"
+#include "neurov/validation.hpp"
+
+#if defined(__cpp_exceptions) && !defined(NEUROV_NO_EXCEPTIONS)
+#include <stdexcept>
+#include <string>
+#define NEUROV_HAS_EXCEPTIONS 1
+#else
+#define NEUROV_HAS_EXCEPTIONS 0
+#endif
+
+namespace neurov {
+
+/// Which skew-symmetric C(nu) the vehicle uses. Both give the same C(nu) nu,
+/// so the plant moves identically; they differ in C(nu) v for v != nu, which
+/// is what a controller's C(nu) nu_r sees.
+enum class CoriolisForm : std::uint8_t {
+  /// Fossen's linear-velocity-independent C_RB plus C_A from M_A: the paper's
+  /// eq. 39 for a vehicle with r_g = 0 and diagonal M_A. The default.
+  velocity_independent = 0,
+  /// Both C_RB and C_A from the 6x6 mass matrices (Fossen's "m2c" form).
+  kirchhoff = 1,
+};
+
+template <typename Scalar>
+struct VehicleParameters {
+  Scalar mass = Scalar(0);                          ///< m [kg]
+  Matrix3<Scalar> inertia = Matrix3<Scalar>::Zero();  ///< I_o about the body origin [kg m^2]
+  Vector3<Scalar> centre_of_gravity = Vector3<Scalar>::Zero();   ///< r_g [m], body axes
+  Vector3<Scalar> centre_of_buoyancy = Vector3<Scalar>::Zero();  ///< r_b [m], body axes (z down)
+  Scalar weight = Scalar(0);                        ///< W = m g [N]
+  Scalar buoyancy = Scalar(0);                      ///< B [N]
+  /// M_A, positive definite (M_A = -diag(X_udot, ..., N_rdot) for a diagonal one).
+  Matrix6<Scalar> added_mass = Matrix6<Scalar>::Zero();
+  /// D(nu) = diag(linear_damping + quadratic_damping .* |nu|).
+  Vector6<Scalar> linear_damping = Vector6<Scalar>::Zero();
+  Vector6<Scalar> quadratic_damping = Vector6<Scalar>::Zero();
+  CoriolisForm coriolis_form = CoriolisForm::velocity_independent;
+
+  template <typename Other>
+  VehicleParameters<Other> cast() const {
+    VehicleParameters<Other> p;
+    p.mass = static_cast<Other>(mass);
+    p.inertia = inertia.template cast<Other>();
+    p.centre_of_gravity = centre_of_gravity.template cast<Other>();
+    p.centre_of_buoyancy = centre_of_buoyancy.template cast<Other>();
+    p.weight = static_cast<Other>(weight);
+    p.buoyancy = static_cast<Other>(buoyancy);
+    p.added_mass = added_mass.template cast<Other>();
+    p.linear_damping = linear_damping.template cast<Other>();
+    p.quadratic_damping = quadratic_damping.template cast<Other>();
+    p.coriolis_form = coriolis_form;
+    return p;
+  }
+};
+
+/// M_RB = [[m I, -m S(r_g)], [m S(r_g), I_o]].
+template <typename Scalar>
+inline Matrix6<Scalar> rigid_body_mass_matrix(const VehicleParameters<Scalar>& p) noexcept {
+  Matrix6<Scalar> m;
+  const Matrix3<Scalar> s = skew<Scalar>(p.centre_of_gravity);
+  m.template topLeftCorner<3, 3>() = p.mass * Matrix3<Scalar>::Identity();
+  m.template topRightCorner<3, 3>() = -p.mass * s;
+  m.template bottomLeftCorner<3, 3>() = p.mass * s;
+  m.template bottomRightCorner<3, 3>() = p.inertia;
+  return m;
+}
+
+/// Checks a parameter set: finite numbers, mass > 0, W and B >= 0, damping
+/// >= 0, and M = M_RB + M_A symmetric positive definite.
+template <typename Scalar>
+inline ValidationError validate(const VehicleParameters<Scalar>& p) noexcept {
+  using detail::invalid;
+  if (auto e = detail::check_positive_scalar("mass", static_cast<double>(p.mass))) return e;
+  if (auto e = detail::check_finite("inertia", p.inertia)) return e;
+  if (auto e = detail::check_finite("centre_of_gravity", p.centre_of_gravity)) return e;
+  if (auto e = detail::check_finite("centre_of_buoyancy", p.centre_of_buoyancy)) return e;
+  if (auto e = detail::check_non_negative_scalar("weight", static_cast<double>(p.weight))) return e;
+  if (auto e = detail::check_non_negative_scalar("buoyancy", static_cast<double>(p.buoyancy)))
+    return e;
+  if (auto e = detail::check_finite("added_mass", p.added_mass)) return e;
+  if (auto e = detail::check_non_negative("linear_damping", p.linear_damping)) return e;
+  if (auto e = detail::check_non_negative("quadratic_damping", p.quadratic_damping)) return e;
+  if (p.coriolis_form != CoriolisForm::velocity_independent &&
+      p.coriolis_form != CoriolisForm::kirchhoff)
+    return invalid("coriolis_form", -1, static_cast<double>(p.coriolis_form),
+                   "velocity_independent or kirchhoff");
+
+  if (auto e = detail::check_symmetric("inertia", p.inertia)) return e;
+  if (auto e = detail::check_symmetric("added_mass", p.added_mass)) return e;
+  const Matrix6<Scalar> m = rigid_body_mass_matrix(p) + p.added_mass;
+  Eigen::LLT<Matrix6<Scalar>> llt(m);
+  if (llt.info() != Eigen::Success)
+    return invalid("mass_matrix", -1, std::nan(""),
+                   "M = M_RB + M_A (from mass, inertia, centre_of_gravity, added_mass) "
+                   "positive definite");
+  return {};
+}
+
+/// A vehicle: validated parameters plus what is derived from them once
+/// (M and its inverse), so that the hot path only multiplies.
+template <typename ScalarT>
+class Vehicle {
+ public:
+  using Scalar = ScalarT;
+  using Vec3 = Vector3<Scalar>;
+  using Vec6 = Vector6<Scalar>;
+  using Mat6 = Matrix6<Scalar>;
+
+  /// An empty vehicle: valid() is false and acceleration() returns
+  /// invalid_argument until create() has filled it.
+  Vehicle() = default;
+
+#if NEUROV_HAS_EXCEPTIONS
+  /// Validates and builds; throws std::invalid_argument naming the field.
+  explicit Vehicle(const VehicleParameters<Scalar>& p) {
+    const ValidationError e = create(p, *this);
+    if (e) {
+      char buf[256];
+      e.format(buf, sizeof buf);
+      throw std::invalid_argument(std::string("vehicle parameter ") + buf);
+    }
+  }
+#endif
+
+  /// Validates p and, if valid, builds `out` from it; `out` is untouched
+  /// otherwise. Never throws, never allocates.
+  static ValidationError create(const VehicleParameters<Scalar>& p, Vehicle& out) noexcept {
+    const ValidationError e = validate(p);
+    if (e) return e;
+    out.params_ = p;
+    out.m_ = rigid_body_mass_matrix(p) + p.added_mass;
+    // Symmetrise away rounding so M and M^-1 are exactly symmetric.
+    out.m_ = (Scalar(0.5) * (out.m_ + out.m_.transpose())).eval();
+    out.m_inv_ = Eigen::LLT<Mat6>(out.m_).solve(Mat6::Identity());
+    out.valid_ = true;
+    return {};
+  }
+
+  bool valid() const noexcept { return valid_; }
+  const VehicleParameters<Scalar>& parameters() const noexcept { return params_; }
+  /// M = M_RB + M_A.
+  const Mat6& mass_matrix() const noexcept { return m_; }
+  const Mat6& mass_matrix_inverse() const noexcept { return m_inv_; }
+
+  /// C_RB(nu) in the configured form.
+  Mat6 coriolis_rigid_body(const Vec6& nu) const noexcept {
+    const Vec3 v = nu.template head<3>(), w = nu.template tail<3>();
+    const Scalar m = params_.mass;
+    const Vec3& rg = params_.centre_of_gravity;
+    Mat6 c;
+    if (params_.coriolis_form == CoriolisForm::velocity_independent) {
+      const Matrix3<Scalar> sw = skew<Scalar>(w);
+      c.template topLeftCorner<3, 3>() = m * sw;
+      c.template topRightCorner<3, 3>() = -m * sw * skew<Scalar>(rg);
+      c.template bottomLeftCorner<3, 3>() = m * skew<Scalar>(rg) * sw;
+      c.template bottomRightCorner<3, 3>() = -skew<Scalar>(params_.inertia * w);
+    } else {
+      const Vec3 b1 = m * v + m * w.cross(rg);
+      const Vec3 b2 = m * rg.cross(v) + params_.inertia * w;
+      c.template topLeftCorner<3, 3>().setZero();
+      c.template topRightCorner<3, 3>() = -skew<Scalar>(b1);
+      c.template bottomLeftCorner<3, 3>() = -skew<Scalar>(b1);
+      c.template bottomRightCorner<3, 3>() = -skew<Scalar>(b2);
+    }
+    return c;
+  }
+
+  /// C_A(nu) = [[0, -S(a1)], [-S(a1), -S(a2)]], [a1; a2] = M_A nu.
+  Mat6 coriolis_added_mass(const Vec6& nu) const noexcept {
+    const Vec6 a = params_.added_mass * nu;
+    const Matrix3<Scalar> s1 = skew<Scalar>(a.template head<3>());
+    Mat6 c;
+    c.template topLeftCorner<3, 3>().setZero();
+    c.template topRightCorner<3, 3>() = -s1;
+    c.template bottomLeftCorner<3, 3>() = -s1;
+    c.template bottomRightCorner<3, 3>() = -skew<Scalar>(a.template tail<3>());
+    return c;
+  }
+
+  /// C(nu) = C_RB(nu) + C_A(nu); skew-symmetric.
+  Mat6 coriolis(const Vec6& nu) const noexcept {
+    return coriolis_rigid_body(nu) + coriolis_added_mass(nu);
+  }
+
+  /// C(nu) nu without forming C. The same in both forms:
+  ///   [w x (m v + m w x r_g) + w x a1;  m r_g x (w x v) + w x I w + v x a1 + w x a2].
+  Vec6 coriolis_force(const Vec6& nu) const noexcept {
+    const Vec3 v = nu.template head<3>(), w = nu.template tail<3>();
+    const Scalar m = params_.mass;
+    const Vec3& rg = params_.centre_of_gravity;
+    const Vec6 a = params_.added_mass * nu;
+    const Vec3 a1 = a.template head<3>(), a2 = a.template tail<3>();
+    Vec6 f;
+    f.template head<3>() = w.cross(Vec3(m * v + m * w.cross(rg) + a1));
+    f.template tail<3>() = m * rg.cross(w.cross(v)) + w.cross(Vec3(params_.inertia * w + a2)) +
+                           v.cross(a1);
+    return f;
+  }
+
+  /// Diagonal of D(nu).
+  Vec6 damping_diagonal(const Vec6& nu) const noexcept {
+    return params_.linear_damping + params_.quadratic_damping.cwiseProduct(nu.cwiseAbs());
+  }
+  /// D(nu) = diag(D_L + D_Q |nu|).
+  Mat6 damping(const Vec6& nu) const noexcept { return damping_diagonal(nu).asDiagonal(); }
+
+  /// g(eta): Fossen's restoring forces for weight W at r_g and buoyancy B at r_b.
+  Vec6 restoring(const Vec6& eta) const noexcept {
+    return restoring(std::sin(eta(3)), std::cos(eta(3)), std::sin(eta(4)), std::cos(eta(4)));
+  }
+
+  Vec6 restoring(Scalar sin_phi, Scalar cos_phi, Scalar sin_theta,
+                 Scalar cos_theta) const noexcept {
+    const Scalar w = params_.weight, b = params_.buoyancy;
+    const Vec3& rg = params_.centre_of_gravity;
+    const Vec3& rb = params_.centre_of_buoyancy;
+    const Scalar wb = w - b;
+    const Scalar xm = rg.x() * w - rb.x() * b;
+    const Scalar ym = rg.y() * w - rb.y() * b;
+    const Scalar zm = rg.z() * w - rb.z() * b;
+    const Scalar ctcf = cos_theta * cos_phi, ctsf = cos_theta * sin_phi;
+    Vec6 g;
+    g << wb * sin_theta, -wb * ctsf, -wb * ctcf,  //
+        -ym * ctcf + zm * ctsf,                   //
+        zm * sin_theta + xm * ctcf,               //
+        -xm * ctsf - ym * sin_theta;
+    return g;
+  }
+
+  /// nu_dot = M^-1 (tau - C(nu) nu - D(nu) nu - g(eta)), with the relative
+  /// velocity nu - nu_c in the hydrodynamic terms when a current is given.
+  /// Returns non_finite_input (nu_dot = 0) for NaN/Inf inputs,
+  /// invalid_argument (nu_dot = 0) for an empty vehicle, non_finite_output
+  /// (nu_dot = 0) on overflow.
+  Status acceleration(const Vec6& eta, const Vec6& nu, const Vec6& tau,
+                      Vec6& nu_dot) const noexcept {
+    if (!valid_) {
+      nu_dot.setZero();
+      return Status::invalid_argument;
+    }
+    if (!(eta.allFinite() && nu.allFinite() && tau.allFinite())) {
+      nu_dot.setZero();
+      return Status::non_finite_input;
+    }
+    nu_dot.noalias() = m_inv_ * (tau - forces(eta, nu));
+    return finite_or_zero(nu_dot);
+  }
+
+  /// As above in an ocean current that is constant and irrotational in the
+  /// earth frame (NED velocity current_ned). With the velocity-independent
+  /// C_RB, M_RB nu_dot + C_RB(nu) nu = M_RB nu_r_dot + C_RB(nu_r) nu_r
+  /// (Fossen 2011, Property 8.1), so the whole model runs on the relative
+  /// velocity nu_r = nu - nu_c, and nu_dot = nu_r_dot + nu_c_dot with
+  /// nu_c_dot = [-w x v_c; 0] as the body turns in the current.
+  Status acceleration(const Vec6& eta, const Vec6& nu, const Vec6& tau, const Vec3& current_ned,
+                      Vec6& nu_dot) const noexcept {
+    Vec6 eta_dot;
+    const Status s = derivative(eta, nu, tau, current_ned, eta_dot, nu_dot);
+    return s == Status::near_singularity ? Status::ok : s;  // nu_dot needs no 1/cos(theta)
+  }
+
+  /// The whole 12-state plant: eta_dot = J(eta) nu and nu_dot as in
+  /// acceleration(), sharing one evaluation of the Euler-angle trigonometry.
+  /// near_singularity means eta_dot used a clamped cos(theta).
+  Status derivative(const Vec6& eta, const Vec6& nu, const Vec6& tau, const Vec3& current_ned,
+                    Vec6& eta_dot, Vec6& nu_dot) const noexcept {
+    if (!valid_) {
+      eta_dot.setZero();
+      nu_dot.setZero();
+      return Status::invalid_argument;
+    }
+    if (!(eta.allFinite() && nu.allFinite() && tau.allFinite() && current_ned.allFinite())) {
+      eta_dot.setZero();
+      nu_dot.setZero();
+      return Status::non_finite_input;
+    }
+    const EulerTrig<Scalar> trig = EulerTrig<Scalar>::from_pose(eta);
+    const Matrix3<Scalar> r = rotation(trig);
+    const Vec3 w = nu.template tail<3>();
+    eta_dot.template head<3>().noalias() = r * nu.template head<3>();
+    eta_dot.template tail<3>().noalias() = attitude_transform(trig) * w;
+
+    Vec6 nu_r = nu;
+    Vec3 vc = Vec3::Zero();
+    const bool has_current = !current_ned.isZero(Scalar(0));
+    if (has_current) {
+      vc.noalias() = r.transpose() * current_ned;  // v_c in body axes
+      nu_r.template head<3>() -= vc;
+    }
+    nu_dot.noalias() =
+        m_inv_ * (tau - coriolis_force(nu_r) - damping_diagonal(nu_r).cwiseProduct(nu_r) -
+                  restoring(trig.sin_phi, trig.cos_phi, trig.sin_theta, trig.cos_theta));
+    if (has_current) nu_dot.template head<3>() -= w.cross(vc);
+    const Status out = worst(finite_or_zero(nu_dot), finite_or_zero(eta_dot));
+    return worst(out, trig.status);
+  }
+
+  /// C(nu) nu + D(nu) nu + g(eta): everything but inertia.
+  Vec6 forces(const Vec6& eta, const Vec6& nu) const noexcept {
+    return coriolis_force(nu) + damping_diagonal(nu).cwiseProduct(nu) + restoring(eta);
+  }
+
+ private:
+  static Status finite_or_zero(Vec6& x) noexcept {
+    if (x.allFinite()) return Status::ok;
+    x.setZero();
+    return Status::non_finite_output;
+  }
+
+  VehicleParameters<Scalar> params_{};
+  Mat6 m_ = Mat6::Zero();
+  Mat6 m_inv_ = Mat6::Zero();
+  bool valid_ = false;
+};
+
+/// NEROV, the paper's vehicle (section 5; numbers in SPEC.md).
+template <typename Scalar>
+inline VehicleParameters<Scalar> nerov_parameters() noexcept {
+  VehicleParameters<Scalar> p;
+  p.mass = Scalar(185);
+  p.inertia = Vector3<Scalar>(Scalar(25), Scalar(50), Scalar(50)).asDiagonal();
+  p.centre_of_gravity.setZero();
+  // Buoyancy 0.02 m above the centre of gravity: z is down in body axes.
+  p.centre_of_buoyancy = Vector3<Scalar>(Scalar(0), Scalar(0), Scalar(-0.02));
+  p.weight = Scalar(1800);
+  p.buoyancy = Scalar(1800);
+  Vector6<Scalar> added;
+  added << Scalar(30), Scalar(80), Scalar(80), Scalar(15), Scalar(30), Scalar(30);
+  p.added_mass = added.asDiagonal();
+  p.linear_damping << Scalar(70), Scalar(100), Scalar(100), Scalar(30), Scalar(50), Scalar(50);
+  p.quadratic_damping << Scalar(100), Scalar(200), Scalar(200), Scalar(50), Scalar(100),
+      Scalar(100);
+  p.coriolis_form = CoriolisForm::velocity_independent;
+  return p;
+}
+
+}  // namespace neurov

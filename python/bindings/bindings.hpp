@@ -1,0 +1,11 @@
+// One function per binding file; module.cpp calls them in order.
+#pragma once
+
+#include <pybind11/pybind11.h>
+
+namespace neurov::bindings {
+
+void bind_kinematics(pybind11::module_& m);
+void bind_vehicle(pybind11::module_& m);
+
+}  // namespace neurov::bindings

@@ -1,0 +1,92 @@
+#include <pybind11/eigen.h>
+#include <pybind11/pybind11.h>
+
+#include <cmath>
+#include <string>
+
+#include "bindings.hpp"
+#include "neurov/kinematics.hpp"
+#include "numpy_args.hpp"
+
+namespace neurov::bindings {
+
+namespace py = pybind11;
+using Vec6 = Vector6<double>;
+using Mat6 = Matrix6<double>;
+
+namespace {
+
+/// J and J_dot divide by cos(theta): refuse a pose at the singularity.
+void require_regular(const EulerTrig<double>& trig, const Vec6& eta, const char* name) {
+  if (trig.status == Status::near_singularity) {
+    throw py::value_error(std::string("argument '") + name + "': pitch theta = " +
+                          py_args::num(eta(4)) +
+                          " rad is at the Euler-angle singularity (|cos(theta)| < " +
+                          py_args::num(singularity_threshold<double>()) + ")");
+  }
+}
+
+}  // namespace
+
+void bind_kinematics(py::module_& m) {
+  m.def(
+      "rotation",
+      [](py::handle phi, py::handle theta, py::handle psi) {
+        return Matrix3<double>(rotation(py_args::scalar(phi, "phi"),
+                                        py_args::scalar(theta, "theta"),
+                                        py_args::scalar(psi, "psi")));
+      },
+      py::arg("phi"), py::arg("theta"), py::arg("psi"),
+      "Rotation matrix R = Rz(psi) Ry(theta) Rx(phi) (ZYX Euler angles, body to NED), "
+      "shape (3, 3).");
+
+  m.def("singularity_threshold", &singularity_threshold<double>,
+        "|cos(theta)| below which the Euler-angle transform counts as singular "
+        "(sqrt of machine epsilon).");
+
+  m.def(
+      "is_near_singularity",
+      [](py::handle eta) {
+        const Vec6 e = py_args::vector<6>(eta, "eta");
+        return EulerTrig<double>::from_pose(e).status == Status::near_singularity;
+      },
+      py::arg("eta"),
+      "True if the pose eta (6,) has its pitch at the Euler-angle singularity.");
+
+  m.def(
+      "jacobian",
+      [](py::handle eta) {
+        const Vec6 e = py_args::vector<6>(eta, "eta");
+        const auto k = EulerKinematics<double>::from_pose(e);
+        require_regular(k.trig, e, "eta");
+        return Mat6(k.jacobian());
+      },
+      py::arg("eta"),
+      "J(eta) = blockdiag(R, T), shape (6, 6), so that eta_dot = J(eta) @ nu. "
+      "Raises ValueError at the pitch singularity (cos(theta) = 0).");
+
+  m.def(
+      "jacobian_inverse",
+      [](py::handle eta) {
+        const Vec6 e = py_args::vector<6>(eta, "eta");
+        return Mat6(EulerKinematics<double>::from_pose(e).jacobian_inverse());
+      },
+      py::arg("eta"),
+      "J(eta)^-1 = blockdiag(R^T, T^-1) in closed form, shape (6, 6). T^-1 has no "
+      "division, so this is defined (but rank deficient) at the singularity.");
+
+  m.def(
+      "jacobian_dot",
+      [](py::handle eta, py::handle nu) {
+        const Vec6 e = py_args::vector<6>(eta, "eta");
+        const Vec6 n = py_args::vector<6>(nu, "nu");
+        const auto k = EulerKinematics<double>::from_pose(e);
+        require_regular(k.trig, e, "eta");
+        return Mat6(k.jacobian_dot(n));
+      },
+      py::arg("eta"), py::arg("nu"),
+      "Time derivative of J along the motion eta_dot = J(eta) nu, in closed form, "
+      "shape (6, 6). Raises ValueError at the pitch singularity.");
+}
+
+}  // namespace neurov::bindings

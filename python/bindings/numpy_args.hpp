@@ -1,0 +1,175 @@
+// Checked conversion of Python arguments to fixed-size Eigen objects, so that a
+// wrong shape, dtype or a non-finite number is an error naming the argument
+// (pybind11's own casters only say that no overload matched).
+#pragma once
+
+#include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <Eigen/Core>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "neurov/status.hpp"
+#include "neurov/validation.hpp"
+
+namespace neurov::py_args {
+
+namespace py = pybind11;
+
+/// A number as %.9g: short, and exact enough to recognise.
+inline std::string num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.9g", v);
+  return buf;
+}
+
+inline std::string shape_string(const py::array& a) {
+  std::string s = "(";
+  for (py::ssize_t i = 0; i < a.ndim(); ++i) {
+    if (i) s += ", ";
+    s += std::to_string(a.shape(i));
+  }
+  if (a.ndim() == 1) s += ",";
+  return s + ")";
+}
+
+inline std::string shape_string(py::ssize_t rows, py::ssize_t cols) {
+  if (cols < 0) return "(" + (rows < 0 ? std::string("n") : std::to_string(rows)) + ",)";
+  return "(" + (rows < 0 ? std::string("n") : std::to_string(rows)) + ", " +
+         (cols < 0 ? std::string("m") : std::to_string(cols)) + ")";
+}
+
+/// obj as a C-contiguous float64 array of real numbers; TypeError otherwise.
+inline py::array_t<double, py::array::c_style> real_array(const py::handle& obj, const char* name,
+                                                          const std::string& expected) {
+  if (obj.is_none())
+    throw py::type_error(std::string("argument '") + name + "' must be a float array of shape " +
+                         expected + ", got None");
+  py::array arr;
+  try {
+    arr = py::array::ensure(obj);
+  } catch (const py::error_already_set&) {
+    arr = py::array();
+  }
+  if (!arr) {
+    throw py::type_error(std::string("argument '") + name + "' must be a float array of shape " +
+                         expected + ", got " + std::string(py::str(py::type::handle_of(obj))));
+  }
+  const char kind = arr.dtype().kind();
+  if (kind != 'f' && kind != 'i' && kind != 'u') {
+    throw py::type_error(std::string("argument '") + name + "' must hold real numbers (shape " +
+                         expected + "), got dtype " + std::string(py::str(arr.dtype())));
+  }
+  return py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(arr);
+}
+
+inline void require_finite(const double* data, py::ssize_t n, const char* name) {
+  for (py::ssize_t i = 0; i < n; ++i) {
+    if (!std::isfinite(data[i])) {
+      throw py::value_error(std::string("argument '") + name + "' must be finite; element " +
+                            std::to_string(i) + " is " + num(data[i]));
+    }
+  }
+}
+
+/// A vector of fixed length N.
+template <int N>
+Eigen::Matrix<double, N, 1> vector(const py::handle& obj, const char* name) {
+  const std::string expected = shape_string(N, -1);
+  auto a = real_array(obj, name, expected);
+  if (a.ndim() != 1 || a.shape(0) != N)
+    throw py::value_error(std::string("argument '") + name + "' must have shape " + expected +
+                          ", got " + shape_string(a));
+  require_finite(a.data(), N, name);
+  return Eigen::Map<const Eigen::Matrix<double, N, 1>>(a.data());
+}
+
+/// A matrix of fixed size R x C.
+template <int R, int C>
+Eigen::Matrix<double, R, C> matrix(const py::handle& obj, const char* name) {
+  const std::string expected = shape_string(R, C);
+  auto a = real_array(obj, name, expected);
+  if (a.ndim() != 2 || a.shape(0) != R || a.shape(1) != C)
+    throw py::value_error(std::string("argument '") + name + "' must have shape " + expected +
+                          ", got " + shape_string(a));
+  require_finite(a.data(), R * C, name);
+  return Eigen::Map<const Eigen::Matrix<double, R, C, Eigen::RowMajor>>(a.data());
+}
+
+/// A square N x N matrix, or a length-N vector taken as its diagonal.
+template <int N>
+Eigen::Matrix<double, N, N> matrix_or_diagonal(const py::handle& obj, const char* name) {
+  const std::string expected = shape_string(N, N) + " or its diagonal " + shape_string(N, -1);
+  auto a = real_array(obj, name, expected);
+  if (a.ndim() == 1 && a.shape(0) == N) {
+    require_finite(a.data(), N, name);
+    return Eigen::Map<const Eigen::Matrix<double, N, 1>>(a.data()).asDiagonal();
+  }
+  if (a.ndim() == 2 && a.shape(0) == N && a.shape(1) == N) {
+    require_finite(a.data(), N * N, name);
+    return Eigen::Map<const Eigen::Matrix<double, N, N, Eigen::RowMajor>>(a.data());
+  }
+  throw py::value_error(std::string("argument '") + name + "' must have shape " + expected +
+                        ", got " + shape_string(a));
+}
+
+/// A dynamic matrix; rows or cols < 0 mean "any".
+inline Eigen::MatrixXd dynamic_matrix(const py::handle& obj, const char* name, py::ssize_t rows,
+                                      py::ssize_t cols) {
+  const std::string expected = shape_string(rows, cols);
+  auto a = real_array(obj, name, expected);
+  if (a.ndim() != 2 || (rows >= 0 && a.shape(0) != rows) || (cols >= 0 && a.shape(1) != cols))
+    throw py::value_error(std::string("argument '") + name + "' must have shape " + expected +
+                          ", got " + shape_string(a));
+  require_finite(a.data(), a.size(), name);
+  return Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+      a.data(), a.shape(0), a.shape(1));
+}
+
+/// A dynamic vector; n < 0 means any length.
+inline Eigen::VectorXd dynamic_vector(const py::handle& obj, const char* name, py::ssize_t n) {
+  const std::string expected = shape_string(n, -1);
+  auto a = real_array(obj, name, expected);
+  if (a.ndim() != 1 || (n >= 0 && a.shape(0) != n))
+    throw py::value_error(std::string("argument '") + name + "' must have shape " + expected +
+                          ", got " + shape_string(a));
+  require_finite(a.data(), a.size(), name);
+  return Eigen::Map<const Eigen::VectorXd>(a.data(), a.shape(0));
+}
+
+/// A finite real number (Python int or float; bool is refused).
+inline double scalar(const py::handle& obj, const char* name) {
+  if (py::isinstance<py::bool_>(obj) ||
+      !(py::isinstance<py::float_>(obj) || py::isinstance<py::int_>(obj) ||
+        py::hasattr(obj, "__float__"))) {
+    throw py::type_error(std::string("argument '") + name + "' must be a real number, got " +
+                         std::string(py::str(py::type::handle_of(obj))));
+  }
+  const double v = obj.cast<double>();
+  if (!std::isfinite(v))
+    throw py::value_error(std::string("argument '") + name + "' must be finite, got " +
+                          num(v));
+  return v;
+}
+
+/// A finite number > 0.
+inline double positive(const py::handle& obj, const char* name) {
+  const double v = scalar(obj, name);
+  if (!(v > 0.0))
+    throw py::value_error(std::string("argument '") + name + "' must be > 0, got " +
+                          num(v));
+  return v;
+}
+
+/// Raises ValueError with the message of a failed validation.
+inline void raise_if_invalid(const ValidationError& e, const char* what) {
+  if (!e) return;
+  char buf[320];
+  e.format(buf, sizeof buf);
+  throw py::value_error(std::string(what) + ": " + buf);
+}
+
+}  // namespace neurov::py_args

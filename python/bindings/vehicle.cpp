@@ -1,0 +1,232 @@
+#include <pybind11/eigen.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <string>
+#include <utility>
+
+#include "bindings.hpp"
+#include "neurov/integrator.hpp"
+#include "neurov/vehicle.hpp"
+#include "numpy_args.hpp"
+
+namespace neurov::bindings {
+
+namespace py = pybind11;
+using Vec3 = Vector3<double>;
+using Vec6 = Vector6<double>;
+using Mat6 = Matrix6<double>;
+using Params = VehicleParameters<double>;
+
+namespace {
+
+CoriolisForm parse_coriolis_form(const py::handle& obj) {
+  if (!py::isinstance<py::str>(obj))
+    throw py::type_error("argument 'coriolis_form' must be a str, got " +
+                         std::string(py::str(py::type::handle_of(obj))));
+  const auto s = obj.cast<std::string>();
+  if (s == "velocity_independent") return CoriolisForm::velocity_independent;
+  if (s == "kirchhoff") return CoriolisForm::kirchhoff;
+  throw py::value_error("argument 'coriolis_form' must be 'velocity_independent' or "
+                        "'kirchhoff', got '" + s + "'");
+}
+
+const char* coriolis_form_name(CoriolisForm f) {
+  return f == CoriolisForm::kirchhoff ? "kirchhoff" : "velocity_independent";
+}
+
+Vehicle<double> make_vehicle(const Params& p) {
+  Vehicle<double> v;
+  py_args::raise_if_invalid(Vehicle<double>::create(p, v), "vehicle parameter");
+  return v;
+}
+
+py::dict parameters_dict(const Params& p) {
+  py::dict d;
+  d["mass"] = p.mass;
+  d["inertia"] = Matrix3<double>(p.inertia);
+  d["centre_of_gravity"] = Vec3(p.centre_of_gravity);
+  d["centre_of_buoyancy"] = Vec3(p.centre_of_buoyancy);
+  d["weight"] = p.weight;
+  d["buoyancy"] = p.buoyancy;
+  d["added_mass"] = Mat6(p.added_mass);
+  d["linear_damping"] = Vec6(p.linear_damping);
+  d["quadratic_damping"] = Vec6(p.quadratic_damping);
+  d["coriolis_form"] = coriolis_form_name(p.coriolis_form);
+  return d;
+}
+
+void raise_status(Status s, const char* what) {
+  switch (s) {
+    case Status::ok:
+      return;
+    case Status::near_singularity:
+      throw py::value_error(std::string(what) +
+                            ": argument 'eta' has its pitch at the Euler-angle singularity "
+                            "(cos(theta) = 0)");
+    case Status::non_finite_output:
+      throw py::value_error(std::string(what) +
+                            ": the result overflowed to a non-finite number; the inputs are "
+                            "outside the model's range");
+    default:
+      throw py::value_error(std::string(what) + " failed: " + to_string(s));
+  }
+}
+
+Vec3 optional_current(const py::handle& current) {
+  return current.is_none() ? Vec3::Zero() : py_args::vector<3>(current, "current");
+}
+
+}  // namespace
+
+void bind_vehicle(py::module_& m) {
+  py::class_<Vehicle<double>>(
+      m, "Vehicle",
+      "A 6-DOF vehicle in Fossen's form, M nu_dot + C(nu) nu + D(nu) nu + g(eta) = tau.\n\n"
+      "Build one with Vehicle.nerov(), Vehicle.bluerov2_heavy(), Vehicle.from_file(path) "
+      "or Vehicle(mass=..., ...). Parameters are validated: a bad one raises ValueError "
+      "naming the field.")
+      .def(py::init([](py::handle mass, py::handle inertia, py::handle weight, py::handle buoyancy,
+                       py::handle added_mass, py::handle linear_damping,
+                       py::handle quadratic_damping, py::handle centre_of_gravity,
+                       py::handle centre_of_buoyancy, py::handle coriolis_form) {
+             Params p;
+             p.mass = py_args::scalar(mass, "mass");
+             p.inertia = py_args::matrix_or_diagonal<3>(inertia, "inertia");
+             p.weight = py_args::scalar(weight, "weight");
+             p.buoyancy = py_args::scalar(buoyancy, "buoyancy");
+             p.added_mass = py_args::matrix_or_diagonal<6>(added_mass, "added_mass");
+             p.linear_damping = py_args::vector<6>(linear_damping, "linear_damping");
+             p.quadratic_damping = py_args::vector<6>(quadratic_damping, "quadratic_damping");
+             if (!centre_of_gravity.is_none())
+               p.centre_of_gravity = py_args::vector<3>(centre_of_gravity, "centre_of_gravity");
+             if (!centre_of_buoyancy.is_none())
+               p.centre_of_buoyancy = py_args::vector<3>(centre_of_buoyancy, "centre_of_buoyancy");
+             p.coriolis_form = parse_coriolis_form(coriolis_form);
+             return make_vehicle(p);
+           }),
+           py::kw_only(), py::arg("mass"), py::arg("inertia"), py::arg("weight"),
+           py::arg("buoyancy"), py::arg("added_mass"), py::arg("linear_damping"),
+           py::arg("quadratic_damping"), py::arg("centre_of_gravity") = py::none(),
+           py::arg("centre_of_buoyancy") = py::none(),
+           py::arg("coriolis_form") = "velocity_independent",
+           "Builds a vehicle from its parameters (SI units, body axes with z down):\n"
+           "mass [kg]; inertia (3, 3) about the body origin, or its diagonal (3,);\n"
+           "weight W and buoyancy B [N]; added_mass M_A (6, 6) or its diagonal (6,), "
+           "positive (M_A = -diag(X_udot, ...));\n"
+           "linear_damping and quadratic_damping (6,): D(nu) = diag(lin + quad * |nu|);\n"
+           "centre_of_gravity r_g and centre_of_buoyancy r_b (3,) [m], default zero;\n"
+           "coriolis_form: 'velocity_independent' (the paper's eq. 39, default) or "
+           "'kirchhoff'.")
+      .def_static(
+          "nerov", [] { return make_vehicle(nerov_parameters<double>()); },
+          "NEROV, the paper's vehicle, with the numbers of its section 5.")
+      .def_static(
+          "from_file",
+          [](py::handle path) {
+            return py::module_::import("neurov.vehicle_file").attr("load_vehicle")(path);
+          },
+          py::arg("path"),
+          "Loads a vehicle TOML file (format: neurov.vehicle_file). A missing, misspelt or "
+          "wrongly typed field raises neurov.VehicleFileError naming the file and the field.")
+      .def_static(
+          "preset",
+          [](py::handle name) {
+            py::module_ files = py::module_::import("neurov.vehicle_file");
+            return files.attr("load_vehicle")(files.attr("preset_path")(name));
+          },
+          py::arg("name"),
+          "A vehicle shipped with neurov by name: 'nerov' or 'bluerov2_heavy' "
+          "(neurov.vehicle_file.preset_names() lists them).")
+      .def("parameters", [](const Vehicle<double>& v) { return parameters_dict(v.parameters()); },
+           "The parameters as a dict of keyword arguments: Vehicle(**v.parameters()) "
+           "rebuilds the vehicle, so a perturbed copy is one dict edit away.")
+      .def_property_readonly("mass", [](const Vehicle<double>& v) { return v.parameters().mass; },
+                             "m [kg].")
+      .def_property_readonly(
+          "inertia", [](const Vehicle<double>& v) { return Matrix3<double>(v.parameters().inertia); },
+          "I_o about the body origin (3, 3) [kg m^2].")
+      .def_property_readonly(
+          "centre_of_gravity",
+          [](const Vehicle<double>& v) { return Vec3(v.parameters().centre_of_gravity); },
+          "r_g (3,) [m], body axes.")
+      .def_property_readonly(
+          "centre_of_buoyancy",
+          [](const Vehicle<double>& v) { return Vec3(v.parameters().centre_of_buoyancy); },
+          "r_b (3,) [m], body axes (z down).")
+      .def_property_readonly("weight", [](const Vehicle<double>& v) { return v.parameters().weight; },
+                             "W [N].")
+      .def_property_readonly("buoyancy",
+                             [](const Vehicle<double>& v) { return v.parameters().buoyancy; },
+                             "B [N].")
+      .def_property_readonly(
+          "added_mass", [](const Vehicle<double>& v) { return Mat6(v.parameters().added_mass); },
+          "M_A (6, 6), positive definite.")
+      .def_property_readonly(
+          "linear_damping",
+          [](const Vehicle<double>& v) { return Vec6(v.parameters().linear_damping); },
+          "D_L (6,).")
+      .def_property_readonly(
+          "quadratic_damping",
+          [](const Vehicle<double>& v) { return Vec6(v.parameters().quadratic_damping); },
+          "D_Q (6,).")
+      .def_property_readonly(
+          "coriolis_form",
+          [](const Vehicle<double>& v) { return coriolis_form_name(v.parameters().coriolis_form); },
+          "'velocity_independent' (the paper's eq. 39) or 'kirchhoff'.")
+      .def("mass_matrix", [](const Vehicle<double>& v) { return Mat6(v.mass_matrix()); },
+           "M = M_RB + M_A, shape (6, 6).")
+      .def(
+          "coriolis",
+          [](const Vehicle<double>& v, py::handle nu) {
+            return Mat6(v.coriolis(py_args::vector<6>(nu, "nu")));
+          },
+          py::arg("nu"), "C(nu) = C_RB(nu) + C_A(nu), skew-symmetric, shape (6, 6).")
+      .def(
+          "damping",
+          [](const Vehicle<double>& v, py::handle nu) {
+            return Mat6(v.damping(py_args::vector<6>(nu, "nu")));
+          },
+          py::arg("nu"), "D(nu) = diag(D_L + D_Q |nu|), shape (6, 6).")
+      .def(
+          "restoring",
+          [](const Vehicle<double>& v, py::handle eta) {
+            return Vec6(v.restoring(py_args::vector<6>(eta, "eta")));
+          },
+          py::arg("eta"), "g(eta): gravity and buoyancy forces and moments, shape (6,).")
+      .def(
+          "acceleration",
+          [](const Vehicle<double>& v, py::handle eta, py::handle nu, py::handle tau,
+             py::handle current) {
+            const Vec6 e = py_args::vector<6>(eta, "eta");
+            const Vec6 n = py_args::vector<6>(nu, "nu");
+            const Vec6 t = py_args::vector<6>(tau, "tau");
+            const Vec3 c = optional_current(current);
+            Vec6 nu_dot;
+            raise_status(v.acceleration(e, n, t, c, nu_dot), "acceleration");
+            return nu_dot;
+          },
+          py::arg("eta"), py::arg("nu"), py::arg("tau"), py::arg("current") = py::none(),
+          "nu_dot = M^-1 (tau - C(nu) nu - D(nu) nu - g(eta)), shape (6,). With `current` "
+          "(3,), a constant NED current velocity [m/s], the hydrodynamic terms use the "
+          "relative velocity nu - nu_c.");
+
+  m.def(
+      "rk4_step",
+      [](const Vehicle<double>& v, py::handle eta, py::handle nu, py::handle tau, py::handle dt,
+         py::handle current) {
+        Vec6 e = py_args::vector<6>(eta, "eta");
+        Vec6 n = py_args::vector<6>(nu, "nu");
+        const Vec6 t = py_args::vector<6>(tau, "tau");
+        const double h = py_args::positive(dt, "dt");
+        const Vec3 c = optional_current(current);
+        raise_status(rk4_step(v, e, n, t, h, c), "rk4_step");
+        return std::make_pair(e, n);
+      },
+      py::arg("vehicle"), py::arg("eta"), py::arg("nu"), py::arg("tau"), py::arg("dt"),
+      py::arg("current") = py::none(),
+      "One fixed-step RK4 step of the 12-state plant with tau held over the step; returns "
+      "the new (eta, nu). `current` (3,) is a constant NED current velocity [m/s].");
+}
+
+}  // namespace neurov::bindings
