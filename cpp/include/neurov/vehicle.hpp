@@ -6,17 +6,15 @@
 #include <cmath>
 #include <cstdint>
 
+#include "neurov/config.hpp"
 #include "neurov/kinematics.hpp"
 #include "neurov/status.hpp"
 #include "neurov/types.hpp"
 #include "neurov/validation.hpp"
 
-#if defined(__cpp_exceptions) && !defined(NEUROV_NO_EXCEPTIONS)
+#if NEUROV_HAS_EXCEPTIONS
 #include <stdexcept>
 #include <string>
-#define NEUROV_HAS_EXCEPTIONS 1
-#else
-#define NEUROV_HAS_EXCEPTIONS 0
 #endif
 
 namespace neurov {

@@ -1,0 +1,281 @@
+// Direct adaptive RBF neural-network controller (eq. 35 and 37):
+//   x   = [nu_r_dot; nu_r; nu; eta]                      (24 inputs)
+//   tau = W g(x) - J^T(eta) K_d s
+//   W  <- W - dt (J^-1 s) g(x)^T Gamma_w                  (one Euler step of eq. 37)
+// tau uses the weights from before the update. Optional robust modifications
+// (none by default, as in the paper) keep W bounded when the approximation
+// error or a disturbance is not negligible.
+#pragma once
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include "neurov/config.hpp"
+#include "neurov/desired_state.hpp"
+#include "neurov/rbf_network.hpp"
+#include "neurov/status.hpp"
+#include "neurov/tracking_error.hpp"
+#include "neurov/types.hpp"
+#include "neurov/validation.hpp"
+
+#if NEUROV_HAS_EXCEPTIONS
+#include <stdexcept>
+#include <string>
+#endif
+
+namespace neurov {
+
+enum class RobustModification : std::uint8_t {
+  none = 0,            ///< the paper's pure gradient law
+  sigma = 1,           ///< W_dot += -sigma_m * W * Gamma_w
+  e_modification = 2,  ///< W_dot += -kappa * ||J^-1 s|| * W * Gamma_w
+  projection = 3,      ///< after each update, scale W back onto ||W||_F <= w_max
+};
+
+constexpr const char* to_string(RobustModification m) noexcept {
+  switch (m) {
+    case RobustModification::none:
+      return "none";
+    case RobustModification::sigma:
+      return "sigma";
+    case RobustModification::e_modification:
+      return "e_modification";
+    case RobustModification::projection:
+      return "projection";
+  }
+  return "unknown";
+}
+
+template <typename Scalar>
+struct NNAdaptiveConfig {
+  /// Lambda in s = eta_tilde_dot + Lambda eta_tilde (diagonal, > 0).
+  Vector6<Scalar> lambda = Vector6<Scalar>::Constant(Scalar(0.5));
+  /// K_d (diagonal, >= 0; 0 leaves the network alone in the loop).
+  Vector6<Scalar> kd = Vector6<Scalar>::Zero();
+  /// Gamma_w = gamma * I (the paper: 0.3); per-centre values via set_learning_rates().
+  Scalar gamma = Scalar(0.3);
+  /// Control period [s] (the paper: 0.2 s, 5 Hz).
+  Scalar dt = Scalar(0.2);
+  RobustModification modification = RobustModification::none;
+  Scalar sigma_m = Scalar(0);   ///< leakage of the sigma-modification (> 0 when used)
+  Scalar kappa = Scalar(0);     ///< gain of the e-modification (> 0 when used)
+  Scalar w_max = Scalar(0);     ///< Frobenius bound of the projection (> 0 when used)
+  /// Adaptation stops while ||s|| < dead_zone (0 disables; any modification).
+  Scalar dead_zone = Scalar(0);
+};
+
+template <typename Scalar>
+inline ValidationError validate(const NNAdaptiveConfig<Scalar>& c) noexcept {
+  if (auto e = detail::check_positive("lambda", c.lambda)) return e;
+  if (auto e = detail::check_non_negative("kd", c.kd)) return e;
+  if (auto e = detail::check_non_negative_scalar("gamma", static_cast<double>(c.gamma))) return e;
+  if (auto e = detail::check_positive_scalar("dt", static_cast<double>(c.dt))) return e;
+  if (auto e = detail::check_non_negative_scalar("sigma_m", static_cast<double>(c.sigma_m)))
+    return e;
+  if (auto e = detail::check_non_negative_scalar("kappa", static_cast<double>(c.kappa))) return e;
+  if (auto e = detail::check_non_negative_scalar("w_max", static_cast<double>(c.w_max))) return e;
+  if (auto e = detail::check_non_negative_scalar("dead_zone", static_cast<double>(c.dead_zone)))
+    return e;
+  switch (c.modification) {
+    case RobustModification::none:
+      break;
+    case RobustModification::sigma:
+      if (!(c.sigma_m > Scalar(0)))
+        return detail::invalid("sigma_m", -1, static_cast<double>(c.sigma_m),
+                               "> 0 with modification 'sigma'");
+      break;
+    case RobustModification::e_modification:
+      if (!(c.kappa > Scalar(0)))
+        return detail::invalid("kappa", -1, static_cast<double>(c.kappa),
+                               "> 0 with modification 'e_modification'");
+      break;
+    case RobustModification::projection:
+      if (!(c.w_max > Scalar(0)))
+        return detail::invalid("w_max", -1, static_cast<double>(c.w_max),
+                               "> 0 with modification 'projection'");
+      break;
+    default:
+      return detail::invalid("modification", -1, static_cast<double>(c.modification),
+                             "none, sigma, e_modification or projection");
+  }
+  return {};
+}
+
+/// The network input of eq. 35: x = [nu_r_dot; nu_r; nu; eta].
+constexpr int kNNInputs = 24;
+
+template <typename ScalarT, int CentresT = Eigen::Dynamic>
+class NNAdaptiveController {
+ public:
+  using Scalar = ScalarT;
+  using Vec6 = Vector6<Scalar>;
+  using Network = RbfNetwork<Scalar, kNNInputs, CentresT, 6>;
+  using InputVector = typename Network::InputVector;
+  using BasisVector = typename Network::BasisVector;
+  using WeightMatrix = typename Network::WeightMatrix;
+  using Config = NNAdaptiveConfig<Scalar>;
+
+  NNAdaptiveController() = default;
+
+#if NEUROV_HAS_EXCEPTIONS
+  NNAdaptiveController(const Network& network, const Config& config) {
+    if (const ValidationError e = create(network, config, *this)) {
+      char buf[256];
+      e.format(buf, sizeof buf);
+      throw std::invalid_argument(std::string("NN controller: ") + buf);
+    }
+  }
+#endif
+
+  /// Copies the network (its weights are the initial Ŵ) and checks the
+  /// configuration. Allocates here (dynamic N) and never again.
+  static ValidationError create(const Network& network, const Config& config,
+                                NNAdaptiveController& out) {
+    if (!network.configured())
+      return detail::invalid("network", -1, 0.0, "a configured RBF network");
+    if (auto e = validate(config)) return e;
+    out.network_ = network;
+    out.config_ = config;
+    out.learning_rates_ = BasisVector::Constant(network.centres_count(), config.gamma);
+    out.basis_ = BasisVector::Zero(network.centres_count());
+    out.initial_weights_ = network.weights();
+    out.weight_norm_ = network.weights().norm();
+    out.tracking_ = TrackingError<Scalar>{};
+    out.f_hat_.setZero();
+    out.status_ = Status::ok;
+    out.adapted_ = false;
+    out.configured_ = true;
+    return {};
+  }
+
+  /// The control law and one step of the adaptive law. Writes tau; on any
+  /// status but ok (or near_singularity refused) tau = 0 and the weights and
+  /// every other piece of state are exactly as before the call.
+  Status step(const Vec6& eta, const Vec6& nu, const Vec6& eta_d, const Vec6& eta_d_dot,
+              const Vec6& eta_d_ddot, Vec6& tau) noexcept {
+    if (!configured_) return refuse(Status::invalid_argument, tau);
+    TrackingError<Scalar> e;
+    const Status ts = compute_tracking_error(eta, nu, eta_d, eta_d_dot, eta_d_ddot,
+                                             config_.lambda, e);
+    if (ts != Status::ok) return refuse(ts, tau);
+
+    InputVector x;
+    x << e.nu_r_dot, e.nu_r, nu, eta;
+    Vec6 f_hat;
+    network_.output(x, basis_, f_hat);
+    const Vec6 tau_new = f_hat - e.kinematics.apply_transpose(config_.kd.cwiseProduct(e.s));
+    // a = dt J^-1 s: the error signal of eq. 37.
+    const Vec6 a = config_.dt * e.kinematics.apply_inverse(e.s);
+    if (!(tau_new.allFinite() && a.allFinite())) return refuse(Status::non_finite_output, tau);
+
+    const bool adapt = !(config_.dead_zone > Scalar(0) && e.s.norm() < config_.dead_zone);
+    if (adapt) {
+      const Status us = update_weights(a);
+      if (us != Status::ok) return refuse(us, tau);
+    }
+    adapted_ = adapt;
+    tracking_ = e;
+    f_hat_ = f_hat;
+    tau = tau_new;
+    status_ = Status::ok;
+    return Status::ok;
+  }
+
+  Status step(const Vec6& eta, const Vec6& nu, const DesiredState<Scalar>& d, Vec6& tau) noexcept {
+    return step(eta, nu, d.eta_d, d.eta_d_dot, d.eta_d_ddot, tau);
+  }
+
+  /// Per-centre learning rates Gamma_w = diag(rates); false (unchanged) for a
+  /// wrong size or a negative or non-finite rate.
+  bool set_learning_rates(const BasisVector& rates) noexcept {
+    if (!configured_ || rates.size() != learning_rates_.size() || !rates.allFinite() ||
+        (rates.array() < Scalar(0)).any())
+      return false;
+    learning_rates_ = rates;
+    return true;
+  }
+
+  /// Replaces the weights (warm start); false (unchanged) on a bad matrix.
+  bool set_weights(const WeightMatrix& w) noexcept {
+    if (!network_.set_weights(w)) return false;
+    weight_norm_ = network_.weights().norm();
+    return true;
+  }
+
+  /// Back to the initial weights and a zero history.
+  void reset() noexcept {
+    network_.weights() = initial_weights_;
+    weight_norm_ = initial_weights_.norm();
+    tracking_ = TrackingError<Scalar>{};
+    f_hat_.setZero();
+    status_ = Status::ok;
+    adapted_ = false;
+  }
+
+  bool configured() const noexcept { return configured_; }
+  const Config& config() const noexcept { return config_; }
+  const Network& network() const noexcept { return network_; }
+  const WeightMatrix& weights() const noexcept { return network_.weights(); }
+  const BasisVector& learning_rates() const noexcept { return learning_rates_; }
+  /// Quantities of the last accepted step, for plots and logs.
+  const TrackingError<Scalar>& tracking() const noexcept { return tracking_; }
+  const Vec6& network_output() const noexcept { return f_hat_; }
+  const BasisVector& basis() const noexcept { return basis_; }
+  Scalar weight_norm() const noexcept { return weight_norm_; }
+  bool adapted() const noexcept { return adapted_; }
+  Status last_status() const noexcept { return status_; }
+
+ private:
+  Status refuse(Status s, Vec6& tau) noexcept {
+    tau.setZero();
+    status_ = s;
+    return s;
+  }
+
+  /// W <- W .* (1 - dt leak gamma_j) - a (gamma .* g)^T, then projection.
+  Status update_weights(const Vec6& a) noexcept {
+    WeightMatrix& w = network_.weights();
+    Scalar leak = Scalar(0);
+    if (config_.modification == RobustModification::sigma) leak = config_.sigma_m;
+    if (config_.modification == RobustModification::e_modification)
+      leak = config_.kappa * a.norm() / config_.dt;
+    // Refuse an update that could overflow, before touching W, so a refused
+    // step leaves it bit-for-bit as it was.
+    const Scalar bound =
+        weight_norm_ + a.norm() * (basis_.array() * learning_rates_.array()).matrix().norm();
+    if (!(bound < std::sqrt(std::numeric_limits<Scalar>::max()))) return Status::non_finite_output;
+    if (leak > Scalar(0)) {
+      const Scalar dl = config_.dt * leak;
+      for (Eigen::Index j = 0; j < w.cols(); ++j) {
+        const Scalar keep = std::max(Scalar(0), Scalar(1) - dl * learning_rates_(j));
+        w.col(j) = keep * w.col(j) - (learning_rates_(j) * basis_(j)) * a;
+      }
+    } else {
+      w.noalias() -= a * (basis_.array() * learning_rates_.array()).matrix().transpose();
+    }
+    Scalar norm = w.norm();
+    if (config_.modification == RobustModification::projection && norm > config_.w_max) {
+      w *= config_.w_max / norm;
+      norm = config_.w_max;
+    }
+    weight_norm_ = norm;
+    return Status::ok;
+  }
+
+  Network network_{};
+  Config config_{};
+  BasisVector learning_rates_{};
+  BasisVector basis_{};
+  WeightMatrix initial_weights_{};
+  TrackingError<Scalar> tracking_{};
+  Vec6 f_hat_ = Vec6::Zero();
+  Scalar weight_norm_ = Scalar(0);
+  Status status_ = Status::ok;
+  bool adapted_ = false;
+  bool configured_ = false;
+};
+
+}  // namespace neurov

@@ -1,0 +1,167 @@
+// Radial-basis-function network, eq. 30 of the paper:
+//   g_j(x) = exp(-||x_hat - xi_j||^2 / (2 sigma_j^2)),  f_hat(x) = W g(x),
+// with x_hat = (x - input_offset) .* input_scale (identity by default, as in
+// the paper) so inputs of different units can share one width.
+//
+// Sizes are template parameters: Eigen::Dynamic (the default) sizes the
+// network at create() time, which is the only time it allocates; a fixed
+// number of centres gives firmware a network with no heap at all.
+#pragma once
+
+#include <Eigen/Core>
+#include <cmath>
+
+#include "neurov/config.hpp"
+#include "neurov/status.hpp"
+#include "neurov/validation.hpp"
+
+#if NEUROV_HAS_EXCEPTIONS
+#include <stdexcept>
+#include <string>
+#endif
+
+namespace neurov {
+
+template <typename ScalarT, int InputsT = Eigen::Dynamic, int CentresT = Eigen::Dynamic,
+          int OutputsT = 6>
+class RbfNetwork {
+ public:
+  using Scalar = ScalarT;
+  static constexpr int kInputs = InputsT;
+  static constexpr int kCentres = CentresT;
+  static constexpr int kOutputs = OutputsT;
+  /// Row j is centre xi_j. Column-major, so each input's coordinates over all
+  /// centres are contiguous and the distance loop vectorises across centres.
+  using CentreMatrix = Eigen::Matrix<Scalar, CentresT, InputsT>;
+  using InputVector = Eigen::Matrix<Scalar, InputsT, 1>;
+  using BasisVector = Eigen::Matrix<Scalar, CentresT, 1>;
+  using OutputVector = Eigen::Matrix<Scalar, OutputsT, 1>;
+  using WeightMatrix = Eigen::Matrix<Scalar, OutputsT, CentresT>;
+
+  RbfNetwork() = default;
+
+#if NEUROV_HAS_EXCEPTIONS
+  RbfNetwork(const CentreMatrix& centres, const BasisVector& widths) {
+    throw_if(create(centres, widths, *this));
+  }
+  RbfNetwork(const CentreMatrix& centres, const BasisVector& widths, const InputVector& input_offset,
+             const InputVector& input_scale) {
+    throw_if(create(centres, widths, input_offset, input_scale, *this));
+  }
+#endif
+
+  /// Centres (N x n_in) and one width per centre (N), identity input scaling,
+  /// zero weights. `out` is untouched on failure.
+  static ValidationError create(const CentreMatrix& centres, const BasisVector& widths,
+                                RbfNetwork& out) {
+    return create(centres, widths, InputVector::Zero(centres.cols()),
+                  InputVector::Ones(centres.cols()), out);
+  }
+
+  static ValidationError create(const CentreMatrix& centres, const BasisVector& widths,
+                                const InputVector& input_offset, const InputVector& input_scale,
+                                RbfNetwork& out) {
+    if (centres.rows() < 1 || centres.cols() < 1)
+      return detail::invalid("centres", -1, static_cast<double>(centres.rows()),
+                             "at least one centre with at least one input");
+    if (widths.size() != centres.rows())
+      return detail::invalid("widths", -1, static_cast<double>(widths.size()),
+                             "one width per centre");
+    if (input_offset.size() != centres.cols())
+      return detail::invalid("input_offset", -1, static_cast<double>(input_offset.size()),
+                             "one offset per input");
+    if (input_scale.size() != centres.cols())
+      return detail::invalid("input_scale", -1, static_cast<double>(input_scale.size()),
+                             "one scale per input");
+    if (auto e = detail::check_finite("centres", centres)) return e;
+    if (auto e = detail::check_positive("widths", widths)) return e;
+    if (auto e = detail::check_finite("input_offset", input_offset)) return e;
+    if (auto e = detail::check_positive("input_scale", input_scale)) return e;
+    const BasisVector inv = (Scalar(2) * widths.array().square()).inverse().matrix();
+    if (auto e = detail::check_positive("widths (1 / (2 sigma^2) overflows)", inv)) return e;
+    out.centres_ = centres;
+    out.inv_two_sigma_sq_ = inv;
+    out.widths_ = widths;
+    out.input_offset_ = input_offset;
+    out.input_scale_ = input_scale;
+    out.weights_ = WeightMatrix::Zero(OutputsT == Eigen::Dynamic ? 6 : OutputsT, centres.rows());
+    out.configured_ = true;
+    return {};
+  }
+
+  /// False until create() succeeded; an unconfigured network refuses to run.
+  bool configured() const noexcept { return configured_; }
+  int inputs() const noexcept { return static_cast<int>(centres_.cols()); }
+  int centres_count() const noexcept { return static_cast<int>(centres_.rows()); }
+  int outputs() const noexcept { return static_cast<int>(weights_.rows()); }
+
+  /// g(x) into caller storage of size N. Returns non_finite_input for a
+  /// NaN/Inf x (g = 0) and invalid_argument for a wrong input size.
+  Status basis(const InputVector& x, BasisVector& g) const noexcept {
+    if (!configured_ || x.size() != centres_.cols() || g.size() != centres_.rows()) {
+      g.setZero();
+      return Status::invalid_argument;
+    }
+    if (!x.allFinite()) {
+      g.setZero();
+      return Status::non_finite_input;
+    }
+    // Squared distances accumulated input by input, each pass contiguous over
+    // the centres; g doubles as the accumulator so no workspace is needed.
+    g.setZero();
+    for (Eigen::Index i = 0; i < centres_.cols(); ++i) {
+      const Scalar xi = (x(i) - input_offset_(i)) * input_scale_(i);
+      g.array() += (centres_.col(i).array() - xi).square();
+    }
+    g.array() = (-g.array() * inv_two_sigma_sq_.array()).exp();
+    return Status::ok;
+  }
+
+  /// y = W g(x); g is caller workspace of size N, left holding g(x).
+  Status output(const InputVector& x, BasisVector& g, OutputVector& y) const noexcept {
+    const Status s = basis(x, g);
+    if (s != Status::ok) {
+      y.setZero();
+      return s;
+    }
+    y.noalias() = weights_ * g;
+    return Status::ok;
+  }
+
+  const CentreMatrix& centres() const noexcept { return centres_; }
+  const BasisVector& widths() const noexcept { return widths_; }
+  const InputVector& input_offset() const noexcept { return input_offset_; }
+  const InputVector& input_scale() const noexcept { return input_scale_; }
+  const WeightMatrix& weights() const noexcept { return weights_; }
+  /// Mutable weights, for the adaptive law and for warm starts.
+  WeightMatrix& weights() noexcept { return weights_; }
+
+  /// Replaces the weights; false (unchanged) on a wrong size or a NaN/Inf.
+  bool set_weights(const WeightMatrix& w) noexcept {
+    if (!configured_ || w.rows() != weights_.rows() || w.cols() != weights_.cols() ||
+        !w.allFinite())
+      return false;
+    weights_ = w;
+    return true;
+  }
+
+ private:
+#if NEUROV_HAS_EXCEPTIONS
+  static void throw_if(const ValidationError& e) {
+    if (!e) return;
+    char buf[256];
+    e.format(buf, sizeof buf);
+    throw std::invalid_argument(std::string("RBF network: ") + buf);
+  }
+#endif
+
+  CentreMatrix centres_;
+  BasisVector inv_two_sigma_sq_;
+  BasisVector widths_;
+  InputVector input_offset_;
+  InputVector input_scale_;
+  WeightMatrix weights_;
+  bool configured_ = false;
+};
+
+}  // namespace neurov

@@ -1,0 +1,56 @@
+// Tracking error and virtual reference (eq. 11, 14-16), shared by every
+// controller and computed once per step:
+//   eta_tilde = eta - eta_d,  s = eta_tilde_dot + Lambda eta_tilde
+//   eta_r_dot = eta_d_dot - Lambda eta_tilde,  eta_r_ddot = eta_d_ddot - Lambda eta_tilde_dot
+//   nu_r = J^-1(eta) eta_r_dot,  nu_r_dot = J^-1(eta) (eta_r_ddot - J_dot(eta, nu) nu_r)
+#pragma once
+
+#include "neurov/kinematics.hpp"
+#include "neurov/status.hpp"
+#include "neurov/types.hpp"
+
+namespace neurov {
+
+template <typename Scalar>
+struct TrackingError {
+  Vector6<Scalar> eta_tilde = Vector6<Scalar>::Zero();
+  Vector6<Scalar> eta_tilde_dot = Vector6<Scalar>::Zero();
+  Vector6<Scalar> s = Vector6<Scalar>::Zero();  ///< filtered tracking error
+  Vector6<Scalar> eta_r_dot = Vector6<Scalar>::Zero();
+  Vector6<Scalar> eta_r_ddot = Vector6<Scalar>::Zero();
+  Vector6<Scalar> nu_r = Vector6<Scalar>::Zero();
+  Vector6<Scalar> nu_r_dot = Vector6<Scalar>::Zero();
+  /// J(eta) of the vehicle's pose, for the controllers' J^T K_d s and J^-1 s.
+  EulerKinematics<Scalar> kinematics = EulerKinematics<Scalar>::from_pose(Vector6<Scalar>::Zero());
+};
+
+/// Fills `out` from the measured (eta, nu), the desired trajectory and the
+/// diagonal Lambda. Returns non_finite_input if any input is NaN/Inf and
+/// near_singularity at pitch +-90 deg; `out` is then unchanged.
+template <typename Scalar>
+inline Status compute_tracking_error(const Vector6<Scalar>& eta, const Vector6<Scalar>& nu,
+                                     const Vector6<Scalar>& eta_d, const Vector6<Scalar>& eta_d_dot,
+                                     const Vector6<Scalar>& eta_d_ddot,
+                                     const Vector6<Scalar>& lambda,
+                                     TrackingError<Scalar>& out) noexcept {
+  if (!(eta.allFinite() && nu.allFinite() && eta_d.allFinite() && eta_d_dot.allFinite() &&
+        eta_d_ddot.allFinite()))
+    return Status::non_finite_input;
+  const auto k = EulerKinematics<Scalar>::from_pose(eta);
+  if (k.status() != Status::ok) return k.status();
+  TrackingError<Scalar> e;
+  e.kinematics = k;
+  e.eta_tilde = eta - eta_d;
+  e.eta_tilde_dot = k.apply(nu) - eta_d_dot;
+  e.s = e.eta_tilde_dot + lambda.cwiseProduct(e.eta_tilde);
+  e.eta_r_dot = eta_d_dot - lambda.cwiseProduct(e.eta_tilde);
+  e.eta_r_ddot = eta_d_ddot - lambda.cwiseProduct(e.eta_tilde_dot);
+  e.nu_r = k.apply_inverse(e.eta_r_dot);
+  e.nu_r_dot = k.apply_inverse(e.eta_r_ddot - k.apply_dot(nu, e.nu_r));
+  if (!(e.s.allFinite() && e.nu_r.allFinite() && e.nu_r_dot.allFinite()))
+    return Status::non_finite_output;
+  out = e;
+  return Status::ok;
+}
+
+}  // namespace neurov
