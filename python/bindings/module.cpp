@@ -8,8 +8,8 @@ namespace py = pybind11;
 
 PYBIND11_MODULE(_core, m) {
   m.doc() =
-      "neurov's C++ core: vehicle dynamics, Euler-angle kinematics and integrator "
-      "(double precision). Import from `neurov`, not from here.";
+      "neurov's C++ core: vehicle dynamics, Euler-angle kinematics, integrator, "
+      "reference model and controllers (double precision). Import from `neurov`, not from here.";
   m.attr("__version__") = NEUROV_VERSION_INFO;
 
   py::enum_<neurov::Status>(m, "Status", "Result of a real-time step; `ok` is 0.")
@@ -25,4 +25,5 @@ PYBIND11_MODULE(_core, m) {
 
   neurov::bindings::bind_kinematics(m);
   neurov::bindings::bind_vehicle(m);
+  neurov::bindings::bind_controllers(m);
 }
