@@ -8,5 +8,6 @@ namespace neurov::bindings {
 void bind_kinematics(pybind11::module_& m);
 void bind_vehicle(pybind11::module_& m);
 void bind_controllers(pybind11::module_& m);
+void bind_simulation(pybind11::module_& m);
 
 }  // namespace neurov::bindings

@@ -1,5 +1,6 @@
-"""neurov's C++ core: vehicle dynamics, Euler-angle kinematics and integrator
-(double precision). Import from ``neurov``, not from here.
+"""neurov's C++ core: vehicle dynamics, Euler-angle kinematics, integrator,
+reference model, controllers and closed-loop simulation (double precision).
+Import from ``neurov``, not from here.
 
 Every array argument accepts anything ``numpy.asarray`` turns into a real
 (float or integer) array of the stated shape: lists, integer arrays,
@@ -10,16 +11,33 @@ raises ``TypeError``; both name the argument. Scalars are real numbers (not
 """
 
 import os
-from typing import ClassVar, Literal, SupportsFloat, SupportsIndex, SupportsInt, TypedDict, final, type_check_only
+from collections.abc import Iterable, Mapping
+from typing import (
+    Any,
+    ClassVar,
+    Literal,
+    SupportsFloat,
+    SupportsIndex,
+    SupportsInt,
+    TypedDict,
+    final,
+    overload,
+    type_check_only,
+)
 
 import numpy
 import numpy.typing
+from typing_extensions import Unpack
 
 _Array = numpy.typing.NDArray[numpy.float64]
 _ArrayLike = numpy.typing.ArrayLike
 _CoriolisForm = Literal["velocity_independent", "kirchhoff"]
+_Modification = Literal["none", "sigma", "e_modification", "projection"]
+_Saturation = Literal["scale", "clip"]
 
 __version__: str
+THETA_NAMES: tuple[str, ...]
+"""Names of the 24 columns of :func:`regressor` (the entries of theta), e.g. ``'m'``, ``'X_u|u|'``."""
 
 @final
 class Status:
@@ -216,4 +234,346 @@ def rk4_step(
     Returns the new ``(eta, nu)``; the inputs are not modified. ``dt`` must be
     finite and > 0; ``current`` (3,) is a constant NED current velocity [m/s].
     Raises ``ValueError`` at the pitch singularity or on overflow.
+    """
+
+# --------------------------------------------------------------------------
+# Reference model, tracking error, regressor
+
+@type_check_only
+class _Tracking(TypedDict):
+    """Tracking error and virtual reference (eq. 11, 14-16); every entry has shape (6,)."""
+
+    eta_tilde: _Array
+    eta_tilde_dot: _Array
+    s: _Array
+    eta_r_dot: _Array
+    eta_r_ddot: _Array
+    nu_r: _Array
+    nu_r_dot: _Array
+
+class ReferenceModel:
+    """Reference model of eq. 12-13: ``nu_d_dot = -Lambda_d nu_d + J^T(eta_d) Omega (r - eta_d)``,
+    ``eta_d_dot = J(eta_d) nu_d``. Turns a commanded pose r into a smooth desired trajectory."""
+
+    def __init__(self, lambda_d: _ArrayLike, omega: _ArrayLike, eta0: _ArrayLike | None = None) -> None:
+        """lambda_d: damping diagonal (6,), > 0; omega: stiffness diagonal (6,), > 0;
+        eta0: initial pose (6,), default zero. Starts at rest."""
+    def step(self, r: _ArrayLike, dt: SupportsFloat) -> tuple[_Array, _Array, _Array]:
+        """Advances by dt with the commanded pose r (6,) held (RK4).
+
+        Returns ``(eta_d, eta_d_dot, eta_d_ddot)``, each (6,). A refused step
+        raises ``ValueError`` and changes nothing.
+        """
+    def reset(self, eta0: _ArrayLike) -> None:
+        """Back to rest at eta0 (6,)."""
+    @property
+    def eta_d(self) -> _Array:
+        """Current desired pose (6,)."""
+    @property
+    def nu_d(self) -> _Array:
+        """Current desired body velocity (6,)."""
+    @property
+    def lambda_d(self) -> _Array:
+        """Damping diagonal (6,)."""
+    @property
+    def omega(self) -> _Array:
+        """Stiffness diagonal (6,)."""
+
+def tracking_error(
+    eta: _ArrayLike,
+    nu: _ArrayLike,
+    eta_d: _ArrayLike,
+    eta_d_dot: _ArrayLike,
+    eta_d_ddot: _ArrayLike,
+    lambda_: _ArrayLike,
+) -> _Tracking:
+    """Tracking error and virtual reference (eq. 11, 14-16) with the diagonal Lambda (6,).
+
+    Returns a dict of (6,) arrays: eta_tilde, eta_tilde_dot, s, eta_r_dot,
+    eta_r_ddot, nu_r, nu_r_dot. Raises ``ValueError`` at the pitch singularity.
+    """
+
+def regressor(nu_r_dot: _ArrayLike, nu_r: _ArrayLike, nu: _ArrayLike, eta: _ArrayLike) -> _Array:
+    """Regressor Phi (6, 24) with ``Phi @ theta = M nu_r_dot + C(nu) nu_r + D(nu) nu_r + g(eta)``
+    for NEROV's model structure; :data:`THETA_NAMES` names the columns."""
+
+def regressor_parameters(vehicle: Vehicle) -> _Array:
+    """The true theta (24,) of a vehicle whose structure the regressor covers.
+
+    That is r_g = 0, diagonal inertia and added mass, r_b on the z axis;
+    ``ValueError`` otherwise.
+    """
+
+# --------------------------------------------------------------------------
+# RBF network and controllers
+
+class RbfNetwork:
+    """Radial-basis-function network (eq. 30).
+
+    ``g_j(x) = exp(-||x_hat - xi_j||^2 / (2 sigma_j^2))``, output ``W g(x)``
+    with W (6, N); ``x_hat = (x - input_offset) * input_scale``.
+    """
+
+    def __init__(
+        self,
+        centres: _ArrayLike,
+        width: SupportsFloat | _ArrayLike,
+        input_offset: _ArrayLike | None = None,
+        input_scale: _ArrayLike | None = None,
+    ) -> None:
+        """centres: (N, n_in), one centre per row; width: sigma for every centre, or (N,)
+        per centre, > 0; input_offset and input_scale: (n_in,) input normalisation,
+        default identity (the paper's choice). Weights start at zero."""
+    def basis(self, x: _ArrayLike) -> _Array:
+        """Basis values g(x) for an input x (n_in,), shape (N,)."""
+    def output(self, x: _ArrayLike) -> _Array:
+        """Network output W g(x) for an input x (n_in,), shape (6,)."""
+    @property
+    def weights(self) -> _Array:
+        """Output weights W, shape (6, N); assignable."""
+    @weights.setter
+    def weights(self, value: _ArrayLike) -> None: ...
+    @property
+    def centres(self) -> _Array:
+        """Centres, shape (N, n_in)."""
+    @property
+    def widths(self) -> _Array:
+        """Widths sigma_j, shape (N,)."""
+    @property
+    def input_offset(self) -> _Array:
+        """Input offset, shape (n_in,)."""
+    @property
+    def input_scale(self) -> _Array:
+        """Input scale, shape (n_in,)."""
+    @property
+    def n_inputs(self) -> int:
+        """Number of inputs n_in."""
+    @property
+    def n_centres(self) -> int:
+        """Number of centres N."""
+
+@type_check_only
+class _Controller:
+    """What every controller has (a stub-only base: at runtime the classes are unrelated)."""
+
+    def step(
+        self,
+        eta: _ArrayLike,
+        nu: _ArrayLike,
+        eta_d: _ArrayLike,
+        eta_d_dot: _ArrayLike,
+        eta_d_ddot: _ArrayLike,
+    ) -> _Array:
+        """One control step; returns tau (6,), the body forces and moments.
+
+        eta (6,) and nu (6,) are the measured pose and body velocity; eta_d,
+        eta_d_dot, eta_d_ddot (6,) the desired motion in the earth frame. A
+        NaN/Inf input, or the pitch singularity, raises ``ValueError`` and
+        leaves the controller exactly as it was.
+        """
+    def reset(self) -> None:
+        """Back to the initial state and a zero history."""
+    @property
+    def s(self) -> _Array:
+        """Filtered tracking error s of the last step, shape (6,)."""
+    @property
+    def tracking(self) -> _Tracking:
+        """Tracking error and virtual reference of the last step (a dict of (6,) arrays)."""
+
+class NNAdaptiveController(_Controller):
+    """Direct adaptive RBF-network controller (eq. 35, 37).
+
+    ``tau = W g(x) - J^T K_d s`` with ``x = [nu_r_dot; nu_r; nu; eta]`` (24
+    inputs), then ``W <- W - dt (J^-1 s) g(x)^T Gamma_w``. tau uses the
+    weights from before the update.
+    """
+
+    def __init__(
+        self,
+        network: RbfNetwork,
+        lambda_: _ArrayLike,
+        kd: _ArrayLike,
+        gamma: SupportsFloat = 0.3,
+        dt: SupportsFloat = 0.2,
+        *,
+        modification: _Modification = "none",
+        sigma_m: SupportsFloat = 0.0,
+        kappa: SupportsFloat = 0.0,
+        w_max: SupportsFloat = 0.0,
+        dead_zone: SupportsFloat = 0.0,
+        learning_rates: _ArrayLike | None = None,
+    ) -> None:
+        """network: an RbfNetwork with 24 inputs (copied; its weights are W(0));
+        lambda_: Lambda diagonal (6,), > 0; kd: K_d diagonal (6,), >= 0; gamma:
+        Gamma_w = gamma I (the paper: 0.3); dt: control period [s] (the paper:
+        0.2). Robust modifications (off by default): ``'sigma'`` (sigma_m > 0),
+        ``'e_modification'`` (kappa > 0) or ``'projection'`` (||W||_F <= w_max);
+        dead_zone: no adaptation while ||s|| < dead_zone; learning_rates (N,):
+        per-centre Gamma_w."""
+    @property
+    def weights(self) -> _Array:
+        """Current weights W, shape (6, N); assignable (warm start)."""
+    @weights.setter
+    def weights(self, value: _ArrayLike) -> None: ...
+    @property
+    def weight_norm(self) -> float:
+        """||W||_F."""
+    @property
+    def network_output(self) -> _Array:
+        """W g(x) of the last step (before its update), shape (6,)."""
+    @property
+    def basis(self) -> _Array:
+        """g(x) of the last step, shape (N,)."""
+    @property
+    def adapted(self) -> bool:
+        """Whether the last step moved the weights (False in the dead zone)."""
+    @property
+    def n_centres(self) -> int:
+        """Number of centres N."""
+    @property
+    def centres(self) -> _Array:
+        """Centres, shape (N, 24)."""
+    @property
+    def modification(self) -> _Modification:
+        """The robust modification in use."""
+
+class LinearAdaptiveController(_Controller):
+    """Linearly parameterised adaptive controller (eq. 26, 28; Fossen and Sagatun).
+
+    ``tau = Phi theta_hat - J^T K_d s``, ``theta_hat <- theta_hat - dt Gamma
+    Phi^T J^-1 s``. Knows NEROV's model structure (see :func:`regressor`),
+    not its parameters.
+    """
+
+    def __init__(
+        self,
+        lambda_: _ArrayLike,
+        kd: _ArrayLike,
+        gamma: SupportsFloat | _ArrayLike,
+        dt: SupportsFloat = 0.2,
+        theta0: _ArrayLike | None = None,
+    ) -> None:
+        """lambda_: Lambda diagonal (6,), > 0; kd: K_d diagonal (6,), >= 0; gamma:
+        Gamma diagonal, a number or (24,), >= 0; dt: control period [s]; theta0:
+        theta_hat(0) (24,), default zero (``regressor_parameters(vehicle)`` gives
+        the true one)."""
+    @property
+    def theta(self) -> _Array:
+        """Current estimate theta_hat (24,); assignable."""
+    @theta.setter
+    def theta(self, value: _ArrayLike) -> None: ...
+    @property
+    def model_output(self) -> _Array:
+        """Phi theta_hat of the last step, shape (6,)."""
+
+class PDController(_Controller):
+    """PD baseline in the earth frame: ``tau = -J^T (K_p eta_tilde + K_d eta_tilde_dot)``."""
+
+    def __init__(self, kp: _ArrayLike, kd: _ArrayLike) -> None:
+        """kp, kd: diagonal gains (6,), >= 0."""
+
+# --------------------------------------------------------------------------
+# Closed-loop simulation and thrust allocation
+
+@type_check_only
+class _Disturbance(TypedDict):
+    """A sinusoidal disturbance on one DOF."""
+
+    dof: int
+    amplitude: float
+    frequency: float
+    phase: float
+    start: float
+
+@type_check_only
+class _ThrusterFailure(TypedDict):
+    """From ``time`` on, thruster ``index`` delivers ``efficiency`` times its thrust."""
+
+    index: int
+    efficiency: float
+    time: float
+
+@type_check_only
+class _SimulationOptions(TypedDict, total=False):
+    """Keyword arguments of :func:`run_closed_loop`; only the command is required."""
+
+    dt: SupportsFloat
+    substeps: int
+    duration: SupportsFloat
+    eta0: _ArrayLike
+    nu0: _ArrayLike
+    command_times: _ArrayLike
+    command_poses: _ArrayLike
+    command_interpolation: Literal["linear", "hold"]
+    lambda_d: _ArrayLike
+    omega: _ArrayLike
+    disturbances: Iterable[_Disturbance | Mapping[str, Any]]
+    current: _ArrayLike
+    current_amplitude: _ArrayLike
+    current_period: SupportsFloat
+    noise_eta: _ArrayLike
+    noise_nu: _ArrayLike
+    seed: int
+    thruster_matrix: _ArrayLike
+    thruster_max: _ArrayLike
+    thruster_min: _ArrayLike
+    thruster_weights: _ArrayLike
+    saturation: _Saturation
+    thruster_time_constant: SupportsFloat
+    thruster_failures: Iterable[_ThrusterFailure | Mapping[str, Any]]
+
+@type_check_only
+class _SimulationResult(TypedDict):
+    """What :func:`run_closed_loop` returns: one row per control step t_k = k dt."""
+
+    t: _Array
+    eta: _Array
+    nu: _Array
+    eta_d: _Array
+    eta_d_dot: _Array
+    tau_demanded: _Array
+    tau_applied: _Array
+    disturbance: _Array
+    s: _Array
+    thrusts: _Array
+    theta: _Array
+    adaptive_norm: _Array
+    controller_status: numpy.typing.NDArray[numpy.uint8]
+    plant_status: numpy.typing.NDArray[numpy.uint8]
+    diverged: bool
+
+@overload
+def run_closed_loop(
+    vehicle: Vehicle, controller: NNAdaptiveController, **kwargs: Unpack[_SimulationOptions]
+) -> _SimulationResult:
+    """Runs a closed loop in C++ and returns a dict of arrays (rows at t_k = k dt).
+
+    Keys: t, eta, nu, eta_d, eta_d_dot, tau_demanded, tau_applied,
+    disturbance, s, thrusts, theta, adaptive_norm, controller_status,
+    plant_status, and diverged (bool). The controller is used as given and
+    left in its final state. ``neurov.simulate(scenario)`` is the friendly
+    front end.
+    """
+
+@overload
+def run_closed_loop(
+    vehicle: Vehicle, controller: LinearAdaptiveController, **kwargs: Unpack[_SimulationOptions]
+) -> _SimulationResult: ...
+@overload
+def run_closed_loop(
+    vehicle: Vehicle, controller: PDController, **kwargs: Unpack[_SimulationOptions]
+) -> _SimulationResult: ...
+def allocate_thrust(
+    matrix: _ArrayLike,
+    tau: _ArrayLike,
+    max_thrust: _ArrayLike | None = None,
+    min_thrust: _ArrayLike | None = None,
+    saturation: _Saturation = "scale",
+    weights: _ArrayLike | None = None,
+) -> tuple[_Array, _Array]:
+    """Allocates a wrench tau (6,) to thrusters with configuration matrix (6, n).
+
+    Weighted pseudo-inverse, then saturation (``'scale'`` keeps the
+    direction, ``'clip'`` clips each thruster). Returns ``(thrusts (n,),
+    produced wrench (6,))``.
     """

@@ -83,10 +83,17 @@ def grid(
     return out
 
 
-def _box(low: ArrayLike, high: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    lo = np.atleast_1d(np.asarray(low, dtype=np.float64))
-    hi = np.atleast_1d(np.asarray(high, dtype=np.float64))
-    lo, hi = np.broadcast_arrays(lo, hi)
+def _box(low: ArrayLike, high: ArrayLike, n_inputs: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    lo = np.asarray(low, dtype=np.float64)
+    hi = np.asarray(high, dtype=np.float64)
+    if lo.ndim == 0 and hi.ndim == 0:
+        lo = np.full(n_inputs, lo)
+    try:
+        lo, hi = np.broadcast_arrays(lo, hi)
+    except ValueError:
+        raise ValueError(
+            f"arguments 'low' and 'high' must have the same length, got {lo.shape} and {hi.shape}"
+        ) from None
     if lo.ndim != 1:
         raise ValueError("arguments 'low' and 'high' must be numbers or 1-D arrays")
     if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi))):
@@ -100,11 +107,11 @@ def _scale(unit: NDArray[np.float64], lo: NDArray[np.float64], hi: NDArray[np.fl
     return np.asarray(lo + unit * (hi - lo), dtype=np.float64)
 
 
-def sobol(n: int, low: ArrayLike, high: ArrayLike, seed: int = 0) -> NDArray[np.float64]:
+def sobol(n: int, low: ArrayLike, high: ArrayLike, seed: int = 0, n_inputs: int = 24) -> NDArray[np.float64]:
     """``n`` scrambled Sobol points in the box ``[low, high]`` (one bound per
-    input, or one number for all). Powers of two give the best balance; other
-    ``n`` take the first ``n`` points of the sequence."""
-    lo, hi = _box(low, high)
+    input, or one number for all ``n_inputs``). Powers of two give the best
+    balance; other ``n`` take the first ``n`` points of the sequence."""
+    lo, hi = _box(low, high, n_inputs)
     if int(n) != n or n < 1:
         raise ValueError(f"argument 'n' must be a positive integer, got {n!r}")
     sampler = qmc.Sobol(d=len(lo), scramble=True, rng=np.random.default_rng(seed))
@@ -115,9 +122,12 @@ def sobol(n: int, low: ArrayLike, high: ArrayLike, seed: int = 0) -> NDArray[np.
     return _scale(unit, lo, hi)
 
 
-def latin_hypercube(n: int, low: ArrayLike, high: ArrayLike, seed: int = 0) -> NDArray[np.float64]:
-    """``n`` Latin-hypercube points in the box ``[low, high]``, seeded."""
-    lo, hi = _box(low, high)
+def latin_hypercube(
+    n: int, low: ArrayLike, high: ArrayLike, seed: int = 0, n_inputs: int = 24
+) -> NDArray[np.float64]:
+    """``n`` Latin-hypercube points in the box ``[low, high]`` (one bound per
+    input, or one number for all ``n_inputs``), seeded."""
+    lo, hi = _box(low, high, n_inputs)
     if int(n) != n or n < 1:
         raise ValueError(f"argument 'n' must be a positive integer, got {n!r}")
     sampler = qmc.LatinHypercube(d=len(lo), rng=np.random.default_rng(seed))
