@@ -8,7 +8,14 @@ diagonal of M_A, or a 6x6 table); ``linear_damping`` and ``quadratic_damping``
 (6 numbers each); optional ``centre_of_gravity`` and ``centre_of_buoyancy``
 (3 numbers, m, default zero), ``coriolis_form`` (``"velocity_independent"``, the
 default and the paper's eq. 39, or ``"kirchhoff"``), ``name`` and ``source``
-(strings). Further tables (such as ``[thrusters]``) belong to other readers.
+(strings).
+
+An optional ``[thrusters]`` table gives the thruster layout, either as
+``positions`` and ``directions`` (n rows of 3 numbers each, body axes; the
+configuration matrix column is [d; r x d] for a unit direction d at r) or as
+an explicit 6 x n ``matrix``; ``max_thrust`` (a number or n numbers, N);
+optional ``min_thrust`` (default -max_thrust) and ``time_constant`` (s, a
+first-order lag; default 0, none).
 
 Every error names the file and the field.
 """
@@ -28,6 +35,7 @@ else:  # pragma: no cover - exercised on Python 3.10 only
 
 __all__ = [
     "VehicleFileError",
+    "load_thrusters",
     "load_vehicle",
     "load_vehicle_parameters",
     "preset_names",
@@ -176,3 +184,77 @@ def load_vehicle(path: str | Path) -> Any:
         return Vehicle(**kwargs)
     except ValueError as e:
         raise VehicleFileError(f"{path}: {e}") from None
+
+
+def load_thrusters(path: str | Path) -> dict[str, Any] | None:
+    """The ``[thrusters]`` table of a vehicle file as arrays (``matrix``
+    (6, n), ``max_thrust``, ``min_thrust`` (n,), ``time_constant``), or None
+    if the file has none. Errors name the file and the field."""
+    import numpy as np
+
+    path = Path(path)
+    with path.open("rb") as f:
+        data = tomllib.load(f)
+    table = data.get("thrusters")
+    if table is None:
+        return None
+    where = f"{path}: thrusters"
+    if not isinstance(table, dict):
+        raise VehicleFileError(f"{where}: expected a table")
+    allowed = {"positions", "directions", "matrix", "max_thrust", "min_thrust", "time_constant", "description"}
+    for key in table:
+        if key not in allowed:
+            close = difflib.get_close_matches(key, sorted(allowed), n=1)
+            hint = f"; did you mean {close[0]!r}?" if close else ""
+            raise VehicleFileError(f"{where}.{key}: unknown field{hint}")
+
+    def array(key: str, shape: tuple[int, ...] | None) -> Any:
+        v = table[key]
+        s = _shape_of(v)
+        if s is None or (shape is not None and s != shape) or len(s) < 1:
+            raise VehicleFileError(f"{where}.{key}: expected {_shape_text(shape) if shape else 'a table of numbers'}, got {_describe(v) if s is None else s}")
+        a = np.asarray(v, dtype=np.float64)
+        if not np.all(np.isfinite(a)):
+            raise VehicleFileError(f"{where}.{key}: expected finite numbers")
+        return a
+
+    if "matrix" in table:
+        if "positions" in table or "directions" in table:
+            raise VehicleFileError(f"{where}: give either 'matrix' or 'positions' and 'directions'")
+        matrix = array("matrix", None)
+        if matrix.ndim != 2 or matrix.shape[0] != 6:
+            raise VehicleFileError(f"{where}.matrix: expected 6 rows, got shape {matrix.shape}")
+    else:
+        for key in ("positions", "directions"):
+            if key not in table:
+                raise VehicleFileError(f"{where}: missing field {key!r} (or give 'matrix')")
+        pos = array("positions", None)
+        dirs = array("directions", None)
+        if pos.ndim != 2 or pos.shape[1] != 3 or dirs.shape != pos.shape:
+            raise VehicleFileError(f"{where}: 'positions' and 'directions' must both be n rows of 3 numbers")
+        norms = np.linalg.norm(dirs, axis=1)
+        if np.any(norms == 0):
+            raise VehicleFileError(f"{where}.directions: a direction is zero")
+        dirs = dirs / norms[:, None]
+        matrix = np.vstack([dirs.T, np.cross(pos, dirs).T])
+    n = matrix.shape[1]
+    if "max_thrust" not in table:
+        raise VehicleFileError(f"{where}: missing field 'max_thrust'")
+
+    def limits(key: str) -> Any:
+        v = table[key]
+        if isinstance(v, (int, float)) and not isinstance(v, bool):
+            v = [v] * n
+        if _shape_of(v) != (n,):
+            raise VehicleFileError(f"{where}.{key}: expected a number or {n} numbers, got {_describe(v)}")
+        a = np.asarray(v, dtype=np.float64)
+        if not np.all(np.isfinite(a)):
+            raise VehicleFileError(f"{where}.{key}: expected finite numbers")
+        return a
+
+    max_thrust = limits("max_thrust")
+    min_thrust = limits("min_thrust") if "min_thrust" in table else -max_thrust
+    tc = table.get("time_constant", 0.0)
+    if isinstance(tc, bool) or not isinstance(tc, (int, float)) or not math.isfinite(tc) or tc < 0:
+        raise VehicleFileError(f"{where}.time_constant: expected a number >= 0, got {tc!r}")
+    return {"matrix": matrix, "max_thrust": max_thrust, "min_thrust": min_thrust, "time_constant": float(tc)}

@@ -1,0 +1,75 @@
+"""The ``neurov`` command line."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Sequence
+
+__all__ = ["main"]
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(
+        prog="neurov",
+        description="Adaptive neural-network control for underwater vehicles: run the paper's "
+        "experiments or your own scenarios.",
+    )
+    p.add_argument("--version", action="store_true", help="print the version and exit")
+    sub = p.add_subparsers(dest="command", metavar="COMMAND")
+
+    paper = sub.add_parser(
+        "paper",
+        help="reproduce the paper's Figs. 3-5",
+        description="Runs the paper's experiments (NEROV, 5 Hz, RBF network with width 30 and "
+        "gain 0.3) and writes fig3_xy.png, fig4_inputs.png, fig5_yaw_disturbance.png, "
+        "metrics.json and summary.md.",
+    )
+    paper.add_argument("--out", default="paper-results", metavar="DIR",
+                       help="output folder (default: paper-results)")
+
+    run = sub.add_parser(
+        "run",
+        help="run a scenario file",
+        description="Runs one scenario file (TOML; see neurov.scenario for the format), prints "
+        "its metrics, and with --out writes result.csv, result.npz and metrics.json.",
+    )
+    run.add_argument("scenario", metavar="SCENARIO.toml", help="the scenario file")
+    run.add_argument("--out", default=None, metavar="DIR", help="folder for the results")
+    run.add_argument("--plot", action="store_true", help="also write PNG figures (needs --out)")
+    return p
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = _parser()
+    args = parser.parse_args(argv)
+    if args.version:
+        from neurov import __version__
+
+        print(f"neurov {__version__}")
+        return 0
+    if args.command is None:
+        parser.print_help()
+        return 2
+    # Commands import lazily so that --help answers at once.
+    try:
+        if args.command == "paper":
+            from neurov.paper import run_paper
+
+            run_paper(args.out)
+        elif args.command == "run":
+            if args.plot and args.out is None:
+                parser.error("--plot needs --out DIR")
+            from neurov.run import run_scenario_file
+
+            run_scenario_file(args.scenario, out_dir=args.out, plot=args.plot)
+    except (ValueError, OSError) as e:
+        # ScenarioError and VehicleFileError are ValueErrors that name the
+        # file and the field: the message is the whole story, no traceback.
+        print(f"neurov: error: {e}", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

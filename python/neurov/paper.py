@@ -1,0 +1,231 @@
+"""The paper's experiments (Figs. 3-5), reproduced by ``neurov paper``.
+
+The set-ups are the shipped scenario files ``scenarios/paper_fig3.toml`` and
+``scenarios/paper_fig5.toml``; the controllers compared are listed in
+:data:`EXPERIMENTS`. Every choice the paper leaves open is marked "ours" in
+those files and discussed in docs/paper-reproduction.md.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from neurov.scenario import ControllerSpec, Scenario, load_scenario
+from neurov.simulation import Result, simulate
+
+__all__ = ["EXPERIMENTS", "METRIC_KEYS", "Experiment", "paper_scenario", "run_paper"]
+
+SCENARIO_DIR = Path(__file__).with_name("scenarios")
+#: Metrics are taken after this transient [s] (the reference model starts the path at 5 s).
+TRANSIENT = 10.0
+#: The keys every metrics.json entry carries (more follow them).
+METRIC_KEYS = ("rmse_position_m", "rmse_yaw_rad", "max_position_error_m", "mean_abs_tau", "max_abs_tau")
+
+
+@dataclass(frozen=True)
+class Experiment:
+    key: str
+    scenario: str  # scenario file stem in SCENARIO_DIR
+    label: str
+    controller: dict[str, Any] | None = None  # overrides of the file's [controller]; None keeps it
+
+
+#: What ``neurov paper`` runs: the file's NN controller, the same with K_d = 0
+#: (the paper: "only the neural network controller was used"), and for Fig. 5
+#: the linearly parameterised adaptive controller with the same Lambda and
+#: K_d, theta_hat(0) = 0 and Gamma = I (ours).
+EXPERIMENTS: tuple[Experiment, ...] = (
+    Experiment("fig3_nn", "paper_fig3", "NN adaptive"),
+    Experiment("fig3_nn_kd0", "paper_fig3", "NN adaptive, K_d = 0", {"kd": np.zeros(6)}),
+    Experiment("fig5_nn", "paper_fig5", "NN adaptive"),
+    Experiment("fig5_linear", "paper_fig5", "linear adaptive",
+               {"type": "linear", "gamma": 1.0, "theta0": "zero"}),
+)
+
+
+#: The Fig. 5 comparison repeated over disturbance amplitudes [N m] and
+#: frequencies [Hz]: the paper gives neither, and the answer depends on both.
+SWEEP_AMPLITUDES = (5.0, 10.0, 30.0)
+SWEEP_FREQUENCIES = (0.01, 0.05, 0.2)
+
+
+def paper_scenario(name: str) -> Scenario:
+    """A shipped paper scenario by file stem (``"paper_fig3"``, ``"paper_fig5"``)."""
+    return load_scenario(SCENARIO_DIR / f"{name}.toml")
+
+
+def _spec(base: ControllerSpec, changes: dict[str, Any] | None, label: str) -> ControllerSpec:
+    return dataclasses.replace(base, label=label, **(changes or {}))
+
+
+def run_experiments() -> dict[str, Result]:
+    results: dict[str, Result] = {}
+    for e in EXPERIMENTS:
+        scenario = paper_scenario(e.scenario)
+        results[e.key] = simulate(scenario, _spec(scenario.controller, e.controller, e.label))
+    return results
+
+
+def run_disturbance_sweep() -> list[dict[str, Any]]:
+    """The fig5 NN and linear controllers under each amplitude x frequency."""
+    base = paper_scenario("paper_fig5")
+    specs = {e.key: _spec(base.controller, e.controller, e.label) for e in EXPERIMENTS
+             if e.scenario == "paper_fig5"}
+    rows = []
+    for amplitude in SWEEP_AMPLITUDES:
+        for frequency in SWEEP_FREQUENCIES:
+            d = dataclasses.replace(base.disturbances[0], amplitude=amplitude, frequency=frequency)
+            scenario = base.replace(disturbances=[d])
+            row: dict[str, Any] = {"amplitude_nm": amplitude, "frequency_hz": frequency}
+            for key, spec in specs.items():
+                m = simulate(scenario, spec).metrics(after=TRANSIENT)
+                row[key] = {k: m[k] for k in METRIC_KEYS}
+            rows.append(row)
+    return rows
+
+
+def _sweep_table(rows: list[dict[str, Any]]) -> str:
+    lines = ["| amplitude [N m] | frequency [Hz] | NN: RMS yaw [rad] | linear: RMS yaw [rad] | "
+             "NN: RMS position [m] | linear: RMS position [m] | lower yaw error |",
+             "|" + "---|" * 7]
+    for r in rows:
+        nn, lin = r["fig5_nn"], r["fig5_linear"]
+        better = "NN" if nn["rmse_yaw_rad"] < lin["rmse_yaw_rad"] else "linear"
+        lines.append(f"| {r['amplitude_nm']:g} | {r['frequency_hz']:g} | {nn['rmse_yaw_rad']:.4f} | "
+                     f"{lin['rmse_yaw_rad']:.4f} | {nn['rmse_position_m']:.4f} | "
+                     f"{lin['rmse_position_m']:.4f} | {better} |")
+    return "\n".join(lines)
+
+
+# --- figures ---------------------------------------------------------------------
+
+_DESIRED = {"color": "black", "linestyle": "-", "linewidth": 1.6}
+_STYLES = ({"linestyle": "--", "color": "tab:blue"}, {"linestyle": "-.", "color": "tab:red"},
+           {"linestyle": ":", "color": "tab:green"})
+
+
+def _xy(ax: Any, runs: list[Result]) -> None:
+    ax.plot(runs[0].eta_d[:, 1], runs[0].eta_d[:, 0], label="desired", **_DESIRED)
+    for r, st in zip(runs, _STYLES):
+        ax.plot(r.eta[:, 1], r.eta[:, 0], label=r.controller, **st)
+    ax.set_xlabel("Y (east) [m]")
+    ax.set_ylabel("X (north) [m]")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="best", fontsize=8)
+
+
+def figure_xy(runs: list[Result], title: str) -> Figure:
+    fig = Figure(figsize=(6.0, 5.5), layout="constrained")
+    ax = fig.add_subplot()
+    _xy(ax, runs)
+    ax.set_title(title)
+    return fig
+
+
+def figure_inputs(run: Result) -> Figure:
+    has_thrusts = run.thrusts.shape[1] > 0
+    fig = Figure(figsize=(8.0, 6.5 if has_thrusts else 4.0), layout="constrained")
+    axes = fig.subplots(2 if has_thrusts else 1, 1, sharex=True, squeeze=False)[:, 0]
+    names = ("X [N]", "Y [N]", "Z [N]", "K [N m]", "M [N m]", "N [N m]")
+    for i, n in enumerate(names):
+        axes[0].plot(run.t, run.tau_demanded[:, i], label=n, linewidth=1.0)
+    axes[0].set_ylabel("tau demanded")
+    axes[0].set_title(f"Control inputs: {run.controller} ({run.scenario.name})")
+    axes[0].legend(ncol=6, fontsize=7, loc="upper right")
+    axes[0].grid(True, alpha=0.3)
+    if has_thrusts:
+        for i in range(run.thrusts.shape[1]):
+            axes[1].plot(run.t, run.thrusts[:, i], label=f"T{i + 1}", linewidth=1.0)
+        axes[1].set_ylabel("thrust [N]")
+        axes[1].legend(ncol=6, fontsize=7, loc="upper right")
+        axes[1].grid(True, alpha=0.3)
+    axes[-1].set_xlabel("t [s]")
+    return fig
+
+
+def figure_yaw(runs: list[Result]) -> Figure:
+    fig = Figure(figsize=(11.0, 4.8), layout="constrained")
+    ax_xy, ax_yaw = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1, 1.4]})
+    _xy(ax_xy, runs)
+    ax_xy.set_title("X-Y path")
+    ax_yaw.plot(runs[0].t, np.degrees(runs[0].eta_d[:, 5]), label="desired", **_DESIRED)
+    for r, st in zip(runs, _STYLES):
+        ax_yaw.plot(r.t, np.degrees(r.eta[:, 5]), label=r.controller, **st)
+    ax_yaw.set_xlabel("t [s]")
+    ax_yaw.set_ylabel("heading psi [deg]")
+    ax_yaw.grid(True, alpha=0.3)
+    ax_yaw.legend(loc="best", fontsize=8)
+    d = runs[0].scenario.disturbances[0]
+    ax_yaw.set_title(f"Yaw disturbance {d.amplitude:g} N m at {d.frequency:g} Hz")
+    return fig
+
+
+# --- the command -----------------------------------------------------------------
+
+
+def _table(rows: list[tuple[str, str, dict[str, Any]]]) -> str:
+    head = "| experiment | controller | RMS position [m] | RMS yaw [rad] | max position error [m] | mean abs tau | max abs tau |"
+    lines = [head, "|" + "---|" * 7]
+    for key, ctrl, m in rows:
+        lines.append(
+            f"| {key} | {ctrl} | {m['rmse_position_m']:.4f} | {m['rmse_yaw_rad']:.4f} | "
+            f"{m['max_position_error_m']:.4f} | {m['mean_abs_tau']:.2f} | {m['max_abs_tau']:.2f} |"
+        )
+    return "\n".join(lines)
+
+
+def run_paper(out_dir: str | Path = "paper-results", quiet: bool = False) -> dict[str, Any]:
+    """Runs every experiment, writes fig3_xy.png, fig4_inputs.png,
+    fig5_yaw_disturbance.png, metrics.json and summary.md into `out_dir`, prints
+    the metrics table, and returns the metrics."""
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    start = time.perf_counter()
+    results = run_experiments()
+    sweep = run_disturbance_sweep()
+    sim_time = time.perf_counter() - start
+
+    figure_xy([results["fig3_nn"], results["fig3_nn_kd0"]],
+              "Fig. 3: X-Y trajectory, NEROV, NN adaptive controller").savefig(out / "fig3_xy.png", dpi=120)
+    figure_inputs(results["fig3_nn"]).savefig(out / "fig4_inputs.png", dpi=120)
+    figure_yaw([results["fig5_nn"], results["fig5_linear"]]).savefig(out / "fig5_yaw_disturbance.png", dpi=120)
+
+    metrics: dict[str, Any] = {}
+    rows = []
+    for e in EXPERIMENTS:
+        r = results[e.key]
+        m = r.metrics(after=TRANSIENT)
+        metrics[e.key] = {"scenario": e.scenario, "controller": r.controller, **m}
+        rows.append((e.key, r.controller, m))
+    table = _table(rows)
+    sweep_table = _sweep_table(sweep)
+    (out / "metrics.json").write_text(json.dumps({**metrics, "fig5_sweep": sweep}, indent=2) + "\n")
+    total = time.perf_counter() - start
+    (out / "summary.md").write_text(
+        "# neurov paper: results\n\n"
+        f"Metrics over t >= {TRANSIENT:g} s. Set-ups: scenarios/paper_fig3.toml and "
+        "scenarios/paper_fig5.toml in the neurov package; the choices the paper leaves open "
+        "are discussed in docs/paper-reproduction.md.\n\n"
+        f"{table}\n\n"
+        "## Fig. 5 over disturbance amplitude and frequency\n\n"
+        "The paper gives neither; the same two controllers on the same path:\n\n"
+        f"{sweep_table}\n\n"
+        f"Ran {len(results) + 2 * len(sweep)} closed loops in {sim_time:.3f} s; the whole "
+        f"command took {total:.2f} s.\n"
+    )
+    if not quiet:
+        print(table)
+        print("\nFig. 5 comparison over disturbance amplitude and frequency:\n")
+        print(sweep_table)
+        print(f"\nwrote fig3_xy.png, fig4_inputs.png, fig5_yaw_disturbance.png, metrics.json, "
+              f"summary.md to {out}/ in {total:.2f} s")
+    return metrics
