@@ -4,10 +4,12 @@ The physics and control laws live in the compiled core (``neurov._core``, C++
 with Eigen); this package re-exports it and adds files, scenarios and plots.
 """
 
-from neurov import centres
+from neurov import centres, trajectories
 from neurov._core import (
     THETA_NAMES,
     LinearAdaptiveController,
+    allocate_thrust,
+    run_closed_loop,
     NNAdaptiveController,
     PDController,
     RbfNetwork,
@@ -26,10 +28,33 @@ from neurov._core import (
     singularity_threshold,
     tracking_error,
 )
+from neurov.scenario import (
+    CommandSpec,
+    ControllerSpec,
+    Disturbance,
+    Scenario,
+    ScenarioError,
+    ThrusterFailure,
+    load_scenario,
+)
+from neurov.simulation import Result, simulate, simulate_many
 from neurov.vehicle_file import VehicleFileError
 
 __all__ = [
     "THETA_NAMES",
+    "CommandSpec",
+    "ControllerSpec",
+    "Disturbance",
+    "Result",
+    "Scenario",
+    "ScenarioError",
+    "ThrusterFailure",
+    "allocate_thrust",
+    "load_scenario",
+    "run_closed_loop",
+    "simulate",
+    "simulate_many",
+    "trajectories",
     "LinearAdaptiveController",
     "NNAdaptiveController",
     "PDController",
