@@ -9,9 +9,11 @@
 #include "neurov/linear_adaptive_controller.hpp"
 #include "neurov/nn_controller.hpp"
 #include "neurov/pd_controller.hpp"
+#include "neurov/pid_controller.hpp"
 #include "neurov/rbf_network.hpp"
 #include "neurov/reference_model.hpp"
 #include "neurov/regressor.hpp"
+#include "neurov/sliding_mode_controller.hpp"
 #include "neurov/tracking_error.hpp"
 #include "neurov/vehicle.hpp"
 #include "numpy_args.hpp"
@@ -24,6 +26,8 @@ using Network = RbfNetwork<double>;  // dynamic inputs and centres
 using NNController = NNAdaptiveController<double>;
 using LinController = LinearAdaptiveController<double>;
 using PD = PDController<double>;
+using PID = PIDController<double>;
+using SMC = SlidingModeController<double>;
 
 namespace {
 
@@ -401,6 +405,59 @@ void bind_controllers(py::module_& m) {
          }),
          py::arg("kp"), py::arg("kd"), "kp, kd: diagonal gains (6,), >= 0.");
   def_common<PD>(pd);
+
+  // --- PID ------------------------------------------------------------------
+  py::class_<PID> pid(
+      m, "PIDController",
+      "PID baseline in the earth frame with anti-windup: tau = -J^T (K_p eta_tilde + K_i z + "
+      "K_d eta_tilde_dot), z the integral of eta_tilde, |K_i z| <= integral_limit per DOF and "
+      "no integration further into the limit.");
+  pid.def(py::init([](py::handle kp, py::handle ki, py::handle kd, py::handle integral_limit,
+                      py::handle dt) {
+            PIDConfig<double> cfg;
+            cfg.kp = py_args::vector<6>(kp, "kp");
+            cfg.ki = py_args::vector<6>(ki, "ki");
+            cfg.kd = py_args::vector<6>(kd, "kd");
+            cfg.integral_limit = py_args::vector<6>(integral_limit, "integral_limit");
+            cfg.dt = py_args::scalar(dt, "dt");
+            PID c;
+            py_args::raise_if_invalid(PID::create(cfg, c), "PID controller");
+            return c;
+          }),
+          py::arg("kp"), py::arg("ki"), py::arg("kd"), py::arg("integral_limit"),
+          py::arg("dt") = 0.2,
+          "kp, ki, kd: diagonal gains (6,), >= 0; integral_limit: largest |K_i z| per DOF (6,), "
+          "> 0 [N, N m]; dt: control period [s].");
+  def_common<PID>(pid);
+  pid.def_property_readonly(
+      "integral", [](const PID& c) { return Vec6(c.integral()); },
+      "The integrator state z (6,), the limited time integral of eta_tilde.");
+
+  // --- sliding mode -----------------------------------------------------------
+  py::class_<SMC> smc(
+      m, "SlidingModeController",
+      "Sliding-mode controller with a boundary layer: tau = Phi theta - J^T (K_d s + K "
+      "sat(s / phi)), with theta the nominal model's parameters (regressor).");
+  smc.def(py::init([](py::handle lambda_, py::handle kd, py::handle k, py::handle phi,
+                      py::handle theta) {
+            SlidingModeConfig<double> cfg;
+            cfg.lambda = py_args::vector<6>(lambda_, "lambda_");
+            cfg.kd = py_args::vector<6>(kd, "kd");
+            cfg.k = py_args::vector<6>(k, "k");
+            cfg.phi = py_args::vector<6>(phi, "phi");
+            cfg.theta = py_args::vector<kRegressorParameters>(theta, "theta");
+            SMC c;
+            py_args::raise_if_invalid(SMC::create(cfg, c), "sliding-mode controller");
+            return c;
+          }),
+          py::arg("lambda_"), py::arg("kd"), py::arg("k"), py::arg("phi"), py::arg("theta"),
+          "lambda_: Lambda (6,), > 0; kd: K_d (6,), >= 0; k: switching gain (6,), >= 0; phi: "
+          "boundary-layer width (6,), > 0; theta: the nominal model (24,), e.g. "
+          "regressor_parameters(vehicle).");
+  def_common<SMC>(smc);
+  smc.def_property_readonly(
+      "model_output", [](const SMC& c) { return Vec6(c.model_output()); },
+      "The nominal model's f of the last step, shape (6,).");
 }
 
 }  // namespace neurov::bindings

@@ -174,6 +174,10 @@ void bind_simulation(py::module_& m) {
         py::arg("controller"), kDoc);
   m.def("run_closed_loop", &run<PDController<double>>, py::arg("vehicle"), py::arg("controller"),
         kDoc);
+  m.def("run_closed_loop", &run<PIDController<double>>, py::arg("vehicle"),
+        py::arg("controller"), kDoc);
+  m.def("run_closed_loop", &run<SlidingModeController<double>>, py::arg("vehicle"),
+        py::arg("controller"), kDoc);
 
   m.def(
       "allocate_thrust",

@@ -214,7 +214,8 @@ def _dof(reader: _Reader, key: str) -> int:
 
 @dataclass
 class ControllerSpec:
-    """A controller and its gains. ``type`` is ``"nn"``, ``"linear"`` or ``"pd"``.
+    """A controller and its gains. ``type`` is ``"nn"``, ``"linear"``, ``"pd"``,
+    ``"pid"`` or ``"smc"``.
 
     nn: lambda_, kd, gamma (0.3), width (sigma, 30), centres: dict
     ``{"method": "sobol" | "latin_hypercube" | "grid", ...}`` (see
@@ -224,6 +225,9 @@ class ControllerSpec:
     ``"true"`` (the plant's own theta) or ``"scaled"`` (true times
     theta0_scale).
     pd: kp, kd.
+    pid: kp, ki, kd, integral_limit (largest |K_i z| per DOF).
+    smc: lambda_, kd, k (switching gain), phi (boundary layer); the nominal
+    model is the vehicle file's theta (regressor_parameters).
     """
 
     type: str = "nn"
@@ -241,12 +245,16 @@ class ControllerSpec:
     dead_zone: float = 0.0
     theta0: str = "zero"
     theta0_scale: float = 1.0
+    ki: NDArray[np.float64] = field(default_factory=lambda: np.zeros(6))
+    integral_limit: NDArray[np.float64] = field(default_factory=lambda: np.full(6, 50.0))
+    k: NDArray[np.float64] = field(default_factory=lambda: np.zeros(6))
+    phi: NDArray[np.float64] = field(default_factory=lambda: np.full(6, 0.1))
 
     @property
     def name(self) -> str:
-        return self.label or {"nn": "NN adaptive", "linear": "linear adaptive", "pd": "PD"}.get(
-            self.type, self.type
-        )
+        names = {"nn": "NN adaptive", "linear": "linear adaptive", "pd": "PD", "pid": "PID",
+                 "smc": "sliding mode"}
+        return self.label or names.get(self.type, self.type)
 
 
 @dataclass
@@ -337,13 +345,19 @@ class Scenario:
 
 
 def _controller(r: _Reader) -> ControllerSpec:
-    kind = r.string("type", choices=("nn", "linear", "pd"))
+    kind = r.string("type", choices=("nn", "linear", "pd", "pid", "smc"))
     spec = ControllerSpec(type=kind, label=r.string("label", ""))
-    if kind in ("nn", "linear"):
+    if kind in ("nn", "linear", "smc"):
         spec.lambda_ = r.array("lambda", 6, spec.lambda_, positive=True)
     spec.kd = r.array("kd", 6, spec.kd, non_negative=True)
-    if kind == "pd":
+    if kind in ("pd", "pid"):
         spec.kp = r.array("kp", 6, non_negative=True)
+    if kind == "pid":
+        spec.ki = r.array("ki", 6, non_negative=True)
+        spec.integral_limit = r.array("integral_limit", 6, spec.integral_limit, positive=True)
+    if kind == "smc":
+        spec.k = r.array("k", 6, non_negative=True)
+        spec.phi = r.array("phi", 6, spec.phi, positive=True)
     if kind == "nn":
         spec.gamma = r.number("gamma", 0.3, minimum=0.0)
         spec.width = r.number("width", 30.0, positive=True)

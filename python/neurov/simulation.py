@@ -93,7 +93,13 @@ def build_controller(spec: ControllerSpec, scenario: Scenario) -> Any:
         return _core.LinearAdaptiveController(spec.lambda_, spec.kd, spec.gamma, scenario.dt, theta0)
     if spec.type == "pd":
         return _core.PDController(spec.kp, spec.kd)
-    raise ValueError(f"controller.type must be 'nn', 'linear' or 'pd', got {spec.type!r}")
+    if spec.type == "pid":
+        return _core.PIDController(spec.kp, spec.ki, spec.kd, spec.integral_limit, scenario.dt)
+    if spec.type == "smc":
+        nominal = _core.Vehicle(**load_vehicle_parameters(scenario.vehicle_path()))
+        return _core.SlidingModeController(spec.lambda_, spec.kd, spec.k, spec.phi,
+                                           _core.regressor_parameters(nominal))
+    raise ValueError(f"controller.type must be 'nn', 'linear', 'pd', 'pid' or 'smc', got {spec.type!r}")
 
 
 @dataclass

@@ -18,8 +18,10 @@
 #include "neurov/linear_adaptive_controller.hpp"
 #include "neurov/nn_controller.hpp"
 #include "neurov/pd_controller.hpp"
+#include "neurov/pid_controller.hpp"
 #include "neurov/random.hpp"
 #include "neurov/reference_model.hpp"
+#include "neurov/sliding_mode_controller.hpp"
 #include "neurov/status.hpp"
 #include "neurov/thrusters.hpp"
 #include "neurov/types.hpp"
@@ -182,6 +184,15 @@ inline Scalar adaptive_norm(const LinearAdaptiveController<Scalar>& c) noexcept 
 }
 template <typename Scalar>
 inline Scalar adaptive_norm(const PDController<Scalar>&) noexcept {
+  return Scalar(0);
+}
+/// The PID's integrator is its only memory: report ||z||.
+template <typename Scalar>
+inline Scalar adaptive_norm(const PIDController<Scalar>& c) noexcept {
+  return c.integral().norm();
+}
+template <typename Scalar>
+inline Scalar adaptive_norm(const SlidingModeController<Scalar>&) noexcept {
   return Scalar(0);
 }
 
