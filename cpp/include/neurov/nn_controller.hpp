@@ -151,6 +151,21 @@ class NNAdaptiveController {
     return {};
   }
 
+  /// As above from the network's parts (zero initial weights), built inside
+  /// `out`: with a fixed N, firmware then needs no second whole network on its
+  /// stack or in static memory just to copy it in. `out` is untouched on failure.
+  static ValidationError create(const typename Network::CentreMatrix& centres,
+                                const BasisVector& widths, const InputVector& input_offset,
+                                const InputVector& input_scale, const Config& config,
+                                NNAdaptiveController& out) {
+    if (auto e = validate(config)) return e;
+    if (auto e = Network::create(centres, widths, input_offset, input_scale, out.network_))
+      return e;
+    // Delegating keeps one place that initialises the rest of the state; the
+    // network's copy onto itself is a no-op.
+    return create(out.network_, config, out);
+  }
+
   /// The control law and one step of the adaptive law. Writes tau; on any
   /// status but ok (or near_singularity refused) tau = 0 and the weights and
   /// every other piece of state are exactly as before the call.
