@@ -84,6 +84,47 @@ Config parse_config(const py::dict& kw) {
     if (v < 0) throw py::value_error("argument 'seed' must be >= 0");
     c.seed = static_cast<std::uint64_t>(v);
   }
+  if (!get("sensor_faults").is_none()) {
+    int i = 0;
+    for (const py::handle f : get("sensor_faults")) {
+      const std::string where = "sensor_faults[" + std::to_string(i++) + "]";
+      SensorFault<double> sf;
+      const auto kind = item<std::string>(f, "kind", where);
+      if (kind == "freeze")
+        sf.kind = SensorFaultKind::freeze;
+      else if (kind == "dropout")
+        sf.kind = SensorFaultKind::dropout;
+      else if (kind == "noise_burst")
+        sf.kind = SensorFaultKind::noise_burst;
+      else
+        throw py::value_error(where + ": kind must be 'freeze', 'dropout' or 'noise_burst', got '" +
+                              kind + "'");
+      sf.start = item<double>(f, "start", where);
+      sf.end = item<double>(f, "end", where);
+      sf.eta = item<bool>(f, "eta", where);
+      sf.nu = item<bool>(f, "nu", where);
+      sf.noise_eta = py_args::vector<6>(f[py::str("noise_eta")], "noise_eta");
+      sf.noise_nu = py_args::vector<6>(f[py::str("noise_nu")], "noise_nu");
+      c.sensor_faults.push_back(sf);
+    }
+  }
+  if (!get("current_steps").is_none()) {
+    int i = 0;
+    for (const py::handle cs : get("current_steps")) {
+      const std::string where = "current_steps[" + std::to_string(i++) + "]";
+      CurrentStep<double> step;
+      step.time = item<double>(cs, "time", where);
+      step.velocity = py_args::vector<3>(cs[py::str("velocity")], "velocity");
+      c.current_steps.push_back(step);
+    }
+  }
+  if (!get("refused_step_policy").is_none()) {
+    const auto s = get("refused_step_policy").cast<std::string>();
+    if (s != "zero" && s != "hold")
+      throw py::value_error("argument 'refused_step_policy' must be 'zero' or 'hold', got '" + s +
+                            "'");
+    c.refused_step_policy = s == "hold" ? RefusedStepPolicy::hold : RefusedStepPolicy::zero;
+  }
   if (!get("thruster_matrix").is_none()) {
     c.use_thrusters = true;
     c.thrusters.matrix = py_args::dynamic_matrix(get("thruster_matrix"), "thruster_matrix", 6, -1);
@@ -134,6 +175,7 @@ py::dict result_dict(const Result& r) {
   d["adaptive_norm"] = r.adaptive_norm;
   d["controller_status"] = r.controller_status;
   d["plant_status"] = r.plant_status;
+  d["faults"] = r.faults;
   d["diverged"] = r.diverged;
   return d;
 }
@@ -162,7 +204,11 @@ constexpr const char* kDoc =
     "amplitude, frequency [Hz], phase, start), current, current_amplitude (NED, m/s), "
     "current_period, noise_eta, noise_nu (std devs), seed, thruster_matrix (6, n), "
     "thruster_max, thruster_min, thruster_weights (n,), saturation ('scale'|'clip'), "
-    "thruster_time_constant, thruster_failures (list of dicts index, efficiency, time). "
+    "thruster_time_constant, thruster_failures (list of dicts index, efficiency, time), "
+    "sensor_faults (list of dicts kind 'freeze'|'dropout'|'noise_burst', start, end, eta, nu "
+    "(bools), noise_eta, noise_nu), current_steps (list of dicts time, velocity), "
+    "refused_step_policy ('zero'|'hold'). The result's faults column has bits 1 freeze, 2 "
+    "dropout, 4 noise burst, 8 a thruster below full efficiency. "
     "neurov.simulate(scenario) is the friendly front end.";
 
 }  // namespace

@@ -7,6 +7,7 @@ A scenario file (all tables but ``[command]`` and ``[controller]`` optional)::
     dt = 0.2                # control period, s (the paper: 5 Hz)
     substeps = 10           # RK4 plant steps per control period
     seed = 0                # measurement noise
+    refused_step_policy = "zero"  # or "hold": the force while the controller refuses a step
 
     [vehicle]
     preset = "nerov"        # or: file = "my_vehicle.toml" (relative to this file)
@@ -41,6 +42,15 @@ A scenario file (all tables but ``[command]`` and ``[controller]`` optional)::
     eta = [0.05, 0.05, 0.05, 0.005, 0.005, 0.01]
     nu = 0.01
 
+    [[sensor_faults]]       # freeze | dropout | noise_burst over [start, end)
+    kind = "dropout"
+    start = 100.0
+    end = 102.0
+
+    [[current_steps]]       # the mean current from `time` on
+    time = 150.0
+    velocity = [0.0, 0.5, 0.0]
+
 Every error names the file and the field (``controller.kd``) and says what was
 expected.
 """
@@ -71,9 +81,11 @@ else:  # pragma: no cover
 __all__ = [
     "CommandSpec",
     "ControllerSpec",
+    "CurrentStep",
     "Disturbance",
     "Scenario",
     "ScenarioError",
+    "SensorFault",
     "ThrusterFailure",
     "load_scenario",
 ]
@@ -294,6 +306,29 @@ class ThrusterFailure:
 
 
 @dataclass
+class SensorFault:
+    """Over [start, end) the measurement freezes, drops out (NaN) or gets extra
+    noise (noise_burst: noise_eta, noise_nu standard deviations); `eta` and
+    `nu` say which measurement is affected."""
+
+    kind: str = "freeze"
+    start: float = 0.0
+    end: float = 0.0
+    eta: bool = True
+    nu: bool = True
+    noise_eta: NDArray[np.float64] = field(default_factory=lambda: np.zeros(6))
+    noise_nu: NDArray[np.float64] = field(default_factory=lambda: np.zeros(6))
+
+
+@dataclass
+class CurrentStep:
+    """From `time` on the mean current is `velocity` (NED, m/s)."""
+
+    time: float = 0.0
+    velocity: NDArray[np.float64] = field(default_factory=lambda: np.zeros(3))
+
+
+@dataclass
 class Scenario:
     name: str = "scenario"
     description: str = ""
@@ -321,6 +356,11 @@ class Scenario:
     saturation: str = "scale"
     thruster_time_constant: float = 0.0
     thruster_failures: list[ThrusterFailure] = field(default_factory=list)
+    sensor_faults: list[SensorFault] = field(default_factory=list)
+    current_steps: list[CurrentStep] = field(default_factory=list)
+    refused_step_policy: str = "zero"
+    """What the loop applies when the controller refuses a step: "zero" (the
+    controller's own tau = 0) or "hold" (its last accepted tau)."""
     source: str = ""
     """The file the scenario came from, if any (vehicle paths are relative to it)."""
 
@@ -502,6 +542,35 @@ def scenario_from_mapping(data: Mapping[str, Any], origin: str = "<scenario>") -
             ThrusterFailure(index=fr.integer("index"), efficiency=eff, time=fr.number("time", 0.0))
         )
         fr.finish()
+    faults = r.raw("sensor_faults", [])
+    if not isinstance(faults, list):
+        raise r.error("sensor_faults", "expected an array of tables [[sensor_faults]]")
+    for k, f in enumerate(faults):
+        fr = _Reader(f, f"sensor_faults[{k}]", origin)
+        fault = SensorFault(
+            kind=fr.string("kind", choices=("freeze", "dropout", "noise_burst")),
+            start=fr.number("start"),
+            end=fr.number("end"),
+            eta=fr.boolean("eta", True),
+            nu=fr.boolean("nu", True),
+            noise_eta=fr.array("noise_eta", 6, np.zeros(6), non_negative=True),
+            noise_nu=fr.array("noise_nu", 6, np.zeros(6), non_negative=True),
+        )
+        if fault.end < fault.start:
+            raise fr.error("end", f"expected end >= start ({fault.start}), got {fault.end}")
+        s.sensor_faults.append(fault)
+        fr.finish()
+    steps = r.raw("current_steps", [])
+    if not isinstance(steps, list):
+        raise r.error("current_steps", "expected an array of tables [[current_steps]]")
+    for k, cs in enumerate(steps):
+        cr = _Reader(cs, f"current_steps[{k}]", origin)
+        step = CurrentStep(time=cr.number("time"), velocity=cr.array("velocity", 3, broadcast=False))
+        if s.current_steps and step.time <= s.current_steps[-1].time:
+            raise cr.error("time", "expected times in increasing order")
+        s.current_steps.append(step)
+        cr.finish()
+    s.refused_step_policy = r.string("refused_step_policy", "zero", choices=("zero", "hold"))
     if s.thruster_failures and not s.use_thrusters:
         raise r.error("thruster_failures", "needs [vehicle] thrusters = true")
     r.finish()

@@ -23,7 +23,7 @@ Array = NDArray[np.float64]
 
 _SERIES = (
     "t", "eta", "nu", "eta_d", "eta_d_dot", "tau_demanded", "tau_applied", "disturbance", "s",
-    "thrusts", "theta", "adaptive_norm", "controller_status", "plant_status",
+    "thrusts", "theta", "adaptive_norm", "controller_status", "plant_status", "faults",
 )
 
 
@@ -122,6 +122,7 @@ class Result:
     adaptive_norm: Array
     controller_status: NDArray[np.uint8]
     plant_status: NDArray[np.uint8]
+    faults: NDArray[np.uint8]
     diverged: bool
     wall_time: float = 0.0
     extra: dict[str, Any] = field(default_factory=dict)
@@ -187,6 +188,7 @@ class Result:
         cols["adaptive_norm"] = self.adaptive_norm
         cols["controller_status"] = self.controller_status.astype(np.float64)
         cols["plant_status"] = self.plant_status.astype(np.float64)
+        cols["faults"] = self.faults.astype(np.float64)
         return cols
 
     def to_csv(self, path: str | Path) -> Path:
@@ -239,6 +241,9 @@ def simulate(scenario: Scenario, controller: ControllerSpec | None = None, *,
         "noise_eta": scenario.noise_eta,
         "noise_nu": scenario.noise_nu,
         "seed": scenario.seed,
+        "sensor_faults": [vars(f) for f in scenario.sensor_faults],
+        "current_steps": [vars(c) for c in scenario.current_steps],
+        "refused_step_policy": scenario.refused_step_policy,
         **thruster_arguments(scenario),
     }
     start = time.perf_counter()

@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "neurov/desired_state.hpp"
@@ -48,6 +49,42 @@ struct ThrusterFailure {
   Scalar efficiency = Scalar(0);
   Scalar time = Scalar(0);
 };
+
+/// A sensor fault over [start, end): the measurement of eta and/or nu freezes
+/// at its last value, drops out (NaN, which the controller refuses), or gets
+/// extra white noise of the given standard deviations.
+enum class SensorFaultKind : std::uint8_t { freeze = 0, dropout = 1, noise_burst = 2 };
+
+template <typename Scalar>
+struct SensorFault {
+  SensorFaultKind kind = SensorFaultKind::freeze;
+  Scalar start = Scalar(0);
+  Scalar end = Scalar(0);
+  bool eta = true;  ///< affects the pose measurement
+  bool nu = true;   ///< affects the velocity measurement
+  Vector6<Scalar> noise_eta = Vector6<Scalar>::Zero();  ///< noise_burst only
+  Vector6<Scalar> noise_nu = Vector6<Scalar>::Zero();   ///< noise_burst only
+};
+
+/// From `time` on, the mean current is `velocity` (NED): a step in the current.
+template <typename Scalar>
+struct CurrentStep {
+  Scalar time = Scalar(0);
+  Vector3<Scalar> velocity = Vector3<Scalar>::Zero();
+};
+
+/// What the loop applies when the controller refuses a step (a NaN
+/// measurement, the pitch singularity): the zero force the controller writes,
+/// or the last force it accepted.
+enum class RefusedStepPolicy : std::uint8_t { zero = 0, hold = 1 };
+
+/// Bits of SimulationResult::faults, one per kind of fault active in a step.
+namespace fault_bits {
+constexpr std::uint8_t freeze = 1;
+constexpr std::uint8_t dropout = 2;
+constexpr std::uint8_t noise_burst = 4;
+constexpr std::uint8_t thruster = 8;  ///< some thruster below full efficiency
+}  // namespace fault_bits
 
 /// Commanded poses r(t) at increasing times; held before the first and after
 /// the last; between them linear or held (piecewise constant).
@@ -95,6 +132,9 @@ struct SimulationConfig {
   bool use_thrusters = false;
   ThrusterConfig<Scalar> thrusters;
   std::vector<ThrusterFailure<Scalar>> failures;
+  std::vector<SensorFault<Scalar>> sensor_faults;
+  std::vector<CurrentStep<Scalar>> current_steps;  ///< in increasing time
+  RefusedStepPolicy refused_step_policy = RefusedStepPolicy::zero;
 };
 
 template <typename Scalar>
@@ -108,6 +148,8 @@ struct SimulationResult {
   Eigen::Matrix<Scalar, Eigen::Dynamic, 1> adaptive_norm;  ///< ||W||_F or ||theta_hat||
   Eigen::Matrix<std::uint8_t, Eigen::Dynamic, 1> controller_status;
   Eigen::Matrix<std::uint8_t, Eigen::Dynamic, 1> plant_status;
+  /// fault_bits active in each step.
+  Eigen::Matrix<std::uint8_t, Eigen::Dynamic, 1> faults;
   /// Rows actually simulated: fewer than planned if the plant diverged.
   Eigen::Index steps = 0;
   bool diverged = false;
@@ -169,6 +211,26 @@ inline ValidationError validate(const SimulationConfig<Scalar>& c) {
     if (!std::isfinite(f.time))
       return detail::invalid("thruster_failures.time", static_cast<int>(i),
                              static_cast<double>(f.time), "finite");
+  }
+  for (std::size_t i = 0; i < c.sensor_faults.size(); ++i) {
+    const auto& f = c.sensor_faults[i];
+    if (!(std::isfinite(f.start) && std::isfinite(f.end) && f.end >= f.start))
+      return detail::invalid("sensor_faults", static_cast<int>(i), static_cast<double>(f.end),
+                             "finite start <= end");
+    if (static_cast<int>(f.kind) > 2)
+      return detail::invalid("sensor_faults.kind", static_cast<int>(i),
+                             static_cast<double>(f.kind), "freeze, dropout or noise_burst");
+    if (auto e = detail::check_non_negative("sensor_faults.noise_eta", f.noise_eta)) return e;
+    if (auto e = detail::check_non_negative("sensor_faults.noise_nu", f.noise_nu)) return e;
+  }
+  for (std::size_t i = 0; i < c.current_steps.size(); ++i) {
+    if (!std::isfinite(c.current_steps[i].time) ||
+        (i > 0 && !(c.current_steps[i].time > c.current_steps[i - 1].time)))
+      return detail::invalid("current_steps.time", static_cast<int>(i),
+                             static_cast<double>(c.current_steps[i].time),
+                             "finite and strictly increasing");
+    if (auto e = detail::check_finite("current_steps.velocity", c.current_steps[i].velocity))
+      return e;
   }
   return {};
 }
@@ -243,6 +305,7 @@ ValidationError simulate(const Vehicle<Scalar>& vehicle, Controller& controller,
   r.adaptive_norm.setZero(rows);
   r.controller_status.setZero(rows);
   r.plant_status.setZero(rows);
+  r.faults.setZero(rows);
   r.diverged = false;
 
   NormalRandom rng(config.seed);
@@ -260,6 +323,8 @@ ValidationError simulate(const Vehicle<Scalar>& vehicle, Controller& controller,
   };
   auto current_at = [&](Scalar t) {
     Vec3 c = config.current;
+    for (const auto& step : config.current_steps)
+      if (t >= step.time) c = step.velocity;
     if (config.current_period > Scalar(0))
       c += config.current_amplitude * std::sin(two_pi * t / config.current_period);
     return c;
@@ -267,6 +332,10 @@ ValidationError simulate(const Vehicle<Scalar>& vehicle, Controller& controller,
 
   Vec6 eta = config.eta0, nu = config.nu0;
   DesiredState<Scalar> desired = reference.desired();
+  // The last measurements delivered unfrozen, which a freeze keeps repeating.
+  Vec6 held_eta = eta, held_nu = nu;
+  Vec6 last_accepted_tau = Vec6::Zero();
+  const Scalar nan = std::numeric_limits<Scalar>::quiet_NaN();
   Eigen::Index k = 0;
   for (; k < rows; ++k) {
     const Scalar t = static_cast<Scalar>(k) * config.dt;
@@ -277,8 +346,40 @@ ValidationError simulate(const Vehicle<Scalar>& vehicle, Controller& controller,
         nu_m(i) += config.noise_nu(i) * static_cast<Scalar>(rng.normal());
       }
     }
+    std::uint8_t faults = 0;
+    bool freeze_eta = false, freeze_nu = false;
+    for (const auto& f : config.sensor_faults) {
+      if (!(t >= f.start && t < f.end)) continue;
+      if (f.kind == SensorFaultKind::freeze) {
+        faults |= fault_bits::freeze;
+        freeze_eta = freeze_eta || f.eta;
+        freeze_nu = freeze_nu || f.nu;
+      } else if (f.kind == SensorFaultKind::dropout) {
+        faults |= fault_bits::dropout;
+        if (f.eta) eta_m.setConstant(nan);
+        if (f.nu) nu_m.setConstant(nan);
+      } else {
+        faults |= fault_bits::noise_burst;
+        for (int i = 0; i < 6; ++i) {
+          if (f.eta) eta_m(i) += f.noise_eta(i) * static_cast<Scalar>(rng.normal());
+          if (f.nu) nu_m(i) += f.noise_nu(i) * static_cast<Scalar>(rng.normal());
+        }
+      }
+    }
+    if (freeze_eta)
+      eta_m = held_eta;
+    else if (eta_m.allFinite())
+      held_eta = eta_m;
+    if (freeze_nu)
+      nu_m = held_nu;
+    else if (nu_m.allFinite())
+      held_nu = nu_m;
     Vec6 tau;
     const Status cs = controller.step(eta_m, nu_m, desired, tau);
+    if (cs == Status::ok)
+      last_accepted_tau = tau;
+    else if (config.refused_step_policy == RefusedStepPolicy::hold)
+      tau = last_accepted_tau;
 
     r.t(k) = t;
     r.eta.row(k) = eta.transpose();
@@ -289,6 +390,9 @@ ValidationError simulate(const Vehicle<Scalar>& vehicle, Controller& controller,
     r.s.row(k) = controller.tracking().s.transpose();
     r.adaptive_norm(k) = adaptive_norm(controller);
     r.controller_status(k) = static_cast<std::uint8_t>(cs);
+    if (config.use_thrusters && (thrusters.efficiency().array() < Scalar(1)).any())
+      faults |= fault_bits::thruster;
+    r.faults(k) = faults;
     detail::record_theta(controller, r.theta.row(k));
     r.disturbance.row(k) = disturbance_at(t).transpose();
 
@@ -339,6 +443,7 @@ ValidationError simulate(const Vehicle<Scalar>& vehicle, Controller& controller,
     r.adaptive_norm.conservativeResize(k);
     r.controller_status.conservativeResize(k);
     r.plant_status.conservativeResize(k);
+    r.faults.conservativeResize(k);
   }
   return {};
 }
