@@ -1,0 +1,308 @@
+// The C interface (neurov/c_api.h) over the C++ templates: float, N fixed at
+// build time, objects placement-new'd into caller storage. Built with
+// -fno-exceptions -fno-rtti, so nothing can unwind through a C caller.
+#include "neurov/c_api.h"
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <new>
+#include <type_traits>
+
+#include <Eigen/Core>
+
+#include "neurov/nn_controller.hpp"
+#include "neurov/reference_model.hpp"
+#include "neurov/status.hpp"
+#include "neurov/validation.hpp"
+
+namespace {
+
+constexpr int kCentres = NEUROV_C_CENTRES;
+static_assert(kCentres >= 1, "NEUROV_C_CENTRES must be at least 1");
+static_assert(NEUROV_C_INPUTS == neurov::kNNInputs, "c_api.h and nn_controller.hpp disagree");
+
+using Controller = neurov::NNAdaptiveController<float, kCentres>;
+using Network = Controller::Network;
+using Vec6 = neurov::Vector6<float>;
+using CVec6 = Eigen::Map<const Vec6>;
+// The C side hands over row-major arrays (one centre, one output row after the
+// other); Eigen's matrices are column-major, so these maps do the transposition.
+using CentresIn = Eigen::Map<const Eigen::Matrix<float, kCentres, neurov::kNNInputs, Eigen::RowMajor>>;
+using WeightsRowMajor = Eigen::Matrix<float, 6, kCentres, Eigen::RowMajor>;
+
+static_assert(static_cast<int>(NEUROV_STATUS_OK) == static_cast<int>(neurov::Status::ok) &&
+                  static_cast<int>(NEUROV_STATUS_NEAR_SINGULARITY) ==
+                      static_cast<int>(neurov::Status::near_singularity) &&
+                  static_cast<int>(NEUROV_STATUS_NON_FINITE_INPUT) ==
+                      static_cast<int>(neurov::Status::non_finite_input) &&
+                  static_cast<int>(NEUROV_STATUS_INVALID_ARGUMENT) ==
+                      static_cast<int>(neurov::Status::invalid_argument) &&
+                  static_cast<int>(NEUROV_STATUS_NON_FINITE_OUTPUT) ==
+                      static_cast<int>(neurov::Status::non_finite_output),
+              "neurov_status must mirror neurov::Status");
+static_assert(static_cast<int>(NEUROV_MODIFICATION_NONE) ==
+                      static_cast<int>(neurov::RobustModification::none) &&
+                  static_cast<int>(NEUROV_MODIFICATION_SIGMA) ==
+                      static_cast<int>(neurov::RobustModification::sigma) &&
+                  static_cast<int>(NEUROV_MODIFICATION_E_MODIFICATION) ==
+                      static_cast<int>(neurov::RobustModification::e_modification) &&
+                  static_cast<int>(NEUROV_MODIFICATION_PROJECTION) ==
+                      static_cast<int>(neurov::RobustModification::projection),
+              "neurov_modification must mirror neurov::RobustModification");
+
+neurov_status to_c(neurov::Status s) { return static_cast<neurov_status>(s); }
+
+neurov_status fail(neurov_validation_error* error, const neurov::ValidationError& e) {
+  if (error != nullptr) {
+    error->field = e.field;
+    error->index = e.index;
+    error->value = e.value;
+    error->expected = e.expected;
+  }
+  return NEUROV_STATUS_INVALID_ARGUMENT;
+}
+
+neurov_status fail(neurov_validation_error* error, const char* field, double value,
+                   const char* expected) {
+  return fail(error, neurov::detail::invalid(field, -1, value, expected));
+}
+
+void clear(neurov_validation_error* error) {
+  if (error == nullptr) return;
+  error->field = nullptr;
+  error->index = -1;
+  error->value = 0.0;
+  error->expected = nullptr;
+}
+
+/// The storage checks shared by both create() functions.
+template <typename T>
+bool storage_fits(void* storage, std::size_t size, neurov_validation_error* error,
+                  neurov_status& status) {
+  if (storage == nullptr) {
+    status = fail(error, "storage", 0.0, "a buffer, not NULL");
+    return false;
+  }
+  if (reinterpret_cast<std::uintptr_t>(storage) % alignof(T) != 0) {
+    status = fail(error, "storage", static_cast<double>(reinterpret_cast<std::uintptr_t>(storage) %
+                                                        alignof(T)),
+                  "aligned to neurov_storage_align() (value: address modulo it)");
+    return false;
+  }
+  if (size < sizeof(T)) {
+    status = fail(error, "size", static_cast<double>(size), "at least the object's storage size");
+    return false;
+  }
+  return true;
+}
+
+void zero6(float* v) {
+  if (v != nullptr)
+    for (int i = 0; i < 6; ++i) v[i] = 0.0f;
+}
+
+void copy6(const Vec6& from, float* to) {
+  for (int i = 0; i < 6; ++i) to[i] = from(i);
+}
+
+}  // namespace
+
+struct neurov_nn {
+  Controller controller;
+};
+
+struct neurov_reference {
+  neurov::ReferenceModel<float> model;
+};
+
+// The compile-time sizes in c_api.h are what C firmware sizes its static
+// buffers with; an object outgrowing them must fail the build, not memory.
+static_assert(sizeof(neurov_nn) <= NEUROV_NN_STORAGE_BYTES(NEUROV_C_CENTRES),
+              "neurov_nn outgrew NEUROV_NN_STORAGE_BYTES in c_api.h: update the formula");
+static_assert(sizeof(neurov_reference) <= NEUROV_REFERENCE_STORAGE_BYTES,
+              "neurov_reference outgrew NEUROV_REFERENCE_STORAGE_BYTES in c_api.h");
+static_assert(alignof(neurov_nn) <= NEUROV_STORAGE_ALIGN &&
+                  alignof(neurov_reference) <= NEUROV_STORAGE_ALIGN,
+              "Eigen aligns more than NEUROV_STORAGE_ALIGN (a wider SIMD target?): "
+              "define NEUROV_STORAGE_ALIGN to the larger alignment for the library and its users");
+// No destroy(): reusing the buffer must not skip a destructor that matters.
+static_assert(std::is_trivially_destructible<neurov_nn>::value &&
+                  std::is_trivially_destructible<neurov_reference>::value,
+              "C objects must be trivially destructible");
+
+extern "C" {
+
+const char* neurov_status_name(neurov_status status) {
+  return neurov::to_string(static_cast<neurov::Status>(status));
+}
+
+uint32_t neurov_nn_centres(void) { return static_cast<uint32_t>(kCentres); }
+size_t neurov_nn_storage_size(void) { return sizeof(neurov_nn); }
+size_t neurov_storage_align(void) {
+  return alignof(neurov_nn) > alignof(neurov_reference) ? alignof(neurov_nn)
+                                                        : alignof(neurov_reference);
+}
+
+void neurov_nn_params_init(neurov_nn_params* params) {
+  if (params == nullptr) return;
+  const neurov::NNAdaptiveConfig<float> d{};
+  params->centres_count = static_cast<uint32_t>(kCentres);
+  params->centres = nullptr;
+  params->widths = nullptr;
+  params->input_offset = nullptr;
+  params->input_scale = nullptr;
+  copy6(d.lambda, params->lambda);
+  copy6(d.kd, params->kd);
+  params->gamma = d.gamma;
+  params->dt = d.dt;
+  params->modification = static_cast<neurov_modification>(d.modification);
+  params->sigma_m = d.sigma_m;
+  params->kappa = d.kappa;
+  params->w_max = d.w_max;
+  params->dead_zone = d.dead_zone;
+}
+
+neurov_status neurov_nn_create(void* storage, size_t size, const neurov_nn_params* params,
+                               neurov_nn** out, neurov_validation_error* error) {
+  if (out != nullptr) *out = nullptr;
+  clear(error);
+  if (out == nullptr) return fail(error, "out", 0.0, "a pointer to receive the controller");
+  if (params == nullptr) return fail(error, "params", 0.0, "parameters, not NULL");
+  neurov_status status = NEUROV_STATUS_OK;
+  if (!storage_fits<neurov_nn>(storage, size, error, status)) return status;
+  if (params->centres_count != static_cast<uint32_t>(kCentres))
+    return fail(error, "centres_count", static_cast<double>(params->centres_count),
+                "NEUROV_C_CENTRES of the library (neurov_nn_centres())");
+  if (params->centres == nullptr) return fail(error, "centres", 0.0, "N x 24 floats, not NULL");
+  if (params->widths == nullptr) return fail(error, "widths", 0.0, "N floats, not NULL");
+  // Checked before the conversion to the C++ enum, whose underlying type is
+  // narrower than a C enum and would wrap a large value onto a valid one.
+  if (static_cast<unsigned>(params->modification) > NEUROV_MODIFICATION_PROJECTION)
+    return fail(error, "modification", static_cast<double>(params->modification),
+                "none, sigma, e_modification or projection");
+
+  neurov::NNAdaptiveConfig<float> config;
+  config.lambda = CVec6(params->lambda);
+  config.kd = CVec6(params->kd);
+  config.gamma = params->gamma;
+  config.dt = params->dt;
+  config.modification = static_cast<neurov::RobustModification>(params->modification);
+  config.sigma_m = params->sigma_m;
+  config.kappa = params->kappa;
+  config.w_max = params->w_max;
+  config.dead_zone = params->dead_zone;
+
+  using Input = Network::InputVector;
+  const Input offset = params->input_offset != nullptr
+                           ? Input(Eigen::Map<const Input>(params->input_offset))
+                           : Input(Input::Zero());
+  const Input scale = params->input_scale != nullptr
+                          ? Input(Eigen::Map<const Input>(params->input_scale))
+                          : Input(Input::Ones());
+  // The one large temporary of create(): the centres in Eigen's column-major
+  // order. The network itself is built in place in the caller's storage.
+  const Network::CentreMatrix centres = CentresIn(params->centres);
+
+  neurov_nn* nn = new (storage) neurov_nn{};
+  const neurov::ValidationError e =
+      Controller::create(centres, Eigen::Map<const Network::BasisVector>(params->widths), offset,
+                         scale, config, nn->controller);
+  if (e) return fail(error, e);
+  *out = nn;
+  return NEUROV_STATUS_OK;
+}
+
+neurov_status neurov_nn_step(neurov_nn* nn, const float eta[6], const float nu[6],
+                             const neurov_desired* desired, float tau[6]) {
+  if (nn == nullptr || eta == nullptr || nu == nullptr || desired == nullptr || tau == nullptr) {
+    zero6(tau);
+    return NEUROV_STATUS_INVALID_ARGUMENT;
+  }
+  Vec6 t;
+  const neurov::Status s =
+      nn->controller.step(CVec6(eta), CVec6(nu), CVec6(desired->eta_d),
+                          CVec6(desired->eta_d_dot), CVec6(desired->eta_d_ddot), t);
+  copy6(t, tau);
+  return to_c(s);
+}
+
+neurov_status neurov_nn_status(const neurov_nn* nn) {
+  return nn != nullptr ? to_c(nn->controller.last_status()) : NEUROV_STATUS_INVALID_ARGUMENT;
+}
+
+void neurov_nn_reset(neurov_nn* nn) {
+  if (nn != nullptr) nn->controller.reset();
+}
+
+void neurov_nn_tracking_error(const neurov_nn* nn, float eta_tilde[6], float s[6]) {
+  if (nn == nullptr) {
+    zero6(eta_tilde);
+    zero6(s);
+    return;
+  }
+  if (eta_tilde != nullptr) copy6(nn->controller.tracking().eta_tilde, eta_tilde);
+  if (s != nullptr) copy6(nn->controller.tracking().s, s);
+}
+
+float neurov_nn_weight_norm(const neurov_nn* nn) {
+  return nn != nullptr ? nn->controller.weight_norm() : 0.0f;
+}
+
+void neurov_nn_get_weights(const neurov_nn* nn, float* weights) {
+  if (nn == nullptr || weights == nullptr) return;
+  Eigen::Map<WeightsRowMajor> out(weights);
+  out = nn->controller.weights();
+}
+
+neurov_status neurov_nn_set_initial_weights(neurov_nn* nn, const float* weights) {
+  if (nn == nullptr || weights == nullptr || !nn->controller.configured())
+    return NEUROV_STATUS_INVALID_ARGUMENT;
+  const Controller::WeightMatrix w = Eigen::Map<const WeightsRowMajor>(weights);
+  if (!w.allFinite()) return NEUROV_STATUS_NON_FINITE_INPUT;
+  Controller& c = nn->controller;
+  if (!c.set_weights(w)) return NEUROV_STATUS_INVALID_ARGUMENT;
+  // create() takes the network's current weights as the initial ones; handing
+  // it the controller's own network and configuration cannot fail.
+  const neurov::ValidationError e = Controller::create(c.network(), c.config(), c);
+  return e ? NEUROV_STATUS_INVALID_ARGUMENT : NEUROV_STATUS_OK;
+}
+
+size_t neurov_reference_storage_size(void) { return sizeof(neurov_reference); }
+
+neurov_status neurov_reference_create(void* storage, size_t size, const float lambda_d[6],
+                                      const float omega[6], const float eta0[6],
+                                      neurov_reference** out, neurov_validation_error* error) {
+  if (out != nullptr) *out = nullptr;
+  clear(error);
+  if (out == nullptr) return fail(error, "out", 0.0, "a pointer to receive the model");
+  neurov_status status = NEUROV_STATUS_OK;
+  if (!storage_fits<neurov_reference>(storage, size, error, status)) return status;
+  if (lambda_d == nullptr) return fail(error, "lambda_d", 0.0, "6 floats, not NULL");
+  if (omega == nullptr) return fail(error, "omega", 0.0, "6 floats, not NULL");
+  if (eta0 == nullptr) return fail(error, "eta0", 0.0, "6 floats, not NULL");
+  neurov_reference* ref = new (storage) neurov_reference{};
+  const neurov::ValidationError e = neurov::ReferenceModel<float>::create(
+      CVec6(lambda_d), CVec6(omega), CVec6(eta0), ref->model);
+  if (e) return fail(error, e);
+  *out = ref;
+  return NEUROV_STATUS_OK;
+}
+
+neurov_status neurov_reference_step(neurov_reference* ref, const float r[6], float dt,
+                                    neurov_desired* out) {
+  if (ref == nullptr || r == nullptr || out == nullptr) return NEUROV_STATUS_INVALID_ARGUMENT;
+  neurov::DesiredState<float> d;
+  const neurov::Status s = ref->model.step(CVec6(r), dt, d);
+  copy6(d.eta_d, out->eta_d);
+  copy6(d.eta_d_dot, out->eta_d_dot);
+  copy6(d.eta_d_ddot, out->eta_d_ddot);
+  return to_c(s);
+}
+
+neurov_status neurov_reference_reset(neurov_reference* ref, const float eta0[6]) {
+  if (ref == nullptr || eta0 == nullptr) return NEUROV_STATUS_INVALID_ARGUMENT;
+  return ref->model.reset(CVec6(eta0)) ? NEUROV_STATUS_OK : NEUROV_STATUS_NON_FINITE_INPUT;
+}
+
+}  // extern "C"

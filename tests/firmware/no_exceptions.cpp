@@ -1,0 +1,168 @@
+// The library in firmware mode: built with -fno-exceptions -fno-rtti (or with
+// NEUROV_NO_EXCEPTIONS while the compiler still has exceptions). Every header
+// must compile, the throwing convenience constructors must be gone, and
+// configuration errors must come back as ValidationError / Status. A plain
+// program rather than GoogleTest, which itself wants exceptions and RTTI.
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <type_traits>
+
+#include "neurov/neurov.hpp"
+
+#if NEUROV_HAS_EXCEPTIONS
+#error "this test must be built with -fno-exceptions or NEUROV_NO_EXCEPTIONS"
+#endif
+
+namespace {
+
+using namespace neurov;
+
+int failures = 0;
+
+#define CHECK(cond)                                                      \
+  do {                                                                   \
+    if (!(cond)) {                                                       \
+      std::printf("FAILED %s:%d: %s\n", __FILE__, __LINE__, #cond);      \
+      ++failures;                                                        \
+    }                                                                    \
+  } while (0)
+
+bool same_field(const ValidationError& e, const char* field) {
+  return e.field != nullptr && std::strcmp(e.field, field) == 0;
+}
+
+// Only the noexcept create() functions remain.
+template <typename S>
+constexpr bool no_throwing_constructors() {
+  return !std::is_constructible<Vehicle<S>, const VehicleParameters<S>&>::value &&
+         !std::is_constructible<RbfNetwork<S, kNNInputs, 8, 6>,
+                                const typename RbfNetwork<S, kNNInputs, 8, 6>::CentreMatrix&,
+                                const typename RbfNetwork<S, kNNInputs, 8, 6>::BasisVector&>::value &&
+         !std::is_constructible<NNAdaptiveController<S, 8>,
+                                const typename NNAdaptiveController<S, 8>::Network&,
+                                const NNAdaptiveConfig<S>&>::value &&
+         !std::is_constructible<ReferenceModel<S>, const Vector6<S>&, const Vector6<S>&>::value &&
+         !std::is_constructible<PDController<S>, const PDConfig<S>&>::value &&
+         !std::is_constructible<PIDController<S>, const PIDConfig<S>&>::value &&
+         !std::is_constructible<SlidingModeController<S>, const SlidingModeConfig<S>&>::value &&
+         !std::is_constructible<LinearAdaptiveController<S>, const LinearAdaptiveConfig<S>&>::value;
+}
+static_assert(no_throwing_constructors<float>(), "throwing constructors in firmware mode");
+static_assert(no_throwing_constructors<double>(), "throwing constructors in firmware mode");
+
+constexpr int kCentres = 16;
+
+/// Deterministic centres in the box the paper's set-up uses (docs/paper-reproduction.md),
+/// from a small LCG so the test needs no <random>.
+template <typename S>
+typename NNAdaptiveController<S, kCentres>::Network::CentreMatrix make_centres() {
+  typename NNAdaptiveController<S, kCentres>::Network::CentreMatrix c;
+  unsigned state = 12345u;
+  for (int j = 0; j < kCentres; ++j)
+    for (int i = 0; i < kNNInputs; ++i) {
+      state = state * 1664525u + 1013904223u;
+      const double u = static_cast<double>(state >> 8) / 16777216.0;  // [0, 1)
+      const double half = i < 18 ? 1.0 : 3.0;  // velocities, then the pose
+      c(j, i) = static_cast<S>((2.0 * u - 1.0) * half);
+    }
+  return c;
+}
+
+template <typename S>
+void validation_returns_errors() {
+  using V6 = Vector6<S>;
+  Vehicle<S> vehicle;
+  VehicleParameters<S> p = nerov_parameters<S>();
+  p.mass = S(-1);
+  CHECK(same_field(Vehicle<S>::create(p, vehicle), "mass"));
+  CHECK(!vehicle.valid());
+
+  ReferenceModel<S> ref;
+  CHECK(same_field(ReferenceModel<S>::create(V6::Ones(), V6::Zero(), V6::Zero(), ref), "omega"));
+  V6 d_out = V6::Constant(S(7));
+  DesiredState<S> d;
+  d.eta_d = d_out;
+  CHECK(ref.step(V6::Zero(), S(0.2), d) == Status::invalid_argument);
+
+  using C = NNAdaptiveController<S, kCentres>;
+  C ctrl;
+  NNAdaptiveConfig<S> cfg;
+  cfg.dt = S(0);
+  const auto centres = make_centres<S>();
+  const typename C::BasisVector widths = C::BasisVector::Constant(S(30));
+  const typename C::InputVector zero = C::InputVector::Zero(), ones = C::InputVector::Ones();
+  CHECK(same_field(C::create(centres, widths, zero, ones, cfg, ctrl), "dt"));
+  cfg = NNAdaptiveConfig<S>{};
+  typename C::BasisVector bad_widths = widths;
+  bad_widths(3) = S(0);
+  const ValidationError e = C::create(centres, bad_widths, zero, ones, cfg, ctrl);
+  CHECK(same_field(e, "widths") && e.index == 3);
+  CHECK(!ctrl.configured());
+  V6 tau = V6::Ones();
+  CHECK(ctrl.step(V6::Zero(), V6::Zero(), DesiredState<S>{}, tau) == Status::invalid_argument);
+  CHECK(tau.isZero(S(0)));
+  char buf[128];
+  e.format(buf, sizeof buf);
+  CHECK(std::strstr(buf, "widths[3]") != nullptr);
+}
+
+/// NEROV under the NN controller, fixed N, everything on the stack: tracks a
+/// step in pose, and a NaN measurement is refused without touching the state.
+template <typename S>
+void closed_loop_and_bad_input() {
+  using V6 = Vector6<S>;
+  using C = NNAdaptiveController<S, kCentres>;
+  Vehicle<S> plant;
+  CHECK(Vehicle<S>::create(nerov_parameters<S>(), plant).ok());
+  ReferenceModel<S> ref;
+  CHECK(ReferenceModel<S>::create(V6::Ones(), V6::Constant(S(0.25)), V6::Zero(), ref).ok());
+  NNAdaptiveConfig<S> cfg;
+  cfg.kd << S(200), S(200), S(200), S(50), S(50), S(50);
+  C ctrl;
+  CHECK(C::create(make_centres<S>(), C::BasisVector::Constant(S(30)), C::InputVector::Zero(),
+                  C::InputVector::Ones(), cfg, ctrl)
+            .ok());
+  V6 r;
+  r << S(2), S(1), S(0.5), S(0), S(0), S(0.5);
+  V6 eta = V6::Zero(), nu = V6::Zero(), tau = V6::Zero();
+  DesiredState<S> d;
+  int bad = 0;
+  for (int k = 0; k < 300; ++k) {  // 60 s at 5 Hz
+    if (ref.step(r, cfg.dt, d) != Status::ok) ++bad;
+    if (ctrl.step(eta, nu, d, tau) != Status::ok) ++bad;
+    for (int i = 0; i < 10; ++i)
+      if (rk4_step(plant, eta, nu, tau, cfg.dt / S(10)) != Status::ok) ++bad;
+  }
+  CHECK(bad == 0);
+  CHECK((eta - r).norm() < S(0.05));
+
+  const typename C::WeightMatrix w = ctrl.weights();
+  V6 nan_eta = eta;
+  nan_eta(1) = std::numeric_limits<S>::quiet_NaN();
+  CHECK(ctrl.step(nan_eta, nu, d, tau) == Status::non_finite_input);
+  CHECK(tau.isZero(S(0)));
+  CHECK(ctrl.last_status() == Status::non_finite_input);
+  CHECK(ctrl.weights() == w);
+  V6 upright = eta;
+  upright(4) = S(1.5707963267948966);
+  CHECK(ctrl.step(upright, nu, d, tau) == Status::near_singularity);
+  CHECK(ctrl.weights() == w);
+  ctrl.reset();
+  CHECK(ctrl.weight_norm() == S(0));
+  std::printf("%s: |eta - r| after 60 s = %.2e m/rad, ||W|| = %.3g before reset\n",
+              std::is_same<S, float>::value ? "float" : "double",
+              static_cast<double>((eta - r).norm()), static_cast<double>(w.norm()));
+}
+
+}  // namespace
+
+int main() {
+  validation_returns_errors<float>();
+  validation_returns_errors<double>();
+  closed_loop_and_bad_input<float>();
+  closed_loop_and_bad_input<double>();
+  std::printf("%s: %d failure(s)\n", failures == 0 ? "PASS" : "FAIL", failures);
+  return failures == 0 ? 0 : 1;
+}
