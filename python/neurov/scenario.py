@@ -71,7 +71,7 @@ from numpy.typing import NDArray
 
 from neurov import centres as centre_placement
 from neurov import trajectories
-from neurov.vehicle_file import VehicleFileError, load_vehicle_parameters, preset_path
+from neurov.vehicle_file import VehicleFileError, load_thrusters, load_vehicle_parameters, preset_path
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -109,6 +109,7 @@ class _Reader:
         self.table = table
         self.where = where
         self.origin = origin
+        # Every key asked for, present or not: finish() suggests from these.
         self.used: set[str] = set()
 
     def _name(self, key: str) -> str:
@@ -118,6 +119,7 @@ class _Reader:
         return ScenarioError(f"{self.origin}: {self._name(key)}: {message}")
 
     def has(self, key: str) -> bool:
+        self.used.add(key)
         return key in self.table
 
     def raw(self, key: str, default: Any = None) -> Any:
@@ -126,6 +128,7 @@ class _Reader:
 
     def number(self, key: str, default: float | None = None, *, minimum: float | None = None,
                positive: bool = False) -> float:
+        self.used.add(key)
         if key not in self.table:
             if default is None:
                 raise self.error(key, "missing (expected a number)")
@@ -143,6 +146,7 @@ class _Reader:
         return v
 
     def integer(self, key: str, default: int | None = None, *, minimum: int = 0) -> int:
+        self.used.add(key)
         if key not in self.table:
             if default is None:
                 raise self.error(key, "missing (expected an integer)")
@@ -155,6 +159,7 @@ class _Reader:
         return v
 
     def string(self, key: str, default: str | None = None, choices: Sequence[str] | None = None) -> str:
+        self.used.add(key)
         if key not in self.table:
             if default is None:
                 raise self.error(key, "missing (expected a string)")
@@ -167,6 +172,7 @@ class _Reader:
         return v
 
     def boolean(self, key: str, default: bool) -> bool:
+        self.used.add(key)
         if key not in self.table:
             return default
         v = self.raw(key)
@@ -177,6 +183,7 @@ class _Reader:
     def array(self, key: str, length: int | None, default: Any = None, *, non_negative: bool = False,
               positive: bool = False, broadcast: bool = True) -> NDArray[np.float64]:
         """A list of `length` numbers (or, with broadcast, one number for all)."""
+        self.used.add(key)
         if key not in self.table:
             if default is None:
                 raise self.error(key, f"missing (expected {length} numbers)")
@@ -354,7 +361,8 @@ class Scenario:
     noise_eta: NDArray[np.float64] = field(default_factory=lambda: np.zeros(6))
     noise_nu: NDArray[np.float64] = field(default_factory=lambda: np.zeros(6))
     saturation: str = "scale"
-    thruster_time_constant: float = 0.0
+    thruster_time_constant: float | None = None
+    """Thruster lag [s]; None takes the vehicle file's (0, none, if it gives none)."""
     thruster_failures: list[ThrusterFailure] = field(default_factory=list)
     sensor_faults: list[SensorFault] = field(default_factory=list)
     current_steps: list[CurrentStep] = field(default_factory=list)
@@ -480,7 +488,8 @@ def scenario_from_mapping(data: Mapping[str, Any], origin: str = "<scenario>") -
     s.vehicle = v.string("file") if v.has("file") else v.string("preset", "nerov")
     s.use_thrusters = v.boolean("thrusters", False)
     s.saturation = v.string("saturation", "scale", choices=("scale", "clip"))
-    s.thruster_time_constant = v.number("thruster_time_constant", 0.0, minimum=0.0)
+    if v.has("thruster_time_constant"):
+        s.thruster_time_constant = v.number("thruster_time_constant", minimum=0.0)
     if v.has("parameters"):
         over = v.raw("parameters")
         if not isinstance(over, Mapping):
@@ -490,8 +499,11 @@ def scenario_from_mapping(data: Mapping[str, Any], origin: str = "<scenario>") -
     try:
         vp = s.replace(source=origin).vehicle_path()
         load_vehicle_parameters(vp)
+        thrusters = load_thrusters(vp) if s.use_thrusters else None
     except (VehicleFileError, ValueError) as e:
         raise ScenarioError(f"{origin}: vehicle: {e}") from None
+    if s.use_thrusters and thrusters is None:
+        raise v.error("thrusters", f"the vehicle file {vp} has no [thrusters] table")
     i = r.table_of("initial")
     s.eta0 = i.array("eta", 6, s.eta0, broadcast=False)
     s.nu0 = i.array("nu", 6, s.nu0, broadcast=False)
@@ -538,9 +550,11 @@ def scenario_from_mapping(data: Mapping[str, Any], origin: str = "<scenario>") -
         eff = fr.number("efficiency", 0.0, minimum=0.0)
         if eff > 1:
             raise fr.error("efficiency", f"expected a number in [0, 1], got {eff}")
-        s.thruster_failures.append(
-            ThrusterFailure(index=fr.integer("index"), efficiency=eff, time=fr.number("time", 0.0))
-        )
+        failure = ThrusterFailure(index=fr.integer("index"), efficiency=eff, time=fr.number("time", 0.0))
+        if thrusters is not None and failure.index >= thrusters["matrix"].shape[1]:
+            raise fr.error("index", f"expected a thruster index 0..{thrusters['matrix'].shape[1] - 1}, "
+                                    f"got {failure.index}")
+        s.thruster_failures.append(failure)
         fr.finish()
     faults = r.raw("sensor_faults", [])
     if not isinstance(faults, list):

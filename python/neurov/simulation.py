@@ -15,7 +15,7 @@ from numpy.typing import NDArray
 
 from neurov import _core
 from neurov.scenario import ControllerSpec, Scenario, make_centres
-from neurov.vehicle_file import load_vehicle_parameters
+from neurov.vehicle_file import load_thrusters, load_vehicle_parameters
 
 __all__ = ["Result", "build_controller", "build_vehicle", "default_centre_box", "simulate", "simulate_many"]
 
@@ -38,8 +38,6 @@ def thruster_arguments(scenario: Scenario) -> dict[str, Any]:
     """Keyword arguments of run_closed_loop for the vehicle file's [thrusters]."""
     if not scenario.use_thrusters:
         return {}
-    from neurov.vehicle_file import load_thrusters
-
     t = load_thrusters(scenario.vehicle_path())
     if t is None:
         raise ValueError(f"scenario {scenario.name!r}: vehicle file {scenario.vehicle_path()} has no [thrusters] table")
@@ -48,7 +46,8 @@ def thruster_arguments(scenario: Scenario) -> dict[str, Any]:
         "thruster_max": t["max_thrust"],
         "thruster_min": t["min_thrust"],
         "saturation": scenario.saturation,
-        "thruster_time_constant": scenario.thruster_time_constant or t.get("time_constant", 0.0),
+        "thruster_time_constant": (t["time_constant"] if scenario.thruster_time_constant is None
+                                   else scenario.thruster_time_constant),
         "thruster_failures": [vars(f) for f in scenario.thruster_failures],
     }
     return out

@@ -1,0 +1,156 @@
+"""neurov.plot: each function returns a Figure with the axes and lines it
+documents, showing the data it should; save writes a PNG."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from matplotlib.figure import Figure
+
+from neurov import plot
+from neurov.scenario import CommandSpec, ControllerSpec, Scenario, ThrusterFailure
+from neurov.simulation import Result, simulate
+
+SCENARIO = Scenario(
+    name="plot_square", duration=20.0, use_thrusters=True,
+    command=CommandSpec(type="square", args={"side": 3.0, "start": 1.0}),
+    controller=ControllerSpec(type="nn", centres={"method": "sobol", "n": 16, "seed": 0}),
+)
+PD = ControllerSpec(type="pd", kp=np.full(6, 200.0), kd=np.full(6, 300.0))
+
+
+@pytest.fixture(scope="module")
+def runs() -> list[Result]:
+    return [simulate(SCENARIO), simulate(SCENARIO, PD)]
+
+
+@pytest.fixture(scope="module")
+def no_thrusters() -> Result:
+    return simulate(SCENARIO.replace(use_thrusters=False, duration=5.0))
+
+
+def legend_texts(ax: object) -> list[str]:
+    legend = ax.get_legend()  # type: ignore[attr-defined]
+    return [t.get_text() for t in legend.get_texts()] if legend else []
+
+
+def test_xy_path(runs: list[Result]) -> None:
+    fig = plot.xy_path(runs, title="square")
+    assert isinstance(fig, Figure)
+    (ax,) = fig.axes
+    desired, nn, pd = ax.lines
+    # East to the right, north up: the map convention.
+    np.testing.assert_array_equal(desired.get_xdata(), runs[0].eta_d[:, 1])
+    np.testing.assert_array_equal(desired.get_ydata(), runs[0].eta_d[:, 0])
+    np.testing.assert_array_equal(pd.get_xdata(), runs[1].eta[:, 1])
+    assert desired.get_linestyle() == "-" and nn.get_linestyle() == "--" and pd.get_linestyle() == "-."
+    assert legend_texts(ax) == ["desired", "NN adaptive", "PD"]
+    assert "east" in ax.get_xlabel() and "[m]" in ax.get_xlabel()
+    assert "north" in ax.get_ylabel() and "[m]" in ax.get_ylabel()
+    assert ax.get_title() == "square"
+    assert len(ax.collections) == 2  # start markers
+
+
+def test_xy_path_single_result_and_labels(runs: list[Result]) -> None:
+    fig = plot.xy_path(runs[0], labels=["mine"])
+    (ax,) = fig.axes
+    assert len(ax.lines) == 2
+    assert legend_texts(ax) == ["desired", "mine"]
+
+
+def test_xy_path_different_desired_paths(runs: list[Result], no_thrusters: Result) -> None:
+    fig = plot.xy_path([runs[0], no_thrusters])
+    (ax,) = fig.axes
+    # One desired path per run, then the runs; the same controller twice is
+    # told apart by the scenario name.
+    assert len(ax.lines) == 4
+    assert legend_texts(ax)[2:] == ["NN adaptive (plot_square) #1", "NN adaptive (plot_square) #2"]
+
+
+def test_dof_time(runs: list[Result]) -> None:
+    fig = plot.dof_time(runs)
+    assert len(fig.axes) == 4
+    assert all(len(ax.lines) == 3 for ax in fig.axes)
+    yaw = fig.axes[3]
+    np.testing.assert_allclose(yaw.lines[1].get_ydata(), np.degrees(runs[0].eta[:, 5]))
+    np.testing.assert_array_equal(yaw.lines[1].get_xdata(), runs[0].t)
+    assert "[deg]" in yaw.get_ylabel() and "[m]" in fig.axes[0].get_ylabel()
+    assert fig.axes[-1].get_xlabel() == "t [s]"
+    fig = plot.dof_time(runs[1], dofs=[2])
+    assert len(fig.axes) == 1 and len(fig.axes[0].lines) == 2
+
+
+def test_errors(runs: list[Result]) -> None:
+    fig = plot.errors(runs, dofs=(0, 1, 2, 3, 4, 5))
+    assert len(fig.axes) == 6
+    assert all(len(ax.lines) == 2 for ax in fig.axes)
+    np.testing.assert_allclose(fig.axes[0].lines[1].get_ydata(), runs[1].eta[:, 0] - runs[1].eta_d[:, 0])
+    np.testing.assert_allclose(fig.axes[5].lines[0].get_ydata(), np.degrees(runs[0].error[:, 5]))
+    assert legend_texts(fig.axes[0])[0].startswith("NN adaptive (RMS ")
+    assert len(plot.errors(runs).axes) == 4
+
+
+def test_control_inputs_with_thrusts(runs: list[Result]) -> None:
+    fig = plot.control_inputs(runs[0])
+    forces, moments, thrusts = fig.axes
+    assert len(forces.lines) == 6 and len(moments.lines) == 6
+    np.testing.assert_array_equal(forces.lines[0].get_ydata(), runs[0].tau_demanded[:, 0])
+    np.testing.assert_array_equal(moments.lines[5].get_ydata(), runs[0].tau_applied[:, 5])
+    # Six thrusters plus the limits, +-250 N.
+    assert len(thrusts.lines) == 6 + 2
+    assert sorted(line.get_ydata()[0] for line in thrusts.lines[6:]) == [-250.0, 250.0]
+    assert "[N]" in forces.get_ylabel() and "[N m]" in moments.get_ylabel() and "[N]" in thrusts.get_ylabel()
+    assert len(plot.control_inputs(runs[0], show_thrusts=False).axes) == 2
+
+
+def test_control_inputs_marks_a_failure() -> None:
+    failing = SCENARIO.replace(duration=4.0, thruster_failures=[ThrusterFailure(index=2, time=2.0)])
+    fig = plot.control_inputs(simulate(failing, PD))
+    thrusts = fig.axes[2]
+    assert len(thrusts.lines) == 6 + 2 + 1
+    assert any(t.get_text() == "T2 fails" for t in thrusts.texts)
+
+
+def test_control_inputs_without_thrusters(no_thrusters: Result) -> None:
+    fig = plot.control_inputs(no_thrusters)
+    assert len(fig.axes) == 2
+    assert all(len(ax.lines) == 6 for ax in fig.axes)
+
+
+def test_adaptive_norm(runs: list[Result]) -> None:
+    fig = plot.adaptive_norm(runs)
+    (ax,) = fig.axes
+    nn, pd = ax.lines
+    np.testing.assert_array_equal(nn.get_ydata(), runs[0].adaptive_norm)
+    assert np.max(nn.get_ydata()) > 0
+    np.testing.assert_array_equal(pd.get_ydata(), 0.0)
+    assert legend_texts(ax) == ["NN adaptive: ‖Ŵ‖_F", "PD: none"]
+
+
+def test_bad_arguments(runs: list[Result]) -> None:
+    with pytest.raises(ValueError, match="labels"):
+        plot.xy_path(runs, labels=["one"])
+    with pytest.raises(ValueError, match="at least one"):
+        plot.errors([])
+    with pytest.raises(ValueError, match="dofs"):
+        plot.dof_time(runs, dofs=(6,))
+    with pytest.raises(TypeError, match="Result"):
+        plot.adaptive_norm([runs[0], "not a result"])  # type: ignore[list-item]
+
+
+def test_save_writes_a_png(runs: list[Result], tmp_path: Path) -> None:
+    path = plot.save(plot.xy_path(runs), tmp_path / "new" / "xy.png", dpi=60)
+    assert path == tmp_path / "new" / "xy.png"
+    data = path.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n"
+    assert len(data) > 5000
+
+
+def test_no_pyplot_state(runs: list[Result]) -> None:
+    # Figures are built without pyplot, so none pile up in its registry.
+    plot.dof_time(runs)
+    if "matplotlib.pyplot" in sys.modules:
+        assert sys.modules["matplotlib.pyplot"].get_fignums() == []
