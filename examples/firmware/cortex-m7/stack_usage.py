@@ -1,0 +1,67 @@
+"""Worst-case stack of each C entry point of neurov_c, from GCC's call graph.
+
+Compile c_api.cpp with -fcallgraph-info=su (the CI's cross-build does), then
+
+    python3 stack_usage.py build-m7/cpp/src/CMakeFiles/neurov_c.dir/c_api.cpp.ci
+
+prints, for each neurov_* function, the largest sum of stack frames along any
+call path below it, as GCC reports the frames. Functions outside the object
+(sinf, cosf, expf, sqrtf, memcpy, memset from newlib) have no frame in the
+graph; each is counted with --external bytes (default 64, more than newlib's
+float functions use on ARMv7-M). Fails if a frame is dynamic or the graph
+has a cycle, since then there is no bound.
+"""
+
+import argparse
+import re
+import sys
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("graph", help="the .ci file written by -fcallgraph-info=su")
+    parser.add_argument("--external", type=int, default=64,
+                        help="bytes assumed for a function outside the object")
+    args = parser.parse_args()
+
+    text = open(args.graph, encoding="utf-8").read()
+    frame, kind = {}, {}
+    for m in re.finditer(r'node: \{ title: "([^"]+)" label: "([^"]*)"', text):
+        title, label = m.group(1), m.group(2)
+        b = re.search(r"(\d+) bytes \((\w+)\)", label)
+        frame[title] = int(b.group(1)) if b else args.external
+        kind[title] = b.group(2) if b else "external"
+    calls = {}
+    for m in re.finditer(r'edge: \{ sourcename: "([^"]+)" targetname: "([^"]+)"', text):
+        calls.setdefault(m.group(1), []).append(m.group(2))
+
+    dynamic = [t for t, k in kind.items() if k not in ("static", "external")]
+    if dynamic:
+        print("frames that are not static (no bound):", *dynamic, sep="\n  ")
+        return 1
+
+    memo = {}
+
+    def depth(node, path):
+        if node in path:
+            raise RecursionError(" -> ".join(path + (node,)))
+        if node not in memo:
+            below = [depth(c, path + (node,)) for c in calls.get(node, [])]
+            memo[node] = frame.get(node, args.external) + max(below, default=0)
+        return memo[node]
+
+    entries = sorted(t for t in frame if re.fullmatch(r"neurov_\w+", t))
+    if not entries:
+        print("no neurov_* functions in", args.graph)
+        return 1
+    try:
+        for name in entries:
+            print(f"{name:32s} {depth(name, ()):6d} bytes")
+    except RecursionError as cycle:
+        print("recursion, no bound:", cycle)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
