@@ -23,6 +23,8 @@ set(CMAKE_TRY_COMPILE_TARGET_TYPE STATIC_LIBRARY)
 set(_neurov_m7 "-mcpu=cortex-m7 -mfpu=fpv5-d16 -mfloat-abi=hard -mthumb")
 # Sections per function and object, so the final link keeps only what firmware
 # calls. No -ffast-math: neurov's NaN/Inf guards rely on IEEE semantics.
+# Add flags with the CFLAGS/CXXFLAGS environment variables, which CMake puts in
+# front of these; setting CMAKE_CXX_FLAGS on the command line replaces them.
 set(CMAKE_C_FLAGS_INIT "${_neurov_m7} -ffunction-sections -fdata-sections")
 set(CMAKE_CXX_FLAGS_INIT
     "${_neurov_m7} -ffunction-sections -fdata-sections -fno-exceptions -fno-rtti -fno-threadsafe-statics")
