@@ -37,6 +37,27 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("scenario", metavar="SCENARIO.toml", help="the scenario file")
     run.add_argument("--out", default=None, metavar="DIR", help="folder for the results")
     run.add_argument("--plot", action="store_true", help="also write PNG figures (needs --out)")
+
+    study = sub.add_parser(
+        "study",
+        help="run a study: every scenario x controller x perturbed plant",
+        description="Runs every (scenario x controller x sample) of a study file (TOML; see "
+        "docs/studies.md) and writes runs.csv (one row per run), summary.csv, league.md and "
+        "plots. Runs already in DIR are not redone. Shipped studies by name: league, robustness.",
+    )
+    study.add_argument("study", metavar="STUDY.toml", help="the study file, or a shipped study's name")
+    study.add_argument("--out", default=None, metavar="DIR", help="output folder (default: study-NAME)")
+    study.add_argument("--workers", type=int, default=None, metavar="N",
+                       help="worker processes (default: one per core)")
+    study.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                       help="run on the existing Dask cluster at ADDRESS (e.g. tcp://host:8786)")
+    study.add_argument("--executor", choices=("auto", "dask", "processes"), default="auto",
+                       help="dask, local processes, or auto: Dask if installed (default)")
+    study.add_argument("--batch-size", type=int, default=None, metavar="N",
+                       help="runs per task (default: chosen from the number of runs and workers)")
+    study.add_argument("--format", choices=("csv", "parquet"), default="csv", dest="table_format",
+                       help="format of the runs table (parquet needs pyarrow)")
+    study.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
     return p
 
 
@@ -63,6 +84,16 @@ def main(argv: Sequence[str] | None = None) -> int:
             from neurov.run import run_scenario_file
 
             run_scenario_file(args.scenario, out_dir=args.out, plot=args.plot)
+        elif args.command == "study":
+            if args.workers is not None and args.workers < 1:
+                parser.error("--workers must be >= 1")
+            if args.batch_size is not None and args.batch_size < 1:
+                parser.error("--batch-size must be >= 1")
+            from neurov.study import main_study
+
+            main_study(args.study, args.out, args.workers, args.scheduler, executor=args.executor,
+                       table_format=args.table_format, plots=not args.no_plots,
+                       batch_size=args.batch_size)
     except (ValueError, OSError) as e:
         # ScenarioError and VehicleFileError are ValueErrors that name the
         # file and the field: the message is the whole story, no traceback.
