@@ -161,6 +161,8 @@ class Study:
     seed: int = 0
     after: float = 0.0
     ranking_metric: str = "rmse_position_m"
+    also_show: list[str] = field(default_factory=list)
+    """Further metrics whose medians the league table shows beside the ranking."""
     failure: dict[str, float] = field(default_factory=dict)
     head_to_head: list[tuple[str, str]] = field(default_factory=list)
     description: str = ""
@@ -370,6 +372,9 @@ def study_from_mapping(data: Mapping[str, Any], origin: str = "<study>") -> Stud
 
         rk = r.table_of("ranking")
         ranking = rk.string("metric", "rmse_position_m")
+        also = rk.raw("also_show", [])
+        if not isinstance(also, list) or not all(isinstance(x, str) for x in also):
+            raise rk.error("also_show", f"expected a list of metric names, got {also!r}")
         rk.finish()
         fr = r.table_of("failure")
         failure = {k: fr.number(k) for k in list(fr.table)}
@@ -389,7 +394,7 @@ def study_from_mapping(data: Mapping[str, Any], origin: str = "<study>") -> Stud
 
     study = Study(name=name, scenarios=scenarios, controllers=controllers, controller_specs=specs,
                   perturbations=perturbations, samples=samples, seed=seed, after=after,
-                  ranking_metric=ranking, failure=failure, head_to_head=pairs,
+                  ranking_metric=ranking, also_show=list(also), failure=failure, head_to_head=pairs,
                   description=description, source=origin)
     _check_metrics(study, origin)
     _check_plants(study, origin)
@@ -398,7 +403,10 @@ def study_from_mapping(data: Mapping[str, Any], origin: str = "<study>") -> Stud
 
 def _check_metrics(study: Study, origin: str) -> None:
     known = metric_names()
-    for key, where in [(study.ranking_metric, "ranking.metric")] + [(k, f"failure.{k}") for k in study.failure]:
+    checks = [(study.ranking_metric, "ranking.metric")]
+    checks += [(k, f"ranking.also_show[{i}]") for i, k in enumerate(study.also_show)]
+    checks += [(k, f"failure.{k}") for k in study.failure]
+    for key, where in checks:
         if key not in known:
             close = difflib.get_close_matches(key, known, n=1)
             hint = f"; did you mean {close[0]!r}?" if close else ""
@@ -610,6 +618,7 @@ def run_one(study: Study, key: RunKey) -> dict[str, Any]:
     table row and the decimated error series."""
     from neurov.simulation import simulate
 
+    cpu_start = time.process_time()
     scenario = study.scenarios[key.scenario]
     controller = study.controllers[key.controller]
     plant, columns = sample_plant(study, scenario, key.sample)
@@ -642,8 +651,9 @@ def run_one(study: Study, key: RunKey) -> dict[str, Any]:
         "position_error": [float(f"{x:.6g}") for x in pos],
         "yaw_error": [float(f"{x:.6g}") for x in yaw],
     }
+    # Timings stay out of the row: the table must not depend on the machine.
     return {"key": [scenario.name, controller, key.sample], "row": row, "series": series,
-            "wall_time": result.wall_time}
+            "wall_time": result.wall_time, "cpu_time": time.process_time() - cpu_start}
 
 
 def run_batch(study: Study, keys: Sequence[tuple[int, int, int]]) -> list[dict[str, Any]]:
@@ -895,6 +905,8 @@ class Summary:
     p95: float
     failure_rate: float
     rank: int = 0
+    also: dict[str, float] = field(default_factory=dict)
+    """Medians of the study's also_show metrics."""
 
 
 def summarise(study: Study, rows: Sequence[Mapping[str, Any]]) -> list[Summary]:
@@ -914,6 +926,7 @@ def summarise(study: Study, rows: Sequence[Mapping[str, Any]]) -> list[Summary]:
                 scenario=s.name, controller=c, label=study.label(c), n=len(vals),
                 median=percentile(m, 50), p5=percentile(m, 5), p95=percentile(m, 95),
                 failure_rate=sum(failed(r, study.failure) for r in vals) / len(vals),
+                also={k: percentile([float(r[k]) for r in vals], 50) for k in study.also_show},
             ))
         group.sort(key=lambda g: (g.median, g.failure_rate, g.p95, study.controllers.index(g.controller)))
         for i, g in enumerate(group):
@@ -984,13 +997,16 @@ def league_markdown(study: Study, rows: Sequence[Mapping[str, Any]]) -> str:
         if not group:
             continue
         best = group[0].median
+        extra_head = "".join(f" median {k} |" for k in study.also_show)
         lines += [f"## {s.name}", "", f"{s.description}", "",
-                  f"| rank | controller | median {metric} | 5th-95th percentile | failure rate | median / best |",
-                  "|---|---|---|---|---|---|"]
+                  f"| rank | controller | median {metric} | 5th-95th percentile | failure rate | median / best |"
+                  + extra_head,
+                  "|---|---|---|---|---|---|" + "---|" * len(study.also_show)]
         for g in group:
             ratio = g.median / best if best > 0 and math.isfinite(best) else float("nan")
+            extra = "".join(f" {_num(g.also[k])} |" for k in study.also_show)
             lines.append(f"| {g.rank} | {g.label} | {_num(g.median)} | {_num(g.p5)} - {_num(g.p95)} | "
-                         f"{100 * g.failure_rate:.0f} % | {_num(ratio, 3)} |")
+                         f"{100 * g.failure_rate:.0f} % | {_num(ratio, 3)} |" + extra)
         lines.append("")
     ranks: dict[str, list[int]] = {c: [] for c in study.controllers}
     fails: dict[str, list[float]] = {c: [] for c in study.controllers}
@@ -1034,7 +1050,8 @@ def _describe_perturbation(p: Perturbation) -> str:
 def summary_rows(study: Study, rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
     return [{"scenario": g.scenario, "controller": g.controller, "rank": g.rank, "n": g.n,
              "metric": study.ranking_metric, "median": g.median, "p5": g.p5, "p95": g.p95,
-             "failure_rate": g.failure_rate} for g in summarise(study, rows)]
+             "failure_rate": g.failure_rate, **{f"median_{k}": v for k, v in g.also.items()}}
+            for g in summarise(study, rows)]
 
 
 # --- plots --------------------------------------------------------------------------------------
@@ -1152,6 +1169,13 @@ def plot_bands(study: Study, records: Mapping[tuple[str, str, int], Mapping[str,
 # --- running ------------------------------------------------------------------------------------
 
 
+def _load_average() -> float | None:
+    try:
+        return round(os.getloadavg()[0], 2)
+    except (AttributeError, OSError):  # not on every platform
+        return None
+
+
 @dataclass
 class StudyOutcome:
     out_dir: Path
@@ -1218,6 +1242,7 @@ def run_study(study: Study | str | Path, out_dir: str | Path, *, workers: int | 
     meta_path.write_text(json.dumps(meta, indent=2) + "\n")
 
     records = _read_log(log)
+    before = set(records)
     plan = plan_runs(study)
     names = {(s.name, c, k) for s in study.scenarios for c in study.controllers for k in range(study.samples)}
     todo = [k for k in plan if (study.scenarios[k.scenario].name, study.controllers[k.controller], k.sample)
@@ -1228,6 +1253,7 @@ def run_study(study: Study | str | Path, out_dir: str | Path, *, workers: int | 
     bar = _Progress(len(todo), progress and bool(todo))
 
     used_workers = workers
+    load_start = _load_average()
     start = time.perf_counter()
     if todo:
         with log.open("a") as f:
@@ -1252,6 +1278,7 @@ def run_study(study: Study | str | Path, out_dir: str | Path, *, workers: int | 
     bar.close()
 
     keep = {k: v for k, v in records.items() if k in names}
+    new_keys = [k for k in keep if k not in before]
     order = {(s.name, c, k): i for i, (s, c, k) in enumerate(
         (s, c, k) for s in study.scenarios for c in study.controllers for k in range(study.samples))}
     ordered = sorted(keep.values(), key=lambda r: order[tuple(r["key"])])  # type: ignore[index]
@@ -1271,10 +1298,19 @@ def run_study(study: Study | str | Path, out_dir: str | Path, *, workers: int | 
         plot_boxes(study, rows, out / f"boxplot_{study.ranking_metric}.png")
         for s in study.scenarios:
             plot_bands(study, keep, s, out / f"error_bands_{s.name}.png")
-    timing = {"executor": executor, "workers": used_workers, "batch_size": size, "runs": len(todo),
-              "skipped": skipped, "seconds": seconds,
-              "runs_per_second": len(todo) / seconds if seconds > 0 and todo else None,
-              "cpu_seconds_in_loops": sum(r.get("wall_time", 0.0) for r in keep.values())}
+    timing: dict[str, Any] = {
+        "executor": executor, "workers": used_workers, "batch_size": size, "runs": len(todo),
+        "skipped": skipped, "seconds": seconds, "cpus": os.cpu_count(),
+        "load_average_at_start_and_end": [load_start, _load_average()],
+        "runs_per_second": len(todo) / seconds if seconds > 0 and todo else None,
+        # CPU seconds the workers spent on this invocation's runs: on a shared
+        # machine the wall-clock rate depends on the other load, runs per CPU
+        # second does not.
+        "worker_cpu_seconds": sum(records[k].get("cpu_time", 0.0) for k in new_keys),
+        "loop_wall_seconds": sum(records[k].get("wall_time", 0.0) for k in new_keys),
+    }
+    if timing["worker_cpu_seconds"]:
+        timing["runs_per_cpu_second"] = len(todo) / timing["worker_cpu_seconds"]
     (out / "timing.json").write_text(json.dumps(timing, indent=2) + "\n")
     return StudyOutcome(out_dir=out, total=len(plan), ran=len(todo), skipped=skipped, executor=executor,
                         workers=used_workers, seconds=seconds, table=table, league=league)

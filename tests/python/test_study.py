@@ -229,6 +229,7 @@ BAD = [
     ("[[perturbations]]\nparameter = \"mass\"\nrelative = 0.1\nper_element = true", r"perturbations\[0\]\.per_element"),
     ("[ranking]\nmetric = \"rmse_positon_m\"", r"ranking\.metric: unknown metric 'rmse_positon_m'; did you mean 'rmse_position_m'"),
     ("[failure]\nrmse_position_m = \"big\"", r"failure\.rmse_position_m: expected a number"),
+    ("[ranking]\nalso_show = [\"rmse_yw_rad\"]", r"ranking\.also_show\[0\]: unknown metric 'rmse_yw_rad'"),
     ("samples = 0", r"samples: expected an integer >= 1"),
     ("sampels = 3", r"sampels: unknown field; did you mean 'samples'"),
     ("after = 100.0", r"after: 100.0 s leaves no samples of scenario 'short_nerov'"),
@@ -456,6 +457,8 @@ def test_league_table_ranks_by_the_median(study_file: Path) -> None:
     assert first[2].failure_rate == 0.0
     md = league_markdown(s, rows)
     assert "| 1 | NN adaptive | 1 |" in md
+    s.also_show = ["rmse_yaw_rad"]
+    assert "| median rmse_yaw_rad |" in league_markdown(s, rows)
     assert "## NN adaptive against linear adaptive" in md
     assert "| short_nerov | 2 of 4 |" in md  # nn < linear in samples 1 and 2 only
 
