@@ -954,10 +954,12 @@ def _ratio(x: float, y: float) -> float:
     return float("inf") if fy else 1.0
 
 
-def head_to_head(study: Study, rows: Sequence[Mapping[str, Any]], a: str, b: str) -> list[dict[str, Any]]:
+def head_to_head(study: Study, rows: Sequence[Mapping[str, Any]], a: str, b: str,
+                 metric: str | None = None) -> list[dict[str, Any]]:
     """Per scenario, A against B on the same plants (same sample): the share
-    of samples where A's ranking metric is lower, and the median of A / B."""
-    metric = study.ranking_metric
+    of samples where A's metric (the ranking metric unless given) is lower,
+    and the median of A / B."""
+    metric = metric or study.ranking_metric
     by = {(r["scenario"], r["controller"], int(r["sample"])): float(r[metric]) for r in rows}
     out = []
     for s in study.scenarios:
@@ -1024,14 +1026,20 @@ def league_markdown(study: Study, rows: Sequence[Mapping[str, Any]]) -> str:
         lines.append("")
     for a, b in study.head_to_head:
         la, lb = study.label(a), study.label(b)
+        others = study.also_show
         lines += [f"## {la} against {lb}", "",
-                  f"Same plants and noise per sample. \"{la} better\": samples where its `{metric}` is "
-                  f"lower. Ratio: {la} / {lb}.", "",
-                  f"| scenario | {la} better | median ratio | 5th-95th percentile of the ratio |",
-                  "|---|---|---|---|"]
-        for h in head_to_head(study, rows, a, b):
+                  f"Same plants and noise per sample. \"better\": samples where {la} has the lower value; "
+                  f"ratio: {la} / {lb} (a failed run counts as infinitely bad).", "",
+                  f"| scenario | better in `{metric}` | median ratio | 5th-95th percentile of the ratio |"
+                  + "".join(f" better in `{k}` | median ratio |" for k in others),
+                  "|---|---|---|---|" + "---|---|" * len(others)]
+        main = head_to_head(study, rows, a, b)
+        extra = {k: {h["scenario"]: h for h in head_to_head(study, rows, a, b, k)} for k in others}
+        for h in main:
+            cells = "".join(f" {extra[k][h['scenario']]['a_wins']} of {h['n']} | "
+                            f"{_num(extra[k][h['scenario']]['median_ratio'], 3)} |" for k in others)
             lines.append(f"| {h['scenario']} | {h['a_wins']} of {h['n']} | {_num(h['median_ratio'], 3)} | "
-                         f"{_num(h['p5_ratio'], 3)} - {_num(h['p95_ratio'], 3)} |")
+                         f"{_num(h['p5_ratio'], 3)} - {_num(h['p95_ratio'], 3)} |" + cells)
         lines.append("")
     return "\n".join(lines).rstrip() + "\n"
 
