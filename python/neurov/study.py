@@ -1104,8 +1104,8 @@ def plot_boxes(study: Study, rows: Sequence[Mapping[str, Any]], path: Path) -> P
 
 
 def _colour(i: int) -> str:
-    # Matplotlib's cycle without its grey (C7): grey marks the other controllers.
-    return f"C{(0, 1, 2, 3, 4, 5, 6, 8, 9)[i % 9]}"
+    # Matplotlib's cycle with black for its grey (C7): grey marks the other controllers.
+    return ("C0", "C1", "C2", "C3", "C4", "C5", "C6", "C8", "C9", "k")[i % 10]
 
 
 def plot_bands(study: Study, records: Mapping[tuple[str, str, int], Mapping[str, Any]],
