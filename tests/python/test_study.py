@@ -15,6 +15,7 @@ from neurov.scenario import load_scenario
 from neurov.simulation import build_controller
 from neurov.study import (
     LOG_NAME,
+    SCENARIO_DIR,
     StudyError,
     draw_sample,
     failed,
@@ -30,7 +31,6 @@ from neurov.study import (
 )
 from neurov.vehicle_file import load_vehicle_parameters, preset_path
 
-SCENARIO_DIR = Path(__file__).resolve().parents[2] / "python" / "neurov" / "scenarios"
 
 # A short BlueROV2 heading step next to a shipped scenario trimmed to 30 s,
 # so the whole file runs in seconds.
