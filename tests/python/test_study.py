@@ -495,3 +495,10 @@ def test_parquet_table_reads_back_as_the_csv_rows(tmp_path: Path) -> None:
                   table_format="parquet")
     assert b.table.suffix == ".parquet"
     assert read_table(a.table) == read_table(b.table)
+
+
+def test_a_folder_named_like_a_shipped_study_does_not_hide_it(tmp_path: Path,
+                                                               monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "league").mkdir()  # e.g. the output of `neurov study league --out league`
+    assert load_study("league").name == "league"
