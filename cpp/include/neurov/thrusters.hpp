@@ -99,6 +99,7 @@ class Thrusters {
   /// the lag follows.
   void command(const Vector6<Scalar>& tau) noexcept {
     command_.noalias() = pinv_ * tau;
+    if (!command_.allFinite()) return command_overflowed(tau);
     if (config_.saturation == Saturation::clip) {
       command_ = command_.cwiseMax(config_.min_thrust).cwiseMin(config_.max_thrust);
       return;
@@ -109,7 +110,8 @@ class Thrusters {
       if (u > config_.max_thrust(i)) factor = std::min(factor, config_.max_thrust(i) / u);
       if (u < config_.min_thrust(i)) factor = std::min(factor, config_.min_thrust(i) / u);
     }
-    command_ *= factor;
+    // The clamp only undoes rounding: u * (max / u) can land an ulp beyond max.
+    command_ = (command_ * factor).cwiseMax(config_.min_thrust).cwiseMin(config_.max_thrust);
   }
 
   /// Moves the actual thrusts toward the command over dt (exact solution of
@@ -125,7 +127,12 @@ class Thrusters {
 
   /// The wrench the thrusters produce now: B (efficiency .* thrust).
   Vector6<Scalar> wrench() const noexcept {
-    return config_.matrix * efficiency_.cwiseProduct(thrust_);
+    // Column by column: Eigen evaluates the expression efficiency .* thrust on
+    // the right of a product into a heap temporary, once per call.
+    Vector6<Scalar> w = Vector6<Scalar>::Zero();
+    for (Eigen::Index i = 0; i < thrust_.size(); ++i)
+      w += config_.matrix.col(i) * (efficiency_(i) * thrust_(i));
+    return w;
   }
 
   /// Efficiency of thruster i in [0, 1] (0: failed); false if out of range.
@@ -148,6 +155,32 @@ class Thrusters {
   Vector produced() const { return efficiency_.cwiseProduct(thrust_); }
 
  private:
+  /// The rare path of command(): a finite tau so large that B^+ tau
+  /// overflows, where inf - inf in the product would hand NaN thrusts on. Its
+  /// direction is allocated instead and saturated along; a NaN or infinite
+  /// tau gives no thrust at all.
+  void command_overflowed(const Vector6<Scalar>& tau) noexcept {
+    const Scalar size = tau.allFinite() ? tau.cwiseAbs().maxCoeff() : Scalar(0);
+    if (!(size > Scalar(0))) {
+      command_.setZero();
+      return;
+    }
+    command_.noalias() = pinv_ * (tau / size);
+    if (config_.saturation == Saturation::clip) {
+      // size * u may be +-inf, never NaN, and the clip brings it back.
+      command_ = (command_ * size).cwiseMax(config_.min_thrust).cwiseMin(config_.max_thrust);
+      return;
+    }
+    // How far along the unit allocation u every thruster can follow.
+    Scalar reach = size;
+    for (Eigen::Index i = 0; i < command_.size(); ++i) {
+      const Scalar u = command_(i);
+      if (u > Scalar(0)) reach = std::min(reach, config_.max_thrust(i) / u);
+      if (u < Scalar(0)) reach = std::min(reach, config_.min_thrust(i) / u);
+    }
+    command_ = (command_ * reach).cwiseMax(config_.min_thrust).cwiseMin(config_.max_thrust);
+  }
+
   ThrusterConfig<Scalar> config_{};
   Eigen::Matrix<Scalar, Eigen::Dynamic, 6> pinv_{};
   Vector efficiency_{};
