@@ -95,9 +95,17 @@ class ReferenceModel {
       Vec6 unused;
       s = derivative(eta_next, nu_next, r, unused, nu_dot);
       if (s == Status::ok) {
-        eta_d_ = eta_next;
-        nu_d_ = nu_next;
-        fill_desired(eta_d_, nu_d_, nu_dot);
+        // A finite state can still give a desired velocity or acceleration
+        // that overflows (a command of 1e308): refuse it, keep the last good one.
+        const DesiredState<Scalar> previous = desired_;
+        fill_desired(eta_next, nu_next, nu_dot);
+        if (desired_.eta_d_dot.allFinite() && desired_.eta_d_ddot.allFinite()) {
+          eta_d_ = eta_next;
+          nu_d_ = nu_next;
+        } else {
+          desired_ = previous;
+          s = Status::non_finite_output;
+        }
       }
     }
     out = desired_;
