@@ -390,9 +390,6 @@ ValidationError simulate(const Vehicle<Scalar>& vehicle, Controller& controller,
     r.s.row(k) = controller.tracking().s.transpose();
     r.adaptive_norm(k) = adaptive_norm(controller);
     r.controller_status(k) = static_cast<std::uint8_t>(cs);
-    if (config.use_thrusters && (thrusters.efficiency().array() < Scalar(1)).any())
-      faults |= fault_bits::thruster;
-    r.faults(k) = faults;
     detail::record_theta(controller, r.theta.row(k));
     r.disturbance.row(k) = disturbance_at(t).transpose();
 
@@ -409,6 +406,9 @@ ValidationError simulate(const Vehicle<Scalar>& vehicle, Controller& controller,
             failure_applied[f] = true;
           }
         }
+        // Checked per substep, where a failure or repair takes effect, so the
+        // bit describes the same interval as this row's thrusts and tau_applied.
+        if ((thrusters.efficiency().array() < Scalar(1)).any()) faults |= fault_bits::thruster;
         thrusters.advance(h);
         applied = thrusters.wrench();
         if (n_thr > 0)
@@ -423,6 +423,7 @@ ValidationError simulate(const Vehicle<Scalar>& vehicle, Controller& controller,
     }
     r.tau_applied.row(k) = (applied_sum / static_cast<Scalar>(config.substeps)).transpose();
     r.plant_status(k) = static_cast<std::uint8_t>(ps);
+    r.faults(k) = faults;
     if (ps != Status::ok && ps != Status::near_singularity) {
       r.diverged = true;
       ++k;
