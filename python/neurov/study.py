@@ -406,7 +406,28 @@ def study_from_mapping(data: Mapping[str, Any], origin: str = "<study>") -> Stud
                   description=description, source=origin)
     _check_metrics(study, origin)
     _check_plants(study, origin)
+    _check_controllers(study, origin, {k: bool(t and any(isinstance(v, Mapping) and n != "centres"
+                                                        for n, v in t.items()))
+                                       for k, t in ctable.items()})
     return study
+
+
+def _check_controllers(study: Study, origin: str, per_vehicle: Mapping[str, bool]) -> None:
+    """Builds every controller once per vehicle, so a configuration the C++
+    refuses (say, modification = "sigma" without sigma_m) is named here and
+    not in a worker halfway through the study."""
+    from neurov.simulation import build_controller
+
+    first: dict[str, int] = {}
+    for i, s in enumerate(study.scenarios):
+        first.setdefault(vehicle_key(s), i)
+    for j, key in enumerate(study.controllers):
+        for v, i in first.items():
+            where = f"controllers.{key}.{v}" if per_vehicle.get(key) else f"controllers.{key}"
+            try:
+                build_controller(_resolved_spec(study, j, i), study.scenarios[i])
+            except (ValueError, TypeError) as e:
+                raise StudyError(f"{origin}: {where}: {e}") from None
 
 
 def _check_metrics(study: Study, origin: str) -> None:

@@ -230,6 +230,10 @@ BAD = [
     ("[ranking]\nmetric = \"rmse_positon_m\"", r"ranking\.metric: unknown metric 'rmse_positon_m'; did you mean 'rmse_position_m'"),
     ("[failure]\nrmse_position_m = \"big\"", r"failure\.rmse_position_m: expected a number"),
     ("[ranking]\nalso_show = [\"rmse_yw_rad\"]", r"ranking\.also_show\[0\]: unknown metric 'rmse_yw_rad'"),
+    ("[controllers.pd]\ntype = \"nn\"\nmodification = \"sigma\"", r"controllers\.pd: .*sigma_m"),
+    ("[controllers.pd]\ntype = \"nn\"\nkd = 1.0\n[controllers.pd.centres]\nmethod = \"sobol\"\nn = 4\n"
+     "[controllers.pd.nerov]\nmodification = \"projection\"\n[controllers.pd.bluerov2_heavy]\ngamma = 0.1",
+     r"controllers\.pd\.nerov: .*w_max"),
     ("samples = 0", r"samples: expected an integer >= 1"),
     ("sampels = 3", r"sampels: unknown field; did you mean 'samples'"),
     ("after = 100.0", r"after: 100.0 s leaves no samples of scenario 'short_nerov'"),
