@@ -97,15 +97,12 @@ void def_common(Class& cls) {
 }
 
 RobustModification parse_modification(py::handle obj) {
-  if (!py::isinstance<py::str>(obj))
-    throw py::type_error("argument 'modification' must be a str, got " +
-                         std::string(py::str(py::type::handle_of(obj))));
-  const auto s = obj.cast<std::string>();
-  for (auto m : {RobustModification::none, RobustModification::sigma,
-                 RobustModification::e_modification, RobustModification::projection})
+  const auto s =
+      py_args::choice(obj, "modification", {"none", "sigma", "e_modification", "projection"});
+  for (auto m : {RobustModification::sigma, RobustModification::e_modification,
+                 RobustModification::projection})
     if (s == to_string(m)) return m;
-  throw py::value_error("argument 'modification' must be 'none', 'sigma', 'e_modification' or "
-                        "'projection', got '" + s + "'");
+  return RobustModification::none;
 }
 
 Eigen::VectorXd widths_arg(py::handle width, Eigen::Index n) {

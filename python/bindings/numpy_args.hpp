@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
 #include <string>
 
 #include "neurov/status.hpp"
@@ -142,6 +143,12 @@ inline Eigen::VectorXd dynamic_vector(const py::handle& obj, const char* name, p
 
 /// A finite real number (Python int or float; bool is refused).
 inline double scalar(const py::handle& obj, const char* name) {
+  // A numpy array has __float__ but only a 0-d one is a number.
+  if (py::isinstance<py::array>(obj) && py::reinterpret_borrow<py::array>(obj).ndim() != 0) {
+    throw py::type_error(std::string("argument '") + name +
+                         "' must be a real number, got an array of shape " +
+                         shape_string(py::reinterpret_borrow<py::array>(obj)));
+  }
   if (py::isinstance<py::bool_>(obj) ||
       !(py::isinstance<py::float_>(obj) || py::isinstance<py::int_>(obj) ||
         py::hasattr(obj, "__float__"))) {
@@ -153,6 +160,21 @@ inline double scalar(const py::handle& obj, const char* name) {
     throw py::value_error(std::string("argument '") + name + "' must be finite, got " +
                           num(v));
   return v;
+}
+
+/// A string from a fixed set of choices (TypeError or ValueError naming it).
+inline std::string choice(const py::handle& obj, const char* name,
+                          std::initializer_list<const char*> choices) {
+  std::string allowed;
+  for (const char* c : choices) allowed += (allowed.empty() ? "'" : ", '") + std::string(c) + "'";
+  if (!py::isinstance<py::str>(obj))
+    throw py::type_error(std::string("argument '") + name + "' must be a str, one of " + allowed +
+                         "; got " + std::string(py::str(py::type::handle_of(obj))));
+  const auto s = obj.cast<std::string>();
+  for (const char* c : choices)
+    if (s == c) return s;
+  throw py::value_error(std::string("argument '") + name + "' must be one of " + allowed +
+                        ", got '" + s + "'");
 }
 
 /// A finite number > 0.

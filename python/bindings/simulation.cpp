@@ -29,7 +29,22 @@ T item(const py::handle& seq_item, const char* key, const std::string& where) {
   }
 }
 
+/// Every keyword run_closed_loop takes: a misspelt one must not be ignored.
+constexpr const char* kKeywords[] = {
+    "dt", "substeps", "duration", "eta0", "nu0", "command_times", "command_poses",
+    "command_interpolation", "lambda_d", "omega", "disturbances", "current", "current_amplitude",
+    "current_period", "noise_eta", "noise_nu", "seed", "sensor_faults", "current_steps",
+    "refused_step_policy", "thruster_matrix", "thruster_max", "thruster_min", "thruster_weights",
+    "saturation", "thruster_time_constant", "thruster_failures"};
+
 Config parse_config(const py::dict& kw) {
+  for (const auto& item : kw) {
+    const auto key = py::str(item.first).cast<std::string>();
+    bool known = false;
+    for (const char* k : kKeywords) known = known || key == k;
+    if (!known)
+      throw py::type_error("run_closed_loop() got an unexpected keyword argument '" + key + "'");
+  }
   Config c;
   auto get = [&](const char* key) -> py::object {
     return kw.contains(key) ? py::object(kw[key]) : py::object(py::none());
@@ -48,11 +63,9 @@ Config parse_config(const py::dict& kw) {
   c.command.poses = py_args::dynamic_matrix(get("command_poses"), "command_poses",
                                             c.command.times.size(), 6);
   if (!get("command_interpolation").is_none()) {
-    const auto s = get("command_interpolation").cast<std::string>();
-    if (s != "linear" && s != "hold")
-      throw py::value_error("argument 'command_interpolation' must be 'linear' or 'hold', got '" +
-                            s + "'");
-    c.command.linear = s == "linear";
+    c.command.linear =
+        py_args::choice(get("command_interpolation"), "command_interpolation", {"linear", "hold"}) ==
+        "linear";
   }
   if (!get("lambda_d").is_none()) c.lambda_d = py_args::vector<6>(get("lambda_d"), "lambda_d");
   if (!get("omega").is_none()) c.omega = py_args::vector<6>(get("omega"), "omega");
@@ -119,11 +132,10 @@ Config parse_config(const py::dict& kw) {
     }
   }
   if (!get("refused_step_policy").is_none()) {
-    const auto s = get("refused_step_policy").cast<std::string>();
-    if (s != "zero" && s != "hold")
-      throw py::value_error("argument 'refused_step_policy' must be 'zero' or 'hold', got '" + s +
-                            "'");
-    c.refused_step_policy = s == "hold" ? RefusedStepPolicy::hold : RefusedStepPolicy::zero;
+    c.refused_step_policy =
+        py_args::choice(get("refused_step_policy"), "refused_step_policy", {"zero", "hold"}) == "hold"
+            ? RefusedStepPolicy::hold
+            : RefusedStepPolicy::zero;
   }
   if (!get("thruster_matrix").is_none()) {
     c.use_thrusters = true;
@@ -136,10 +148,10 @@ Config parse_config(const py::dict& kw) {
     if (!get("thruster_weights").is_none())
       c.thrusters.weights = py_args::dynamic_vector(get("thruster_weights"), "thruster_weights", n);
     if (!get("saturation").is_none()) {
-      const auto s = get("saturation").cast<std::string>();
-      if (s != "scale" && s != "clip")
-        throw py::value_error("argument 'saturation' must be 'scale' or 'clip', got '" + s + "'");
-      c.thrusters.saturation = s == "clip" ? Saturation::clip : Saturation::scale;
+      c.thrusters.saturation =
+          py_args::choice(get("saturation"), "saturation", {"scale", "clip"}) == "clip"
+              ? Saturation::clip
+              : Saturation::scale;
     }
     if (!get("thruster_time_constant").is_none())
       c.thrusters.time_constant =
@@ -238,11 +250,9 @@ void bind_simulation(py::module_& m) {
         c.min_thrust = min_thrust.is_none() ? Eigen::VectorXd(-c.max_thrust)
                                             : py_args::dynamic_vector(min_thrust, "min_thrust", n);
         if (!weights.is_none()) c.weights = py_args::dynamic_vector(weights, "weights", n);
-        const auto s = saturation.cast<std::string>();
-        if (s != "scale" && s != "clip")
-          throw py::value_error("argument 'saturation' must be 'scale' or 'clip', got '" + s +
-                                "'");
-        c.saturation = s == "clip" ? Saturation::clip : Saturation::scale;
+        c.saturation = py_args::choice(saturation, "saturation", {"scale", "clip"}) == "clip"
+                           ? Saturation::clip
+                           : Saturation::scale;
         Thrusters<double> t;
         py_args::raise_if_invalid(Thrusters<double>::create(c, t), "thrusters");
         t.command(py_args::vector<6>(tau, "tau"));

@@ -21,14 +21,10 @@ using Params = VehicleParameters<double>;
 namespace {
 
 CoriolisForm parse_coriolis_form(const py::handle& obj) {
-  if (!py::isinstance<py::str>(obj))
-    throw py::type_error("argument 'coriolis_form' must be a str, got " +
-                         std::string(py::str(py::type::handle_of(obj))));
-  const auto s = obj.cast<std::string>();
-  if (s == "velocity_independent") return CoriolisForm::velocity_independent;
-  if (s == "kirchhoff") return CoriolisForm::kirchhoff;
-  throw py::value_error("argument 'coriolis_form' must be 'velocity_independent' or "
-                        "'kirchhoff', got '" + s + "'");
+  return py_args::choice(obj, "coriolis_form", {"velocity_independent", "kirchhoff"}) ==
+                 "kirchhoff"
+             ? CoriolisForm::kirchhoff
+             : CoriolisForm::velocity_independent;
 }
 
 const char* coriolis_form_name(CoriolisForm f) {
@@ -83,7 +79,7 @@ void bind_vehicle(py::module_& m) {
   py::class_<Vehicle<double>>(
       m, "Vehicle",
       "A 6-DOF vehicle in Fossen's form, M nu_dot + C(nu) nu + D(nu) nu + g(eta) = tau.\n\n"
-      "Build one with Vehicle.nerov(), Vehicle.bluerov2_heavy(), Vehicle.from_file(path) "
+      "Build one with Vehicle.nerov(), Vehicle.preset('bluerov2_heavy'), Vehicle.from_file(path) "
       "or Vehicle(mass=..., ...). Parameters are validated: a bad one raises ValueError "
       "naming the field.")
       .def(py::init([](py::handle mass, py::handle inertia, py::handle weight, py::handle buoyancy,

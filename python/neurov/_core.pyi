@@ -472,6 +472,50 @@ class PDController(_Controller):
     def __init__(self, kp: _ArrayLike, kd: _ArrayLike) -> None:
         """kp, kd: diagonal gains (6,), >= 0."""
 
+class PIDController(_Controller):
+    """PID baseline in the earth frame with anti-windup.
+
+    ``tau = -J^T (K_p eta_tilde + K_i z + K_d eta_tilde_dot)``, z the integral
+    of eta_tilde, ``|K_i z| <= integral_limit`` per DOF and no integration
+    further into the limit.
+    """
+
+    def __init__(
+        self,
+        kp: _ArrayLike,
+        ki: _ArrayLike,
+        kd: _ArrayLike,
+        integral_limit: _ArrayLike,
+        dt: SupportsFloat = 0.2,
+    ) -> None:
+        """kp, ki, kd: diagonal gains (6,), >= 0; integral_limit: largest |K_i z| per DOF
+        (6,), > 0 [N, N m]; dt: control period [s]."""
+    @property
+    def integral(self) -> _Array:
+        """The integrator state z (6,), the limited time integral of eta_tilde."""
+
+class SlidingModeController(_Controller):
+    """Sliding-mode controller with a boundary layer.
+
+    ``tau = Phi theta - J^T (K_d s + K sat(s / phi))``, with theta the
+    nominal model's parameters (see :func:`regressor`).
+    """
+
+    def __init__(
+        self,
+        lambda_: _ArrayLike,
+        kd: _ArrayLike,
+        k: _ArrayLike,
+        phi: _ArrayLike,
+        theta: _ArrayLike,
+    ) -> None:
+        """lambda_: Lambda (6,), > 0; kd: K_d (6,), >= 0; k: switching gain (6,), >= 0;
+        phi: boundary-layer width (6,), > 0; theta: the nominal model (24,), e.g.
+        ``regressor_parameters(vehicle)``."""
+    @property
+    def model_output(self) -> _Array:
+        """The nominal model's f of the last step, shape (6,)."""
+
 # --------------------------------------------------------------------------
 # Closed-loop simulation and thrust allocation
 
@@ -492,6 +536,25 @@ class _ThrusterFailure(TypedDict):
     index: int
     efficiency: float
     time: float
+
+@type_check_only
+class _SensorFault(TypedDict):
+    """A sensor fault from ``start`` to ``end`` [s] on the pose (``eta``) and/or velocity (``nu``) measurement."""
+
+    kind: Literal["freeze", "dropout", "noise_burst"]
+    start: float
+    end: float
+    eta: bool
+    nu: bool
+    noise_eta: _ArrayLike
+    noise_nu: _ArrayLike
+
+@type_check_only
+class _CurrentStep(TypedDict):
+    """From ``time`` [s] on, the NED current is ``velocity`` (3,) [m/s]."""
+
+    time: float
+    velocity: _ArrayLike
 
 @type_check_only
 class _SimulationOptions(TypedDict, total=False):
@@ -521,6 +584,9 @@ class _SimulationOptions(TypedDict, total=False):
     saturation: _Saturation
     thruster_time_constant: SupportsFloat
     thruster_failures: Iterable[_ThrusterFailure | Mapping[str, Any]]
+    sensor_faults: Iterable[_SensorFault | Mapping[str, Any]]
+    current_steps: Iterable[_CurrentStep | Mapping[str, Any]]
+    refused_step_policy: Literal["zero", "hold"]
 
 @type_check_only
 class _SimulationResult(TypedDict):
@@ -540,6 +606,8 @@ class _SimulationResult(TypedDict):
     adaptive_norm: _Array
     controller_status: numpy.typing.NDArray[numpy.uint8]
     plant_status: numpy.typing.NDArray[numpy.uint8]
+    faults: numpy.typing.NDArray[numpy.uint8]
+    """Per step: bit 1 freeze, 2 dropout, 4 noise burst, 8 a thruster below full efficiency."""
     diverged: bool
 
 @overload
@@ -550,7 +618,7 @@ def run_closed_loop(
 
     Keys: t, eta, nu, eta_d, eta_d_dot, tau_demanded, tau_applied,
     disturbance, s, thrusts, theta, adaptive_norm, controller_status,
-    plant_status, and diverged (bool). The controller is used as given and
+    plant_status, faults, and diverged (bool). The controller is used as given and
     left in its final state. ``neurov.simulate(scenario)`` is the friendly
     front end.
     """
@@ -562,6 +630,14 @@ def run_closed_loop(
 @overload
 def run_closed_loop(
     vehicle: Vehicle, controller: PDController, **kwargs: Unpack[_SimulationOptions]
+) -> _SimulationResult: ...
+@overload
+def run_closed_loop(
+    vehicle: Vehicle, controller: PIDController, **kwargs: Unpack[_SimulationOptions]
+) -> _SimulationResult: ...
+@overload
+def run_closed_loop(
+    vehicle: Vehicle, controller: SlidingModeController, **kwargs: Unpack[_SimulationOptions]
 ) -> _SimulationResult: ...
 def allocate_thrust(
     matrix: _ArrayLike,

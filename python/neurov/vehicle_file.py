@@ -82,9 +82,11 @@ def preset_path(name: str) -> Path:
 
 
 def _describe(value: Any) -> str:
-    return f"{type(value).__name__} {value!r}" if not isinstance(value, (list, dict)) else (
-        type(value).__name__
-    )
+    if isinstance(value, list):
+        return "a list that is not all numbers (or not rectangular)"
+    if isinstance(value, dict):
+        return "a table"
+    return f"{type(value).__name__} {value!r}"
 
 
 def _shape_of(value: Any) -> tuple[int, ...] | None:
@@ -106,7 +108,7 @@ def _shape_text(shape: Any) -> str:
     if shape == "str":
         return "a string"
     if len(shape) == 1:
-        return f"a list of {shape[0]} numbers"
+        return f"a list of {shape[0]} number{'s' if shape[0] != 1 else ''}"
     return f"a {shape[0]}x{shape[1]} table of numbers"
 
 

@@ -1,0 +1,237 @@
+"""The type stub neurov/_core.pyi matches the compiled module: the same names,
+the same parameters (read from pybind11's signatures), static methods,
+properties and property setters where the module has them. mypy's stubtest
+checks names but cannot see a pybind11 function's parameters; this test can."""
+
+from __future__ import annotations
+
+import ast
+import importlib.resources
+import inspect
+import re
+from typing import Any
+
+import pytest
+
+import neurov._core as core
+
+STUB_FILE = importlib.resources.files("neurov") / "_core.pyi"
+STUB = ast.parse(STUB_FILE.read_text(encoding="utf-8"))
+
+
+def public(name: str) -> bool:
+    return not name.startswith("_") or name in ("__version__", "__init__")
+
+
+def split_top_level(text: str) -> list[str]:
+    parts, depth, current = [], 0, ""
+    for ch in text:
+        if ch in "([{":
+            depth += 1
+        elif ch in ")]}":
+            depth -= 1
+        if ch == "," and depth == 0:
+            parts.append(current.strip())
+            current = ""
+        else:
+            current += ch
+    if current.strip():
+        parts.append(current.strip())
+    return parts
+
+
+def parse_signature(params: str) -> list[str]:
+    """pybind11's 'a: object, b: neurov._core.Vehicle, *, c: object = 1' as
+    ['a', 'b: Vehicle', '*', 'c=1'] (self and '/' dropped)."""
+    out = []
+    for part in split_top_level(params):
+        if part == "/":
+            continue
+        name, _, rest = part.partition(":")
+        name = name.strip()
+        if name == "self":
+            continue
+        annotation, _, default = rest.partition(" = ")
+        annotation = annotation.strip()
+        if annotation.startswith("neurov._core."):
+            name = f"{name}: {annotation.removeprefix('neurov._core.')}"
+        out.append(f"{name}={default.strip()}" if default else name)
+    return out
+
+
+def runtime_signatures(obj: Any) -> list[list[str]]:
+    """One parameter list per pybind11 overload, from the docstring."""
+    doc = obj.__doc__ or ""
+    name = obj.__name__
+    if "Overloaded function." in doc:
+        found = re.findall(rf"^\d+\. {name}\((.*?)\) ->", doc, flags=re.M)
+    else:
+        found = re.findall(rf"^{name}\((.*?)\) ->", doc.lstrip(), flags=re.M)[:1]
+    assert found, f"no pybind11 signature in {doc[:80]!r}"
+    return [parse_signature(p) for p in found]
+
+
+STUB_CLASSES = {n.name: n for n in STUB.body if isinstance(n, ast.ClassDef)}
+
+
+def stub_parameters(node: ast.FunctionDef) -> list[str]:
+    def one(arg: ast.arg, default: ast.expr | None) -> str:
+        text = arg.arg
+        if isinstance(arg.annotation, ast.Name) and arg.annotation.id in STUB_CLASSES:
+            text += f": {arg.annotation.id}"
+        return text if default is None else f"{text}={ast.unparse(default)}"
+
+    a = node.args
+    positional = a.posonlyargs + a.args
+    defaults: list[ast.expr | None] = [None] * (len(positional) - len(a.defaults))
+    defaults += a.defaults
+    out = [one(arg, d) for arg, d in zip(positional, defaults) if arg.arg != "self"]
+    if a.vararg:
+        out.append(f"*{a.vararg.arg}")
+    elif a.kwonlyargs:
+        out.append("*")
+    out += [one(arg, d) for arg, d in zip(a.kwonlyargs, a.kw_defaults)]
+    if a.kwarg:
+        out.append(f"**{a.kwarg.arg}")
+    return out
+
+
+def decorators(node: ast.FunctionDef) -> set[str]:
+    return {ast.unparse(d) for d in node.decorator_list}
+
+
+def functions_of(body: list[ast.stmt]) -> dict[str, list[ast.FunctionDef]]:
+    out: dict[str, list[ast.FunctionDef]] = {}
+    for node in body:
+        if isinstance(node, ast.FunctionDef):
+            out.setdefault(node.name, []).append(node)
+    return out
+
+
+def class_functions(name: str) -> dict[str, list[ast.FunctionDef]]:
+    """Methods of a stub class including those of its stub-only bases."""
+    cls = STUB_CLASSES[name]
+    out: dict[str, list[ast.FunctionDef]] = {}
+    for base in cls.bases:
+        if isinstance(base, ast.Name) and base.id in STUB_CLASSES:
+            out.update(class_functions(base.id))
+    out.update(functions_of(cls.body))
+    return out
+
+
+def module_names() -> set[str]:
+    names: set[str] = set()
+    for node in STUB.body:
+        if isinstance(node, (ast.FunctionDef, ast.ClassDef)):
+            names.add(node.name)
+        elif isinstance(node, ast.AnnAssign) and isinstance(node.target, ast.Name):
+            names.add(node.target.id)
+    return names
+
+
+RUNTIME_FUNCTIONS = sorted(n for n in dir(core) if public(n) and inspect.isroutine(getattr(core, n)))
+RUNTIME_CLASSES = sorted(n for n in dir(core) if public(n) and inspect.isclass(getattr(core, n)))
+
+
+def test_stub_and_marker_are_installed() -> None:
+    assert STUB_FILE.is_file()
+    assert (importlib.resources.files("neurov") / "py.typed").is_file()
+
+
+def test_module_names_match() -> None:
+    assert {n for n in module_names() if public(n)} == {n for n in dir(core) if public(n)}
+
+
+def test_constants() -> None:
+    assert isinstance(core.__version__, str) and core.__version__
+    assert isinstance(core.THETA_NAMES, tuple) and all(isinstance(n, str) for n in core.THETA_NAMES)
+
+
+@pytest.mark.parametrize("name", RUNTIME_FUNCTIONS)
+def test_function_parameters_match(name: str) -> None:
+    stub = functions_of(STUB.body)[name]
+    runtime = runtime_signatures(getattr(core, name))
+    if len(runtime) > 1:
+        stub = [f for f in stub if "overload" in decorators(f)]
+    assert [stub_parameters(f) for f in stub] == runtime
+    assert ast.get_docstring(stub[0]), f"{name} has no docstring in the stub"
+
+
+@pytest.mark.parametrize("cls_name", RUNTIME_CLASSES)
+def test_class_members_match(cls_name: str) -> None:
+    cls = getattr(core, cls_name)
+    methods = class_functions(cls_name)
+    if cls_name == "Status":
+        runtime = {n for n in vars(cls) if public(n) and not isinstance(vars(cls)[n], cls)}
+        assert {n for n in methods if public(n)} == runtime
+    else:
+        assert {n for n in methods if public(n)} == {n for n in vars(cls) if public(n)}
+    for name, nodes in methods.items():
+        if not public(name):
+            continue
+        raw = inspect.getattr_static(cls, name)
+        kinds = decorators(nodes[0])
+        assert isinstance(raw, staticmethod) == ("staticmethod" in kinds), name
+        assert isinstance(raw, property) == ("property" in kinds), name
+        assert ast.get_docstring(nodes[0]), f"{cls_name}.{name} has no docstring in the stub"
+        if isinstance(raw, property):
+            has_setter = any(f"{name}.setter" in decorators(n) for n in nodes)
+            assert (raw.fset is not None) == has_setter, f"{cls_name}.{name} setter"
+        else:
+            assert [stub_parameters(n) for n in nodes] == runtime_signatures(getattr(cls, name)), name
+
+
+def test_status_members_match() -> None:
+    members = {
+        node.target.id
+        for node in STUB_CLASSES["Status"].body
+        if isinstance(node, ast.AnnAssign)
+        and isinstance(node.target, ast.Name)
+        and ast.unparse(node.annotation) == "ClassVar[Status]"
+    }
+    assert members == set(core.Status.__members__)
+    assert {name: int(value) for name, value in core.Status.__members__.items()} == {
+        "ok": 0,
+        "near_singularity": 1,
+        "non_finite_input": 2,
+        "invalid_argument": 3,
+        "non_finite_output": 4,
+    }
+    assert core.Status(2) == core.Status.non_finite_input
+    assert core.Status.ok.name == "ok" and core.Status.near_singularity.value == 1
+
+
+def typed_dict_keys(name: str) -> set[str]:
+    return {
+        node.target.id
+        for node in STUB_CLASSES[name].body
+        if isinstance(node, ast.AnnAssign) and isinstance(node.target, ast.Name)
+    }
+
+
+def test_vehicle_parameters_keys_match_the_stub() -> None:
+    assert typed_dict_keys("_VehicleParameters") == set(core.Vehicle.nerov().parameters())
+
+
+def test_tracking_keys_match_the_stub() -> None:
+    z = [0.0] * 6
+    assert typed_dict_keys("_Tracking") == set(core.tracking_error(z, z, z, z, z, [1.0] * 6))
+
+
+def test_simulation_result_keys_match_the_stub() -> None:
+    result = core.run_closed_loop(
+        core.Vehicle.nerov(),
+        core.PDController([1.0] * 6, [1.0] * 6),
+        command_times=[0.0],
+        command_poses=[[0.0] * 6],
+        duration=0.4,
+    )
+    assert typed_dict_keys("_SimulationResult") == set(result)
+
+
+def test_simulation_options_are_documented_keywords() -> None:
+    """run_closed_loop takes **kwargs: the stub's TypedDict is the only list of them
+    a type checker sees, so each must be one the function documents."""
+    doc = core.run_closed_loop.__doc__ or ""
+    missing = [k for k in typed_dict_keys("_SimulationOptions") if not re.search(rf"\b{k}\b", doc)]
+    assert not missing
