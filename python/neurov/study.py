@@ -729,19 +729,33 @@ def default_batch_size(runs: int, workers: int) -> int:
     return max(1, min(64, math.ceil(runs / (8 * max(1, workers)))))
 
 
+# Each worker is one process running one run at a time: a BLAS thread pool in
+# every worker only competes for the same cores (Dask's nanny sets the same).
+_SINGLE_THREADED = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
+
+
 def _run_with_processes(study: Study, batches: list[list[tuple[int, int, int]]], workers: int,
                         on_done: Callable[[list[dict[str, Any]]], None]) -> None:
     import concurrent.futures as cf
     import multiprocessing
 
     # spawn, not fork: forking a process that has threads (a Dask client, BLAS)
-    # can deadlock, and spawn behaves the same on every platform.
+    # can deadlock, and spawn behaves the same on every platform. Spawned
+    # children take the environment as it is when they start, and the pool
+    # starts them on the first submits, so the variables stay set until the
+    # pool is done; a user's own setting wins.
     ctx = multiprocessing.get_context("spawn")
-    with cf.ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_process_worker,
-                                initargs=(study,)) as pool:
-        futures = [pool.submit(_run_batch_in_process, b) for b in batches]
-        for fut in cf.as_completed(futures):
-            on_done(fut.result())
+    added = {k: v for k, v in _SINGLE_THREADED.items() if k not in os.environ}
+    os.environ.update(added)
+    try:
+        with cf.ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_process_worker,
+                                    initargs=(study,)) as pool:
+            futures = [pool.submit(_run_batch_in_process, b) for b in batches]
+            for fut in cf.as_completed(futures):
+                on_done(fut.result())
+    finally:
+        for k in added:
+            os.environ.pop(k, None)
 
 
 def _run_with_dask(study: Study, batches: list[list[tuple[int, int, int]]], workers: int,
