@@ -223,6 +223,11 @@ inline Status jacobian_dot(const Vector6<Scalar>& eta, const Vector6<Scalar>& nu
   }
   const auto k = EulerKinematics<Scalar>::from_pose(eta);
   out = k.jacobian_dot(nu);
+  // A finite but enormous rate can overflow the products.
+  if (!out.allFinite()) {
+    out.setZero();
+    return Status::non_finite_output;
+  }
   return k.status();
 }
 

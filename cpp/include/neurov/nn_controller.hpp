@@ -215,6 +215,9 @@ class NNAdaptiveController {
 
   /// Replaces the weights (warm start); false (unchanged) on a bad matrix.
   bool set_weights(const WeightMatrix& w) noexcept {
+    // Finite weights whose norm overflows would leave weight_norm() infinite
+    // and every later update refused by its overflow bound.
+    if (!std::isfinite(w.norm())) return false;
     if (!network_.set_weights(w)) return false;
     weight_norm_ = network_.weights().norm();
     return true;
