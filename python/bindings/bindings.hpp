@@ -9,5 +9,6 @@ void bind_kinematics(pybind11::module_& m);
 void bind_vehicle(pybind11::module_& m);
 void bind_controllers(pybind11::module_& m);
 void bind_simulation(pybind11::module_& m);
+void bind_bench(pybind11::module_& m);  // private timing helpers (bench/compare.py)
 
 }  // namespace neurov::bindings

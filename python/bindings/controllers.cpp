@@ -328,7 +328,8 @@ void bind_controllers(py::module_& m) {
   nn.def_property(
         "weights", [](const NNController& c) { return Eigen::MatrixXd(c.weights()); },
         [](NNController& c, py::handle w) {
-          c.set_weights(py_args::dynamic_matrix(w, "weights", 6, c.network().centres_count()));
+          if (!c.set_weights(py_args::dynamic_matrix(w, "weights", 6, c.network().centres_count())))
+            throw py::value_error("argument 'weights' is so large that its norm overflows");
         },
         "Current weights W, shape (6, N); assignable (warm start).")
       .def_property_readonly("weight_norm", &NNController::weight_norm, "||W||_F.")

@@ -82,7 +82,10 @@ void bind_kinematics(py::module_& m) {
         const Vec6 n = py_args::vector<6>(nu, "nu");
         const auto k = EulerKinematics<double>::from_pose(e);
         require_regular(k.trig, e, "eta");
-        return Mat6(k.jacobian_dot(n));
+        const Mat6 jd = k.jacobian_dot(n);
+        if (!jd.allFinite())
+          throw py::value_error("argument 'nu' is so large that J_dot overflows");
+        return jd;
       },
       py::arg("eta"), py::arg("nu"),
       "Time derivative of J along the motion eta_dot = J(eta) nu, in closed form, "

@@ -27,4 +27,5 @@ PYBIND11_MODULE(_core, m) {
   neurov::bindings::bind_vehicle(m);
   neurov::bindings::bind_controllers(m);
   neurov::bindings::bind_simulation(m);
+  neurov::bindings::bind_bench(m);
 }

@@ -471,17 +471,18 @@ TYPED_TEST(ReliabilityTest, DISABLED_NNRefusedStepKeepsTheBasisOfTheLastAccepted
   check(nn<S, 8>(RobustModification::none, 6), 16u);
 }
 
-// Known issue (docs/reliability.md): finite weights whose Frobenius norm
-// overflows (entries near the largest float) are accepted, weight_norm() is
-// then inf, and every adapting step after is refused (its overflow bound
-// starts from the norm).
-TYPED_TEST(ReliabilityTest, DISABLED_NNSetWeightsRefusesWeightsWhoseNormOverflows) {
+// Finite weights whose Frobenius norm overflows (entries near the largest
+// number) would leave weight_norm() inf, and every adapting step after refused
+// (its overflow bound starts from the norm); the fuzzer found them accepted.
+TYPED_TEST(ReliabilityTest, NNSetWeightsRefusesWeightsWhoseNormOverflows) {
   using S = TypeParam;
   auto c = nn<S>(RobustModification::none, 8);
   auto w = c.weights();
   w.setConstant(std::numeric_limits<S>::max() / S(2));
+  const Bytes before = state_of(c);
   EXPECT_FALSE(c.set_weights(w));
   EXPECT_TRUE(std::isfinite(c.weight_norm()));
+  EXPECT_TRUE(state_of(c) == before);
 }
 
 // A bad weight matrix or learning rate is refused and leaves the old ones.
@@ -698,7 +699,7 @@ TYPED_TEST(ReliabilityTest, KinematicsOutputsStayFiniteForHostileValues) {
 
 // A finite angular rate so large that J_dot overflows must come back as
 // non_finite_output and a finite matrix, like every other function here.
-TYPED_TEST(ReliabilityTest, DISABLED_JacobianDotOfAHugeRateReportsTheOverflow) {
+TYPED_TEST(ReliabilityTest, JacobianDotOfAHugeRateReportsTheOverflow) {
   using S = TypeParam;
   Rng rng(43);
   const Vector6<S> eta = rng.pose<S>(1.0);

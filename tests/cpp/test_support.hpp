@@ -41,6 +41,9 @@ constexpr int kPoints = 200;
 
 /// Draws in double and casts, so the float and double instantiations of a
 /// typed test visit the same points (up to rounding) for the same seed.
+/// (std::uniform_real_distribution is implementation-defined, so another
+/// standard library visits other points; the tests are properties that must
+/// hold at any point, and the controller tests are tuned to this sequence.)
 class Rng {
  public:
   explicit Rng(std::uint32_t seed) : gen_(seed) {}
@@ -89,6 +92,7 @@ class Rng {
     return m;
   }
 
+  /// The underlying engine, for draws from other distributions.
   std::mt19937& engine() { return gen_; }
 
  private:
@@ -143,6 +147,15 @@ template <typename A, typename B>
   std::ostringstream os;
   os << "max |a - b| = " << err << " > tol " << tol << "\na =\n" << ad << "\nb =\n" << bd;
   return ::testing::AssertionFailure() << os.str();
+}
+
+/// Stores a measured number (error, drift, ratio) in the XML report, so the
+/// margin to a tolerance can be read from `--gtest_output=xml`.
+inline void record(const std::string& key, double value) {
+  std::ostringstream os;
+  os.precision(3);
+  os << std::scientific << value;
+  ::testing::Test::RecordProperty(key, os.str());
 }
 
 /// Max-abs of a matrix in double, used to scale relative tolerances.

@@ -53,6 +53,20 @@ def test_nn_controller_needs_24_inputs() -> None:
         neurov.NNAdaptiveController(neurov.RbfNetwork(CENTRES[:, :6], 1.0), LAM, KD)
 
 
+def test_nn_weights_whose_norm_overflows_are_refused() -> None:
+    c = nn()
+    before = c.weights
+    with pytest.raises(ValueError, match="'weights'.*overflows"):
+        c.weights = np.full((6, 4), 1e200)
+    np.testing.assert_array_equal(c.weights, before)
+    assert np.isfinite(c.weight_norm)
+
+
+def test_jacobian_dot_of_an_overflowing_rate_is_an_error() -> None:
+    with pytest.raises(ValueError, match="'nu'.*overflows"):
+        neurov.jacobian_dot(np.array([0, 0, 0, 0.3, 0.4, 0.5]), np.array([0, 0, 0, 1e308, 1e308, 1e308]))
+
+
 def nn(**kw: Any) -> neurov.NNAdaptiveController:
     args: dict[str, Any] = {"lambda_": LAM, "kd": KD}
     args.update(kw)

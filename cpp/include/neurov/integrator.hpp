@@ -40,7 +40,7 @@ inline Status rk4_step(const Vehicle<Scalar>& vehicle, Vector6<Scalar>& eta, Vec
   const Scalar h6 = dt / Scalar(6);
   const V6 eta_next = eta + h6 * (k1e + Scalar(2) * (k2e + k3e) + k4e);
   const V6 nu_next = nu + h6 * (k1n + Scalar(2) * (k2n + k3n) + k4n);
-  if (!(eta_next.allFinite() && nu_next.allFinite())) return Status::non_finite_output;
+  if (!detail::all_finite(eta_next, nu_next)) return Status::non_finite_output;
   eta = eta_next;
   nu = nu_next;
   return flag;

@@ -13,6 +13,7 @@
 #include <limits>
 
 #include "neurov/status.hpp"
+#include "neurov/trig.hpp"
 #include "neurov/types.hpp"
 
 namespace neurov {
@@ -26,10 +27,12 @@ inline Scalar singularity_threshold() noexcept {
 }
 
 /// Sines and cosines of the Euler angles, computed once and shared by every
-/// kinematic quantity of one step. `cos_theta` is already clamped away from 0.
+/// kinematic quantity of one step. `cos_theta` is the true cosine (R, T^-1
+/// and g need no division and stay exact at the singularity); `sec_theta` is
+/// 1 / cos(theta) with cos(theta) clamped away from 0, for T and T_dot.
 template <typename Scalar>
 struct EulerTrig {
-  Scalar sin_phi, cos_phi, sin_theta, cos_theta, sin_psi, cos_psi;
+  Scalar sin_phi, cos_phi, sin_theta, cos_theta, sin_psi, cos_psi, sec_theta;
   Status status = Status::ok;
 
   static EulerTrig from_angles(Scalar phi, Scalar theta, Scalar psi) noexcept {
@@ -37,20 +40,19 @@ struct EulerTrig {
     if (!(std::isfinite(phi) && std::isfinite(theta) && std::isfinite(psi))) {
       // Identity attitude: finite, and the status tells the caller why.
       t.sin_phi = t.sin_theta = t.sin_psi = Scalar(0);
-      t.cos_phi = t.cos_theta = t.cos_psi = Scalar(1);
+      t.cos_phi = t.cos_theta = t.cos_psi = t.sec_theta = Scalar(1);
       t.status = Status::non_finite_input;
       return t;
     }
-    t.sin_phi = std::sin(phi);
-    t.cos_phi = std::cos(phi);
-    t.sin_theta = std::sin(theta);
-    t.cos_theta = std::cos(theta);
-    t.sin_psi = std::sin(psi);
-    t.cos_psi = std::cos(psi);
+    detail::sincos(phi, t.sin_phi, t.cos_phi);
+    detail::sincos(theta, t.sin_theta, t.cos_theta);
+    detail::sincos(psi, t.sin_psi, t.cos_psi);
     const Scalar threshold = singularity_threshold<Scalar>();
     if (std::abs(t.cos_theta) < threshold) {
-      t.cos_theta = std::copysign(threshold, t.cos_theta);
+      t.sec_theta = Scalar(1) / std::copysign(threshold, t.cos_theta);
       t.status = Status::near_singularity;
+    } else {
+      t.sec_theta = Scalar(1) / t.cos_theta;
     }
     return t;
   }
@@ -74,21 +76,18 @@ inline Matrix3<Scalar> rotation(const EulerTrig<Scalar>& t) noexcept {
 
 template <typename Scalar>
 inline Matrix3<Scalar> rotation(Scalar phi, Scalar theta, Scalar psi) noexcept {
-  // R has no 1/cos(theta): use the unclamped cosine so R stays orthonormal.
-  EulerTrig<Scalar> t = EulerTrig<Scalar>::from_angles(phi, theta, psi);
-  if (t.status == Status::near_singularity) t.cos_theta = std::cos(theta);
-  return rotation(t);
+  return rotation(EulerTrig<Scalar>::from_angles(phi, theta, psi));
 }
 
 /// T(phi, theta): body angular rates to Euler-angle rates.
 template <typename Scalar>
 inline Matrix3<Scalar> attitude_transform(const EulerTrig<Scalar>& t) noexcept {
-  const Scalar cf = t.cos_phi, sf = t.sin_phi, ct = t.cos_theta;
-  const Scalar tt = t.sin_theta / ct;
+  const Scalar cf = t.cos_phi, sf = t.sin_phi, sec = t.sec_theta;
+  const Scalar tt = t.sin_theta * sec;
   Matrix3<Scalar> m;
   m << Scalar(1), sf * tt, cf * tt,  //
       Scalar(0), cf, -sf,            //
-      Scalar(0), sf / ct, cf / ct;
+      Scalar(0), sf * sec, cf * sec;
   return m;
 }
 
@@ -107,15 +106,15 @@ inline Matrix3<Scalar> attitude_transform_inverse(const EulerTrig<Scalar>& t) no
 template <typename Scalar>
 inline Matrix3<Scalar> attitude_transform_dot(const EulerTrig<Scalar>& t, Scalar phi_dot,
                                               Scalar theta_dot) noexcept {
-  const Scalar cf = t.cos_phi, sf = t.sin_phi, ct = t.cos_theta, st = t.sin_theta;
-  const Scalar tt = st / ct;
-  const Scalar sec2 = Scalar(1) / (ct * ct);
+  const Scalar cf = t.cos_phi, sf = t.sin_phi, sec = t.sec_theta;
+  const Scalar tt = t.sin_theta * sec;
+  const Scalar sec2 = sec * sec;
   Matrix3<Scalar> m;
   m << Scalar(0), cf * tt * phi_dot + sf * sec2 * theta_dot,
       -sf * tt * phi_dot + cf * sec2 * theta_dot,  //
       Scalar(0), -sf * phi_dot, -cf * phi_dot,     //
-      Scalar(0), (cf * phi_dot + sf * tt * theta_dot) / ct,
-      (-sf * phi_dot + cf * tt * theta_dot) / ct;
+      Scalar(0), (cf * phi_dot + sf * tt * theta_dot) * sec,
+      (-sf * phi_dot + cf * tt * theta_dot) * sec;
   return m;
 }
 

@@ -15,6 +15,7 @@
 
 #include "neurov/config.hpp"
 #include "neurov/desired_state.hpp"
+#include "neurov/rbf_kernels.hpp"
 #include "neurov/rbf_network.hpp"
 #include "neurov/status.hpp"
 #include "neurov/tracking_error.hpp"
@@ -140,6 +141,7 @@ class NNAdaptiveController {
     out.network_ = network;
     out.config_ = config;
     out.learning_rates_ = BasisVector::Constant(network.centres_count(), config.gamma);
+    out.learning_rates_norm_ = out.learning_rates_.norm();
     out.basis_ = BasisVector::Zero(network.centres_count());
     out.initial_weights_ = network.weights();
     out.weight_norm_ = network.weights().norm();
@@ -179,22 +181,37 @@ class NNAdaptiveController {
 
     InputVector x;
     x << e.nu_r_dot, e.nu_r, nu, eta;
-    Vec6 f_hat;
-    network_.output(x, basis_, f_hat);
-    const Vec6 tau_new = f_hat - e.kinematics.apply_transpose(config_.kd.cwiseProduct(e.s));
+    network_.basis(x, basis_);
+    const Vec6 kd_s = e.kinematics.apply_transpose(config_.kd.cwiseProduct(e.s));
     // a = dt J^-1 s: the error signal of eq. 37.
     const Vec6 a = config_.dt * e.kinematics.apply_inverse(e.s);
-    if (!(tau_new.allFinite() && a.allFinite())) return refuse(Status::non_finite_output, tau);
-
     const bool adapt = !(config_.dead_zone > Scalar(0) && e.s.norm() < config_.dead_zone);
-    if (adapt) {
-      const Status us = update_weights(a);
-      if (us != Status::ok) return refuse(us, tau);
+    const Scalar leak = leakage(a);
+
+    Vec6 f_hat;
+    if (adapt && update_cannot_overflow(a, kd_s)) {
+      // Nothing below can be refused, so W g, the update and ||W|| share
+      // one pass over W (W g still from the weights before the update).
+      apply_update(a, leak, f_hat);
+    } else {
+      // The checks come first and a refused step leaves W as it was.
+      detail::nn_output<Scalar>(network_.weights().data(), basis_.size(), basis_.data(),
+                                f_hat.data());
+      if (!detail::all_finite(Vec6(f_hat - kd_s), a)) return refuse(Status::non_finite_output, tau);
+      if (adapt) {
+        // Refuse an update that could overflow, before touching W.
+        const Scalar bound =
+            weight_norm_ + a.norm() * (basis_.array() * learning_rates_.array()).matrix().norm();
+        if (!(bound < std::sqrt(std::numeric_limits<Scalar>::max())))
+          return refuse(Status::non_finite_output, tau);
+        Vec6 unused;
+        apply_update(a, leak, unused);
+      }
     }
     adapted_ = adapt;
     tracking_ = e;
     f_hat_ = f_hat;
-    tau = tau_new;
+    tau = f_hat - kd_s;
     status_ = Status::ok;
     return Status::ok;
   }
@@ -210,6 +227,7 @@ class NNAdaptiveController {
         (rates.array() < Scalar(0)).any())
       return false;
     learning_rates_ = rates;
+    learning_rates_norm_ = rates.norm();
     return true;
   }
 
@@ -253,39 +271,46 @@ class NNAdaptiveController {
     return s;
   }
 
-  /// W <- W .* (1 - dt leak gamma_j) - a (gamma .* g)^T, then projection.
-  Status update_weights(const Vec6& a) noexcept {
-    WeightMatrix& w = network_.weights();
-    Scalar leak = Scalar(0);
-    if (config_.modification == RobustModification::sigma) leak = config_.sigma_m;
+  /// The leakage of the sigma- or e-modification (0 for the others).
+  Scalar leakage(const Vec6& a) const noexcept {
+    if (config_.modification == RobustModification::sigma) return config_.sigma_m;
     if (config_.modification == RobustModification::e_modification)
-      leak = config_.kappa * a.norm() / config_.dt;
-    // Refuse an update that could overflow, before touching W, so a refused
-    // step leaves it bit-for-bit as it was.
-    const Scalar bound =
-        weight_norm_ + a.norm() * (basis_.array() * learning_rates_.array()).matrix().norm();
-    if (!(bound < std::sqrt(std::numeric_limits<Scalar>::max()))) return Status::non_finite_output;
-    if (leak > Scalar(0)) {
-      const Scalar dl = config_.dt * leak;
-      for (Eigen::Index j = 0; j < w.cols(); ++j) {
-        const Scalar keep = std::max(Scalar(0), Scalar(1) - dl * learning_rates_(j));
-        w.col(j) = keep * w.col(j) - (learning_rates_(j) * basis_(j)) * a;
-      }
-    } else {
-      w.noalias() -= a * (basis_.array() * learning_rates_.array()).matrix().transpose();
-    }
-    Scalar norm = w.norm();
+      return config_.kappa * a.norm() / config_.dt;
+    return Scalar(0);
+  }
+
+  /// True when the update and tau are sure to be finite, so that the step
+  /// cannot be refused once it starts on W: g <= 1 gives
+  /// ||gamma .* g|| <= ||gamma||, so ||W_new|| stays below half the overflow
+  /// bound the checked path applies; then |W g| <= sqrt(N) ||W|| is far below
+  /// the overflow threshold, and so is W g - J^T K_d s for a bounded K_d term.
+  bool update_cannot_overflow(const Vec6& a, const Vec6& kd_s) const noexcept {
+    const Scalar big = std::numeric_limits<Scalar>::max();
+    if (!detail::all_finite(a, kd_s) || !(kd_s.cwiseAbs().maxCoeff() <= big / Scalar(4)))
+      return false;
+    return weight_norm_ + a.norm() * learning_rates_norm_ < Scalar(0.5) * std::sqrt(big);
+  }
+
+  /// f_hat = W g with the weights before the update, then
+  /// W <- W .* (1 - dt leak gamma_j) - a (gamma .* g)^T, then the projection.
+  void apply_update(const Vec6& a, Scalar leak, Vec6& f_hat) noexcept {
+    WeightMatrix& w = network_.weights();
+    const Scalar norm2 =
+        detail::nn_output_update<Scalar>(w.data(), basis_.size(), basis_.data(),
+                                         learning_rates_.data(), a.data(), config_.dt * leak,
+                                         f_hat.data());
+    Scalar norm = std::sqrt(norm2);
     if (config_.modification == RobustModification::projection && norm > config_.w_max) {
       w *= config_.w_max / norm;
       norm = config_.w_max;
     }
     weight_norm_ = norm;
-    return Status::ok;
   }
 
   Network network_{};
   Config config_{};
   BasisVector learning_rates_{};
+  Scalar learning_rates_norm_ = Scalar(0);  ///< ||gamma||, for update_cannot_overflow()
   BasisVector basis_{};
   WeightMatrix initial_weights_{};
   TrackingError<Scalar> tracking_{};

@@ -33,23 +33,27 @@ inline Status compute_tracking_error(const Vector6<Scalar>& eta, const Vector6<S
                                      const Vector6<Scalar>& eta_d_ddot,
                                      const Vector6<Scalar>& lambda,
                                      TrackingError<Scalar>& out) noexcept {
-  if (!(eta.allFinite() && nu.allFinite() && eta_d.allFinite() && eta_d_dot.allFinite() &&
-        eta_d_ddot.allFinite()))
-    return Status::non_finite_input;
+  if (!detail::all_finite(eta, nu, eta_d, eta_d_dot, eta_d_ddot)) return Status::non_finite_input;
   const auto k = EulerKinematics<Scalar>::from_pose(eta);
   if (k.status() != Status::ok) return k.status();
-  TrackingError<Scalar> e;
-  e.kinematics = k;
-  e.eta_tilde = eta - eta_d;
-  e.eta_tilde_dot = k.apply(nu) - eta_d_dot;
-  e.s = e.eta_tilde_dot + lambda.cwiseProduct(e.eta_tilde);
-  e.eta_r_dot = eta_d_dot - lambda.cwiseProduct(e.eta_tilde);
-  e.eta_r_ddot = eta_d_ddot - lambda.cwiseProduct(e.eta_tilde_dot);
-  e.nu_r = k.apply_inverse(e.eta_r_dot);
-  e.nu_r_dot = k.apply_inverse(e.eta_r_ddot - k.apply_dot(nu, e.nu_r));
-  if (!(e.s.allFinite() && e.nu_r.allFinite() && e.nu_r_dot.allFinite()))
-    return Status::non_finite_output;
-  out = e;
+  // Locals, written to `out` only once they are known to be finite (no
+  // second TrackingError to build and copy).
+  const Vector6<Scalar> eta_tilde = eta - eta_d;
+  const Vector6<Scalar> eta_tilde_dot = k.apply(nu) - eta_d_dot;
+  const Vector6<Scalar> s = eta_tilde_dot + lambda.cwiseProduct(eta_tilde);
+  const Vector6<Scalar> eta_r_dot = eta_d_dot - lambda.cwiseProduct(eta_tilde);
+  const Vector6<Scalar> eta_r_ddot = eta_d_ddot - lambda.cwiseProduct(eta_tilde_dot);
+  const Vector6<Scalar> nu_r = k.apply_inverse(eta_r_dot);
+  const Vector6<Scalar> nu_r_dot = k.apply_inverse(eta_r_ddot - k.apply_dot(nu, nu_r));
+  if (!detail::all_finite(s, nu_r, nu_r_dot)) return Status::non_finite_output;
+  out.kinematics = k;
+  out.eta_tilde = eta_tilde;
+  out.eta_tilde_dot = eta_tilde_dot;
+  out.s = s;
+  out.eta_r_dot = eta_r_dot;
+  out.eta_r_ddot = eta_r_ddot;
+  out.nu_r = nu_r;
+  out.nu_r_dot = nu_r_dot;
   return Status::ok;
 }
 

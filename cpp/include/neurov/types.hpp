@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>  // cross products
+#include <cmath>
 
 namespace neurov {
 
@@ -24,5 +25,30 @@ inline Matrix3<Scalar> skew(const Vector3<Scalar>& a) noexcept {
       -a.y(), a.x(), Scalar(0);
   return s;
 }
+
+namespace detail {
+
+/// True when every entry is finite. Eigen's allFinite() compiles, for a
+/// 6-vector, to an out-of-line recursive unroller that took a sixth of a
+/// closed-loop run; this is a branch-free loop of compares the compiler
+/// vectorises. (NaN fails the <=, so no separate isnan.)
+template <typename Derived>
+inline bool all_finite(const Eigen::DenseBase<Derived>& m) noexcept {
+  using S = typename Derived::Scalar;
+  const auto& d = m.derived();
+  bool ok = true;
+  for (Eigen::Index j = 0; j < d.cols(); ++j)
+    for (Eigen::Index i = 0; i < d.rows(); ++i)
+      ok &= std::abs(d.coeff(i, j)) <= Eigen::NumTraits<S>::highest();
+  return ok;
+}
+
+template <typename A, typename B, typename... Rest>
+inline bool all_finite(const A& a, const B& b, const Rest&... rest) noexcept {
+  // Bitwise &: one branch for the whole set.
+  return ((all_finite(a) & all_finite(b)) & ... & all_finite(rest));
+}
+
+}  // namespace detail
 
 }  // namespace neurov

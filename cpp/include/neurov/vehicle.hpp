@@ -3,6 +3,8 @@
 #pragma once
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -96,6 +98,21 @@ inline ValidationError validate(const VehicleParameters<Scalar>& p) noexcept {
 
   if (auto e = detail::check_symmetric("inertia", p.inertia)) return e;
   if (auto e = detail::check_symmetric("added_mass", p.added_mass)) return e;
+  // Each part must be physical on its own: a negative moment of inertia can
+  // hide behind a large added inertia in the sum M.
+  if (Eigen::LLT<Matrix3<Scalar>>(p.inertia).info() != Eigen::Success)
+    return detail::invalid("inertia", -1, std::nan(""), "positive definite");
+  {
+    const Scalar min_eig =
+        Eigen::SelfAdjointEigenSolver<Matrix6<Scalar>>(p.added_mass, Eigen::EigenvaluesOnly)
+            .eigenvalues()
+            .minCoeff();
+    const Scalar tol = Scalar(64) * Eigen::NumTraits<Scalar>::epsilon() *
+                       std::max(Scalar(1), p.added_mass.cwiseAbs().maxCoeff());
+    if (min_eig < -tol)
+      return detail::invalid("added_mass", -1, static_cast<double>(min_eig),
+                             "positive semidefinite (value is its smallest eigenvalue)");
+  }
   const Matrix6<Scalar> m = rigid_body_mass_matrix(p) + p.added_mass;
   Eigen::LLT<Matrix6<Scalar>> llt(m);
   if (llt.info() != Eigen::Success)
@@ -141,6 +158,21 @@ class Vehicle {
     // Symmetrise away rounding so M and M^-1 are exactly symmetric.
     out.m_ = (Scalar(0.5) * (out.m_ + out.m_.transpose())).eval();
     out.m_inv_ = Eigen::LLT<Mat6>(out.m_).solve(Mat6::Identity());
+    // The common structure (NEROV, BlueROV2): r_g = 0 and diagonal inertia
+    // and added mass, so M^-1 is diagonal too and the plant's 6x6 products
+    // are elementwise. The same sums with the zero terms left out: the same
+    // numbers as the general path.
+    const auto off_diagonal_zero = [](const auto& m) {
+      for (Eigen::Index j = 0; j < m.cols(); ++j)
+        for (Eigen::Index i = 0; i < m.rows(); ++i)
+          if (i != j && m(i, j) != Scalar(0)) return false;
+      return true;
+    };
+    out.diagonal_ = p.centre_of_gravity.isZero(Scalar(0)) && off_diagonal_zero(p.inertia) &&
+                    off_diagonal_zero(p.added_mass) && off_diagonal_zero(out.m_inv_);
+    out.inertia_diagonal_ = p.inertia.diagonal();
+    out.added_mass_diagonal_ = p.added_mass.diagonal();
+    out.m_inv_diagonal_ = out.m_inv_.diagonal();
     out.valid_ = true;
     return {};
   }
@@ -215,7 +247,11 @@ class Vehicle {
 
   /// g(eta): Fossen's restoring forces for weight W at r_g and buoyancy B at r_b.
   Vec6 restoring(const Vec6& eta) const noexcept {
-    return restoring(std::sin(eta(3)), std::cos(eta(3)), std::sin(eta(4)), std::cos(eta(4)));
+    // The same sin/cos as EulerTrig, so acceleration() and derivative() agree.
+    Scalar sf, cf, st, ct;
+    detail::sincos(eta(3), sf, cf);
+    detail::sincos(eta(4), st, ct);
+    return restoring(sf, cf, st, ct);
   }
 
   Vec6 restoring(Scalar sin_phi, Scalar cos_phi, Scalar sin_theta,
@@ -247,7 +283,7 @@ class Vehicle {
       nu_dot.setZero();
       return Status::invalid_argument;
     }
-    if (!(eta.allFinite() && nu.allFinite() && tau.allFinite())) {
+    if (!detail::all_finite(eta, nu, tau)) {
       nu_dot.setZero();
       return Status::non_finite_input;
     }
@@ -278,7 +314,7 @@ class Vehicle {
       nu_dot.setZero();
       return Status::invalid_argument;
     }
-    if (!(eta.allFinite() && nu.allFinite() && tau.allFinite() && current_ned.allFinite())) {
+    if (!detail::all_finite(eta, nu, tau, current_ned)) {
       eta_dot.setZero();
       nu_dot.setZero();
       return Status::non_finite_input;
@@ -296,9 +332,14 @@ class Vehicle {
       vc.noalias() = r.transpose() * current_ned;  // v_c in body axes
       nu_r.template head<3>() -= vc;
     }
-    nu_dot.noalias() =
-        m_inv_ * (tau - coriolis_force(nu_r) - damping_diagonal(nu_r).cwiseProduct(nu_r) -
-                  restoring(trig.sin_phi, trig.cos_phi, trig.sin_theta, trig.cos_theta));
+    const Vec6 g = restoring(trig.sin_phi, trig.cos_phi, trig.sin_theta, trig.cos_theta);
+    if (diagonal_) {
+      nu_dot = m_inv_diagonal_.cwiseProduct(tau - coriolis_force_diagonal(nu_r) -
+                                            damping_diagonal(nu_r).cwiseProduct(nu_r) - g);
+    } else {
+      nu_dot.noalias() =
+          m_inv_ * (tau - coriolis_force(nu_r) - damping_diagonal(nu_r).cwiseProduct(nu_r) - g);
+    }
     if (has_current) nu_dot.template head<3>() -= w.cross(vc);
     const Status out = worst(finite_or_zero(nu_dot), finite_or_zero(eta_dot));
     return worst(out, trig.status);
@@ -311,14 +352,29 @@ class Vehicle {
 
  private:
   static Status finite_or_zero(Vec6& x) noexcept {
-    if (x.allFinite()) return Status::ok;
+    if (detail::all_finite(x)) return Status::ok;
     x.setZero();
     return Status::non_finite_output;
+  }
+
+  /// coriolis_force() for r_g = 0 and diagonal inertia and added mass.
+  Vec6 coriolis_force_diagonal(const Vec6& nu) const noexcept {
+    const Vec3 v = nu.template head<3>(), w = nu.template tail<3>();
+    const Vec3 a1 = added_mass_diagonal_.template head<3>().cwiseProduct(v);
+    const Vec3 a2 = added_mass_diagonal_.template tail<3>().cwiseProduct(w);
+    Vec6 f;
+    f.template head<3>() = w.cross(Vec3(params_.mass * v + a1));
+    f.template tail<3>() = w.cross(Vec3(inertia_diagonal_.cwiseProduct(w) + a2)) + v.cross(a1);
+    return f;
   }
 
   VehicleParameters<Scalar> params_{};
   Mat6 m_ = Mat6::Zero();
   Mat6 m_inv_ = Mat6::Zero();
+  Vec3 inertia_diagonal_ = Vec3::Zero();
+  Vec6 added_mass_diagonal_ = Vec6::Zero();
+  Vec6 m_inv_diagonal_ = Vec6::Zero();
+  bool diagonal_ = false;  ///< see create()
   bool valid_ = false;
 };
 

@@ -1,0 +1,349 @@
+// Google Benchmark suite of neurov's real-time path, in double and float:
+// kinematics, the plant, one RK4 step, the RBF basis, the NN controller step
+// over N = 16 ... 4096 centres, the linearly parameterised step and whole
+// closed-loop runs (single-threaded, and a batch over 1 and 2 threads).
+//
+//   neurov_bench --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+//
+// Every benchmark steps through a ring of inputs (bench_common.hpp) so that
+// nothing is timed on one constant input.
+#include <benchmark/benchmark.h>
+
+#include <atomic>
+#include <thread>
+#include <vector>
+
+#include "bench_common.hpp"
+
+namespace {
+
+using neurov_bench::StepInput;
+using neurov_bench::V6;
+
+constexpr int kRing = 256;  // inputs cycled through; a power of two
+
+template <typename S>
+const std::vector<StepInput<S>>& ring() {
+  static const std::vector<StepInput<S>> r = neurov_bench::step_inputs<S>(kRing);
+  return r;
+}
+
+// ---------------------------------------------------------------- kinematics
+
+template <typename S>
+void BM_Jacobian(benchmark::State& state) {
+  const auto& in = ring<S>();
+  neurov::Matrix6<S> j;
+  std::size_t k = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(neurov::jacobian(in[k++ % kRing].eta, j));
+    benchmark::DoNotOptimize(j.data());
+    benchmark::ClobberMemory();
+  }
+}
+
+template <typename S>
+void BM_JacobianInverse(benchmark::State& state) {
+  const auto& in = ring<S>();
+  neurov::Matrix6<S> j;
+  std::size_t k = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(neurov::jacobian_inverse(in[k++ % kRing].eta, j));
+    benchmark::DoNotOptimize(j.data());
+    benchmark::ClobberMemory();
+  }
+}
+
+template <typename S>
+void BM_JacobianDot(benchmark::State& state) {
+  const auto& in = ring<S>();
+  neurov::Matrix6<S> j;
+  std::size_t k = 0;
+  for (auto _ : state) {
+    const auto& x = in[k++ % kRing];
+    benchmark::DoNotOptimize(neurov::jacobian_dot(x.eta, x.nu, j));
+    benchmark::DoNotOptimize(j.data());
+    benchmark::ClobberMemory();
+  }
+}
+
+// --------------------------------------------------------------------- plant
+
+template <typename S>
+void BM_Coriolis(benchmark::State& state) {
+  const auto& in = ring<S>();
+  const auto vehicle = neurov_bench::nerov<S>();
+  std::size_t k = 0;
+  for (auto _ : state) {
+    neurov::Matrix6<S> c = vehicle.coriolis(in[k++ % kRing].nu);
+    benchmark::DoNotOptimize(c.data());
+    benchmark::ClobberMemory();
+  }
+}
+
+/// C(nu) nu without forming C: what the plant uses.
+template <typename S>
+void BM_CoriolisForce(benchmark::State& state) {
+  const auto& in = ring<S>();
+  const auto vehicle = neurov_bench::nerov<S>();
+  std::size_t k = 0;
+  for (auto _ : state) {
+    V6<S> f = vehicle.coriolis_force(in[k++ % kRing].nu);
+    benchmark::DoNotOptimize(f.data());
+    benchmark::ClobberMemory();
+  }
+}
+
+template <typename S>
+void BM_Acceleration(benchmark::State& state) {
+  const auto& in = ring<S>();
+  const auto vehicle = neurov_bench::nerov<S>();
+  const V6<S> tau = (V6<S>() << S(100), S(20), S(-30), S(2), S(-3), S(5)).finished();
+  V6<S> nu_dot;
+  std::size_t k = 0;
+  for (auto _ : state) {
+    const auto& x = in[k++ % kRing];
+    benchmark::DoNotOptimize(vehicle.acceleration(x.eta, x.nu, tau, nu_dot));
+    benchmark::DoNotOptimize(nu_dot.data());
+    benchmark::ClobberMemory();
+  }
+}
+
+template <typename S>
+void BM_Rk4Step(benchmark::State& state) {
+  const auto& in = ring<S>();
+  const auto vehicle = neurov_bench::nerov<S>();
+  const V6<S> tau = (V6<S>() << S(100), S(20), S(-30), S(2), S(-3), S(5)).finished();
+  std::size_t k = 0;
+  for (auto _ : state) {
+    const auto& x = in[k++ % kRing];
+    V6<S> eta = x.eta, nu = x.nu;
+    benchmark::DoNotOptimize(neurov::rk4_step(vehicle, eta, nu, tau, S(0.02)));
+    benchmark::DoNotOptimize(eta.data());
+    benchmark::DoNotOptimize(nu.data());
+    benchmark::ClobberMemory();
+  }
+}
+
+// --------------------------------------------------------------- controllers
+
+template <typename S>
+typename neurov::NNAdaptiveController<S>::InputVector network_input(const StepInput<S>& x) {
+  neurov::TrackingError<S> e;
+  const V6<S> lambda = V6<S>::Constant(S(0.5));
+  (void)neurov::compute_tracking_error(x.eta, x.nu, x.eta_d, x.eta_d_dot, x.eta_d_ddot, lambda, e);
+  typename neurov::NNAdaptiveController<S>::InputVector v;
+  v << e.nu_r_dot, e.nu_r, x.nu, x.eta;
+  return v;
+}
+
+/// g(x) alone: 24-input distances to N centres and N exponentials.
+template <typename S>
+void BM_RbfBasis(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const auto net = neurov_bench::network<S>(n);
+  std::vector<typename neurov::NNAdaptiveController<S>::InputVector> xs;
+  for (const auto& x : ring<S>()) xs.push_back(network_input(x));
+  typename neurov::NNAdaptiveController<S>::BasisVector g(n);
+  std::size_t k = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(net.basis(xs[k++ % kRing], g));
+    benchmark::DoNotOptimize(g.data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["N"] = n;
+}
+
+/// The whole NN step: tracking error, basis, output and weight update.
+template <typename S>
+void BM_NNStep(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  auto ctl = neurov_bench::nn_controller<S>(n);
+  const auto& in = ring<S>();
+  V6<S> tau;
+  std::size_t k = 0;
+  for (auto _ : state) {
+    const auto& x = in[k++ % kRing];
+    benchmark::DoNotOptimize(ctl.step(x.eta, x.nu, x.eta_d, x.eta_d_dot, x.eta_d_ddot, tau));
+    benchmark::DoNotOptimize(tau.data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["N"] = n;
+}
+
+/// The step with the centre count fixed at compile time (firmware's choice).
+template <typename S, int N>
+void BM_NNStepFixed(benchmark::State& state) {
+  auto ctl = neurov_bench::nn_controller<S, N>(N);
+  const auto& in = ring<S>();
+  V6<S> tau;
+  std::size_t k = 0;
+  for (auto _ : state) {
+    const auto& x = in[k++ % kRing];
+    benchmark::DoNotOptimize(ctl.step(x.eta, x.nu, x.eta_d, x.eta_d_dot, x.eta_d_ddot, tau));
+    benchmark::DoNotOptimize(tau.data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["N"] = N;
+}
+
+template <typename S>
+void BM_LinearAdaptiveStep(benchmark::State& state) {
+  auto ctl = neurov_bench::linear_controller<S>();
+  const auto& in = ring<S>();
+  V6<S> tau;
+  std::size_t k = 0;
+  for (auto _ : state) {
+    const auto& x = in[k++ % kRing];
+    benchmark::DoNotOptimize(ctl.step(x.eta, x.nu, x.eta_d, x.eta_d_dot, x.eta_d_ddot, tau));
+    benchmark::DoNotOptimize(tau.data());
+    benchmark::ClobberMemory();
+  }
+}
+
+/// The tracking error every controller computes first (J, J^-1, J_dot terms).
+template <typename S>
+void BM_TrackingError(benchmark::State& state) {
+  const auto& in = ring<S>();
+  const V6<S> lambda = V6<S>::Constant(S(0.5));
+  neurov::TrackingError<S> e;
+  std::size_t k = 0;
+  for (auto _ : state) {
+    const auto& x = in[k++ % kRing];
+    benchmark::DoNotOptimize(
+        neurov::compute_tracking_error(x.eta, x.nu, x.eta_d, x.eta_d_dot, x.eta_d_ddot, lambda, e));
+    benchmark::DoNotOptimize(&e);
+    benchmark::ClobberMemory();
+  }
+}
+
+// ---------------------------------------------------------------- closed loop
+
+/// 600 s of the paper's loop (N = 64, 5 Hz, 10 RK4 substeps, no thrusters).
+/// real_time_factor = simulated seconds per second of CPU.
+template <typename S>
+void BM_ClosedLoop(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const auto vehicle = neurov_bench::nerov<S>();
+  const auto config = neurov_bench::closed_loop_config<S>();
+  auto ctl = neurov_bench::nn_controller<S>(n);
+  neurov::SimulationResult<S> result;
+  for (auto _ : state) {
+    ctl.reset();
+    benchmark::DoNotOptimize(neurov::simulate(vehicle, ctl, config, result));
+    benchmark::DoNotOptimize(result.eta.data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["N"] = n;
+  state.counters["real_time_factor"] =
+      benchmark::Counter(static_cast<double>(state.iterations()) * static_cast<double>(config.duration),
+                         benchmark::Counter::kIsRate);
+}
+
+/// The plant alone over the same 600 s (3000 x 10 RK4 steps), for the split.
+template <typename S>
+void BM_ClosedLoopPlantOnly(benchmark::State& state) {
+  const auto vehicle = neurov_bench::nerov<S>();
+  const auto& in = ring<S>();
+  const V6<S> tau = (V6<S>() << S(100), S(20), S(-30), S(2), S(-3), S(5)).finished();
+  for (auto _ : state) {
+    V6<S> eta = in[0].eta, nu = in[0].nu;
+    for (int k = 0; k < 3000 * 10; ++k) {
+      const V6<S> t = (k & 1) ? tau : V6<S>(-tau);
+      benchmark::DoNotOptimize(neurov::rk4_step(vehicle, eta, nu, t, S(0.02)));
+    }
+    benchmark::DoNotOptimize(eta.data());
+    benchmark::ClobberMemory();
+  }
+}
+
+/// Monte-Carlo batch: `runs` independent closed loops with perturbed mass and
+/// damping and shifted start poses, spread over state.range(1) threads.
+/// runs_per_second is per wall-clock second.
+void BM_ClosedLoopBatch(benchmark::State& state) {
+  using S = double;
+  const int runs = static_cast<int>(state.range(0));
+  const int threads = static_cast<int>(state.range(1));
+  std::vector<neurov::Vehicle<S>> vehicles(static_cast<std::size_t>(runs));
+  std::vector<neurov::SimulationConfig<S>> configs(static_cast<std::size_t>(runs));
+  neurov_bench::Uniform u(99);
+  for (int r = 0; r < runs; ++r) {
+    auto p = neurov::nerov_parameters<S>();
+    p.mass *= u(0.9, 1.1);
+    p.linear_damping *= u(0.8, 1.2);
+    p.quadratic_damping *= u(0.8, 1.2);
+    (void)neurov::Vehicle<S>::create(p, vehicles[static_cast<std::size_t>(r)]);
+    auto& c = configs[static_cast<std::size_t>(r)];
+    c = neurov_bench::closed_loop_config<S>();
+    c.eta0(0) = u(-1, 1);
+    c.eta0(1) = u(-1, 1);
+    c.seed = static_cast<std::uint64_t>(r);
+    c.noise_eta = V6<S>::Constant(0.01);
+    c.noise_nu = V6<S>::Constant(0.005);
+  }
+  const auto prototype = neurov_bench::nn_controller<S>(64);
+  for (auto _ : state) {
+    std::atomic<int> next{0};
+    auto worker = [&] {
+      auto ctl = prototype;
+      neurov::SimulationResult<S> result;
+      for (int r; (r = next.fetch_add(1)) < runs;) {
+        ctl.reset();
+        (void)neurov::simulate(vehicles[static_cast<std::size_t>(r)], ctl,
+                               configs[static_cast<std::size_t>(r)], result);
+        benchmark::DoNotOptimize(result.eta.data());
+      }
+    };
+    std::vector<std::thread> pool;
+    for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
+    worker();
+    for (auto& t : pool) t.join();
+  }
+  state.counters["threads"] = threads;
+  state.counters["runs_per_second"] =
+      benchmark::Counter(static_cast<double>(state.iterations()) * runs, benchmark::Counter::kIsRate);
+}
+
+void centre_counts(benchmark::internal::Benchmark* b) {
+  for (int n : {16, 64, 256, 1024, 4096}) b->Arg(n);
+}
+
+}  // namespace
+
+BENCHMARK_TEMPLATE(BM_Jacobian, double);
+BENCHMARK_TEMPLATE(BM_Jacobian, float);
+BENCHMARK_TEMPLATE(BM_JacobianInverse, double);
+BENCHMARK_TEMPLATE(BM_JacobianInverse, float);
+BENCHMARK_TEMPLATE(BM_JacobianDot, double);
+BENCHMARK_TEMPLATE(BM_JacobianDot, float);
+BENCHMARK_TEMPLATE(BM_Coriolis, double);
+BENCHMARK_TEMPLATE(BM_Coriolis, float);
+BENCHMARK_TEMPLATE(BM_CoriolisForce, double);
+BENCHMARK_TEMPLATE(BM_CoriolisForce, float);
+BENCHMARK_TEMPLATE(BM_Acceleration, double);
+BENCHMARK_TEMPLATE(BM_Acceleration, float);
+BENCHMARK_TEMPLATE(BM_Rk4Step, double);
+BENCHMARK_TEMPLATE(BM_Rk4Step, float);
+BENCHMARK_TEMPLATE(BM_TrackingError, double);
+BENCHMARK_TEMPLATE(BM_TrackingError, float);
+BENCHMARK_TEMPLATE(BM_RbfBasis, double)->Apply(centre_counts);
+BENCHMARK_TEMPLATE(BM_RbfBasis, float)->Apply(centre_counts);
+BENCHMARK_TEMPLATE(BM_NNStep, double)->Apply(centre_counts);
+BENCHMARK_TEMPLATE(BM_NNStep, float)->Apply(centre_counts);
+BENCHMARK_TEMPLATE(BM_NNStepFixed, double, 64);
+BENCHMARK_TEMPLATE(BM_NNStepFixed, double, 256);
+BENCHMARK_TEMPLATE(BM_NNStepFixed, float, 64);
+BENCHMARK_TEMPLATE(BM_NNStepFixed, float, 256);
+BENCHMARK_TEMPLATE(BM_LinearAdaptiveStep, double);
+BENCHMARK_TEMPLATE(BM_LinearAdaptiveStep, float);
+BENCHMARK_TEMPLATE(BM_ClosedLoop, double)->Arg(64)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_ClosedLoop, float)->Arg(64)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_ClosedLoopPlantOnly, double)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ClosedLoopBatch)
+    ->Args({200, 1})
+    ->Args({200, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1);
+
+BENCHMARK_MAIN();
