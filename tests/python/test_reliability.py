@@ -64,7 +64,7 @@ def test_nn_weights_whose_norm_overflows_are_refused() -> None:
 
 def test_jacobian_dot_of_an_overflowing_rate_is_an_error() -> None:
     with pytest.raises(ValueError, match="'nu'.*overflows"):
-        neurov.jacobian_dot(np.array([0, 0, 0, 0.3, 0.4, 0.5]), np.array([0, 0, 0, 1e308, 1e308, 1e308]))
+        neurov.jacobian_dot(np.array([0, 0, 0, 0.3, 1.4, 0.5]), np.array([0, 0, 0, 1e308, 1e308, 1e308]))
 
 
 def nn(**kw: Any) -> neurov.NNAdaptiveController:
