@@ -263,6 +263,21 @@ def test_pitch_at_the_singularity_is_refused_and_changes_nothing(
     assert same(state(c), before)
 
 
+@SETTINGS
+@given(st.sampled_from(KINDS), step_args(), finite(1e-7, 0.05), st.sampled_from([-1.0, 1.0]))
+def test_pitch_near_the_singularity_gives_a_finite_tau(
+    kind: str, args: dict[str, np.ndarray], gap: float, sign: float
+) -> None:
+    # Outside the band (|cos| >= 1.5e-8) the step is taken: 1/cos up to 1e7
+    # makes tau large, never non-finite.
+    c = make(kind)
+    eta = args["eta"].copy()
+    eta[4] = sign * (np.pi / 2 - gap)
+    tau = c.step(**{**args, "eta": eta})
+    assert np.all(np.isfinite(tau))
+    assert all(np.all(np.isfinite(x)) for x in state(c))
+
+
 @st.composite
 def awkward_layouts(draw: st.DrawFn, good: np.ndarray) -> np.ndarray:
     """The same numbers as `good`, in a layout numpy code produces: strided,
