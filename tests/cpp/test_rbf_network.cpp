@@ -171,7 +171,9 @@ TYPED_TEST(RbfNetworkTest, SetWeightsRefusesBadMatricesAndKeepsTheOldOnes) {
   nan(3, 1) = std::numeric_limits<S>::quiet_NaN();
   EXPECT_FALSE(net.set_weights(nan));
   EXPECT_FALSE(net.set_weights(MatX<S>::Ones(6, 5)));
-  EXPECT_FALSE(net.set_weights(MatX<S>::Ones(5, 4)));
+  // (A dynamic matrix with other than 6 rows cannot be tried here: the
+  // conversion to the 6-row WeightMatrix at the call site is already out of
+  // Eigen's contract, undefined behaviour in a release build.)
   EXPECT_TRUE(all_near(net.weights(), w, 0.0));
 }
 

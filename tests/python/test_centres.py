@@ -124,8 +124,9 @@ def test_sampler_is_reproducible_with_a_seed_and_differs_with_another(sampler) -
 
 def test_sobol_with_a_non_power_of_two_raises_no_warning() -> None:
     # pytest runs with filterwarnings = error: scipy's balance warning would fail here.
-    pts = centres.sobol(10, 0.0, 1.0, seed=0)
+    pts = centres.sobol(10, 0.0, 1.0, seed=0, n_inputs=1)
     assert pts.shape == (10, 1)
+    assert np.all((pts >= 0.0) & (pts <= 1.0))
 
 
 @pytest.mark.parametrize("sampler", SAMPLERS)

@@ -650,7 +650,7 @@ def nn_kwargs(**change: Any) -> dict[str, Any]:
         ({"modification": "sigma", "sigma_m": 0.0}, r"sigma_m = 0.*sigma"),
         ({"modification": "e_modification"}, r"kappa = 0"),
         ({"modification": "projection"}, r"w_max = 0"),
-        ({"modification": "leaky"}, r"modification"),
+        ({"modification": "leaky"}, r"'modification' must be.*got 'leaky'"),
         ({"dead_zone": -0.1}, r"dead_zone = -0.1"),
         ({"learning_rates": [0.3, -0.1, 0.3]}, r"'learning_rates'"),
         ({"learning_rates": [0.3, 0.3]}, r"'learning_rates' must have shape \(3,\)"),
@@ -660,6 +660,11 @@ def nn_kwargs(**change: Any) -> dict[str, Any]:
 def test_nn_configuration_errors_name_the_parameter(change: dict, match: str) -> None:
     with pytest.raises(ValueError, match=match):
         neurov.NNAdaptiveController(**nn_kwargs(**change))
+
+
+def test_nn_modification_must_be_a_string() -> None:
+    with pytest.raises(TypeError, match="'modification' must be a str"):
+        neurov.NNAdaptiveController(**nn_kwargs(modification=1))
 
 
 @pytest.mark.parametrize(

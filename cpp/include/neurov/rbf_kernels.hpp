@@ -317,7 +317,8 @@ NEUROV_ALWAYS_INLINE S output_update_body(S* NEUROV_RESTRICT w, Index n,
     V gv[3], rv[3];
     // Lanes of g and of the rates by shuffles of one load each...
     constexpr auto lanes = std::make_index_sequence<L>{};
-    for (; j + L <= n; j += P) {
+    const Index passes = n / P, loaded = n >= L ? (n - L) / P + 1 : 0;
+    for (Index p = 0; p < loaded; ++p, j += P) {
       V gl, rl;
       load<S, L>(gl, g + j);
       spread_columns<S, L, 0>(gv[0], gl, lanes);
@@ -332,7 +333,7 @@ NEUROV_ALWAYS_INLINE S output_update_body(S* NEUROV_RESTRICT w, Index n,
       output_update_pass<S, L, Update, Leak>(w + 6 * j, gv, rv, av, dl, yv, nv);
     }
     // ...and near the end, where a load of L would read past n, broadcasts.
-    for (; j + P <= n; j += P) {
+    for (Index p = loaded; p < passes; ++p, j += P) {
       column_lanes<S, L, 0>(gv[0], g, j);
       column_lanes<S, L, 1>(gv[1], g, j);
       column_lanes<S, L, 2>(gv[2], g, j);
@@ -348,6 +349,10 @@ NEUROV_ALWAYS_INLINE S output_update_body(S* NEUROV_RESTRICT w, Index n,
         ys[(m * L + l) % 6] += yv[m][l];
         norm2 += nv[m][l];
       }
+    // Where the passes stopped, stated rather than carried in j: for a fixed
+    // N GCC otherwise loses the bound and warns of out-of-range iterations
+    // in the loop below.
+    j = passes * P;
   }
   for (; j < n; ++j) {
     for (int i = 0; i < 6; ++i) {
