@@ -2,12 +2,11 @@
 //   M nu_dot + C(nu) nu + D(nu) nu + g(eta) = tau.
 #pragma once
 
-#include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 
+#include "neurov/symmetric_matrix.hpp"
 #include "neurov/config.hpp"
 #include "neurov/kinematics.hpp"
 #include "neurov/status.hpp"
@@ -100,13 +99,10 @@ inline ValidationError validate(const VehicleParameters<Scalar>& p) noexcept {
   if (auto e = detail::check_symmetric("added_mass", p.added_mass)) return e;
   // Each part must be physical on its own: a negative moment of inertia can
   // hide behind a large added inertia in the sum M.
-  if (Eigen::LLT<Matrix3<Scalar>>(p.inertia).info() != Eigen::Success)
+  if (Matrix3<Scalar> l; !detail::cholesky(p.inertia, l))
     return detail::invalid("inertia", -1, std::nan(""), "positive definite");
   {
-    const Scalar min_eig =
-        Eigen::SelfAdjointEigenSolver<Matrix6<Scalar>>(p.added_mass, Eigen::EigenvaluesOnly)
-            .eigenvalues()
-            .minCoeff();
+    const Scalar min_eig = detail::min_eigenvalue(p.added_mass);
     const Scalar tol = Scalar(64) * Eigen::NumTraits<Scalar>::epsilon() *
                        std::max(Scalar(1), p.added_mass.cwiseAbs().maxCoeff());
     if (min_eig < -tol)
@@ -114,8 +110,7 @@ inline ValidationError validate(const VehicleParameters<Scalar>& p) noexcept {
                              "positive semidefinite (value is its smallest eigenvalue)");
   }
   const Matrix6<Scalar> m = rigid_body_mass_matrix(p) + p.added_mass;
-  Eigen::LLT<Matrix6<Scalar>> llt(m);
-  if (llt.info() != Eigen::Success)
+  if (Matrix6<Scalar> l; !detail::cholesky(m, l))
     return invalid("mass_matrix", -1, std::nan(""),
                    "M = M_RB + M_A (from mass, inertia, centre_of_gravity, added_mass) "
                    "positive definite");
@@ -157,7 +152,8 @@ class Vehicle {
     out.m_ = rigid_body_mass_matrix(p) + p.added_mass;
     // Symmetrise away rounding so M and M^-1 are exactly symmetric.
     out.m_ = (Scalar(0.5) * (out.m_ + out.m_.transpose())).eval();
-    out.m_inv_ = Eigen::LLT<Mat6>(out.m_).solve(Mat6::Identity());
+    // validate() has shown M positive definite, so the inverse exists.
+    (void)detail::spd_inverse(out.m_, out.m_inv_);
     // The common structure (NEROV, BlueROV2): r_g = 0 and diagonal inertia
     // and added mass, so M^-1 is diagonal too and the plant's 6x6 products
     // are elementwise. The same sums with the zero terms left out: the same
