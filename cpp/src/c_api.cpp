@@ -3,6 +3,7 @@
 // -fno-exceptions -fno-rtti, so nothing can unwind through a C caller.
 #include "neurov/c_api.h"
 
+#include <cstring>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -176,10 +177,15 @@ neurov_status neurov_nn_create(void* storage, size_t size, const neurov_nn_param
                 "NEUROV_C_CENTRES of the library (neurov_nn_centres())");
   if (params->centres == nullptr) return fail(error, "centres", 0.0, "N x 24 floats, not NULL");
   if (params->widths == nullptr) return fail(error, "widths", 0.0, "N floats, not NULL");
-  // Checked before the conversion to the C++ enum, whose underlying type is
-  // narrower than a C enum and would wrap a large value onto a valid one.
-  if (static_cast<unsigned>(params->modification) > NEUROV_MODIFICATION_PROJECTION)
-    return fail(error, "modification", static_cast<double>(params->modification),
+  // A C caller may store any value the field holds; in C++ loading an enum
+  // outside its values' range is undefined, so the field's bytes are read as
+  // its underlying integer (whatever size the ABI gives it, short enums on
+  // bare-metal ARM included), checked, then converted.
+  std::underlying_type_t<neurov_modification> raw{};
+  std::memcpy(&raw, &params->modification, sizeof raw);
+  const long long modification = static_cast<long long>(raw);
+  if (modification < NEUROV_MODIFICATION_NONE || modification > NEUROV_MODIFICATION_PROJECTION)
+    return fail(error, "modification", static_cast<double>(modification),
                 "none, sigma, e_modification or projection");
 
   neurov::NNAdaptiveConfig<float> config;
@@ -187,7 +193,7 @@ neurov_status neurov_nn_create(void* storage, size_t size, const neurov_nn_param
   config.kd = CVec6(params->kd);
   config.gamma = params->gamma;
   config.dt = params->dt;
-  config.modification = static_cast<neurov::RobustModification>(params->modification);
+  config.modification = static_cast<neurov::RobustModification>(modification);
   config.sigma_m = params->sigma_m;
   config.kappa = params->kappa;
   config.w_max = params->w_max;
