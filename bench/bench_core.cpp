@@ -304,6 +304,28 @@ void BM_ClosedLoopBatch(benchmark::State& state) {
       benchmark::Counter(static_cast<double>(state.iterations()) * runs, benchmark::Counter::kIsRate);
 }
 
+// ---------------------------------------------------------------- machine
+
+/// The core's clock while it runs code: a chain of dependent integer adds
+/// retires one add per cycle on every x86-64 core of the last decade, so
+/// adds per second is cycles per second. Used to turn the NN step's counted
+/// operations into a lower bound in nanoseconds (bench/README.md).
+void BM_CoreClock(benchmark::State& state) {
+  constexpr long kAdds = 1L << 20;
+  for (auto _ : state) {
+    unsigned long x = 0;
+    for (long i = 0; i < kAdds; ++i) {
+      x += static_cast<unsigned long>(i);
+      // An empty asm that claims to read and write x: the compiler can
+      // neither fold the chain nor vectorise it, and emits no instruction.
+      asm volatile("" : "+r"(x));
+    }
+    benchmark::DoNotOptimize(x);
+  }
+  state.counters["GHz"] =
+      benchmark::Counter(static_cast<double>(state.iterations()) * kAdds * 1e-9, benchmark::Counter::kIsRate);
+}
+
 void centre_counts(benchmark::internal::Benchmark* b) {
   for (int n : {16, 64, 256, 1024, 4096}) b->Arg(n);
 }
@@ -345,5 +367,7 @@ BENCHMARK(BM_ClosedLoopBatch)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Iterations(1);
+
+BENCHMARK(BM_CoreClock);
 
 BENCHMARK_MAIN();

@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -87,16 +88,18 @@ Summary summarise(std::vector<std::uint64_t>& t, double ns_per_tick) {
           sum / static_cast<double>(s.size()) * ns_per_tick};
 }
 
-/// Heap bytes a copy of `x` allocates (glibc's accounting, so including
-/// malloc's per-block overhead).
+/// Heap bytes a copy of `x` owns (glibc's accounting, so including malloc's
+/// per-block overhead): the copy lives on the stack, so only what it
+/// allocates itself is counted; 0 for a controller with a compile-time N.
 template <typename T>
 long heap_bytes_of(const T& x) {
 #if defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 33))
   const auto before = mallinfo2().uordblks;
-  auto* copy = new T(x);
+  std::optional<T> copy(x);
+  // The copy must exist where the compiler cannot see it unused.
+  asm volatile("" : : "r"(&*copy) : "memory");
   const auto after = mallinfo2().uordblks;
-  delete copy;
-  return static_cast<long>(after - before) - static_cast<long>(sizeof(T));
+  return static_cast<long>(after) - static_cast<long>(before);
 #else
   (void)x;
   return -1;

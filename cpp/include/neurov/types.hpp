@@ -45,8 +45,10 @@ inline bool all_finite(const Eigen::DenseBase<Derived>& m) noexcept {
 
 template <typename A, typename B, typename... Rest>
 inline bool all_finite(const A& a, const B& b, const Rest&... rest) noexcept {
-  // Bitwise &: one branch for the whole set.
-  return ((all_finite(a) & all_finite(b)) & ... & all_finite(rest));
+  // Bitwise & on ints: one branch for the whole set (and no clang
+  // -Wbitwise-instead-of-logical in users' builds).
+  return ((static_cast<int>(all_finite(a)) & static_cast<int>(all_finite(b))) & ... &
+          static_cast<int>(all_finite(rest))) != 0;
 }
 
 }  // namespace detail
