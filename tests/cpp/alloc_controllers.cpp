@@ -99,7 +99,7 @@ constexpr int kCentres = 24;
 
 template <typename S>
 struct Inputs {
-  Vector6<S> eta, nu, eta_d, eta_d_dot, eta_d_ddot, lambda, bad_eta, singular_eta;
+  Vector6<S> eta, nu, eta_d, eta_d_dot, eta_d_ddot, lambda, bad_eta, singular_eta, huge_nu;
   Inputs() {
     eta << S(1), S(-2), S(0.5), S(0.1), S(-0.2), S(0.3);
     nu << S(0.3), S(-0.1), S(0.05), S(0.02), S(-0.03), S(0.1);
@@ -111,6 +111,10 @@ struct Inputs {
     bad_eta(2) = std::numeric_limits<S>::quiet_NaN();
     singular_eta = eta;
     singular_eta(4) = static_cast<S>(1.5707963267948966);
+    // Finite, but K_d s overflows: refused after the network has run (the
+    // path that keeps g(x) in scratch storage until the step is accepted).
+    huge_nu = nu;
+    huge_nu(0) = std::numeric_limits<S>::max() / S(4);
   }
 };
 
@@ -154,7 +158,7 @@ void expect_nn_step_does_not_allocate(const typename Ctl::Network& net) {
     ASSERT_TRUE(Ctl::create(net, dz_cfg, dead).ok());
     typename Ctl::BasisVector rates = ctl.learning_rates();
     rates.setConstant(S(0.7));
-    Status st[6] = {};
+    Status st[7] = {};
     volatile double sink = 0;
     Vector6<S> tau;
     const Window w = watch([&] {
@@ -168,6 +172,7 @@ void expect_nn_step_does_not_allocate(const typename Ctl::Network& net) {
       st[3] = dead.step(in.eta, in.nu, in.eta_d, in.eta_d_dot, in.eta_d_ddot, tau);
       st[4] = ctl.step(in.bad_eta, in.nu, in.eta_d, in.eta_d_dot, in.eta_d_ddot, tau);
       st[5] = ctl.step(in.singular_eta, in.nu, in.eta_d, in.eta_d_dot, in.eta_d_ddot, tau);
+      st[6] = ctl.step(in.eta, in.huge_nu, in.eta_d, in.eta_d_dot, in.eta_d_ddot, tau);
       consume(sink, ctl.weights());
       consume(sink, ctl.basis());
       ctl.reset();
@@ -181,6 +186,7 @@ void expect_nn_step_does_not_allocate(const typename Ctl::Network& net) {
     EXPECT_FALSE(dead.adapted());
     EXPECT_EQ(st[4], Status::non_finite_input);
     EXPECT_EQ(st[5], Status::near_singularity);
+    EXPECT_EQ(st[6], Status::non_finite_output);
     EXPECT_TRUE(std::isfinite(static_cast<double>(sink)));
   }
 }

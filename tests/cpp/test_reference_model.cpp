@@ -250,6 +250,72 @@ TYPED_TEST(ReferenceModelTest, SingularPitchIsRefusedAndTheStateIsUnchanged) {
   EXPECT_TRUE(same_bits(ref, before));
 }
 
+// The pitch limit (reference_model.hpp): 90 deg - 0.2 rad for the command
+// and for the reference; a step that limits is taken (ok) and says so.
+TYPED_TEST(ReferenceModelTest, PitchIsLimitedShortOfTheSingularity) {
+  using S = TypeParam;
+  const S limit = ReferenceModel<S>::pitch_limit();
+  EXPECT_EQ(limit, static_cast<S>(kPi / 2 - 0.2));
+  for (const double command : {2.0, -2.0, 1e30, -1e30, kPi / 2 + 2 * kPi}) {
+    SCOPED_TRACE(command);
+    ReferenceModel<S> ref(Vector6<S>::Constant(S(2)), Vector6<S>::Constant(S(1)));
+    Vector6<S> r = Vector6<S>::Zero();
+    r(4) = static_cast<S>(command);
+    DesiredState<S> d;
+    for (int k = 0; k < 1000; ++k) {
+      ASSERT_EQ(ref.step(r, S(0.05), d), Status::ok);
+      ASSERT_TRUE(ref.pitch_limited());
+      ASSERT_LE(std::abs(d.eta_d(4)), limit);
+    }
+    EXPECT_NEAR(d.eta_d(4), command > 0 ? limit : -limit, S(1e-4));
+  }
+  // Inside the limit nothing is limited: the analytic tests above hold there.
+  ReferenceModel<S> ref(Vector6<S>::Constant(S(2)), Vector6<S>::Constant(S(1)));
+  Vector6<S> r = Vector6<S>::Zero();
+  r(4) = limit - S(0.01);
+  DesiredState<S> d;
+  for (int k = 0; k < 1000; ++k) {
+    ASSERT_EQ(ref.step(r, S(0.05), d), Status::ok);
+    ASSERT_FALSE(ref.pitch_limited()) << "step " << k;
+  }
+  // reset() clears the flag.
+  r(4) = S(2);
+  ASSERT_EQ(ref.step(r, S(0.05), d), Status::ok);
+  ASSERT_TRUE(ref.pitch_limited());
+  ASSERT_TRUE(ref.reset(Vector6<S>::Zero()));
+  EXPECT_FALSE(ref.pitch_limited());
+}
+
+// A reference reset beyond 90 deg is held in the interval of width
+// 2 pitch_limit() about 180 deg: commanded level, it goes to the near edge of
+// that interval and stays on its side of the band. One reset between the
+// limit and the band is put on the limit by its first step.
+TYPED_TEST(ReferenceModelTest, ResetBeyondTheLimitIsHeldOnItsSideOfTheBand) {
+  using S = TypeParam;
+  const S limit = ReferenceModel<S>::pitch_limit();
+  ReferenceModel<S> ref(Vector6<S>::Constant(S(2)), Vector6<S>::Constant(S(1)));
+  Vector6<S> eta0 = Vector6<S>::Zero();
+  eta0(4) = S(2);
+  ASSERT_TRUE(ref.reset(eta0));
+  DesiredState<S> d;
+  for (int k = 0; k < 1000; ++k) {
+    ASSERT_EQ(ref.step(Vector6<S>::Zero(), S(0.05), d), Status::ok);
+    ASSERT_TRUE(ref.pitch_limited());
+    ASSERT_GE(d.eta_d(4), static_cast<S>(kPi) - limit);
+    ASSERT_TRUE(d.eta_d_dot.allFinite() && d.eta_d_ddot.allFinite());
+  }
+  EXPECT_NEAR(d.eta_d(4), static_cast<S>(kPi) - limit, S(1e-4));
+
+  eta0(4) = S(1.5);  // between the limit (1.37) and the band
+  ASSERT_TRUE(ref.reset(eta0));
+  ASSERT_EQ(ref.step(Vector6<S>::Zero(), S(0.05), d), Status::ok);
+  EXPECT_TRUE(ref.pitch_limited());
+  EXPECT_LE(d.eta_d(4), limit);
+  EXPECT_LE(d.eta_d_dot(4), S(0)) << "the pitch rate outwards is removed";
+  for (int k = 0; k < 400; ++k) ASSERT_EQ(ref.step(Vector6<S>::Zero(), S(0.05), d), Status::ok);
+  EXPECT_LT(std::abs(d.eta_d(4)), S(0.01));
+}
+
 TYPED_TEST(ReferenceModelTest, UnconfiguredModelRefusesToStep) {
   using S = TypeParam;
   ReferenceModel<S> ref;

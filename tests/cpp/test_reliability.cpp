@@ -84,12 +84,11 @@ Bytes& add_tracking(Bytes& b, const TrackingError<S>& e) {
       .add(e.nu_r).add(e.nu_r_dot).add(e.kinematics.R).add(e.kinematics.T);
 }
 
-/// basis() is left out: see NNRefusedStepKeepsTheBasisOfTheLastAcceptedStep.
 template <typename S, int N>
 Bytes state_of(const NNAdaptiveController<S, N>& c) {
   Bytes b;
   b.add(c.weights()).value(c.weight_norm()).add(c.network_output()).add(c.learning_rates())
-      .value(c.adapted());
+      .add(c.basis()).value(c.adapted());
   return add_tracking(b, c.tracking());
 }
 template <typename S>
@@ -442,10 +441,11 @@ TYPED_TEST(ReliabilityTest, UnconfiguredControllersRefuseEveryStep) {
   EXPECT_EQ(step(c, in, tau), Status::invalid_argument);
 }
 
-// basis() is g(x) "of the last step", beside tracking() and network_output(),
-// which keep the last accepted step; a step refused after the network has run
-// (an overflowing K_d s or update) must not leave the refused input's g behind.
-TYPED_TEST(ReliabilityTest, DISABLED_NNRefusedStepKeepsTheBasisOfTheLastAcceptedStep) {
+// basis() is g(x) of the last accepted step, like tracking() and
+// network_output(); a step refused after the network has run (an overflowing
+// K_d s or update) must not leave the refused input's g behind. (state_of()
+// includes basis() too, so every refusal test above checks it as well.)
+TYPED_TEST(ReliabilityTest, NNRefusedStepKeepsTheBasisOfTheLastAcceptedStep) {
   using S = TypeParam;
   auto check = [](auto base, std::uint32_t seed) {
     Rng rng(seed);
@@ -513,7 +513,7 @@ template <typename S>
 Bytes state_of(const ReferenceModel<S>& r) {
   Bytes b;
   return b.add(r.eta_d()).add(r.nu_d()).add(r.desired().eta_d).add(r.desired().eta_d_dot)
-      .add(r.desired().eta_d_ddot);
+      .add(r.desired().eta_d_ddot).value(r.pitch_limited());
 }
 
 template <typename S>
@@ -561,45 +561,83 @@ TYPED_TEST(ReliabilityTest, ReferenceModelHostileCommandAndTimeStep) {
   }
 }
 
-// Commanding a pitch of 90 deg drives the reference into the singularity:
-// it must stop short, report near_singularity and stay finite, and a command
-// back to level brings it back. (A command beyond 90 deg can carry it across
-// the band, where it may stay: DISABLED_ReferenceModelComesBackAcrossTheSingularity.)
+// Commanding a pitch of 90 deg leads the reference to the pitch limit,
+// 90 deg - kPitchMargin, well short of the singular band: every step is taken
+// (ok) with pitch_limited(), the pitch creeps up on the limit and never passes
+// it, and a command back to level brings it back.
 TYPED_TEST(ReliabilityTest, ReferenceModelCommandedIntoTheSingularityStopsShort) {
   using S = TypeParam;
   ReferenceModel<S> ref(Vector6<S>::Constant(S(2)), Vector6<S>::Constant(S(1)));
+  const S limit = ReferenceModel<S>::pitch_limit();
   Vector6<S> up = Vector6<S>::Zero();
   up(4) = static_cast<S>(kPi / 2);
   DesiredState<S> d;
-  int singular = 0;
   for (int k = 0; k < 2000; ++k) {
-    const Status st = ref.step(up, S(0.05), d);
-    ASSERT_TRUE(st == Status::ok || st == Status::near_singularity) << to_string(st);
-    singular += st == Status::near_singularity;
+    ASSERT_EQ(ref.step(up, S(0.05), d), Status::ok) << "step " << k;
+    ASSERT_TRUE(ref.pitch_limited());
     ASSERT_TRUE(finite(d));
-    ASSERT_GE(std::abs(std::cos(ref.eta_d()(4))), singularity_threshold<S>());
+    ASSERT_LE(ref.eta_d()(4), limit);
   }
-  // It creeps up on pi/2 exponentially: float's wide band is reached, double's
-  // (1.5e-8 rad) only after about 20 s, within the 100 s run.
-  EXPECT_GT(singular, 0) << "the reference never reached the singular band";
-  for (int k = 0; k < 400; ++k) (void)ref.step(Vector6<S>::Zero(), S(0.05), d);
+  EXPECT_NEAR(ref.eta_d()(4), limit, S(1e-4));
+  EXPECT_GT(std::cos(ref.eta_d()(4)), S(0.19));  // |1/cos| <= 5.1
+  for (int k = 0; k < 400; ++k) ASSERT_EQ(ref.step(Vector6<S>::Zero(), S(0.05), d), Status::ok);
+  EXPECT_FALSE(ref.pitch_limited());
   EXPECT_LT(std::abs(ref.eta_d()(4)), S(0.1)) << "stuck at the singularity";
 }
 
-// Known issue (docs/reliability.md): a command beyond 90 deg can carry the
-// reference over the singular band in one step (the band is 7e-4 rad wide in
-// float, 3e-8 in double, a step moves ~0.05 rad). Commanded back, a step whose
-// RK4 stage lands in the band is refused, the state does not move, and the
-// same step is refused again for ever: the reference stays beyond 90 deg.
-TYPED_TEST(ReliabilityTest, DISABLED_ReferenceModelComesBackAcrossTheSingularity) {
+// A command beyond 90 deg used to carry the reference over the singular band
+// in one step (7e-4 rad wide in float), where every step back with an RK4
+// stage in the band was refused for ever. The pitch limit keeps it on this
+// side, with every step taken, and it comes back when commanded level.
+TYPED_TEST(ReliabilityTest, ReferenceModelComesBackAcrossTheSingularity) {
   using S = TypeParam;
   ReferenceModel<S> ref(Vector6<S>::Constant(S(2)), Vector6<S>::Constant(S(1)));
   Vector6<S> over = Vector6<S>::Zero();
   over(4) = S(2);
   DesiredState<S> d;
-  for (int k = 0; k < 400; ++k) (void)ref.step(over, S(0.05), d);
-  for (int k = 0; k < 400; ++k) (void)ref.step(Vector6<S>::Zero(), S(0.05), d);
+  for (int k = 0; k < 400; ++k) {
+    ASSERT_EQ(ref.step(over, S(0.05), d), Status::ok) << "step " << k;
+    ASSERT_TRUE(ref.pitch_limited());
+    ASSERT_TRUE(finite(d));
+    ASSERT_LE(ref.eta_d()(4), ReferenceModel<S>::pitch_limit());
+  }
+  for (int k = 0; k < 400; ++k) {
+    ASSERT_EQ(ref.step(Vector6<S>::Zero(), S(0.05), d), Status::ok) << "step " << k;
+    ASSERT_TRUE(finite(d));
+  }
   EXPECT_LT(std::abs(ref.eta_d()(4)), S(0.1)) << "stuck beyond the singularity";
+}
+
+// What the clamped command does not catch: an underdamped pitch overshoots a
+// command inside the limit. Without the wall it went over 90 deg (across the
+// band, or refused for a while in float where a stage landed in it). Now it is
+// held at the limit, every step is taken and finite, and it comes back; with
+// roll and yaw moving too, at the paper's 5 Hz, where J^T Omega J is stiff
+// near 90 deg.
+TYPED_TEST(ReliabilityTest, ReferenceModelOvershootIsHeldAtThePitchLimit) {
+  using S = TypeParam;
+  const S limit = ReferenceModel<S>::pitch_limit();
+  for (const bool six_dof : {false, true}) {
+    SCOPED_TRACE(six_dof ? "6 DOF" : "pitch alone");
+    Vector6<S> lambda_d = Vector6<S>::Constant(S(1)), omega = Vector6<S>::Constant(S(1));
+    lambda_d(4) = S(0.2);  // zeta = 0.1: 73 % overshoot
+    Vector6<S> eta0 = Vector6<S>::Zero(), r = Vector6<S>::Zero();
+    eta0(4) = -limit;
+    r(4) = limit - S(0.01);
+    if (six_dof) r << 1, 2, 3, S(0.5), limit - S(0.01), S(-1);
+    ReferenceModel<S> ref(lambda_d, omega, eta0);
+    DesiredState<S> d;
+    int held = 0;
+    for (int k = 0; k < 500; ++k) {
+      ASSERT_EQ(ref.step(r, S(0.2), d), Status::ok) << "step " << k;
+      ASSERT_TRUE(finite(d));
+      ASSERT_LE(std::abs(ref.eta_d()(4)), limit) << "step " << k;
+      held += ref.pitch_limited();
+    }
+    EXPECT_GT(held, 0) << "the overshoot never reached the limit";
+    for (int k = 0; k < 1000; ++k) ASSERT_EQ(ref.step(Vector6<S>::Zero(), S(0.2), d), Status::ok);
+    EXPECT_LT(ref.eta_d().cwiseAbs().maxCoeff(), S(1e-3));
+  }
 }
 
 // ------------------------------------------------------------ vehicle, RK4

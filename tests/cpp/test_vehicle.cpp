@@ -475,13 +475,11 @@ TYPED_TEST(VehicleTest, ValidationReportsTheOffendingValue) {
   EXPECT_TRUE(validate(p).ok());
 }
 
-// Header issue, validation.hpp:62 (check_finite): a non-finite matrix entry
-// is reported at its column-major storage index, while check_symmetric
-// (validation.hpp:99) reports the same entry row-major, i * cols + j, as its
-// message says: inertia(0,1) is index 3 when NaN but 1 when asymmetric,
-// added_mass(1,4) is 25 when Inf but 10 when asymmetric. Disabled until the
-// header settles on one convention; run with --gtest_also_run_disabled_tests.
-TYPED_TEST(VehicleTest, DISABLED_MatrixEntryIndexIsRowMajorInEveryCheck) {
+// Every matrix check reports entry (i, j) at the row-major index i * cols + j
+// (numpy's flat index), whatever the check and Eigen's storage order:
+// inertia(0,1) is index 1 both when NaN and when asymmetric, added_mass(1,4)
+// is 10 both when Inf and when asymmetric.
+TYPED_TEST(VehicleTest, MatrixEntryIndexIsRowMajorInEveryCheck) {
   using S = TypeParam;
   auto p = nerov_parameters<S>();
   p.inertia(0, 1) = S(1);

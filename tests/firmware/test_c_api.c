@@ -97,6 +97,14 @@ static void create_refuses_bad_arguments(void) {
   CHECK(field_is(&e, "widths") && e.index == 5 && e.expected != NULL);
   widths[5] = 30.0f;
 
+  /* A bad entry of the row-major centre table is named by its index in it. */
+  const float kept = centres[3 * NEUROV_C_INPUTS + 7];
+  centres[3 * NEUROV_C_INPUTS + 7] = NAN;
+  CHECK(neurov_nn_create(nn_storage, sizeof nn_storage, &p, &nn, &e) ==
+        NEUROV_STATUS_INVALID_ARGUMENT);
+  CHECK(field_is(&e, "centres") && e.index == 3 * NEUROV_C_INPUTS + 7);
+  centres[3 * NEUROV_C_INPUTS + 7] = kept;
+
   float tau[6] = {1, 1, 1, 1, 1, 1};
   const float zero[6] = {0};
   neurov_desired d;

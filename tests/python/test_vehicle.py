@@ -253,6 +253,21 @@ def test_diagonal_and_full_matrices_build_the_same_vehicle() -> None:
     assert_parameters_equal(a.parameters(), b.parameters())
 
 
+@pytest.mark.parametrize(("name", "entry"), [("inertia", (0, 1)), ("added_mass", (1, 4))])
+def test_a_bad_matrix_entry_is_named_by_its_flat_index_in_every_check(name: str, entry: tuple[int, int]) -> None:
+    """Entry (i, j) is index i * cols + j (numpy's flat index) whether it is
+    NaN (the argument check) or breaks the symmetry (the C++ validation)."""
+    p = dict(ref.NEROV)
+    m = np.array(np.diag(p[name]) if np.ndim(p[name]) == 1 else p[name], dtype=float)
+    flat = int(np.ravel_multi_index(entry, m.shape))
+    for bad, match in [(5.0, rf"{name}\[{flat}\] = 5: expected a symmetric matrix"),
+                       (np.nan, rf"'{name}' must be finite; element {flat} is nan")]:
+        broken = m.copy()
+        broken[entry] = bad
+        with pytest.raises(ValueError, match=match):
+            neurov.Vehicle(**{**p, name: broken})
+
+
 def test_perturbed_copy_changes_the_model(nerov: neurov.Vehicle) -> None:
     p = nerov.parameters()
     p["mass"] = 200.0

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 
 #include "neurov/config.hpp"
 #include "neurov/desired_state.hpp"
@@ -143,6 +144,7 @@ class NNAdaptiveController {
     out.learning_rates_ = BasisVector::Constant(network.centres_count(), config.gamma);
     out.learning_rates_norm_ = out.learning_rates_.norm();
     out.basis_ = BasisVector::Zero(network.centres_count());
+    if constexpr (kDynamicCentres) out.scratch_basis_ = BasisVector::Zero(network.centres_count());
     out.initial_weights_ = network.weights();
     out.weight_norm_ = network.weights().norm();
     out.tracking_ = TrackingError<Scalar>{};
@@ -181,7 +183,8 @@ class NNAdaptiveController {
 
     InputVector x;
     x << e.nu_r_dot, e.nu_r, nu, eta;
-    network_.basis(x, basis_);
+    // Everything but W g and the update's overflow bound is known before the
+    // network runs, so the path is chosen first.
     const Vec6 kd_s = e.kinematics.apply_transpose(config_.kd.cwiseProduct(e.s));
     // a = dt J^-1 s: the error signal of eq. 37.
     const Vec6 a = config_.dt * e.kinematics.apply_inverse(e.s);
@@ -190,23 +193,20 @@ class NNAdaptiveController {
 
     Vec6 f_hat;
     if (adapt && update_cannot_overflow(a, kd_s)) {
-      // Nothing below can be refused, so W g, the update and ||W|| share
-      // one pass over W (W g still from the weights before the update).
-      apply_update(a, leak, f_hat);
+      // Nothing below can be refused, so g goes straight into basis_ and W g,
+      // the update and ||W|| share one pass over W (W g still from the
+      // weights before the update).
+      network_.basis(x, basis_);
+      apply_update(basis_, a, leak, f_hat);
     } else {
-      // The checks come first and a refused step leaves W as it was.
-      detail::nn_output<Scalar>(network_.weights().data(), basis_.size(), basis_.data(),
-                                f_hat.data());
-      if (!detail::all_finite(Vec6(f_hat - kd_s), a)) return refuse(Status::non_finite_output, tau);
-      if (adapt) {
-        // Refuse an update that could overflow, before touching W.
-        const Scalar bound =
-            weight_norm_ + a.norm() * (basis_.array() * learning_rates_.array()).matrix().norm();
-        if (!(bound < std::sqrt(std::numeric_limits<Scalar>::max())))
-          return refuse(Status::non_finite_output, tau);
-        Vec6 unused;
-        apply_update(a, leak, unused);
-      }
+      // This step can still be refused once g is known (an overflowing
+      // W g - J^T K_d s or update), and a refused step must leave basis() at
+      // the last accepted step's g: g goes into scratch storage and is
+      // published only when the step is accepted.
+      const Status cs = with_scratch_basis([&](BasisVector& g) noexcept {
+        return checked_step(x, g, a, kd_s, adapt, leak, f_hat);
+      });
+      if (cs != Status::ok) return refuse(cs, tau);
     }
     adapted_ = adapt;
     tracking_ = e;
@@ -259,6 +259,8 @@ class NNAdaptiveController {
   /// Quantities of the last accepted step, for plots and logs.
   const TrackingError<Scalar>& tracking() const noexcept { return tracking_; }
   const Vec6& network_output() const noexcept { return f_hat_; }
+  /// g(x) of the last accepted step (zero before the first): a step refused
+  /// after the network ran leaves it as it was, like everything else.
   const BasisVector& basis() const noexcept { return basis_; }
   Scalar weight_norm() const noexcept { return weight_norm_; }
   bool adapted() const noexcept { return adapted_; }
@@ -291,14 +293,58 @@ class NNAdaptiveController {
     return weight_norm_ + a.norm() * learning_rates_norm_ < Scalar(0.5) * std::sqrt(big);
   }
 
+  /// The path of a step that may still be refused after the network ran:
+  /// g(x) into `g` (scratch), the checks, then the update; on ok g is
+  /// published as basis_. A refusal returns before anything is written but
+  /// `g` and `f_hat`.
+  Status checked_step(const InputVector& x, BasisVector& g, const Vec6& a, const Vec6& kd_s,
+                      bool adapt, Scalar leak, Vec6& f_hat) noexcept {
+    network_.basis(x, g);
+    // The checks come first and a refused step leaves W and basis_ as they were.
+    detail::nn_output<Scalar>(network_.weights().data(), g.size(), g.data(), f_hat.data());
+    if (!detail::all_finite(Vec6(f_hat - kd_s), a)) return Status::non_finite_output;
+    if (adapt) {
+      // Refuse an update that could overflow, before touching W.
+      const Scalar bound =
+          weight_norm_ + a.norm() * (g.array() * learning_rates_.array()).matrix().norm();
+      if (!(bound < std::sqrt(std::numeric_limits<Scalar>::max())))
+        return Status::non_finite_output;
+      Vec6 unused;
+      apply_update(g, a, leak, unused);
+    }
+    publish_basis(g);
+    return Status::ok;
+  }
+
+  /// Runs f(g) with scratch storage for one g(x): with a fixed N a vector on
+  /// the stack (the checked path only; no member, so the object keeps its
+  /// size), with a dynamic N the vector allocated once in create().
+  template <typename F>
+  Status with_scratch_basis(F&& f) noexcept {
+    if constexpr (kDynamicCentres) {
+      return f(scratch_basis_);
+    } else {
+      BasisVector g;
+      return f(g);
+    }
+  }
+
+  /// basis_ <- g: a swap of the two heap buffers with a dynamic N (no copy,
+  /// no allocation), a copy of N numbers with a fixed N.
+  void publish_basis(BasisVector& g) noexcept {
+    if constexpr (kDynamicCentres)
+      basis_.swap(g);
+    else
+      basis_ = g;
+  }
+
   /// f_hat = W g with the weights before the update, then
   /// W <- W .* (1 - dt leak gamma_j) - a (gamma .* g)^T, then the projection.
-  void apply_update(const Vec6& a, Scalar leak, Vec6& f_hat) noexcept {
+  void apply_update(const BasisVector& g, const Vec6& a, Scalar leak, Vec6& f_hat) noexcept {
     WeightMatrix& w = network_.weights();
-    const Scalar norm2 =
-        detail::nn_output_update<Scalar>(w.data(), basis_.size(), basis_.data(),
-                                         learning_rates_.data(), a.data(), config_.dt * leak,
-                                         f_hat.data());
+    const Scalar norm2 = detail::nn_output_update<Scalar>(w.data(), g.size(), g.data(),
+                                                          learning_rates_.data(), a.data(),
+                                                          config_.dt * leak, f_hat.data());
     Scalar norm = std::sqrt(norm2);
     if (config_.modification == RobustModification::projection && norm > config_.w_max) {
       w *= config_.w_max / norm;
@@ -306,6 +352,11 @@ class NNAdaptiveController {
     }
     weight_norm_ = norm;
   }
+
+  static constexpr bool kDynamicCentres = CentresT == Eigen::Dynamic;
+  /// Scratch g(x) of the checked path with a dynamic N; nothing with a fixed N.
+  struct NoScratch {};
+  using ScratchBasis = std::conditional_t<kDynamicCentres, BasisVector, NoScratch>;
 
   Network network_{};
   Config config_{};
@@ -319,6 +370,7 @@ class NNAdaptiveController {
   Status status_ = Status::ok;
   bool adapted_ = false;
   bool configured_ = false;
+  ScratchBasis scratch_basis_{};
 };
 
 }  // namespace neurov

@@ -14,7 +14,9 @@ namespace neurov {
 struct ValidationError {
   /// Name of the offending field; nullptr when the configuration is valid.
   const char* field = nullptr;
-  /// Element index within the field (vector/matrix entry), or -1.
+  /// Element index within the field, or -1: the position in a vector; for a
+  /// matrix entry (i, j) the row-major index i * cols + j in every check (the
+  /// flat index of a C-ordered numpy array, whatever Eigen's storage order).
   int index = -1;
   /// The offending value (NaN when the field is a whole matrix).
   double value = 0.0;
@@ -54,36 +56,42 @@ inline ValidationError invalid(const char* field, int index, double value,
   return e;
 }
 
-/// First entry of a dense Eigen object that is not finite, or ok.
+/// First entry m(i, j), in row-major order, for which ok(value) is false,
+/// reported at the row-major index i * cols + j (for a vector: its position;
+/// for a matrix: numpy's flat index of a C-ordered array and the position in a
+/// row-major C table), whatever the storage order of m; or ok. A 1 x 1 object
+/// is reported with index -1. Every matrix check uses this one convention.
+template <typename Derived, typename Ok>
+inline ValidationError check_entries(const char* field, const Derived& m, Ok entry_ok,
+                                     const char* expected) noexcept {
+  const int rows = static_cast<int>(m.rows()), cols = static_cast<int>(m.cols());
+  for (int i = 0; i < rows; ++i)
+    for (int j = 0; j < cols; ++j) {
+      const double v = static_cast<double>(m(i, j));
+      if (!entry_ok(v)) return invalid(field, m.size() > 1 ? i * cols + j : -1, v, expected);
+    }
+  return {};
+}
+
+/// First entry (row-major, index i * cols + j) that is not finite, or ok.
 template <typename Derived>
 inline ValidationError check_finite(const char* field, const Derived& m) noexcept {
-  for (int i = 0; i < static_cast<int>(m.size()); ++i) {
-    const double v = static_cast<double>(m.data()[i]);
-    if (!std::isfinite(v)) return invalid(field, m.size() > 1 ? i : -1, v, "finite");
-  }
-  return {};
+  return check_entries(field, m, [](double v) { return std::isfinite(v); }, "finite");
 }
 
-/// First entry that is negative or not finite, or ok.
+/// First entry (row-major, index i * cols + j) that is negative or not finite, or ok.
 template <typename Derived>
 inline ValidationError check_non_negative(const char* field, const Derived& m) noexcept {
-  for (int i = 0; i < static_cast<int>(m.size()); ++i) {
-    const double v = static_cast<double>(m.data()[i]);
-    if (!(std::isfinite(v) && v >= 0.0))
-      return invalid(field, m.size() > 1 ? i : -1, v, ">= 0 and finite");
-  }
-  return {};
+  return check_entries(field, m, [](double v) { return std::isfinite(v) && v >= 0.0; },
+                       ">= 0 and finite");
 }
 
-/// First entry that is not strictly positive and finite, or ok.
+/// First entry (row-major, index i * cols + j) that is not strictly positive
+/// and finite, or ok.
 template <typename Derived>
 inline ValidationError check_positive(const char* field, const Derived& m) noexcept {
-  for (int i = 0; i < static_cast<int>(m.size()); ++i) {
-    const double v = static_cast<double>(m.data()[i]);
-    if (!(std::isfinite(v) && v > 0.0))
-      return invalid(field, m.size() > 1 ? i : -1, v, "> 0 and finite");
-  }
-  return {};
+  return check_entries(field, m, [](double v) { return std::isfinite(v) && v > 0.0; },
+                       "> 0 and finite");
 }
 
 /// First pair (i, j) with |m(i,j) - m(j,i)| above rounding, reported at the
