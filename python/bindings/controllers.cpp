@@ -158,7 +158,12 @@ void bind_controllers(py::module_& m) {
                              [](const ReferenceModel<double>& r) { return Vec6(r.lambda_d()); },
                              "Damping diagonal (6,).")
       .def_property_readonly("omega", [](const ReferenceModel<double>& r) { return Vec6(r.omega()); },
-                             "Stiffness diagonal (6,).");
+                             "Stiffness diagonal (6,).")
+      .def_property_readonly(
+          "pitch_limited", [](const ReferenceModel<double>& r) { return r.pitch_limited(); },
+          "True when the last accepted step limited the pitch to +-(pi/2 - 0.2) rad: the "
+          "command's (clamped) or the reference's own (held at the limit). Such a step is taken "
+          "and returns normally. False after construction and reset().");
 
   // --- tracking error and regressor ----------------------------------------
   m.def(

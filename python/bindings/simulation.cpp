@@ -220,7 +220,8 @@ constexpr const char* kDoc =
     "sensor_faults (list of dicts kind 'freeze'|'dropout'|'noise_burst', start, end, eta, nu "
     "(bools), noise_eta, noise_nu), current_steps (list of dicts time, velocity), "
     "refused_step_policy ('zero'|'hold'). The result's faults column has bits 1 freeze, 2 "
-    "dropout, 4 noise burst, 8 a thruster below full efficiency. "
+    "dropout, 4 noise burst, 8 a thruster below full efficiency, 16 the row's eta_d came from a "
+    "pitch-limited reference step (command or reference held at +-(pi/2 - 0.2) rad). "
     "neurov.simulate(scenario) is the friendly front end.";
 
 }  // namespace

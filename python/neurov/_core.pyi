@@ -278,6 +278,14 @@ class ReferenceModel:
     @property
     def omega(self) -> _Array:
         """Stiffness diagonal (6,)."""
+    @property
+    def pitch_limited(self) -> bool:
+        """True when the last accepted step limited the pitch to +-(pi/2 - 0.2) rad.
+
+        The command's pitch is clamped to that limit and the reference's own
+        pitch is held at it; such a step is taken and returns normally.
+        False after construction and ``reset()``.
+        """
 
 def tracking_error(
     eta: _ArrayLike,
@@ -607,7 +615,8 @@ class _SimulationResult(TypedDict):
     controller_status: numpy.typing.NDArray[numpy.uint8]
     plant_status: numpy.typing.NDArray[numpy.uint8]
     faults: numpy.typing.NDArray[numpy.uint8]
-    """Per step: bit 1 freeze, 2 dropout, 4 noise burst, 8 a thruster below full efficiency."""
+    """Per step: bit 1 freeze, 2 dropout, 4 noise burst, 8 a thruster below full efficiency,
+    16 the row's eta_d came from a pitch-limited reference step."""
     diverged: bool
 
 @overload

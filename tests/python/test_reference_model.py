@@ -177,3 +177,81 @@ def test_invalid_configuration_names_the_parameter(kwargs: dict, match: str) -> 
     args = {"lambda_d": np.ones(6), "omega": np.ones(6), "eta0": np.zeros(6)} | kwargs
     with pytest.raises(ValueError, match=match):
         neurov.ReferenceModel(**args)
+
+
+# ------------------------------------------------------------------ pitch limit
+
+PITCH_LIMIT = np.pi / 2 - 0.2  # ReferenceModel::pitch_limit(), 90 deg - kPitchMargin
+
+
+def pitch_run(model: neurov.ReferenceModel, pitch: float, dt: float, steps: int) -> tuple[np.ndarray, np.ndarray]:
+    """Steps with a command of the given pitch (other DOF zero): the reference's
+    pitch and pitch_limited after each step."""
+    r = np.zeros(6)
+    r[4] = pitch
+    out = [(model.step(r, dt)[0][4], model.pitch_limited) for _ in range(steps)]
+    return np.array([o[0] for o in out]), np.array([o[1] for o in out])
+
+
+def test_pitch_limited_is_false_after_construction_and_for_a_level_command() -> None:
+    model = neurov.ReferenceModel(np.full(6, 1.0), np.full(6, 0.25))
+    assert model.pitch_limited is False
+    pitch, limited = pitch_run(model, 0.0, 0.2, 200)
+    assert not limited.any()
+    np.testing.assert_array_equal(pitch, 0.0)
+    # A command inside the limit is not limited either.
+    pitch, limited = pitch_run(model, 1.0, 0.2, 400)
+    assert not limited.any()
+    assert pitch[-1] == pytest.approx(1.0, abs=1e-6)
+
+
+@pytest.mark.parametrize("lam", [1.0, 0.3])  # 0.3: underdamped (zeta 0.3), would overshoot the limit
+@pytest.mark.parametrize("sign", [1.0, -1.0])
+def test_pitch_beyond_the_limit_is_held_at_it_and_commanding_back_returns(lam: float, sign: float) -> None:
+    model = neurov.ReferenceModel(np.full(6, lam), np.full(6, 0.25))
+    pitch, limited = pitch_run(model, sign * 1.5, 0.2, 400)
+    assert limited.any()
+    assert np.all(np.abs(pitch) <= PITCH_LIMIT + 1e-9)
+    assert sign * pitch[-1] == pytest.approx(PITCH_LIMIT, abs=1e-6)
+    assert model.pitch_limited
+    # Back to level: the pitch returns below 0.1 rad and the flag clears.
+    pitch, limited = pitch_run(model, 0.0, 0.2, 400)
+    assert np.all(np.abs(pitch) <= PITCH_LIMIT + 1e-9)
+    assert np.abs(pitch[-1]) < 0.1
+    assert not model.pitch_limited
+    # A reset clears it too.
+    pitch_run(model, sign * 1.5, 0.2, 5)
+    assert model.pitch_limited
+    model.reset(np.zeros(6))
+    assert model.pitch_limited is False
+
+
+def closed_loop_pitch(poses: list[list[float]], times: list[float]) -> dict:
+    kd = np.full(6, 100.0)
+    return neurov.run_closed_loop(
+        neurov.Vehicle.nerov(), neurov.PDController(kd, kd), dt=0.2, duration=80.0,
+        command_times=times, command_poses=poses, command_interpolation="hold",
+        lambda_d=np.full(6, 1.0), omega=np.full(6, 0.25))
+
+
+def test_closed_loop_reports_a_pitch_limited_reference_in_the_fault_bits() -> None:
+    """Fault bit 16: the row's eta_d came from a pitch-limited reference step,
+    exactly as a ReferenceModel stepped with the same command reports it."""
+    up, level = [0, 0, 0, 0, 1.5, 0], [0, 0, 0, 0, 0, 0]
+    r = closed_loop_pitch([up, level], [0.0, 40.1])
+    assert not r["diverged"]
+    bit = (r["faults"] & 16) != 0
+    assert np.all(r["faults"] & ~np.uint8(16) == 0)
+    assert np.all(np.abs(r["eta_d"][:, 4]) <= PITCH_LIMIT + 1e-9)
+    model = neurov.ReferenceModel(np.full(6, 1.0), np.full(6, 0.25))
+    expected = [False]  # row 0: the reference as created
+    for t in r["t"][:-1]:
+        model.step(up if t < 40.1 else level, 0.2)
+        expected.append(model.pitch_limited)
+    np.testing.assert_array_equal(bit, expected)
+    # Row k's eta_d is from the step at t_{k-1}: rows 1 to 201 (t_{k-1} <= 40 s) follow the 1.5 rad command.
+    assert not bit[0] and bit[1:202].all()
+    assert not bit[-1] and abs(r["eta_d"][-1, 4]) < 0.1
+    # A level command never sets it.
+    level_run = closed_loop_pitch([level, [1, 0, 0, 0, 0, 0.5]], [0.0, 10.1])
+    assert np.all(level_run["faults"] == 0)

@@ -84,6 +84,10 @@ constexpr std::uint8_t freeze = 1;
 constexpr std::uint8_t dropout = 2;
 constexpr std::uint8_t noise_burst = 4;
 constexpr std::uint8_t thruster = 8;  ///< some thruster below full efficiency
+/// The row's desired state came from a reference step that limited the pitch
+/// (ReferenceModel::pitch_limited(): the command's pitch clamped, or the
+/// reference's own held at the limit).
+constexpr std::uint8_t pitch_limited = 16;
 }  // namespace fault_bits
 
 /// Commanded poses r(t) at increasing times; held before the first and after
@@ -346,7 +350,8 @@ ValidationError simulate(const Vehicle<Scalar>& vehicle, Controller& controller,
         nu_m(i) += config.noise_nu(i) * static_cast<Scalar>(rng.normal());
       }
     }
-    std::uint8_t faults = 0;
+    // `desired` (this row's eta_d) is from the last accepted reference step.
+    std::uint8_t faults = reference.pitch_limited() ? fault_bits::pitch_limited : std::uint8_t(0);
     bool freeze_eta = false, freeze_nu = false;
     for (const auto& f : config.sensor_faults) {
       if (!(t >= f.start && t < f.end)) continue;
