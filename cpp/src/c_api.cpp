@@ -3,9 +3,9 @@
 // -fno-exceptions -fno-rtti, so nothing can unwind through a C caller.
 #include "neurov/c_api.h"
 
-#include <cstring>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <new>
 #include <type_traits>

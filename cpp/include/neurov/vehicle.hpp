@@ -6,10 +6,10 @@
 #include <cmath>
 #include <cstdint>
 
-#include "neurov/symmetric_matrix.hpp"
 #include "neurov/config.hpp"
 #include "neurov/kinematics.hpp"
 #include "neurov/status.hpp"
+#include "neurov/symmetric_matrix.hpp"
 #include "neurov/types.hpp"
 #include "neurov/validation.hpp"
 
