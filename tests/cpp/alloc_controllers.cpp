@@ -2,26 +2,9 @@
 // the refused ones), the reference model, the tracking error and the RBF
 // network, in float and double, for dynamic and compile-time network sizes.
 //
-// This file shares the executable with alloc_foundation.cpp, which defines
-// the counting global operator new (there may be only one). The probe's
-// counters and Eigen's redirected eigen_assert are repeated here token for
-// token: they are inline, so the two translation units share one definition,
-// and Eigen's own inline functions (compiled in both) report to the same
-// counter whichever copy the linker keeps.
-#include <atomic>
-#include <cstddef>
-#include <cstdio>
-
-namespace alloc_probe {
-inline std::atomic<long> eigen_assert_failures{0};
-inline void eigen_assert_failed(const char* expr, const char* file, int line) noexcept {
-  eigen_assert_failures.fetch_add(1, std::memory_order_relaxed);
-  std::fprintf(stderr, "eigen_assert failed: %s (%s:%d)\n", expr, file, line);
-}
-}  // namespace alloc_probe
-
-#define eigen_assert(x) \
-  ((x) ? static_cast<void>(0) : ::alloc_probe::eigen_assert_failed(#x, __FILE__, __LINE__))
+// The detectors are in alloc_probe.hpp; the counting global operator new is
+// defined in alloc_foundation.cpp (there may be only one per executable).
+#include "alloc_probe.hpp"
 
 #include <cmath>
 #include <limits>
@@ -29,39 +12,16 @@ inline void eigen_assert_failed(const char* expr, const char* file, int line) no
 #include <type_traits>
 #include <vector>
 
-#include <Eigen/Core>
 #include <gtest/gtest.h>
 
 #include "neurov/neurov.hpp"
-
-#ifndef EIGEN_RUNTIME_NO_MALLOC
-#error "alloc_*.cpp must be built with EIGEN_RUNTIME_NO_MALLOC (see tests/cpp/CMakeLists.txt)"
-#endif
-
-namespace alloc_probe {
-// Incremented by the operator new defined in alloc_foundation.cpp.
-inline std::atomic<long> new_calls{0};
-}  // namespace alloc_probe
 
 namespace {
 
 using namespace neurov;
 
-struct Window {
-  long new_calls = 0;
-  long eigen_failures = 0;
-};
-
-template <typename F>
-Window watch(F&& f) {
-  const long new_before = alloc_probe::new_calls.load();
-  const long eigen_before = alloc_probe::eigen_assert_failures.load();
-  Eigen::internal::set_is_malloc_allowed(false);
-  f();
-  Eigen::internal::set_is_malloc_allowed(true);
-  return {alloc_probe::new_calls.load() - new_before,
-          alloc_probe::eigen_assert_failures.load() - eigen_before};
-}
+using alloc_probe::watch;
+using alloc_probe::Window;
 
 template <typename Derived>
 void consume(volatile double& sink, const Eigen::MatrixBase<Derived>& x) {

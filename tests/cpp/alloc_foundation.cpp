@@ -1,67 +1,20 @@
-// The real-time path must not touch the heap. Two independent detectors watch
-// a window around the hot calls:
-//  * a counting replacement of the global operator new (every C++ allocation);
-//  * Eigen's EIGEN_RUNTIME_NO_MALLOC check. Eigen allocates with std::malloc,
-//    which operator new never sees, and reports through eigen_assert, which
-//    NDEBUG (Release) compiles away. So eigen_assert is redefined here, before
-//    any Eigen header, to count instead of being dropped.
-#include <atomic>
-#include <cstddef>
-#include <cstdio>
-
-namespace alloc_probe {
-inline std::atomic<long> eigen_assert_failures{0};
-inline void eigen_assert_failed(const char* expr, const char* file, int line) noexcept {
-  eigen_assert_failures.fetch_add(1, std::memory_order_relaxed);
-  std::fprintf(stderr, "eigen_assert failed: %s (%s:%d)\n", expr, file, line);
-}
-}  // namespace alloc_probe
-
-#define eigen_assert(x) \
-  ((x) ? static_cast<void>(0) : ::alloc_probe::eigen_assert_failed(#x, __FILE__, __LINE__))
+// The real-time path must not touch the heap: kinematics, dynamics and RK4.
+// The two detectors are in alloc_probe.hpp; this file defines the counting
+// global operator new they rely on (one per executable) and first shows that
+// both detectors do catch an allocation.
+#include "alloc_probe.hpp"
 
 #include <cmath>
-#include <cstdlib>
 #include <limits>
-#include <new>
 #include <string>
 #include <type_traits>
 #include <vector>
 
-#include <Eigen/Core>
 #include <gtest/gtest.h>
 
 #include "neurov/neurov.hpp"
 
-#ifndef EIGEN_RUNTIME_NO_MALLOC
-#error "alloc_*.cpp must be built with EIGEN_RUNTIME_NO_MALLOC (see tests/cpp/CMakeLists.txt)"
-#endif
-
 // ------------------------------------------------ counting global operator new
-
-namespace alloc_probe {
-inline std::atomic<long> new_calls{0};
-
-inline void* counted_malloc(std::size_t size) {
-  new_calls.fetch_add(1, std::memory_order_relaxed);
-  return std::malloc(size == 0 ? 1 : size);
-}
-
-inline void* counted_aligned(std::size_t size, std::align_val_t align) {
-  new_calls.fetch_add(1, std::memory_order_relaxed);
-  const std::size_t a = static_cast<std::size_t>(align);
-  // aligned_alloc wants a size that is a multiple of the alignment.
-  const std::size_t rounded = ((size == 0 ? 1 : size) + a - 1) / a * a;
-  return std::aligned_alloc(a, rounded);
-}
-
-// Out of line so that GCC, after inlining a delete into a caller of new, does
-// not see new paired with free and warn (-Wmismatched-new-delete).
-[[gnu::noinline]] inline void release(void* p) noexcept { std::free(p); }
-
-/// Keeps the optimiser from proving an allocation unobservable and removing it.
-inline void escape(const void* p) { asm volatile("" : : "g"(p) : "memory"); }
-}  // namespace alloc_probe
 
 void* operator new(std::size_t size) {
   if (void* p = alloc_probe::counted_malloc(size)) return p;
@@ -108,22 +61,8 @@ namespace {
 
 using namespace neurov;
 
-/// Counts of both detectors over one window with Eigen's malloc forbidden.
-struct Window {
-  long new_calls = 0;
-  long eigen_failures = 0;
-};
-
-template <typename F>
-Window watch(F&& f) {
-  const long new_before = alloc_probe::new_calls.load();
-  const long eigen_before = alloc_probe::eigen_assert_failures.load();
-  Eigen::internal::set_is_malloc_allowed(false);
-  f();
-  Eigen::internal::set_is_malloc_allowed(true);
-  return {alloc_probe::new_calls.load() - new_before,
-          alloc_probe::eigen_assert_failures.load() - eigen_before};
-}
+using alloc_probe::watch;
+using alloc_probe::Window;
 
 // ------------------------------------------------------ the detectors can fail
 
