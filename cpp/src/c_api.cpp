@@ -12,10 +12,10 @@
 
 #include <Eigen/Core>
 
-#include "neurov/nn_controller.hpp"
-#include "neurov/reference_model.hpp"
-#include "neurov/status.hpp"
-#include "neurov/validation.hpp"
+#include "neurov/control/nn_controller.hpp"
+#include "neurov/control/reference_model.hpp"
+#include "neurov/core/status.hpp"
+#include "neurov/core/validation.hpp"
 
 namespace {
 

@@ -12,10 +12,10 @@
 #include <cmath>
 #include <cstdio>
 
-#include <neurov/integrator.hpp>
-#include <neurov/nn_controller.hpp>
-#include <neurov/reference_model.hpp>
-#include <neurov/vehicle.hpp>
+#include <neurov/model/integrator.hpp>
+#include <neurov/control/nn_controller.hpp>
+#include <neurov/control/reference_model.hpp>
+#include <neurov/model/vehicle.hpp>
 #include <neurov/version.hpp>
 
 #ifndef FIRMWARE_CENTRES

@@ -10,10 +10,10 @@
 #include <vector>
 
 #include "bindings.hpp"
-#include "neurov/integrator.hpp"
-#include "neurov/linear_adaptive_controller.hpp"
-#include "neurov/nn_controller.hpp"
-#include "neurov/rbf_kernels.hpp"
+#include "neurov/model/integrator.hpp"
+#include "neurov/control/linear_adaptive_controller.hpp"
+#include "neurov/control/nn_controller.hpp"
+#include "neurov/control/rbf_kernels.hpp"
 #include "numpy_args.hpp"
 
 namespace neurov::bindings {

@@ -6,16 +6,16 @@
 #include <tuple>
 
 #include "bindings.hpp"
-#include "neurov/linear_adaptive_controller.hpp"
-#include "neurov/nn_controller.hpp"
-#include "neurov/pd_controller.hpp"
-#include "neurov/pid_controller.hpp"
-#include "neurov/rbf_network.hpp"
-#include "neurov/reference_model.hpp"
-#include "neurov/regressor.hpp"
-#include "neurov/sliding_mode_controller.hpp"
-#include "neurov/tracking_error.hpp"
-#include "neurov/vehicle.hpp"
+#include "neurov/control/linear_adaptive_controller.hpp"
+#include "neurov/control/nn_controller.hpp"
+#include "neurov/control/pd_controller.hpp"
+#include "neurov/control/pid_controller.hpp"
+#include "neurov/control/rbf_network.hpp"
+#include "neurov/control/reference_model.hpp"
+#include "neurov/model/regressor.hpp"
+#include "neurov/control/sliding_mode_controller.hpp"
+#include "neurov/control/tracking_error.hpp"
+#include "neurov/model/vehicle.hpp"
 #include "numpy_args.hpp"
 
 namespace neurov::bindings {

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "bindings.hpp"
-#include "neurov/kinematics.hpp"
+#include "neurov/model/kinematics.hpp"
 #include "numpy_args.hpp"
 
 namespace neurov::bindings {

@@ -2,7 +2,7 @@
 #include <pybind11/pybind11.h>
 
 #include "bindings.hpp"
-#include "neurov/status.hpp"
+#include "neurov/core/status.hpp"
 
 namespace py = pybind11;
 

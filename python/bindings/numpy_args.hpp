@@ -13,8 +13,8 @@
 #include <initializer_list>
 #include <string>
 
-#include "neurov/status.hpp"
-#include "neurov/validation.hpp"
+#include "neurov/core/status.hpp"
+#include "neurov/core/validation.hpp"
 
 namespace neurov::py_args {
 

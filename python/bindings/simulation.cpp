@@ -6,8 +6,8 @@
 #include <vector>
 
 #include "bindings.hpp"
-#include "neurov/simulation.hpp"
-#include "neurov/thrusters.hpp"
+#include "neurov/sim/simulation.hpp"
+#include "neurov/model/thrusters.hpp"
 #include "numpy_args.hpp"
 
 namespace neurov::bindings {

@@ -6,8 +6,8 @@
 #include <utility>
 
 #include "bindings.hpp"
-#include "neurov/integrator.hpp"
-#include "neurov/vehicle.hpp"
+#include "neurov/model/integrator.hpp"
+#include "neurov/model/vehicle.hpp"
 #include "numpy_args.hpp"
 
 namespace neurov::bindings {

@@ -23,13 +23,13 @@
 #include <Eigen/Core>
 #include <gtest/gtest.h>
 
-#include "neurov/integrator.hpp"
-#include "neurov/linear_adaptive_controller.hpp"
-#include "neurov/nn_controller.hpp"
-#include "neurov/pd_controller.hpp"
-#include "neurov/rbf_network.hpp"
-#include "neurov/tracking_error.hpp"
-#include "neurov/vehicle.hpp"
+#include "neurov/model/integrator.hpp"
+#include "neurov/control/linear_adaptive_controller.hpp"
+#include "neurov/control/nn_controller.hpp"
+#include "neurov/control/pd_controller.hpp"
+#include "neurov/control/rbf_network.hpp"
+#include "neurov/control/tracking_error.hpp"
+#include "neurov/model/vehicle.hpp"
 #include "test_support.hpp"
 
 namespace {

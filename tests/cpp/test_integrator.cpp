@@ -10,7 +10,7 @@
 
 #include <gtest/gtest.h>
 
-#include "neurov/integrator.hpp"
+#include "neurov/model/integrator.hpp"
 #include "test_support.hpp"
 
 namespace {

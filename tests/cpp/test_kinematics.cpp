@@ -8,7 +8,7 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
-#include "neurov/kinematics.hpp"
+#include "neurov/model/kinematics.hpp"
 #include "test_support.hpp"
 
 namespace {

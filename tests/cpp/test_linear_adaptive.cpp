@@ -13,12 +13,12 @@
 #include <Eigen/Core>
 #include <gtest/gtest.h>
 
-#include "neurov/integrator.hpp"
-#include "neurov/kinematics.hpp"
-#include "neurov/linear_adaptive_controller.hpp"
-#include "neurov/reference_model.hpp"
-#include "neurov/regressor.hpp"
-#include "neurov/vehicle.hpp"
+#include "neurov/model/integrator.hpp"
+#include "neurov/model/kinematics.hpp"
+#include "neurov/control/linear_adaptive_controller.hpp"
+#include "neurov/control/reference_model.hpp"
+#include "neurov/model/regressor.hpp"
+#include "neurov/model/vehicle.hpp"
 #include "test_support.hpp"
 
 namespace {

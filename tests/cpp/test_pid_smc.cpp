@@ -22,11 +22,11 @@
 #include <Eigen/Core>
 #include <gtest/gtest.h>
 
-#include "neurov/integrator.hpp"
-#include "neurov/pid_controller.hpp"
-#include "neurov/regressor.hpp"
-#include "neurov/sliding_mode_controller.hpp"
-#include "neurov/vehicle.hpp"
+#include "neurov/model/integrator.hpp"
+#include "neurov/control/pid_controller.hpp"
+#include "neurov/model/regressor.hpp"
+#include "neurov/control/sliding_mode_controller.hpp"
+#include "neurov/model/vehicle.hpp"
 
 namespace {
 

@@ -10,7 +10,7 @@
 #include <Eigen/Core>
 #include <gtest/gtest.h>
 
-#include "neurov/rbf_network.hpp"
+#include "neurov/control/rbf_network.hpp"
 #include "test_support.hpp"
 
 namespace {

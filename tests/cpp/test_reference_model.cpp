@@ -15,7 +15,7 @@
 #include <Eigen/Core>
 #include <gtest/gtest.h>
 
-#include "neurov/reference_model.hpp"
+#include "neurov/control/reference_model.hpp"
 #include "test_support.hpp"
 
 namespace {

@@ -14,8 +14,8 @@
 #include <Eigen/Core>
 #include <gtest/gtest.h>
 
-#include "neurov/types.hpp"
-#include "neurov/vehicle.hpp"
+#include "neurov/core/types.hpp"
+#include "neurov/model/vehicle.hpp"
 
 namespace neurov_test {
 

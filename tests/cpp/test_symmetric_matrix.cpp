@@ -8,7 +8,7 @@
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
 
-#include "neurov/symmetric_matrix.hpp"
+#include "neurov/core/symmetric_matrix.hpp"
 #include "test_support.hpp"
 
 namespace {

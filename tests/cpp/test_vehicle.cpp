@@ -14,7 +14,7 @@
 #include <Eigen/QR>
 #include <gtest/gtest.h>
 
-#include "neurov/vehicle.hpp"
+#include "neurov/model/vehicle.hpp"
 #include "test_support.hpp"
 
 namespace {

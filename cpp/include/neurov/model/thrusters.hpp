@@ -10,9 +10,9 @@
 #include <cstdint>
 #include <limits>
 
-#include "neurov/status.hpp"
-#include "neurov/types.hpp"
-#include "neurov/validation.hpp"
+#include "neurov/core/status.hpp"
+#include "neurov/core/types.hpp"
+#include "neurov/core/validation.hpp"
 
 namespace neurov {
 

@@ -14,20 +14,20 @@
 #include <limits>
 #include <vector>
 
-#include "neurov/desired_state.hpp"
-#include "neurov/integrator.hpp"
-#include "neurov/linear_adaptive_controller.hpp"
-#include "neurov/nn_controller.hpp"
-#include "neurov/pd_controller.hpp"
-#include "neurov/pid_controller.hpp"
-#include "neurov/random.hpp"
-#include "neurov/reference_model.hpp"
-#include "neurov/sliding_mode_controller.hpp"
-#include "neurov/status.hpp"
-#include "neurov/thrusters.hpp"
-#include "neurov/types.hpp"
-#include "neurov/validation.hpp"
-#include "neurov/vehicle.hpp"
+#include "neurov/control/desired_state.hpp"
+#include "neurov/model/integrator.hpp"
+#include "neurov/control/linear_adaptive_controller.hpp"
+#include "neurov/control/nn_controller.hpp"
+#include "neurov/control/pd_controller.hpp"
+#include "neurov/control/pid_controller.hpp"
+#include "neurov/core/random.hpp"
+#include "neurov/control/reference_model.hpp"
+#include "neurov/control/sliding_mode_controller.hpp"
+#include "neurov/core/status.hpp"
+#include "neurov/model/thrusters.hpp"
+#include "neurov/core/types.hpp"
+#include "neurov/core/validation.hpp"
+#include "neurov/model/vehicle.hpp"
 
 namespace neurov {
 

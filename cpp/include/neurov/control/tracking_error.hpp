@@ -5,9 +5,9 @@
 //   nu_r = J^-1(eta) eta_r_dot,  nu_r_dot = J^-1(eta) (eta_r_ddot - J_dot(eta, nu) nu_r)
 #pragma once
 
-#include "neurov/kinematics.hpp"
-#include "neurov/status.hpp"
-#include "neurov/types.hpp"
+#include "neurov/model/kinematics.hpp"
+#include "neurov/core/status.hpp"
+#include "neurov/core/types.hpp"
 
 namespace neurov {
 

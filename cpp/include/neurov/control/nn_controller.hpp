@@ -14,14 +14,14 @@
 #include <limits>
 #include <type_traits>
 
-#include "neurov/config.hpp"
-#include "neurov/desired_state.hpp"
-#include "neurov/rbf_kernels.hpp"
-#include "neurov/rbf_network.hpp"
-#include "neurov/status.hpp"
-#include "neurov/tracking_error.hpp"
-#include "neurov/types.hpp"
-#include "neurov/validation.hpp"
+#include "neurov/core/config.hpp"
+#include "neurov/control/desired_state.hpp"
+#include "neurov/control/rbf_kernels.hpp"
+#include "neurov/control/rbf_network.hpp"
+#include "neurov/core/status.hpp"
+#include "neurov/control/tracking_error.hpp"
+#include "neurov/core/types.hpp"
+#include "neurov/core/validation.hpp"
 
 #if NEUROV_HAS_EXCEPTIONS
 #include <stdexcept>

@@ -11,11 +11,11 @@
 #include <Eigen/Core>
 #include <cmath>
 
-#include "neurov/config.hpp"
-#include "neurov/rbf_kernels.hpp"
-#include "neurov/status.hpp"
-#include "neurov/types.hpp"
-#include "neurov/validation.hpp"
+#include "neurov/core/config.hpp"
+#include "neurov/control/rbf_kernels.hpp"
+#include "neurov/core/status.hpp"
+#include "neurov/core/types.hpp"
+#include "neurov/core/validation.hpp"
 
 #if NEUROV_HAS_EXCEPTIONS
 #include <stdexcept>

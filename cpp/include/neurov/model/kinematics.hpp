@@ -12,9 +12,9 @@
 #include <cmath>
 #include <limits>
 
-#include "neurov/status.hpp"
-#include "neurov/trig.hpp"
-#include "neurov/types.hpp"
+#include "neurov/core/status.hpp"
+#include "neurov/core/trig.hpp"
+#include "neurov/core/types.hpp"
 
 namespace neurov {
 

@@ -9,10 +9,10 @@
 #include <Eigen/Core>
 #include <cmath>
 
-#include "neurov/status.hpp"
-#include "neurov/types.hpp"
-#include "neurov/validation.hpp"
-#include "neurov/vehicle.hpp"
+#include "neurov/core/status.hpp"
+#include "neurov/core/types.hpp"
+#include "neurov/core/validation.hpp"
+#include "neurov/model/vehicle.hpp"
 
 namespace neurov {
 

@@ -1,7 +1,7 @@
 // The desired trajectory at one instant, as every controller takes it.
 #pragma once
 
-#include "neurov/types.hpp"
+#include "neurov/core/types.hpp"
 
 namespace neurov {
 

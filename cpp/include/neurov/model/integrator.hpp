@@ -5,9 +5,9 @@
 
 #include <cmath>
 
-#include "neurov/status.hpp"
-#include "neurov/types.hpp"
-#include "neurov/vehicle.hpp"
+#include "neurov/core/status.hpp"
+#include "neurov/core/types.hpp"
+#include "neurov/model/vehicle.hpp"
 
 namespace neurov {
 

@@ -6,12 +6,12 @@
 #include <cmath>
 #include <cstdint>
 
-#include "neurov/config.hpp"
-#include "neurov/kinematics.hpp"
-#include "neurov/status.hpp"
-#include "neurov/symmetric_matrix.hpp"
-#include "neurov/types.hpp"
-#include "neurov/validation.hpp"
+#include "neurov/core/config.hpp"
+#include "neurov/model/kinematics.hpp"
+#include "neurov/core/status.hpp"
+#include "neurov/core/symmetric_matrix.hpp"
+#include "neurov/core/types.hpp"
+#include "neurov/core/validation.hpp"
 
 #if NEUROV_HAS_EXCEPTIONS
 #include <stdexcept>

@@ -10,13 +10,13 @@
 #include <algorithm>
 #include <cmath>
 
-#include "neurov/config.hpp"
-#include "neurov/desired_state.hpp"
-#include "neurov/regressor.hpp"
-#include "neurov/status.hpp"
-#include "neurov/tracking_error.hpp"
-#include "neurov/types.hpp"
-#include "neurov/validation.hpp"
+#include "neurov/core/config.hpp"
+#include "neurov/control/desired_state.hpp"
+#include "neurov/model/regressor.hpp"
+#include "neurov/core/status.hpp"
+#include "neurov/control/tracking_error.hpp"
+#include "neurov/core/types.hpp"
+#include "neurov/core/validation.hpp"
 
 #if NEUROV_HAS_EXCEPTIONS
 #include <stdexcept>
