@@ -117,23 +117,6 @@ void bind_vehicle(py::module_& m) {
       .def_static(
           "nerov", [] { return make_vehicle(nerov_parameters<double>()); },
           "NEROV, the paper's vehicle, with the numbers of its section 5.")
-      .def_static(
-          "from_file",
-          [](py::handle path) {
-            return py::module_::import("neurov.vehicle_file").attr("load_vehicle")(path);
-          },
-          py::arg("path"),
-          "Loads a vehicle TOML file (format: neurov.vehicle_file). A missing, misspelt or "
-          "wrongly typed field raises neurov.VehicleFileError naming the file and the field.")
-      .def_static(
-          "preset",
-          [](py::handle name) {
-            py::module_ files = py::module_::import("neurov.vehicle_file");
-            return files.attr("load_vehicle")(files.attr("preset_path")(name));
-          },
-          py::arg("name"),
-          "A vehicle shipped with neurov by name: 'nerov' or 'bluerov2_heavy' "
-          "(neurov.vehicle_file.preset_names() lists them).")
       .def("parameters", [](const Vehicle<double>& v) { return parameters_dict(v.parameters()); },
            "The parameters as a dict of keyword arguments: Vehicle(**v.parameters()) "
            "rebuilds the vehicle, so a perturbed copy is one dict edit away.")

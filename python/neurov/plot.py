@@ -196,10 +196,8 @@ def _thrust_limits(result: Result) -> tuple[np.ndarray, np.ndarray] | None:
     """The vehicle file's thrust limits, if the run used its thrusters."""
     if not result.scenario.use_thrusters:
         return None
-    from neurov.vehicle_file import load_thrusters
-
     try:
-        t = load_thrusters(result.scenario.vehicle_path())
+        t = result.scenario.vehicle_data().thrusters
     except (OSError, ValueError):
         return None
     if t is None or len(t["max_thrust"]) != result.thrusts.shape[1]:

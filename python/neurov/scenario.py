@@ -71,7 +71,7 @@ from numpy.typing import NDArray
 
 from neurov import centres as centre_placement
 from neurov import trajectories
-from neurov.vehicle_file import VehicleFileError, load_thrusters, load_vehicle_parameters, preset_path
+from neurov.vehicle_file import VehicleFile, VehicleFileError, preset_path, read_vehicle_file
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -371,6 +371,8 @@ class Scenario:
     controller's own tau = 0) or "hold" (its last accepted tau)."""
     source: str = ""
     """The file the scenario came from, if any (vehicle paths are relative to it)."""
+    vehicle_file: VehicleFile | None = field(default=None, repr=False, compare=False)
+    """The vehicle file as read when the scenario was loaded (see vehicle_data())."""
 
     def replace(self, **changes: Any) -> Scenario:
         """A copy with some fields changed (``dataclasses.replace``)."""
@@ -382,6 +384,14 @@ class Scenario:
     @staticmethod
     def from_file(path: str | Path) -> Scenario:
         return load_scenario(path)
+
+    def vehicle_data(self) -> VehicleFile:
+        """The vehicle file, read and checked once: the copy the scenario holds
+        while it still names the same file, else the file read now (and held)."""
+        path = self.vehicle_path()
+        if self.vehicle_file is None or self.vehicle_file.path != path:
+            self.vehicle_file = read_vehicle_file(path)
+        return self.vehicle_file
 
     def vehicle_path(self) -> Path:
         p = Path(self.vehicle)
@@ -497,13 +507,12 @@ def scenario_from_mapping(data: Mapping[str, Any], origin: str = "<scenario>") -
         s.vehicle_parameters = dict(over)
     v.finish()
     try:
-        vp = s.replace(source=origin).vehicle_path()
-        load_vehicle_parameters(vp)
-        thrusters = load_thrusters(vp) if s.use_thrusters else None
+        vehicle = s.vehicle_data()
     except (VehicleFileError, ValueError) as e:
         raise ScenarioError(f"{origin}: vehicle: {e}") from None
+    thrusters = vehicle.thrusters if s.use_thrusters else None
     if s.use_thrusters and thrusters is None:
-        raise v.error("thrusters", f"the vehicle file {vp} has no [thrusters] table")
+        raise v.error("thrusters", f"the vehicle file {vehicle.path} has no [thrusters] table")
     i = r.table_of("initial")
     s.eta0 = i.array("eta", 6, s.eta0, broadcast=False)
     s.nu0 = i.array("nu", 6, s.nu0, broadcast=False)

@@ -15,7 +15,6 @@ from numpy.typing import NDArray
 
 from neurov import _core
 from neurov.scenario import ControllerSpec, Scenario, make_centres
-from neurov.vehicle_file import load_thrusters, load_vehicle_parameters
 
 __all__ = ["Result", "build_controller", "build_vehicle", "default_centre_box", "simulate", "simulate_many"]
 
@@ -29,16 +28,14 @@ _SERIES = (
 
 def build_vehicle(scenario: Scenario) -> _core.Vehicle:
     """The scenario's vehicle, with its parameter overrides applied."""
-    params = load_vehicle_parameters(scenario.vehicle_path())
-    params.update(scenario.vehicle_parameters or {})
-    return _core.Vehicle(**params)
+    return scenario.vehicle_data().vehicle(scenario.vehicle_parameters)
 
 
 def thruster_arguments(scenario: Scenario) -> dict[str, Any]:
     """Keyword arguments of run_closed_loop for the vehicle file's [thrusters]."""
     if not scenario.use_thrusters:
         return {}
-    t = load_thrusters(scenario.vehicle_path())
+    t = scenario.vehicle_data().thrusters
     if t is None:
         raise ValueError(f"scenario {scenario.name!r}: vehicle file {scenario.vehicle_path()} has no [thrusters] table")
     out: dict[str, Any] = {
@@ -85,7 +82,7 @@ def build_controller(spec: ControllerSpec, scenario: Scenario) -> Any:
     if spec.type == "linear":
         theta0 = np.zeros(len(_core.THETA_NAMES))
         if spec.theta0 in ("true", "scaled"):
-            nominal = _core.Vehicle(**load_vehicle_parameters(scenario.vehicle_path()))
+            nominal = scenario.vehicle_data().vehicle()
             theta0 = _core.regressor_parameters(nominal)
             if spec.theta0 == "scaled":
                 theta0 = theta0 * spec.theta0_scale
@@ -95,7 +92,7 @@ def build_controller(spec: ControllerSpec, scenario: Scenario) -> Any:
     if spec.type == "pid":
         return _core.PIDController(spec.kp, spec.ki, spec.kd, spec.integral_limit, scenario.dt)
     if spec.type == "smc":
-        nominal = _core.Vehicle(**load_vehicle_parameters(scenario.vehicle_path()))
+        nominal = scenario.vehicle_data().vehicle()
         return _core.SlidingModeController(spec.lambda_, spec.kd, spec.k, spec.phi,
                                            _core.regressor_parameters(nominal))
     raise ValueError(f"controller.type must be 'nn', 'linear', 'pd', 'pid' or 'smc', got {spec.type!r}")

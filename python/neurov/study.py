@@ -61,7 +61,6 @@ from neurov.scenario import (
     _Reader,
     load_scenario,
 )
-from neurov.vehicle_file import load_vehicle_parameters
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -486,7 +485,7 @@ def load_study(path: str | Path) -> Study:
 
 
 def _nominal_parameters(scenario: Scenario) -> dict[str, Any]:
-    params = load_vehicle_parameters(scenario.vehicle_path())
+    params = dict(scenario.vehicle_data().parameters)
     params.update(scenario.vehicle_parameters or {})
     return params
 

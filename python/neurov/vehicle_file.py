@@ -25,6 +25,7 @@ from __future__ import annotations
 import difflib
 import math
 import sys
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -34,12 +35,14 @@ else:  # pragma: no cover - exercised on Python 3.10 only
     import tomli as tomllib
 
 __all__ = [
+    "VehicleFile",
     "VehicleFileError",
     "load_thrusters",
     "load_vehicle",
     "load_vehicle_parameters",
     "preset_names",
     "preset_path",
+    "read_vehicle_file",
 ]
 
 PRESET_DIR = Path(__file__).with_name("vehicles")
@@ -112,9 +115,31 @@ def _shape_text(shape: Any) -> str:
     return f"a {shape[0]}x{shape[1]} table of numbers"
 
 
-def load_vehicle_parameters(path: str | Path) -> dict[str, Any]:
-    """Reads and checks a vehicle file; returns the keyword arguments of
-    :class:`neurov.Vehicle`. Raises :class:`VehicleFileError`."""
+@dataclass(frozen=True)
+class VehicleFile:
+    """A vehicle file read and checked whole, once: its path, the keyword
+    arguments of :class:`neurov.Vehicle` and its ``[thrusters]`` table (None
+    when it has none). A scenario keeps one, so nothing reads the file again."""
+
+    path: Path
+    parameters: dict[str, Any]
+    thrusters: dict[str, Any] | None
+
+    def vehicle(self, overrides: dict[str, Any] | None = None) -> Any:
+        """The vehicle, with some parameters overridden (a perturbed plant)."""
+        from neurov._core import Vehicle
+
+        try:
+            return Vehicle(**{**self.parameters, **(overrides or {})})
+        except ValueError as e:
+            raise VehicleFileError(f"{self.path}: {e}") from None
+
+
+def read_vehicle_file(path: str | Path) -> VehicleFile:
+    """Reads and checks every table of a vehicle file, ``[thrusters]``
+    included whether or not a scenario uses it (a typo there is an error
+    today, not on the day thrusters are switched on). Raises
+    :class:`VehicleFileError` naming the file and the field."""
     path = Path(path)
     where = str(path)
     try:
@@ -124,7 +149,16 @@ def load_vehicle_parameters(path: str | Path) -> dict[str, Any]:
         raise VehicleFileError(f"{where}: no such vehicle file") from None
     except tomllib.TOMLDecodeError as e:
         raise VehicleFileError(f"{where}: not valid TOML: {e}") from None
-    return parameters_from_mapping(data, where)
+    parameters = parameters_from_mapping(data, where)
+    table = data.get("thrusters")
+    thrusters = None if table is None else thrusters_from_mapping(table, f"{where}: thrusters")
+    return VehicleFile(path=path, parameters=parameters, thrusters=thrusters)
+
+
+def load_vehicle_parameters(path: str | Path) -> dict[str, Any]:
+    """The keyword arguments of :class:`neurov.Vehicle` from a vehicle file
+    (the whole file is checked). Raises :class:`VehicleFileError`."""
+    return read_vehicle_file(path).parameters
 
 
 def parameters_from_mapping(data: dict[str, Any], where: str) -> dict[str, Any]:
@@ -179,28 +213,20 @@ def load_vehicle(path: str | Path) -> Any:
     """Builds a :class:`neurov.Vehicle` from a file. A non-physical value (for
     example a negative mass) raises :class:`VehicleFileError` naming the file
     and the field."""
-    from neurov._core import Vehicle
-
-    kwargs = load_vehicle_parameters(path)
-    try:
-        return Vehicle(**kwargs)
-    except ValueError as e:
-        raise VehicleFileError(f"{path}: {e}") from None
+    return read_vehicle_file(path).vehicle()
 
 
 def load_thrusters(path: str | Path) -> dict[str, Any] | None:
     """The ``[thrusters]`` table of a vehicle file as arrays (``matrix``
     (6, n), ``max_thrust``, ``min_thrust`` (n,), ``time_constant``), or None
     if the file has none. Errors name the file and the field."""
+    return read_vehicle_file(path).thrusters
+
+
+def thrusters_from_mapping(table: Any, where: str) -> dict[str, Any]:
+    """Checks a ``[thrusters]`` table already parsed; `where` prefixes errors."""
     import numpy as np
 
-    path = Path(path)
-    with path.open("rb") as f:
-        data = tomllib.load(f)
-    table = data.get("thrusters")
-    if table is None:
-        return None
-    where = f"{path}: thrusters"
     if not isinstance(table, dict):
         raise VehicleFileError(f"{where}: expected a table")
     allowed = {"positions", "directions", "matrix", "max_thrust", "min_thrust", "time_constant", "description"}
@@ -260,3 +286,27 @@ def load_thrusters(path: str | Path) -> dict[str, Any] | None:
     if isinstance(tc, bool) or not isinstance(tc, (int, float)) or not math.isfinite(tc) or tc < 0:
         raise VehicleFileError(f"{where}.time_constant: expected a number >= 0, got {tc!r}")
     return {"matrix": matrix, "max_thrust": max_thrust, "min_thrust": min_thrust, "time_constant": float(tc)}
+
+
+def _attach_file_constructors() -> None:
+    """``Vehicle.from_file`` and ``Vehicle.preset`` read files, which is this
+    package's work: they are attached here so that the compiled core never
+    imports the Python package."""
+    from neurov._core import Vehicle
+
+    def from_file(path: str | Path) -> Any:
+        """Loads a vehicle TOML file (format: :mod:`neurov.vehicle_file`). A
+        missing, misspelt or wrongly typed field raises
+        :class:`neurov.VehicleFileError` naming the file and the field."""
+        return load_vehicle(path)
+
+    def preset(name: str) -> Any:
+        """A vehicle shipped with neurov by name: ``'nerov'`` or
+        ``'bluerov2_heavy'`` (:func:`preset_names` lists them)."""
+        return load_vehicle(preset_path(name))
+
+    Vehicle.from_file = staticmethod(from_file)
+    Vehicle.preset = staticmethod(preset)
+
+
+_attach_file_constructors()

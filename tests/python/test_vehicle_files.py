@@ -107,8 +107,23 @@ def test_full_matrices_integers_and_other_tables_are_accepted(tmp_path: Path) ->
     added = np.diag([30, 80, 80, 15, 30, 30]).tolist()
     text = text.replace("added_mass = [30.0, 80.0, 80.0, 15.0, 30.0, 30.0]", f"added_mass = {added}")
     text = text.replace("mass = 185.0", "mass = 185")
-    text += 'coriolis_form = "velocity_independent"\nsource = "a test"\n\n[thrusters]\ncount = 6\n'
+    text += ('coriolis_form = "velocity_independent"\nsource = "a test"\n\n[thrusters]\n'
+             'positions = [[1, 0, 0]]\ndirections = [[1, 0, 0]]\nmax_thrust = 100\n')
     assert_same_vehicle(neurov.Vehicle.from_file(write(tmp_path, text)), neurov.Vehicle.nerov())
+
+
+def test_a_typo_in_thrusters_is_an_error_even_when_no_scenario_uses_them(tmp_path: Path) -> None:
+    """The whole file is checked on every read: a misspelt [thrusters] key
+    used to pass until a scenario switched thrusters on."""
+    text = GOOD + "\n[thrusters]\npositions = [[1, 0, 0]]\ndirections = [[1, 0, 0]]\nmax_thust = 100\n"
+    path = write(tmp_path, text)
+    with pytest.raises(neurov.VehicleFileError, match=r"thrusters\.max_thust: unknown field; did you mean 'max_thrust'"):
+        neurov.Vehicle.from_file(path)
+    scenario = tmp_path / "s.toml"
+    scenario.write_text(f'[vehicle]\nfile = "{path.name}"\nthrusters = false\n'
+                        '[command]\ntype = "square"\n[controller]\ntype = "pd"\nkp = 1\n')
+    with pytest.raises(neurov.ScenarioError, match=r"s\.toml: vehicle: .*max_thust"):
+        neurov.load_scenario(scenario)
 
 
 def test_optional_fields_default_to_zero(tmp_path: Path) -> None:
