@@ -134,7 +134,7 @@ class Result:
     def metrics(self, after: float = 0.0) -> dict[str, Any]:
         """Tracking and effort metrics over t >= after (a transient to skip):
         RMS error per DOF and of the 3-D position, maximum errors, mean and
-        maximum |tau| per DOF, control energy integral ||tau|| dt, integral
+        maximum ``|tau|`` per DOF, control energy integral ``||tau|| dt``, integral
         absolute error per DOF. Non-finite or diverged runs give inf errors."""
         m = self.t >= after
         if not np.any(m):
