@@ -68,7 +68,7 @@ def j_dot_apply(eta: np.ndarray, r: np.ndarray, t: np.ndarray, nu: np.ndarray, v
 
 @dataclass
 class Nerov:
-    """NEROV (docs/model.md, section 5)."""
+    """NEROV (docs/model.md; the paper's section 5)."""
 
     m: float = 185.0
     inertia: tuple[float, float, float] = (25.0, 50.0, 50.0)

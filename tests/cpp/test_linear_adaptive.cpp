@@ -38,7 +38,7 @@ template <typename S>
 class RegressorTest : public ::testing::Test {};
 TYPED_TEST_SUITE(RegressorTest, neurov_test::Scalars, neurov_test::ScalarName);
 
-// NEROV's model exactly as docs/model.md prints it (section 5, eq. 39).
+// NEROV's model exactly as docs/model.md prints it (the paper's section 5, eq. 39).
 constexpr double kM = 185, kIx = 25, kIy = 50, kIz = 50;
 constexpr double kXu = -30, kYv = -80, kZw = -80, kKp = -15, kMq = -30, kNr = -30;
 

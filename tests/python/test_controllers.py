@@ -339,7 +339,7 @@ def nerov_c(nu: Array) -> Array:
 
 
 def nerov_f(nu_r_dot: Array, nu_r: Array, nu: Array, eta: Array) -> Array:
-    """M nu_r_dot + C(nu) nu_r + D(nu) nu_r + g(eta) for NEROV (docs/model.md, section 5)."""
+    """M nu_r_dot + C(nu) nu_r + D(nu) nu_r + g(eta) for NEROV (docs/model.md; the paper's section 5)."""
     m = M_NEROV
     mass = np.diag([m - XU, m - YV, m - ZW, IX - KP, IY - MQ, IZ - NR])
     d = np.diag(np.array([70, 100, 100, 30, 50, 50]) + np.array([100, 200, 200, 50, 100, 100]) * np.abs(nu))
