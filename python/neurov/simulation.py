@@ -208,6 +208,13 @@ class Result:
                             diverged=self.diverged, **arrays)
         return path
 
+    def to_time_response(self) -> Any:
+        """This run as ``control.TimeResponseData`` (needs ``neurov[control]``);
+        see :func:`neurov.control.to_time_response`."""
+        from neurov.control import to_time_response
+
+        return to_time_response(self)
+
     def summary_json(self, after: float = 0.0) -> str:
         return json.dumps({"scenario": self.scenario.name, "controller": self.controller,
                            **self.metrics(after)}, indent=2)
