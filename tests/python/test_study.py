@@ -572,7 +572,10 @@ def test_ctrl_c_says_what_is_saved_and_exits_130(tmp_path: Path, monkeypatch: py
     assert "6 runs (2 already done, 4 run in" in capsys.readouterr().out
 
 
-def test_ctrl_c_from_the_terminal_stops_worker_processes_quietly(tmp_path: Path) -> None:
+@pytest.mark.parametrize("executor", ["processes", "dask"])
+def test_ctrl_c_from_the_terminal_stops_worker_processes_quietly(tmp_path: Path, executor: str) -> None:
+    if executor == "dask":
+        pytest.importorskip("dask.distributed")
     import os
     import signal
     import subprocess
@@ -582,7 +585,7 @@ def test_ctrl_c_from_the_terminal_stops_worker_processes_quietly(tmp_path: Path)
     many = write_study(tmp_path, STUDY.replace("samples = 4", "samples = 100"), "many.toml")
     out = tmp_path / "out"
     proc = subprocess.Popen([sys.executable, "-m", "neurov.cli", "study", str(many), "--out", str(out),
-                             "--workers", "2", "--executor", "processes", "--no-plots"],
+                             "--workers", "2", "--executor", executor, "--no-plots"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             start_new_session=True)
     log = out / LOG_NAME

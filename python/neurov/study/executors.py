@@ -27,6 +27,10 @@ def _init_process_worker(study: Study) -> None:
     _WORKER_STUDY = study
     # Ctrl-C reaches the whole process group; the parent answers it (saves
     # what is done and says so), the workers must not print tracebacks.
+    _ignore_sigint()
+
+
+def _ignore_sigint() -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
@@ -106,8 +110,15 @@ def run_with_dask(study: Study, batches: list[list[tuple[int, int, int]]], worke
         # Worker processes talk over loopback TCP; threads in this process
         # use Dask's in-process transport, which takes no host.
         local = {"host": "127.0.0.1"} if dask_processes else {}
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=dask_processes,
-                               dashboard_address="127.0.0.1:0", **local)
+        # Worker processes inherit an ignored SIGINT (and then asyncio installs
+        # no handler of its own): Ctrl-C reaches the whole process group, and
+        # only this process should answer it.
+        previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+        try:
+            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=dask_processes,
+                                   dashboard_address="127.0.0.1:0", **local)
+        finally:
+            signal.signal(signal.SIGINT, previous)
         client = Client(cluster)
     try:
         n_workers = len(client.scheduler_info().get("workers", {})) or workers
@@ -117,9 +128,15 @@ def run_with_dask(study: Study, batches: list[list[tuple[int, int, int]]], worke
             on_done(fut.result())
             fut.release()
     except KeyboardInterrupt:
-        # Shutting down mid-task makes Dask log every cancelled task and lost
-        # connection; the study says in one line what was saved.
+        # Closing the cluster mid-task makes the workers and the scheduler log
+        # every task cancelled and every connection lost; the study says in
+        # one line what was saved.
         _quiet_dask()
+        if cluster is not None:
+            try:
+                client.run(_quiet_dask)
+            except Exception:  # noqa: BLE001 - a worker already gone has nothing to say
+                pass
         raise
     finally:
         client.close()
