@@ -8,6 +8,7 @@ import hashlib
 import json
 from collections.abc import Callable, Mapping
 from pathlib import Path
+from types import ModuleType
 
 import pandas as pd
 
@@ -27,24 +28,29 @@ def _digest(*parts: object) -> str:
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
+def _plots() -> ModuleType:
+    # matplotlib takes a second to import; a rerun with nothing to draw skips it.
+    from neurov.plotting import study
+
+    return study
+
+
 def _figures(study: Study, table: pd.DataFrame, records: Mapping[tuple[str, str, int], Record]
              ) -> list[tuple[str, str, Callable[[Path], Path]]]:
     """(file name, digest of what it shows, how to draw it) for every figure."""
-    from neurov.plotting import study as plots
-
     labels = [(c, study.label(c)) for c in study.controllers]
     metric = study.ranking_metric
     shown = table[["scenario", "controller", "sample", metric]]
     out = [(f"boxplot_{metric}.png",
             _digest("boxes", study.name, study.samples, labels, [s.name for s in study.scenarios],
                     shown.to_csv(index=False)),
-            lambda path: plots.plot_boxes(study, table, path))]
+            lambda path: _plots().plot_boxes(study, table, path))]
     for s in study.scenarios:
         series = [records[(s.name, c, k)]["series"] for c in study.controllers for k in range(study.samples)
                   if (s.name, c, k) in records]
         out.append((f"error_bands_{s.name}.png",
                     _digest("bands", s.name, study.samples, study.after, labels, series),
-                    lambda path, s=s: plots.plot_bands(study, records, s, path)))
+                    lambda path, s=s: _plots().plot_bands(study, records, s, path)))
     return out
 
 
