@@ -4,7 +4,7 @@ loop over neurons), ``math`` for the scalar trigonometry.
 
 It is the baseline of ``bench/compare.py`` and is checked there against
 neurov on the same inputs (the closed loops agree to round-off), so the two
-sides do the same work. Equations: SPEC.md (eq. 2, 12-16, 30, 35, 37, 39);
+sides do the same work. Equations: docs/model.md (eq. 2, 12-16, 30, 35, 37, 39);
 the NEROV model with its diagonal M, the velocity-independent C(nu) of
 eq. 39, D(nu) and g(eta).
 """
@@ -68,7 +68,7 @@ def j_dot_apply(eta: np.ndarray, r: np.ndarray, t: np.ndarray, nu: np.ndarray, v
 
 @dataclass
 class Nerov:
-    """NEROV (SPEC.md, section 5)."""
+    """NEROV (docs/model.md; the paper's section 5)."""
 
     m: float = 185.0
     inertia: tuple[float, float, float] = (25.0, 50.0, 50.0)

@@ -7,6 +7,7 @@ namespace neurov::bindings {
 
 void bind_kinematics(pybind11::module_& m);
 void bind_vehicle(pybind11::module_& m);
+void bind_linearization(pybind11::module_& m);
 void bind_controllers(pybind11::module_& m);
 void bind_simulation(pybind11::module_& m);
 void bind_bench(pybind11::module_& m);  // private timing helpers (bench/compare.py)

@@ -25,6 +25,7 @@ PYBIND11_MODULE(_core, m) {
 
   neurov::bindings::bind_kinematics(m);
   neurov::bindings::bind_vehicle(m);
+  neurov::bindings::bind_linearization(m);
   neurov::bindings::bind_controllers(m);
   neurov::bindings::bind_simulation(m);
   neurov::bindings::bind_bench(m);

@@ -236,6 +236,35 @@ def rk4_step(
     Raises ``ValueError`` at the pitch singularity or on overflow.
     """
 
+def plant_derivative(
+    vehicle: Vehicle,
+    eta: _ArrayLike,
+    nu: _ArrayLike,
+    tau: _ArrayLike,
+    current: _ArrayLike | None = None,
+) -> _Array:
+    """The 12-state plant's right-hand side ``(eta_dot, nu_dot)``, shape (12,).
+
+    ``eta_dot = J(eta) nu`` and ``nu_dot`` as in :meth:`Vehicle.acceleration`:
+    the function :func:`rk4_step` integrates. ``current`` (3,) is a constant
+    NED current velocity [m/s]. Raises ``ValueError`` at the pitch singularity.
+    """
+
+def plant_jacobians(
+    vehicle: Vehicle,
+    eta: _ArrayLike,
+    nu: _ArrayLike,
+    tau: _ArrayLike | None = None,
+    current: _ArrayLike | None = None,
+) -> tuple[_Array, _Array]:
+    """Analytic Jacobians ``(A, B)`` of :func:`plant_derivative` at ``(eta, nu)``.
+
+    ``A = d(eta_dot, nu_dot)/d(eta, nu)``, shape (12, 12), and
+    ``B = d(eta_dot, nu_dot)/d tau``, shape (12, 6), in closed form (C++). The
+    plant is affine in tau, so ``tau`` (default zero) changes neither.
+    Raises ``ValueError`` at the pitch singularity.
+    """
+
 # --------------------------------------------------------------------------
 # Reference model, tracking error, regressor
 

@@ -58,6 +58,8 @@ def _parser() -> argparse.ArgumentParser:
     study.add_argument("--format", choices=("csv", "parquet"), default="csv", dest="table_format",
                        help="format of the runs table (parquet needs pyarrow)")
     study.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
+    study.add_argument("--quiet", action="store_true",
+                       help="no progress bars (there are none either when stderr is not a terminal)")
     return p
 
 
@@ -93,7 +95,11 @@ def main(argv: Sequence[str] | None = None) -> int:
 
             main_study(args.study, args.out, args.workers, args.scheduler, executor=args.executor,
                        table_format=args.table_format, plots=not args.no_plots,
-                       batch_size=args.batch_size)
+                       batch_size=args.batch_size, quiet=args.quiet)
+    except KeyboardInterrupt as e:
+        # A study says what it saved and that rerunning resumes; one line, no traceback.
+        print(f"neurov: {e or 'interrupted'}", file=sys.stderr)
+        return 130
     except (ValueError, OSError) as e:
         # ScenarioError and VehicleFileError are ValueErrors that name the
         # file and the field: the message is the whole story, no traceback.

@@ -81,7 +81,7 @@ def write_outputs(result: Result, metrics: dict[str, Any], out_dir: str | Path, 
     if plot:
         # Imported here: matplotlib costs a second to import and a run without
         # plots does not need it.
-        from neurov import plot as plots
+        from neurov.plotting import runs as plots
 
         figures = {
             "xy.png": plots.xy_path(result),

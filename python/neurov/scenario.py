@@ -236,16 +236,16 @@ class ControllerSpec:
     """A controller and its gains. ``type`` is ``"nn"``, ``"linear"``, ``"pd"``,
     ``"pid"`` or ``"smc"``.
 
-    nn: lambda_, kd, gamma (0.3), width (sigma, 30), centres: dict
+    nn: ``lambda_``, kd, gamma (0.3), width (sigma, 30), centres: dict
     ``{"method": "sobol" | "latin_hypercube" | "grid", ...}`` (see
     :mod:`neurov.centres`), or an explicit (N, 24) array; modification,
     sigma_m, kappa, w_max, dead_zone.
-    linear: lambda_, kd, gamma (number or 24), theta0: ``"zero"``,
+    linear: ``lambda_``, kd, gamma (number or 24), theta0: ``"zero"``,
     ``"true"`` (the plant's own theta) or ``"scaled"`` (true times
     theta0_scale).
     pd: kp, kd.
-    pid: kp, ki, kd, integral_limit (largest |K_i z| per DOF).
-    smc: lambda_, kd, k (switching gain), phi (boundary layer); the nominal
+    pid: kp, ki, kd, integral_limit (largest ``|K_i z|`` per DOF).
+    smc: ``lambda_``, kd, k (switching gain), phi (boundary layer); the nominal
     model is the vehicle file's theta (regressor_parameters).
     """
 

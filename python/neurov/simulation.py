@@ -131,7 +131,7 @@ class Result:
     def metrics(self, after: float = 0.0) -> dict[str, Any]:
         """Tracking and effort metrics over t >= after (a transient to skip):
         RMS error per DOF and of the 3-D position, maximum errors, mean and
-        maximum |tau| per DOF, control energy integral ||tau|| dt, integral
+        maximum ``|tau|`` per DOF, control energy integral ``||tau|| dt``, integral
         absolute error per DOF. Non-finite or diverged runs give inf errors."""
         m = self.t >= after
         if not np.any(m):
@@ -187,6 +187,44 @@ class Result:
         cols["faults"] = self.faults.astype(np.float64)
         return cols
 
+    def to_pandas(self) -> Any:
+        """The run as a tidy :class:`pandas.DataFrame`: one row per control
+        step, indexed by time ``t`` [s]. Columns: the pose ``x, y, z, phi,
+        theta, psi`` [m, rad]; the body velocities ``u, v, w, p, q, r``; the
+        desired pose ``x_d`` ... ``psi_d`` and its rate ``x_d_dot`` ...;
+        the demanded generalised force ``tau_X`` ... ``tau_N`` [N, N m] and the
+        applied one ``tau_applied_X`` ...; the disturbance ``d_X`` ...; the
+        sliding variable ``s_x`` ... ``s_psi``; the thrusts ``thrust_0`` ... [N]; the
+        adapted parameters ``theta[m]`` ... (linear adaptive only); the
+        ``adaptive_norm``; ``controller_status`` and ``plant_status`` as
+        :class:`neurov.Status` names; and the fault flags ``fault_freeze``,
+        ``fault_dropout``, ``fault_noise_burst``, ``fault_thruster`` and
+        ``pitch_limited`` (bits 1, 2, 4, 8, 16 of :attr:`faults`)."""
+        import pandas as pd
+
+        pose, body = ("x", "y", "z", "phi", "theta", "psi"), ("u", "v", "w", "p", "q", "r")
+        force = ("X", "Y", "Z", "K", "M", "N")
+        cols: dict[str, Any] = {}
+        for arr, names in ((self.eta, pose), (self.nu, body), (self.eta_d, [f"{n}_d" for n in pose]),
+                           (self.eta_d_dot, [f"{n}_d_dot" for n in pose]),
+                           (self.tau_demanded, [f"tau_{n}" for n in force]),
+                           (self.tau_applied, [f"tau_applied_{n}" for n in force]),
+                           (self.disturbance, [f"d_{n}" for n in force]),
+                           (self.s, [f"s_{n}" for n in pose])):
+            cols.update((n, arr[:, i]) for i, n in enumerate(names))
+        cols.update((f"thrust_{i}", self.thrusts[:, i]) for i in range(self.thrusts.shape[1]))
+        cols.update((f"theta[{n}]", self.theta[:, i])
+                    for i, n in enumerate(_core.THETA_NAMES[: self.theta.shape[1]]))
+        cols["adaptive_norm"] = self.adaptive_norm
+        statuses = [s.name for s in sorted(_core.Status.__members__.values(), key=int)]
+        for name in ("controller_status", "plant_status"):
+            codes = getattr(self, name).astype(np.int64)
+            cols[name] = pd.Categorical.from_codes(codes, categories=statuses)
+        for bit, name in enumerate(("fault_freeze", "fault_dropout", "fault_noise_burst", "fault_thruster",
+                                    "pitch_limited")):
+            cols[name] = (self.faults & (1 << bit)) != 0
+        return pd.DataFrame(cols, index=pd.Index(self.t, name="t"))
+
     def to_csv(self, path: str | Path) -> Path:
         """Writes every column to a CSV file with a header row."""
         path = Path(path)
@@ -204,6 +242,13 @@ class Result:
         np.savez_compressed(path, scenario=self.scenario.name, controller=self.controller,
                             diverged=self.diverged, **arrays)
         return path
+
+    def to_time_response(self) -> Any:
+        """This run as ``control.TimeResponseData`` (needs ``neurov[control]``);
+        see :func:`neurov.control.to_time_response`."""
+        from neurov.control import to_time_response
+
+        return to_time_response(self)
 
     def summary_json(self, after: float = 0.0) -> str:
         return json.dumps({"scenario": self.scenario.name, "controller": self.controller,
@@ -251,35 +296,12 @@ def simulate(scenario: Scenario, controller: ControllerSpec | None = None, *,
 
 def simulate_many(runs: Sequence[tuple[Scenario, ControllerSpec | None]] | Iterable[tuple[Scenario, ControllerSpec | None]],
                   progress: bool = False) -> Iterator[Result]:
-    """Runs several scenarios one after another, with a progress bar on
-    stderr when `progress` (the bar is plain text; no extra dependency)."""
+    """Runs several scenarios one after another; with `progress`, a progress
+    bar on stderr while stderr is a terminal (see :mod:`neurov.progress`)."""
+    from neurov.progress import progress_bar
+
     runs = list(runs)
-    bar = _Progress(len(runs)) if progress else None
-    for scenario, spec in runs:
-        yield simulate(scenario, spec)
-        if bar:
-            bar.advance()
-    if bar:
-        bar.close()
-
-
-class _Progress:
-    """A minimal text progress bar on stderr."""
-
-    def __init__(self, total: int) -> None:
-        import sys
-
-        self.total = max(total, 1)
-        self.done = 0
-        self.stream = sys.stderr
-
-    def advance(self, n: int = 1) -> None:
-        self.done += n
-        width = 30
-        filled = int(width * self.done / self.total)
-        self.stream.write(f"\r[{'#' * filled}{'.' * (width - filled)}] {self.done}/{self.total}")
-        self.stream.flush()
-
-    def close(self) -> None:
-        self.stream.write("\n")
-        self.stream.flush()
+    with progress_bar(len(runs), "runs", quiet=not progress) as bar:
+        for scenario, spec in runs:
+            yield simulate(scenario, spec)
+            bar.update(1)

@@ -1,7 +1,7 @@
 // The RBF neural-network controller (eq. 30, 35, 37), the step of the linearly
 // parameterised controller (eq. 26, 28) and the PD baseline.
 //
-// The reference values are computed here from SPEC.md with plain loops in
+// The reference values are computed here from docs/model.md with plain loops in
 // double: J, J^-1 and J_dot from their printed closed forms, the tracking error
 // from eq. 11 and 14-16, the basis from eq. 30, tau from eq. 35 and the weight
 // step from eq. 37. Nothing of the library's kinematics or tracking error is
@@ -49,7 +49,7 @@ using M6d = Eigen::Matrix<double, 6, 6>;
 using MatXd = Eigen::MatrixXd;
 using VecXd = Eigen::VectorXd;
 
-// ------------------------------------------------- SPEC.md in plain double
+// ------------------------------------------- docs/model.md in plain double
 
 M3d spec_rotation(double phi, double theta, double psi) {
   const double cf = std::cos(phi), sf = std::sin(phi), ct = std::cos(theta), st = std::sin(theta),
@@ -125,7 +125,7 @@ V6d matvec(const M6d& a, const V6d& v) {
 
 V6d matvec_t(const M6d& a, const V6d& v) { return matvec(M6d(a.transpose()), v); }
 
-/// Eq. 11 and 14-16, written from SPEC.md.
+/// Eq. 11 and 14-16, written from docs/model.md.
 struct SpecTracking {
   V6d eta_tilde, eta_tilde_dot, s, nu_r, nu_r_dot;
   M6d j, j_inv;
@@ -997,7 +997,7 @@ TYPED_TEST_SUITE(LinearStepTest, neurov_test::Scalars, neurov_test::ScalarName);
 
 // tau = Phi theta_hat - J^T K_d s with the theta_hat from before the update,
 // then theta_hat <- theta_hat - dt Gamma Phi^T J^-1 s. s, nu_r, nu_r_dot and J
-// come from the SPEC.md formulas above; Phi from regressor(), whose identity
+// come from the docs/model.md formulas above; Phi from regressor(), whose identity
 // Phi theta = f is tested on its own in test_linear_adaptive.cpp.
 TYPED_TEST(LinearStepTest, StepMatchesEquations26And28) {
   using S = TypeParam;

@@ -1,6 +1,6 @@
 // The linearly parameterised adaptive controller (eq. 21, 26, 28) on NEROV:
 // the regressor identity Phi theta = f against the model written out from
-// SPEC.md, the structure checks of regressor_parameters, the Lyapunov function
+// docs/model.md, the structure checks of regressor_parameters, the Lyapunov function
 // along a closed-loop run, and exact tracking with the true parameters.
 #include <algorithm>
 #include <cmath>
@@ -38,7 +38,7 @@ template <typename S>
 class RegressorTest : public ::testing::Test {};
 TYPED_TEST_SUITE(RegressorTest, neurov_test::Scalars, neurov_test::ScalarName);
 
-// NEROV's model exactly as SPEC.md prints it (section 5, eq. 39).
+// NEROV's model exactly as docs/model.md prints it (the paper's section 5, eq. 39).
 constexpr double kM = 185, kIx = 25, kIy = 50, kIz = 50;
 constexpr double kXu = -30, kYv = -80, kZw = -80, kKp = -15, kMq = -30, kNr = -30;
 

@@ -1,7 +1,7 @@
 // The PID baseline with anti-windup and the sliding-mode controller with a
 // boundary layer.
 //
-// Expected values are computed here in plain double from SPEC.md: J from its
+// Expected values are computed here in plain double from docs/model.md: J from its
 // printed closed form, J_dot by a central difference of that J along
 // eta_dot = J nu (so no closed form is shared with the library), the tracking
 // error from eq. 11 and 14-16. For the sliding-mode controller with the true
@@ -88,7 +88,7 @@ double tol(double scale) {
 
 double max_abs(const V6d& v) { return v.cwiseAbs().maxCoeff(); }
 
-// --------------------------------------------------------- SPEC.md in double
+// --------------------------------------------------- docs/model.md in double
 
 M6d spec_j(const V6d& eta) {
   const double cf = std::cos(eta(3)), sf = std::sin(eta(3)), ct = std::cos(eta(4)),

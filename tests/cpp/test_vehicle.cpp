@@ -168,7 +168,7 @@ TYPED_TEST(VehicleTest, CoriolisForceEqualsCoriolisMatrixTimesVelocity) {
   }
 }
 
-// The paper's eq. 39 typed in from SPEC.md with the hydrodynamic derivatives
+// The paper's eq. 39 typed in from docs/model.md with the hydrodynamic derivatives
 // (negative numbers) rather than the added-mass magnitudes the header stores.
 TYPED_TEST(VehicleTest, NerovCoriolisIsThePapersEquation39) {
   using S = TypeParam;

@@ -1,4 +1,4 @@
-"""An independent numpy implementation of the model in SPEC.md (Fossen's
+"""An independent numpy implementation of the model in docs/model.md (Fossen's
 equations written from the textbook, not from the C++), so that the tests can
 check the compiled core against it. Nothing here imports neurov."""
 
@@ -184,7 +184,7 @@ def random_velocity(rng: np.random.Generator, scale: float = 1.0) -> np.ndarray:
     return rng.normal(scale=scale, size=6)
 
 
-# NEROV as SPEC.md states it (section 5 of the paper), written out here
+# NEROV as docs/model.md states it (section 5 of the paper), written out here
 # independently of the preset file and of the C++.
 NEROV: dict[str, Any] = {
     "mass": 185.0,

@@ -2,7 +2,7 @@
 
 J, J^-1 and J_dot, the tracking error (eq. 11, 14-16), the RBF basis (eq. 30),
 the NN control law (eq. 35) and weight step (eq. 37) and the model of NEROV
-(eq. 39) are all written out here from SPEC.md, so the expected numbers do not
+(eq. 39) are all written out here from docs/model.md, so the expected numbers do not
 come from the code under test (neurov.tracking_error is not used). Closed-loop
 runs then check what the laws are for: V does not increase for the linearly
 parameterised law, the true parameters track exactly, the NN learns from W = 0,
@@ -21,7 +21,7 @@ import neurov
 
 Array = np.ndarray
 
-# ------------------------------------------------------------ SPEC.md in numpy
+# ------------------------------------------------------ docs/model.md in numpy
 
 
 def rotation(phi: float, theta: float, psi: float) -> Array:
@@ -323,7 +323,7 @@ XU, YV, ZW, KP, MQ, NR = -30.0, -80.0, -80.0, -15.0, -30.0, -30.0
 
 
 def nerov_c(nu: Array) -> Array:
-    """C(nu) of NEROV, eq. 39 as SPEC.md prints it."""
+    """C(nu) of NEROV, eq. 39 as docs/model.md prints it."""
     u, v, w, p, q, r = nu
     m = M_NEROV
     return np.array(
@@ -339,7 +339,7 @@ def nerov_c(nu: Array) -> Array:
 
 
 def nerov_f(nu_r_dot: Array, nu_r: Array, nu: Array, eta: Array) -> Array:
-    """M nu_r_dot + C(nu) nu_r + D(nu) nu_r + g(eta) for NEROV (SPEC.md, section 5)."""
+    """M nu_r_dot + C(nu) nu_r + D(nu) nu_r + g(eta) for NEROV (docs/model.md; the paper's section 5)."""
     m = M_NEROV
     mass = np.diag([m - XU, m - YV, m - ZW, IX - KP, IY - MQ, IZ - NR])
     d = np.diag(np.array([70, 100, 100, 30, 50, 50]) + np.array([100, 200, 200, 50, 100, 100]) * np.abs(nu))

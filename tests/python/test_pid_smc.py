@@ -1,9 +1,9 @@
 """The PID baseline (anti-windup) and the sliding-mode controller (boundary
-layer) as bound in neurov._core, against numpy written here from SPEC.md.
+layer) as bound in neurov._core, against numpy written here from docs/model.md.
 
 J comes from its printed closed form and J_dot from a central difference of
 that J, so neither shares code with the library; NEROV's M, C (eq. 39), D and
-g are typed in from SPEC.md, so "theta = true" is checked against the model,
+g are typed in from docs/model.md, so "theta = true" is checked against the model,
 not against the regressor itself.
 """
 
@@ -29,7 +29,7 @@ def nerov() -> neurov.Vehicle:
     return neurov.Vehicle.nerov()
 
 
-# --- SPEC.md in numpy --------------------------------------------------------
+# --- docs/model.md in numpy --------------------------------------------------
 
 
 def spec_j(eta: np.ndarray) -> np.ndarray:

@@ -1,5 +1,5 @@
 """The vehicle model M nu_dot + C(nu) nu + D(nu) nu + g(eta) = tau, checked against
-the numbers of SPEC.md and against an independent numpy implementation."""
+the numbers of docs/model.md and against an independent numpy implementation."""
 
 from __future__ import annotations
 

@@ -5,6 +5,7 @@
 #include "neurov/control/desired_state.hpp"
 #include "neurov/model/integrator.hpp"
 #include "neurov/model/kinematics.hpp"
+#include "neurov/model/linearization.hpp"
 #include "neurov/control/linear_adaptive_controller.hpp"
 #include "neurov/control/nn_controller.hpp"
 #include "neurov/control/pd_controller.hpp"

@@ -374,7 +374,7 @@ class Vehicle {
   bool valid_ = false;
 };
 
-/// NEROV, the paper's vehicle (section 5; numbers in SPEC.md).
+/// NEROV, the paper's vehicle (section 5; numbers in docs/model.md).
 template <typename Scalar>
 inline VehicleParameters<Scalar> nerov_parameters() noexcept {
   VehicleParameters<Scalar> p;

@@ -1,0 +1,17 @@
+"""Every figure neurov draws, in one place.
+
+- :mod:`neurov.plotting.runs`: one or more closed-loop runs (path, pose,
+  errors, control inputs, adaptive norm); what ``neurov run --plot`` writes.
+- :mod:`neurov.plotting.paper`: the paper's Figs. 3-5 (``neurov paper``).
+- :mod:`neurov.plotting.study`: a study's box plots and error bands
+  (``neurov study``).
+
+The run plots are also importable from here::
+
+    from neurov import plotting
+    plotting.save(plotting.xy_path([nn_result, linear_result]), "xy.png")
+"""
+
+from neurov.plotting.runs import adaptive_norm, control_inputs, dof_time, errors, save, xy_path
+
+__all__ = ["adaptive_norm", "control_inputs", "dof_time", "errors", "save", "xy_path"]

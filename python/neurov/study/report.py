@@ -1,0 +1,103 @@
+"""The league table (league.md): per scenario the controllers ranked by the
+median of the ranking metric, the mean rank over all scenarios, and the
+head-to-head comparisons a study asks for, in Markdown."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from neurov.study.spec import NORMAL_TRUNCATION, Perturbation, Study
+from neurov.study.tables import Rows, as_frame, head_to_head, summarise
+
+__all__ = ["league_markdown"]
+
+
+def _num(x: float, digits: int = 4) -> str:
+    if math.isinf(x):
+        return "inf"
+    if math.isnan(x):
+        return "-"
+    return f"{x:.{digits}g}" if abs(x) < 1e4 else f"{x:.3e}"
+
+
+def league_markdown(study: Study, runs: Rows) -> str:
+    """The league table: per scenario, controllers ranked by the median of
+    the ranking metric, then the mean rank over all scenarios and the
+    head-to-head comparisons the study asks for."""
+    rows = as_frame(runs)
+    summ = summarise(study, rows)
+    metric = study.ranking_metric
+    bounds = ", ".join(f"{k} > {v:g}" for k, v in study.failure.items())
+    lines = [
+        f"# League table: {study.name}",
+        "",
+        study.description,
+        "",
+        f"{study.samples} sample(s) per scenario and controller, seed {study.seed}; metrics over "
+        f"t >= {study.after:g} s. Ranked by the median of `{metric}` (lower is better). A run fails "
+        f"if it diverges or a metric is not finite{'; or ' + bounds if bounds else ''}.",
+        "",
+    ]
+    if study.perturbations:
+        lines += ["Perturbed per sample: " + ", ".join(_describe_perturbation(p) for p in study.perturbations) + ".", ""]
+    for s in study.scenarios:
+        group = [g for g in summ if g.scenario == s.name]
+        if not group:
+            continue
+        best = group[0].median
+        extra_head = "".join(f" median {k} |" for k in study.also_show)
+        lines += [f"## {s.name}", "", f"{s.description}", "",
+                  f"| rank | controller | median {metric} | 5th-95th percentile | failure rate | median / best |"
+                  + extra_head,
+                  "|---|---|---|---|---|---|" + "---|" * len(study.also_show)]
+        for g in group:
+            ratio = g.median / best if best > 0 and math.isfinite(best) else float("nan")
+            extra = "".join(f" {_num(g.also[k])} |" for k in study.also_show)
+            lines.append(f"| {g.rank} | {g.label} | {_num(g.median)} | {_num(g.p5)} - {_num(g.p95)} | "
+                         f"{100 * g.failure_rate:.0f} % | {_num(ratio, 3)} |" + extra)
+        lines.append("")
+    ranks: dict[str, list[int]] = {c: [] for c in study.controllers}
+    fails: dict[str, list[float]] = {c: [] for c in study.controllers}
+    for g in summ:
+        ranks[g.controller].append(g.rank)
+        fails[g.controller].append(g.failure_rate)
+    overall = sorted((c for c in study.controllers if ranks[c]),
+                     key=lambda c: (float(np.mean(ranks[c])), study.controllers.index(c)))
+    if len(study.scenarios) > 1 and overall:
+        lines += ["## Over all scenarios", "",
+                  "| controller | mean rank | first places | mean failure rate |", "|---|---|---|---|"]
+        for c in overall:
+            lines.append(f"| {study.label(c)} | {np.mean(ranks[c]):.2f} | {ranks[c].count(1)} | "
+                         f"{100 * float(np.mean(fails[c])):.0f} % |")
+        lines.append("")
+    for a, b in study.head_to_head:
+        la, lb = study.label(a), study.label(b)
+        others = study.also_show
+        lines += [f"## {la} against {lb}", "",
+                  f"Same plants and noise per sample. \"better\": samples where {la} has the lower value; "
+                  f"ratio: {la} / {lb} (a failed run counts as infinitely bad).", "",
+                  f"| scenario | better in `{metric}` | median ratio | 5th-95th percentile of the ratio |"
+                  + "".join(f" better in `{k}` | median ratio |" for k in others),
+                  "|---|---|---|---|" + "---|---|" * len(others)]
+        main = head_to_head(study, rows, a, b)
+        extra = {k: {h["scenario"]: h for h in head_to_head(study, rows, a, b, k)} for k in others}
+        for h in main:
+            cells = "".join(f" {extra[k][h['scenario']]['a_wins']} of {h['n']} | "
+                            f"{_num(extra[k][h['scenario']]['median_ratio'], 3)} |" for k in others)
+            lines.append(f"| {h['scenario']} | {h['a_wins']} of {h['n']} | {_num(h['median_ratio'], 3)} | "
+                         f"{_num(h['p5_ratio'], 3)} - {_num(h['p95_ratio'], 3)} |" + cells)
+        lines.append("")
+    return "\n".join(lines).rstrip() + "\n"
+
+
+def _describe_perturbation(p: Perturbation) -> str:
+    if p.is_vehicle:
+        spread = f"±{100 * p.relative:g} %" if p.distribution == "uniform" else \
+            f"normal, sd {100 * p.relative:g} % (truncated at {NORMAL_TRUNCATION:g} sd)"
+        each = " per element" if p.per_element and p.parameter not in ("mass", "weight", "buoyancy") else ""
+        return f"{p.parameter} {spread}{each}"
+    if p.distribution == "uniform":
+        return f"{p.parameter} uniform {p.low:g}..{p.high:g}"
+    return f"{p.parameter} normal mean {p.mean:g} sd {p.std:g}"

@@ -1,0 +1,168 @@
+"""What a study is: the :class:`Study` a study file becomes, its
+perturbations, and the names a study refers to (vehicle parameters,
+environment quantities, metrics)."""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from neurov.scenario import ControllerSpec, Scenario
+
+__all__ = ["ENVIRONMENT_PARAMETERS", "NORMAL_TRUNCATION", "SCENARIO_DIR", "STUDY_DIR", "VEHICLE_PARAMETERS",
+           "METRIC_NAMES", "Perturbation", "Study", "StudyError", "metric_names", "vehicle_key"]
+
+_PACKAGE = Path(__file__).resolve().parent.parent
+
+STUDY_DIR = _PACKAGE / "studies"
+SCENARIO_DIR = _PACKAGE / "scenarios"
+
+# Vehicle parameters a study may scale (keys of a vehicle file).
+VEHICLE_PARAMETERS = ("mass", "inertia", "added_mass", "linear_damping", "quadratic_damping",
+                      "weight", "buoyancy")
+# Quantities of the environment, drawn as absolute values.
+ENVIRONMENT_PARAMETERS = {
+    "current_speed": "horizontal current speed [m/s], replacing the scenario's",
+    "current_direction": "direction the current flows to [deg from north, towards east]",
+    "noise_scale": "factor on the scenario's measurement-noise standard deviations",
+    "disturbance_scale": "factor on the amplitudes of the scenario's disturbances",
+}
+# Absolute quantities that must stay >= 0.
+_NON_NEGATIVE = {"current_speed", "noise_scale", "disturbance_scale"}
+# Truncation of the normal distribution, in standard deviations: a perturbed
+# plant must stay physical (a factor of 1 - 2 * 0.3 is still positive).
+NORMAL_TRUNCATION = 2.0
+
+
+class StudyError(ValueError):
+    """A study that cannot be run: names the file and the field."""
+
+
+@dataclass(frozen=True)
+class Perturbation:
+    """One perturbed quantity. Vehicle parameters are scaled by a factor
+    (uniform in [1 - relative, 1 + relative], or normal with standard
+    deviation `relative` truncated at two); environment quantities take
+    absolute values (uniform in `low`..`high`, or normal `mean`, `std`
+    truncated at two)."""
+
+    parameter: str
+    distribution: str = "uniform"
+    relative: float = 0.0
+    low: float = 0.0
+    high: float = 0.0
+    mean: float = 0.0
+    std: float = 0.0
+    per_element: bool = True
+
+    @property
+    def is_vehicle(self) -> bool:
+        return self.parameter in VEHICLE_PARAMETERS
+
+    def draw(self, rng: np.random.Generator, n: int) -> np.ndarray:
+        """n values: factors for a vehicle parameter, values otherwise."""
+        z = _truncated_normal(rng, n) if self.distribution == "normal" else rng.uniform(-1.0, 1.0, n)
+        if self.is_vehicle:
+            return 1.0 + self.relative * z
+        if self.distribution == "normal":
+            return self.mean + self.std * z
+        return self.low + (self.high - self.low) * (z + 1.0) / 2.0
+
+
+def _truncated_normal(rng: np.random.Generator, n: int) -> np.ndarray:
+    out = rng.standard_normal(n)
+    # Redraw in place: the number of draws depends only on the generator's
+    # stream, so a seed still fixes the values.
+    while True:
+        bad = np.abs(out) > NORMAL_TRUNCATION
+        if not bad.any():
+            return out
+        out[bad] = rng.standard_normal(int(bad.sum()))
+
+
+@dataclass
+class Study:
+    name: str
+    scenarios: list[Scenario]
+    controllers: list[str]
+    """Controller keys, in the file's order."""
+    controller_specs: dict[tuple[str, str], ControllerSpec]
+    """(controller key, vehicle key) -> the spec for that vehicle."""
+    perturbations: list[Perturbation] = field(default_factory=list)
+    samples: int = 1
+    seed: int = 0
+    after: float = 0.0
+    ranking_metric: str = "rmse_position_m"
+    also_show: list[str] = field(default_factory=list)
+    """Further metrics whose medians the league table shows beside the ranking."""
+    failure: dict[str, float] = field(default_factory=dict)
+    head_to_head: list[tuple[str, str]] = field(default_factory=list)
+    description: str = ""
+    source: str = ""
+    cache: dict[Any, Any] = field(default_factory=dict, repr=False, compare=False)
+    """Per-process memo of the NN centres (a Sobol draw costs about a third
+    of a short run); not part of the study."""
+
+    def label(self, controller: str) -> str:
+        specs = [s for (c, _), s in self.controller_specs.items() if c == controller]
+        return specs[0].label if specs and specs[0].label else controller
+
+    def spec_for(self, controller: str, scenario: Scenario) -> ControllerSpec:
+        return self.controller_specs[(controller, vehicle_key(scenario))]
+
+    def fingerprint(self) -> str:
+        """A hash of everything that decides a run's numbers. The sample count,
+        failure thresholds and ranking are left out: adding samples or
+        changing how runs are judged reuses the runs already made."""
+        from neurov import __version__
+
+        payload = {
+            "version": __version__,
+            "seed": self.seed,
+            "after": self.after,
+            "perturbations": [dataclasses.asdict(p) for p in self.perturbations],
+            "scenarios": [_canonical(dataclasses.asdict(s) | {"source": ""}) for s in self.scenarios],
+            "controllers": {f"{c}@{v}": _canonical(dataclasses.asdict(s))
+                            for (c, v), s in sorted(self.controller_specs.items())},
+        }
+        text = json.dumps(payload, sort_keys=True, default=str)
+        return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def _canonical(x: Any) -> Any:
+    if isinstance(x, np.ndarray):
+        return [float(v) for v in x.ravel()] + [list(x.shape)]
+    if isinstance(x, Mapping):
+        return {str(k): _canonical(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_canonical(v) for v in x]
+    if isinstance(x, (np.floating, np.integer)):
+        return x.item()
+    return x
+
+
+def vehicle_key(scenario: Scenario) -> str:
+    """The name a study's per-vehicle gains are filed under: the vehicle
+    file's stem (``nerov``, ``bluerov2_heavy``)."""
+    return Path(scenario.vehicle).stem
+
+
+def metric_names() -> list[str]:
+    """The metric columns of a run's row (Result.metrics, flattened)."""
+    return list(METRIC_NAMES)
+
+
+METRIC_NAMES = (
+    "rmse_position_m", "max_position_error_m", "rmse_yaw_rad", "max_yaw_error_rad",
+    *(f"{k}_{d}" for k in ("rmse", "max_abs_error", "iae") for d in ("x", "y", "z", "roll", "pitch", "yaw")),
+    "mean_abs_tau", "max_abs_tau",
+    *(f"{k}_{i}" for k in ("mean_abs_tau_dof", "max_abs_tau_dof") for i in range(6)),
+    "control_energy", "final_adaptive_norm", "max_adaptive_norm", "refused_steps", "diverged",
+)
