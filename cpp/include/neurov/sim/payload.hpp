@@ -37,21 +37,6 @@ struct PayloadEvent {
   Scalar added_mass_scale = Scalar(1);
 };
 
-/// Checks an event against the vehicle it will change: finite numbers, a
-/// time >= 0, scales >= 0, and a vehicle left with mass > 0 and buoyancy
-/// >= 0; then the changed vehicle as validate(VehicleParameters) does (a
-/// dropped point mass can leave an inertia that is not positive definite).
-template <typename Scalar>
-inline ValidationError validate(const PayloadEvent<Scalar>& e,
-                                const VehicleParameters<Scalar>& before) noexcept;
-
-/// The vehicle after the event: `after` is written only when the event is
-/// valid for `before` (the error is returned otherwise). Allocation-free.
-template <typename Scalar>
-inline ValidationError apply_payload(const PayloadEvent<Scalar>& e,
-                                     const VehicleParameters<Scalar>& before,
-                                     VehicleParameters<Scalar>& after) noexcept;
-
 namespace detail {
 
 template <typename Scalar>
@@ -101,6 +86,10 @@ inline VehicleParameters<Scalar> changed_vehicle(const PayloadEvent<Scalar>& e,
 
 }  // namespace detail
 
+/// Checks an event against the vehicle it will change: finite numbers, a
+/// time >= 0, scales >= 0, and a vehicle left with mass > 0 and buoyancy
+/// >= 0; then the changed vehicle as validate(VehicleParameters) does (a
+/// dropped point mass can leave an inertia that is not positive definite).
 template <typename Scalar>
 inline ValidationError validate(const PayloadEvent<Scalar>& e,
                                 const VehicleParameters<Scalar>& before) noexcept {
@@ -108,6 +97,8 @@ inline ValidationError validate(const PayloadEvent<Scalar>& e,
   return validate(detail::changed_vehicle(e, before));
 }
 
+/// The vehicle after the event: `after` is written only when the event is
+/// valid for `before` (the error is returned otherwise). Allocation-free.
 template <typename Scalar>
 inline ValidationError apply_payload(const PayloadEvent<Scalar>& e,
                                      const VehicleParameters<Scalar>& before,
