@@ -460,4 +460,20 @@ TEST(Waves, BadInputIsNamed) {
   EXPECT_EQ(out.velocity, Eigen::Vector3d::Zero());
 }
 
+// A valid but absurd float sea whose kinematics do not fit in a float:
+// zeros and non_finite_output, never an infinity.
+TEST(Waves, OverflowGivesZerosAndAStatus) {
+  WaveConfig<float> c;
+  c.hs = 3e38f;
+  c.tp = 0.1f;  // omega_p = 63 rad/s: a omega is far above the float range
+  auto w = std::make_unique<Waves<float>>();
+  ASSERT_TRUE(Waves<float>::create(c, 1, *w).ok());
+  WaveKinematics<float> out;
+  EXPECT_EQ(w->evaluate(10.0, Eigen::Vector3f::Zero(), out), Status::non_finite_output);
+  EXPECT_EQ(out.elevation, 0.0f);
+  EXPECT_EQ(out.acceleration, Eigen::Vector3f::Zero());
+  EXPECT_EQ(w->start(10.0, Eigen::Vector3f::Zero(), 0.1f), Status::non_finite_output);
+  EXPECT_EQ(w->kinematics().velocity, Eigen::Vector3f::Zero());
+}
+
 }  // namespace

@@ -103,7 +103,8 @@ class Waves {
       m0 += 0.5 * out.amp_[i] * out.amp_[i];
     }
     const double hs = static_cast<double>(c.hs);
-    const double scale = std::sqrt(hs * hs / 16.0 / m0);
+    // m0 is 0 only when Hs^2 underflows: the amplitudes are 0 then anyway.
+    const double scale = m0 > 0.0 ? std::sqrt(hs * hs / 16.0 / m0) : 0.0;
     const double main = static_cast<double>(c.direction) * pi / 180.0;
     const double spread = static_cast<double>(c.spreading);
     out.k_max_ = 0.0;
@@ -157,8 +158,7 @@ class Waves {
       const double theta = omega_[i] * t - (kx_[i] * x + ky_[i] * y) + phase_[i];
       add(s, i, std::cos(theta), std::sin(theta), std::exp(-k_[i] * z));
     }
-    store(s, out);
-    return Status::ok;
+    return store(s, out);
   }
 
   /// Starts following a point: kinematics() is then the field at (t0, p),
@@ -175,14 +175,14 @@ class Waves {
       rot_re_[i] = std::cos(omega_[i] * step_);
       rot_im_[i] = std::sin(omega_[i] * step_);
     }
-    resync(p);
     started_ = true;
-    return Status::ok;
+    return resync(p);
   }
 
   /// Moves time on by one step and the point to p, and updates kinematics().
   /// invalid_argument before start(), non_finite_input for a NaN or infinite
-  /// p; time and state are unchanged then.
+  /// p (time and state are unchanged then); non_finite_output, with zero
+  /// kinematics, if the sums overflowed.
   Status advance(const Vec3& p) noexcept {
     if (!started_) return Status::invalid_argument;
     if (!detail::all_finite(p)) return Status::non_finite_input;
@@ -191,10 +191,7 @@ class Waves {
     const double z = std::max(0.0, static_cast<double>(p.z()));
     const double dx = x - x_, dy = y - y_, dz = z - z_;
     const double reach = k_max_ * std::max(std::sqrt(dx * dx + dy * dy), std::abs(dz));
-    if (steps_ % resync_interval == 0 || reach > max_series_argument) {
-      resync(p);
-      return Status::ok;
-    }
+    if (steps_ % resync_interval == 0 || reach > max_series_argument) return resync(p);
     const bool moved = dx != 0.0 || dy != 0.0, dived = dz != 0.0;
     Sums s;
     for (int i = 0; i < n_; ++i) {
@@ -215,8 +212,7 @@ class Waves {
     x_ = x;
     y_ = y;
     z_ = z;
-    store(s, kin_);
-    return Status::ok;
+    return store(s, kin_);
   }
 
   /// The field at the followed point after the last start() or advance().
@@ -240,16 +236,23 @@ class Waves {
     s.ad += acc_[i] * decay * c;
   }
 
-  static void store(const Sums& s, WaveKinematics<Scalar>& out) noexcept {
+  /// Writes the sums to `out`; non_finite_output (zeros) if any overflowed
+  /// (an extreme Hs or Tp, or a float that cannot hold them).
+  static Status store(const Sums& s, WaveKinematics<Scalar>& out) noexcept {
     out.elevation = static_cast<Scalar>(s.zeta);
     out.velocity = Vec3(static_cast<Scalar>(s.vn), static_cast<Scalar>(s.ve),
                         static_cast<Scalar>(s.vd));
     out.acceleration = Vec3(static_cast<Scalar>(s.an), static_cast<Scalar>(s.ae),
                             static_cast<Scalar>(s.ad));
+    if (std::isfinite(static_cast<double>(out.elevation)) &&
+        detail::all_finite(out.velocity, out.acceleration))
+      return Status::ok;
+    out = WaveKinematics<Scalar>{};
+    return Status::non_finite_output;
   }
 
   /// Phasors, decays and kinematics() computed directly at time() and p.
-  void resync(const Vec3& p) noexcept {
+  Status resync(const Vec3& p) noexcept {
     x_ = static_cast<double>(p.x());
     y_ = static_cast<double>(p.y());
     z_ = std::max(0.0, static_cast<double>(p.z()));
@@ -262,7 +265,7 @@ class Waves {
       decay_[i] = std::exp(-k_[i] * z_);
       add(s, i, pre_[i], pim_[i], decay_[i]);
     }
-    store(s, kin_);
+    return store(s, kin_);
   }
 
   using Array = std::array<double, static_cast<std::size_t>(Capacity)>;
