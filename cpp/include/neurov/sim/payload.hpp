@@ -48,14 +48,15 @@ inline ValidationError check_payload_fields(const PayloadEvent<Scalar>& e,
   if (!(before.mass + e.mass > Scalar(0)))
     return invalid("mass", -1, d(e.mass),
                    "> -(the vehicle's mass): the vehicle must keep a mass > 0");
-  if (e.mass_position)
-    if (auto err = check_finite("mass_position", *e.mass_position)) return err;
+  // value_or: a copy GCC can see initialised (with *opt it warns
+  // -Wmaybe-uninitialized through Eigen's loops).
+  const Vector3<Scalar> zero = Vector3<Scalar>::Zero();
+  if (auto err = check_finite("mass_position", e.mass_position.value_or(zero))) return err;
   if (!std::isfinite(d(e.buoyancy))) return invalid("buoyancy", -1, d(e.buoyancy), "finite");
   if (!(before.buoyancy + e.buoyancy >= Scalar(0)))
     return invalid("buoyancy", -1, d(e.buoyancy),
                    ">= -(the vehicle's buoyancy): the vehicle must keep a buoyancy >= 0");
-  if (e.buoyancy_position)
-    if (auto err = check_finite("buoyancy_position", *e.buoyancy_position)) return err;
+  if (auto err = check_finite("buoyancy_position", e.buoyancy_position.value_or(zero))) return err;
   if (auto err = check_non_negative("damping_scale", e.damping_scale)) return err;
   if (auto err = check_non_negative_scalar("added_mass_scale", d(e.added_mass_scale))) return err;
   return {};
@@ -66,7 +67,7 @@ template <typename Scalar>
 inline VehicleParameters<Scalar> changed_vehicle(const PayloadEvent<Scalar>& e,
                                                  const VehicleParameters<Scalar>& p) noexcept {
   VehicleParameters<Scalar> q = p;
-  const Vector3<Scalar> r_m = e.mass_position ? *e.mass_position : p.centre_of_gravity;
+  const Vector3<Scalar> r_m = e.mass_position.value_or(p.centre_of_gravity);
   q.mass = p.mass + e.mass;
   q.centre_of_gravity = (p.mass * p.centre_of_gravity + e.mass * r_m) / q.mass;
   // A point mass dm at r adds dm S(r)^T S(r) = dm (|r|^2 I - r r^T) to I_o.
@@ -76,8 +77,9 @@ inline VehicleParameters<Scalar> changed_vehicle(const PayloadEvent<Scalar>& e,
   q.weight = p.weight + e.mass * static_cast<Scalar>(standard_gravity);
   q.buoyancy = p.buoyancy + e.buoyancy;
   if (e.buoyancy_position && q.buoyancy > Scalar(0))
-    q.centre_of_buoyancy =
-        (p.buoyancy * p.centre_of_buoyancy + e.buoyancy * *e.buoyancy_position) / q.buoyancy;
+    q.centre_of_buoyancy = (p.buoyancy * p.centre_of_buoyancy +
+                            e.buoyancy * e.buoyancy_position.value_or(p.centre_of_buoyancy)) /
+                           q.buoyancy;
   q.linear_damping = p.linear_damping.cwiseProduct(e.damping_scale);
   q.quadratic_damping = p.quadratic_damping.cwiseProduct(e.damping_scale);
   q.added_mass = e.added_mass_scale * p.added_mass;
