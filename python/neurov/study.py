@@ -53,6 +53,7 @@ from typing import Any
 
 import numpy as np
 
+from neurov.files import read_text
 from neurov.scenario import (
     ControllerSpec,
     Scenario,
@@ -473,8 +474,7 @@ def load_study(path: str | Path) -> Study:
     :class:`StudyError` naming the file and the field."""
     path = study_path(path)
     try:
-        with path.open("rb") as f:
-            data = tomllib.load(f)
+        data = tomllib.loads(read_text(path, StudyError))
     except FileNotFoundError:
         raise StudyError(f"{path}: no such study file") from None
     except tomllib.TOMLDecodeError as e:
