@@ -90,3 +90,20 @@ def test_neurov_kernel_pins_the_path_capped_at_the_cpu(request_: str, expected: 
     out = subprocess.run([sys.executable, "-c", "import neurov._core as c; print(c._kernel_isa())"],
                          env=env, capture_output=True, text=True, check=True).stdout.strip()
     assert (out if out in ("avx2", "avx512") else "generic") == want
+
+
+@pytest.mark.parametrize("request_", ["sse9", "AVX2", "fast"])
+def test_a_misspelt_neurov_kernel_is_a_warning_naming_it(request_: str) -> None:
+    env = dict(os.environ, NEUROV_KERNEL=request_)
+    proc = subprocess.run([sys.executable, "-W", "error::RuntimeWarning", "-c", "import neurov"],
+                          env=env, capture_output=True, text=True)
+    assert proc.returncode != 0
+    assert f"NEUROV_KERNEL={request_!r} is not one of 'generic', 'avx2', 'avx512', 'auto'" in proc.stderr
+
+
+@pytest.mark.parametrize("request_", ["generic", "auto", ""])
+def test_a_valid_neurov_kernel_imports_silently(request_: str) -> None:
+    env = dict(os.environ, NEUROV_KERNEL=request_)
+    proc = subprocess.run([sys.executable, "-W", "error::RuntimeWarning", "-c", "import neurov"],
+                          env=env, capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
