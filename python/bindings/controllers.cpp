@@ -135,7 +135,7 @@ void bind_controllers(py::module_& m) {
           "step",
           [](ReferenceModel<double>& r, py::handle cmd, py::handle dt) {
             const Vec6 rc = py_args::vector<6>(cmd, "r");
-            const double h = py_args::positive(dt, "dt");
+            const double h = py_args::step(dt, "dt");
             DesiredState<double> d;
             const Status s = r.step(rc, h, d);
             if (s != Status::ok) raise_step_status(s);

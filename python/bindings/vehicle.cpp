@@ -214,7 +214,7 @@ void bind_vehicle(py::module_& m) {
         Vec6 e = py_args::vector<6>(eta, "eta");
         Vec6 n = py_args::vector<6>(nu, "nu");
         const Vec6 t = py_args::vector<6>(tau, "tau");
-        const double h = py_args::positive(dt, "dt");
+        const double h = py_args::step(dt, "dt");
         const Vec3 c = optional_current(current);
         raise_status(rk4_step(v, e, n, t, h, c), "rk4_step");
         return std::make_pair(e, n);

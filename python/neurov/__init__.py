@@ -41,6 +41,7 @@ from neurov.scenario import (
     ThrusterFailure,
     load_scenario,
 )
+from neurov.kernels import check_kernel_request as _check_kernel_request
 from neurov.simulation import Result, simulate, simulate_many
 from neurov.vehicle_file import VehicleFileError
 
@@ -84,3 +85,5 @@ __all__ = [
     "singularity_threshold",
     "tracking_error",
 ]
+
+_check_kernel_request()

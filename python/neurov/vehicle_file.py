@@ -28,6 +28,8 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from neurov.files import read_text
+
 if sys.version_info >= (3, 11):
     import tomllib
 else:  # pragma: no cover - exercised on Python 3.10 only
@@ -118,8 +120,7 @@ def load_vehicle_parameters(path: str | Path) -> dict[str, Any]:
     path = Path(path)
     where = str(path)
     try:
-        with path.open("rb") as f:
-            data = tomllib.load(f)
+        data = tomllib.loads(read_text(path, VehicleFileError))
     except FileNotFoundError:
         raise VehicleFileError(f"{where}: no such vehicle file") from None
     except tomllib.TOMLDecodeError as e:
@@ -195,8 +196,7 @@ def load_thrusters(path: str | Path) -> dict[str, Any] | None:
     import numpy as np
 
     path = Path(path)
-    with path.open("rb") as f:
-        data = tomllib.load(f)
+    data = tomllib.loads(read_text(path, VehicleFileError))
     table = data.get("thrusters")
     if table is None:
         return None

@@ -555,7 +555,7 @@ TYPED_TEST(ReliabilityTest, ReferenceModelHostileCommandAndTimeStep) {
     }
   for (const S dt : hostile_values<S>()) {
     const Status st = check(r, dt, "dt = " + show(dt));
-    if (!(std::isfinite(dt) && dt > S(0))) {
+    if (!(std::isfinite(dt) && dt > S(0) && dt <= S(neurov::kMaxStep))) {
       EXPECT_EQ(st, Status::invalid_argument) << show(dt);
     }
   }
@@ -687,12 +687,12 @@ TYPED_TEST(ReliabilityTest, DynamicsAndRk4HostileValueInEveryEntry) {
   for (int a = 0; a < 4; ++a)
     for (int i = 0; i < (a == 3 ? 3 : 6); ++i)
       for (const S v : hostile_values<S>()) run(a, i, v);
-  // dt: non-positive or non-finite is refused with the state untouched.
+  // dt: non-positive, non-finite or above kMaxStep is refused with the state untouched.
   for (const S dt : hostile_values<S>()) {
     Vector6<S> e = eta, n = nu;
     const Status st = rk4_step(vehicle, e, n, tau, dt, current);
     EXPECT_TRUE(e.allFinite() && n.allFinite()) << "dt = " << show(dt);
-    if (!(std::isfinite(dt) && dt > S(0))) {
+    if (!(std::isfinite(dt) && dt > S(0) && dt <= S(neurov::kMaxStep))) {
       EXPECT_EQ(st, Status::invalid_argument) << show(dt);
       EXPECT_TRUE((e.array() == eta.array()).all() && (n.array() == nu.array()).all());
     }
@@ -1066,6 +1066,7 @@ TYPED_TEST(ReliabilityTest, SimulationConfigurationNamesTheBadField) {
   const std::vector<Case> cases = {
       {"zero dt", [](auto& c) { c.dt = S(0); }, "dt"},
       {"negative dt", [](auto& c) { c.dt = S(-0.2); }, "dt"},
+      {"dt above kMaxStep", [](auto& c) { c.dt = S(10.5); }, "dt"},
       {"zero substeps", [](auto& c) { c.substeps = 0; }, "substeps"},
       {"negative duration", [](auto& c) { c.duration = S(-1); }, "duration"},
       {"too many steps", [](auto& c) { c.duration = S(1e9); }, "duration"},

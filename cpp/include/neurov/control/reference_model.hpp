@@ -112,7 +112,7 @@ class ReferenceModel {
   /// unchanged and `out` keeps the last good desired state; near_singularity
   /// means the reference was reset into the singular band.
   Status step(const Vec6& r, Scalar dt, DesiredState<Scalar>& out) noexcept {
-    if (!configured_ || !(std::isfinite(dt) && dt > Scalar(0))) {
+    if (!configured_ || detail::check_step("dt", static_cast<double>(dt))) {
       out = desired_;
       return Status::invalid_argument;
     }

@@ -21,7 +21,7 @@ inline Status rk4_step(const Vehicle<Scalar>& vehicle, Vector6<Scalar>& eta, Vec
                        typename Vehicle<Scalar>::Scalar dt,
                        const typename Vehicle<Scalar>::Vec3& current_ned =
                            Vector3<Scalar>::Zero()) noexcept {
-  if (!(std::isfinite(dt) && dt > Scalar(0))) return Status::invalid_argument;
+  if (detail::check_step("dt", static_cast<double>(dt))) return Status::invalid_argument;
   using V6 = Vector6<Scalar>;
   V6 k1e, k1n, k2e, k2n, k3e, k3n, k4e, k4n;
   const Scalar h2 = Scalar(0.5) * dt;

@@ -161,7 +161,7 @@ struct SimulationResult {
 
 template <typename Scalar>
 inline ValidationError validate(const SimulationConfig<Scalar>& c) {
-  if (auto e = detail::check_positive_scalar("dt", static_cast<double>(c.dt))) return e;
+  if (auto e = detail::check_step("dt", static_cast<double>(c.dt))) return e;
   if (c.substeps < 1)
     return detail::invalid("substeps", -1, static_cast<double>(c.substeps), ">= 1");
   if (auto e = detail::check_positive_scalar("duration", static_cast<double>(c.duration))) return e;
