@@ -2,6 +2,8 @@
 #pragma once
 
 #include "neurov/core/config.hpp"
+#include "neurov/control/computed_torque_controller.hpp"
+#include "neurov/control/controller_base.hpp"
 #include "neurov/control/desired_state.hpp"
 #include "neurov/model/integrator.hpp"
 #include "neurov/model/kinematics.hpp"
@@ -11,6 +13,7 @@
 #include "neurov/control/pid_controller.hpp"
 #include "neurov/control/rbf_network.hpp"
 #include "neurov/core/random.hpp"
+#include "neurov/core/rk4.hpp"
 #include "neurov/control/reference_model.hpp"
 #include "neurov/model/regressor.hpp"
 #include "neurov/sim/simulation.hpp"
