@@ -1,20 +1,22 @@
+// The controllers: each constructed from its bound configuration object or
+// from keyword arguments (the signatures the tests and scripts use), with
+// the members every controller shares (controller_bindings.hpp).
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
 #include <string>
-#include <tuple>
 
 #include "bindings.hpp"
+#include "controller_bindings.hpp"
+#include "neurov/control/computed_torque_controller.hpp"
 #include "neurov/control/linear_adaptive_controller.hpp"
 #include "neurov/control/nn_controller.hpp"
 #include "neurov/control/pd_controller.hpp"
 #include "neurov/control/pid_controller.hpp"
 #include "neurov/control/rbf_network.hpp"
-#include "neurov/control/reference_model.hpp"
-#include "neurov/model/regressor.hpp"
 #include "neurov/control/sliding_mode_controller.hpp"
-#include "neurov/control/tracking_error.hpp"
+#include "neurov/model/regressor.hpp"
 #include "neurov/model/vehicle.hpp"
 #include "numpy_args.hpp"
 
@@ -28,269 +30,51 @@ using LinController = LinearAdaptiveController<double>;
 using PD = PDController<double>;
 using PID = PIDController<double>;
 using SMC = SlidingModeController<double>;
+using CT = ComputedTorqueController<double>;
 
 namespace {
 
-void raise_step_status(Status s) {
-  switch (s) {
-    case Status::ok:
-      return;
-    case Status::near_singularity:
-      throw py::value_error(
-          "step refused: argument 'eta' has its pitch at the Euler-angle singularity "
-          "(cos(theta) = 0); the controller's state is unchanged");
-    case Status::non_finite_output:
-      throw py::value_error(
-          "step refused: the inputs are so large that tau or the adaptation overflowed; the "
-          "controller's state is unchanged");
-    default:
-      throw py::value_error(std::string("step refused (") + to_string(s) +
-                            "); the controller's state is unchanged");
+/// The NN controller from a network with any number of inputs (checked to
+/// be 24) and its configuration.
+NNController make_nn(const Network& network, const NNAdaptiveConfig<double>& cfg,
+                     py::handle learning_rates) {
+  if (network.inputs() != kNNInputs)
+    throw py::value_error("argument 'network' must have 24 inputs ([nu_r_dot; nu_r; nu; eta]), "
+                          "got " + std::to_string(network.inputs()));
+  NNController::Network fixed_inputs;
+  py_args::raise_if_invalid(
+      NNController::Network::create(network.centres(), network.widths(), network.input_offset(),
+                                    network.input_scale(), fixed_inputs),
+      "network");
+  fixed_inputs.set_weights(network.weights());
+  NNController c;
+  py_args::raise_if_invalid(NNController::create(fixed_inputs, cfg, c), "NN controller");
+  if (!learning_rates.is_none()) {
+    const Eigen::VectorXd rates =
+        py_args::dynamic_vector(learning_rates, "learning_rates", network.centres_count());
+    if ((rates.array() < 0.0).any())
+      throw py::value_error("argument 'learning_rates' must be >= 0");
+    c.set_learning_rates(rates);
   }
-}
-
-py::dict tracking_dict(const TrackingError<double>& e) {
-  py::dict d;
-  d["eta_tilde"] = Vec6(e.eta_tilde);
-  d["eta_tilde_dot"] = Vec6(e.eta_tilde_dot);
-  d["s"] = Vec6(e.s);
-  d["eta_r_dot"] = Vec6(e.eta_r_dot);
-  d["eta_r_ddot"] = Vec6(e.eta_r_ddot);
-  d["nu_r"] = Vec6(e.nu_r);
-  d["nu_r_dot"] = Vec6(e.nu_r_dot);
-  return d;
-}
-
-/// The step every controller shares: checked arguments in, tau out, a
-/// refused step raises and changes nothing.
-template <typename Controller>
-Vec6 checked_step(Controller& c, py::handle eta, py::handle nu, py::handle eta_d,
-                  py::handle eta_d_dot, py::handle eta_d_ddot) {
-  const Vec6 e = py_args::vector<6>(eta, "eta");
-  const Vec6 n = py_args::vector<6>(nu, "nu");
-  const Vec6 ed = py_args::vector<6>(eta_d, "eta_d");
-  const Vec6 edd = py_args::vector<6>(eta_d_dot, "eta_d_dot");
-  const Vec6 eddd = py_args::vector<6>(eta_d_ddot, "eta_d_ddot");
-  Vec6 tau;
-  raise_step_status(c.step(e, n, ed, edd, eddd, tau));
-  return tau;
-}
-
-constexpr const char* kStepDoc =
-    "One control step from the measured pose eta (6,) and body velocity nu (6,) and the "
-    "desired eta_d, eta_d_dot, eta_d_ddot (6,) in the earth frame; returns tau (6,), the body "
-    "forces and moments. A NaN/Inf input, or the pitch singularity, raises ValueError and "
-    "leaves the controller exactly as it was.";
-
-template <typename Controller, typename Class>
-void def_common(Class& cls) {
-  cls.def("step", &checked_step<Controller>, py::arg("eta"), py::arg("nu"), py::arg("eta_d"),
-          py::arg("eta_d_dot"), py::arg("eta_d_ddot"), kStepDoc)
-      .def("reset", &Controller::reset, "Back to the initial state and a zero history.")
-      .def_property_readonly(
-          "s", [](const Controller& c) { return Vec6(c.tracking().s); },
-          "Filtered tracking error s of the last step, shape (6,).")
-      .def_property_readonly(
-          "tracking", [](const Controller& c) { return tracking_dict(c.tracking()); },
-          "Tracking error and virtual reference of the last step: a dict of (6,) arrays "
-          "eta_tilde, eta_tilde_dot, s, eta_r_dot, eta_r_ddot, nu_r, nu_r_dot.");
-}
-
-RobustModification parse_modification(py::handle obj) {
-  const auto s =
-      py_args::choice(obj, "modification", {"none", "sigma", "e_modification", "projection"});
-  for (auto m : {RobustModification::sigma, RobustModification::e_modification,
-                 RobustModification::projection})
-    if (s == to_string(m)) return m;
-  return RobustModification::none;
-}
-
-Eigen::VectorXd widths_arg(py::handle width, Eigen::Index n) {
-  if (py::isinstance<py::float_>(width) || py::isinstance<py::int_>(width))
-    return Eigen::VectorXd::Constant(n, py_args::scalar(width, "width"));
-  return py_args::dynamic_vector(width, "width", n);
+  return c;
 }
 
 }  // namespace
 
 void bind_controllers(py::module_& m) {
-  // --- reference model -----------------------------------------------------
-  py::class_<ReferenceModel<double>>(
-      m, "ReferenceModel",
-      "Reference model of eq. 12-13: nu_d_dot = -Lambda_d nu_d + J^T(eta_d) Omega (r - eta_d), "
-      "eta_d_dot = J(eta_d) nu_d. Turns a commanded pose r into a smooth desired trajectory.")
-      .def(py::init([](py::handle lambda_d, py::handle omega, py::handle eta0) {
-             const Vec6 ld = py_args::vector<6>(lambda_d, "lambda_d");
-             const Vec6 om = py_args::vector<6>(omega, "omega");
-             const Vec6 e0 = eta0.is_none() ? Vec6::Zero() : py_args::vector<6>(eta0, "eta0");
-             ReferenceModel<double> r;
-             py_args::raise_if_invalid(ReferenceModel<double>::create(ld, om, e0, r),
-                                       "reference model");
-             return r;
-           }),
-           py::arg("lambda_d"), py::arg("omega"), py::arg("eta0") = py::none(),
-           "lambda_d: damping diagonal (6,), > 0; omega: stiffness diagonal (6,), > 0; eta0: "
-           "initial pose (6,), default zero. Starts at rest.")
-      .def(
-          "step",
-          [](ReferenceModel<double>& r, py::handle cmd, py::handle dt) {
-            const Vec6 rc = py_args::vector<6>(cmd, "r");
-            const double h = py_args::positive(dt, "dt");
-            DesiredState<double> d;
-            const Status s = r.step(rc, h, d);
-            if (s != Status::ok) raise_step_status(s);
-            return std::make_tuple(Vec6(d.eta_d), Vec6(d.eta_d_dot), Vec6(d.eta_d_ddot));
-          },
-          py::arg("r"), py::arg("dt"),
-          "Advances by dt with the commanded pose r (6,) held (RK4); returns (eta_d, eta_d_dot, "
-          "eta_d_ddot). A refused step raises ValueError and changes nothing.")
-      .def(
-          "reset",
-          [](ReferenceModel<double>& r, py::handle eta0) {
-            r.reset(py_args::vector<6>(eta0, "eta0"));
-          },
-          py::arg("eta0"), "Back to rest at eta0 (6,).")
-      .def_property_readonly("eta_d", [](const ReferenceModel<double>& r) { return Vec6(r.eta_d()); },
-                             "Current desired pose (6,).")
-      .def_property_readonly("nu_d", [](const ReferenceModel<double>& r) { return Vec6(r.nu_d()); },
-                             "Current desired body velocity (6,).")
-      .def_property_readonly("lambda_d",
-                             [](const ReferenceModel<double>& r) { return Vec6(r.lambda_d()); },
-                             "Damping diagonal (6,).")
-      .def_property_readonly("omega", [](const ReferenceModel<double>& r) { return Vec6(r.omega()); },
-                             "Stiffness diagonal (6,).")
-      .def_property_readonly(
-          "pitch_limited", [](const ReferenceModel<double>& r) { return r.pitch_limited(); },
-          "True when the last accepted step limited the pitch to +-(pi/2 - 0.2) rad: the "
-          "command's (clamped) or the reference's own (held at the limit). Such a step is taken "
-          "and returns normally. False after construction and reset().");
-
-  // --- tracking error and regressor ----------------------------------------
-  m.def(
-      "tracking_error",
-      [](py::handle eta, py::handle nu, py::handle eta_d, py::handle eta_d_dot,
-         py::handle eta_d_ddot, py::handle lambda_) {
-        TrackingError<double> e;
-        const Status s = compute_tracking_error<double>(
-            py_args::vector<6>(eta, "eta"), py_args::vector<6>(nu, "nu"),
-            py_args::vector<6>(eta_d, "eta_d"), py_args::vector<6>(eta_d_dot, "eta_d_dot"),
-            py_args::vector<6>(eta_d_ddot, "eta_d_ddot"), py_args::vector<6>(lambda_, "lambda_"),
-            e);
-        raise_step_status(s);
-        return tracking_dict(e);
-      },
-      py::arg("eta"), py::arg("nu"), py::arg("eta_d"), py::arg("eta_d_dot"), py::arg("eta_d_ddot"),
-      py::arg("lambda_"),
-      "Tracking error and virtual reference (eq. 11, 14-16) with the diagonal Lambda (6,): a "
-      "dict of (6,) arrays eta_tilde, eta_tilde_dot, s, eta_r_dot, eta_r_ddot, nu_r, nu_r_dot.");
-
-  m.def(
-      "regressor",
-      [](py::handle nu_r_dot, py::handle nu_r, py::handle nu, py::handle eta) {
-        const Vec6 e = py_args::vector<6>(eta, "eta");
-        return RegressorMatrix<double>(regressor<double>(
-            py_args::vector<6>(nu_r_dot, "nu_r_dot"), py_args::vector<6>(nu_r, "nu_r"),
-            py_args::vector<6>(nu, "nu"), std::sin(e(3)), std::cos(e(3)), std::sin(e(4)),
-            std::cos(e(4))));
-      },
-      py::arg("nu_r_dot"), py::arg("nu_r"), py::arg("nu"), py::arg("eta"),
-      "Regressor Phi (6, 24) with Phi @ theta = M nu_r_dot + C(nu) nu_r + D(nu) nu_r + g(eta) "
-      "for NEROV's model structure; THETA_NAMES names the columns.");
-
-  m.def(
-      "regressor_parameters",
-      [](const Vehicle<double>& v) {
-        ParameterVector<double> theta;
-        py_args::raise_if_invalid(regressor_parameters(v.parameters(), theta), "vehicle");
-        return theta;
-      },
-      py::arg("vehicle"),
-      "The true theta (24,) of a vehicle whose structure the regressor covers (r_g = 0, "
-      "diagonal inertia and added mass, r_b on the z axis); ValueError otherwise.");
-
-  py::list names;
-  for (int i = 0; i < kRegressorParameters; ++i) names.append(theta_name(i));
-  m.attr("THETA_NAMES") = py::tuple(names);
-
-  // --- RBF network -----------------------------------------------------------
-  py::class_<Network>(m, "RbfNetwork",
-                      "Radial-basis-function network (eq. 30): g_j(x) = exp(-||x_hat - xi_j||^2 / "
-                      "(2 sigma_j^2)), output W g(x) with W (6, N); x_hat = (x - input_offset) * "
-                      "input_scale.")
-      .def(py::init([](py::handle centres, py::handle width, py::handle input_offset,
-                       py::handle input_scale) {
-             const Eigen::MatrixXd c = py_args::dynamic_matrix(centres, "centres", -1, -1);
-             if (c.rows() < 1 || c.cols() < 1)
-               throw py::value_error("argument 'centres' must have at least one row and column");
-             const Eigen::VectorXd w = widths_arg(width, c.rows());
-             const Eigen::VectorXd off = input_offset.is_none()
-                                             ? Eigen::VectorXd::Zero(c.cols())
-                                             : py_args::dynamic_vector(input_offset, "input_offset",
-                                                                       c.cols());
-             const Eigen::VectorXd sc = input_scale.is_none()
-                                            ? Eigen::VectorXd::Ones(c.cols())
-                                            : py_args::dynamic_vector(input_scale, "input_scale",
-                                                                      c.cols());
-             Network n;
-             py_args::raise_if_invalid(Network::create(c, w, off, sc, n), "RBF network");
-             return n;
-           }),
-           py::arg("centres"), py::arg("width"), py::arg("input_offset") = py::none(),
-           py::arg("input_scale") = py::none(),
-           "centres: (N, n_in) array, one centre per row; width: sigma for every centre, or "
-           "(N,) per centre, > 0; input_offset and input_scale: (n_in,) input normalisation, "
-           "default identity (the paper's choice). Weights start at zero.")
-      .def(
-          "basis",
-          [](const Network& n, py::handle x) {
-            const Eigen::VectorXd xv = py_args::dynamic_vector(x, "x", n.inputs());
-            Eigen::VectorXd g(n.centres_count());
-            n.basis(xv, g);
-            return g;
-          },
-          py::arg("x"), "Basis values g(x), shape (N,).")
-      .def(
-          "output",
-          [](const Network& n, py::handle x) {
-            const Eigen::VectorXd xv = py_args::dynamic_vector(x, "x", n.inputs());
-            Eigen::VectorXd g(n.centres_count());
-            Eigen::Matrix<double, 6, 1> y;
-            n.output(xv, g, y);
-            return Vec6(y);
-          },
-          py::arg("x"), "Network output W g(x), shape (6,).")
-      .def_property(
-          "weights", [](const Network& n) { return Eigen::MatrixXd(n.weights()); },
-          [](Network& n, py::handle w) {
-            const Eigen::MatrixXd wm = py_args::dynamic_matrix(w, "weights", 6, n.centres_count());
-            n.set_weights(wm);
-          },
-          "Output weights W, shape (6, N); assignable.")
-      .def_property_readonly("centres", [](const Network& n) { return Eigen::MatrixXd(n.centres()); },
-                             "Centres, shape (N, n_in).")
-      .def_property_readonly("widths", [](const Network& n) { return Eigen::VectorXd(n.widths()); },
-                             "Widths sigma_j, shape (N,).")
-      .def_property_readonly("input_offset",
-                             [](const Network& n) { return Eigen::VectorXd(n.input_offset()); },
-                             "Input offset, shape (n_in,).")
-      .def_property_readonly("input_scale",
-                             [](const Network& n) { return Eigen::VectorXd(n.input_scale()); },
-                             "Input scale, shape (n_in,).")
-      .def_property_readonly("n_inputs", &Network::inputs, "Number of inputs n_in.")
-      .def_property_readonly("n_centres", &Network::centres_count, "Number of centres N.");
-
   // --- NN adaptive controller -------------------------------------------------
   py::class_<NNController> nn(
       m, "NNAdaptiveController",
       "Direct adaptive RBF-network controller (eq. 35, 37): tau = W g(x) - J^T K_d s with "
       "x = [nu_r_dot; nu_r; nu; eta] (24 inputs), then W <- W - dt (J^-1 s) g(x)^T Gamma_w. "
       "tau uses the weights from before the update.");
+  nn.def(py::init(&make_nn), py::arg("network"), py::arg("config"), py::kw_only(),
+         py::arg("learning_rates") = py::none(),
+         "network: an RbfNetwork with 24 inputs (copied; its weights are W(0)); config: an "
+         "NNAdaptiveConfig; learning_rates (N,): per-centre Gamma_w.");
   nn.def(py::init([](const Network& network, py::handle lambda_, py::handle kd, py::handle gamma,
                      py::handle dt, py::handle modification, py::handle sigma_m, py::handle kappa,
                      py::handle w_max, py::handle dead_zone, py::handle learning_rates) {
-           if (network.inputs() != kNNInputs)
-             throw py::value_error("argument 'network' must have 24 inputs ([nu_r_dot; nu_r; "
-                                   "nu; eta]), got " + std::to_string(network.inputs()));
            NNAdaptiveConfig<double> cfg;
            cfg.lambda = py_args::vector<6>(lambda_, "lambda_");
            cfg.kd = py_args::vector<6>(kd, "kd");
@@ -301,23 +85,7 @@ void bind_controllers(py::module_& m) {
            cfg.kappa = py_args::scalar(kappa, "kappa");
            cfg.w_max = py_args::scalar(w_max, "w_max");
            cfg.dead_zone = py_args::scalar(dead_zone, "dead_zone");
-           NNController::Network fixed_inputs;
-           py_args::raise_if_invalid(
-               NNController::Network::create(network.centres(), network.widths(),
-                                             network.input_offset(), network.input_scale(),
-                                             fixed_inputs),
-               "network");
-           fixed_inputs.set_weights(network.weights());
-           NNController c;
-           py_args::raise_if_invalid(NNController::create(fixed_inputs, cfg, c), "NN controller");
-           if (!learning_rates.is_none()) {
-             const Eigen::VectorXd rates =
-                 py_args::dynamic_vector(learning_rates, "learning_rates", network.centres_count());
-             if ((rates.array() < 0.0).any())
-               throw py::value_error("argument 'learning_rates' must be >= 0");
-             c.set_learning_rates(rates);
-           }
-           return c;
+           return make_nn(network, cfg, learning_rates);
          }),
          py::arg("network"), py::arg("lambda_"), py::arg("kd"), py::arg("gamma") = 0.3,
          py::arg("dt") = 0.2, py::kw_only(), py::arg("modification") = "none",
@@ -363,6 +131,7 @@ void bind_controllers(py::module_& m) {
       "Linearly parameterised adaptive controller (eq. 26, 28; Fossen and Sagatun): tau = Phi "
       "theta_hat - J^T K_d s, theta_hat <- theta_hat - dt Gamma Phi^T J^-1 s. Knows NEROV's "
       "model structure (see regressor), not its parameters.");
+  def_init_from_config<LinController>(lin, "linear adaptive controller");
   lin.def(py::init([](py::handle lambda_, py::handle kd, py::handle gamma, py::handle dt,
                       py::handle theta0) {
             LinearAdaptiveConfig<double> cfg;
@@ -375,9 +144,7 @@ void bind_controllers(py::module_& m) {
             cfg.dt = py_args::scalar(dt, "dt");
             cfg.theta0 = theta0.is_none() ? ParameterVector<double>::Zero()
                                           : py_args::vector<kRegressorParameters>(theta0, "theta0");
-            LinController c;
-            py_args::raise_if_invalid(LinController::create(cfg, c), "linear adaptive controller");
-            return c;
+            return from_config<LinController>(cfg, "linear adaptive controller");
           }),
           py::arg("lambda_"), py::arg("kd"), py::arg("gamma"), py::arg("dt") = 0.2,
           py::arg("theta0") = py::none(),
@@ -398,13 +165,12 @@ void bind_controllers(py::module_& m) {
   // --- PD ------------------------------------------------------------------
   py::class_<PD> pd(m, "PDController",
                     "PD baseline in the earth frame: tau = -J^T (K_p eta_tilde + K_d eta_tilde_dot).");
+  def_init_from_config<PD>(pd, "PD controller");
   pd.def(py::init([](py::handle kp, py::handle kd) {
            PDConfig<double> cfg;
            cfg.kp = py_args::vector<6>(kp, "kp");
            cfg.kd = py_args::vector<6>(kd, "kd");
-           PD c;
-           py_args::raise_if_invalid(PD::create(cfg, c), "PD controller");
-           return c;
+           return from_config<PD>(cfg, "PD controller");
          }),
          py::arg("kp"), py::arg("kd"), "kp, kd: diagonal gains (6,), >= 0.");
   def_common<PD>(pd);
@@ -415,6 +181,7 @@ void bind_controllers(py::module_& m) {
       "PID baseline in the earth frame with anti-windup: tau = -J^T (K_p eta_tilde + K_i z + "
       "K_d eta_tilde_dot), z the integral of eta_tilde, |K_i z| <= integral_limit per DOF and "
       "no integration further into the limit.");
+  def_init_from_config<PID>(pid, "PID controller");
   pid.def(py::init([](py::handle kp, py::handle ki, py::handle kd, py::handle integral_limit,
                       py::handle dt) {
             PIDConfig<double> cfg;
@@ -423,9 +190,7 @@ void bind_controllers(py::module_& m) {
             cfg.kd = py_args::vector<6>(kd, "kd");
             cfg.integral_limit = py_args::vector<6>(integral_limit, "integral_limit");
             cfg.dt = py_args::scalar(dt, "dt");
-            PID c;
-            py_args::raise_if_invalid(PID::create(cfg, c), "PID controller");
-            return c;
+            return from_config<PID>(cfg, "PID controller");
           }),
           py::arg("kp"), py::arg("ki"), py::arg("kd"), py::arg("integral_limit"),
           py::arg("dt") = 0.2,
@@ -441,6 +206,7 @@ void bind_controllers(py::module_& m) {
       m, "SlidingModeController",
       "Sliding-mode controller with a boundary layer: tau = Phi theta - J^T (K_d s + K "
       "sat(s / phi)), with theta the nominal model's parameters (regressor).");
+  def_init_from_config<SMC>(smc, "sliding-mode controller");
   smc.def(py::init([](py::handle lambda_, py::handle kd, py::handle k, py::handle phi,
                       py::handle theta) {
             SlidingModeConfig<double> cfg;
@@ -449,9 +215,7 @@ void bind_controllers(py::module_& m) {
             cfg.k = py_args::vector<6>(k, "k");
             cfg.phi = py_args::vector<6>(phi, "phi");
             cfg.theta = py_args::vector<kRegressorParameters>(theta, "theta");
-            SMC c;
-            py_args::raise_if_invalid(SMC::create(cfg, c), "sliding-mode controller");
-            return c;
+            return from_config<SMC>(cfg, "sliding-mode controller");
           }),
           py::arg("lambda_"), py::arg("kd"), py::arg("k"), py::arg("phi"), py::arg("theta"),
           "lambda_: Lambda (6,), > 0; kd: K_d (6,), >= 0; k: switching gain (6,), >= 0; phi: "
@@ -461,6 +225,27 @@ void bind_controllers(py::module_& m) {
   smc.def_property_readonly(
       "model_output", [](const SMC& c) { return Vec6(c.model_output()); },
       "The nominal model's f of the last step, shape (6,).");
+
+  // --- computed torque ---------------------------------------------------------
+  py::class_<CT> ct(
+      m, "ComputedTorqueController",
+      "Computed-torque (inverse-dynamics) controller on a nominal vehicle: tau = M nu_r_dot + "
+      "C(nu) nu_r + D(nu) nu_r + g(eta) - J^T K_d s, with the vehicle's own M, C, D and g.");
+  def_init_from_config<CT>(ct, "computed-torque controller");
+  ct.def(py::init([](const Vehicle<double>& vehicle, py::handle lambda_, py::handle kd) {
+           ComputedTorqueConfig<double> cfg;
+           cfg.vehicle = vehicle.parameters();
+           cfg.lambda = py_args::vector<6>(lambda_, "lambda_");
+           cfg.kd = py_args::vector<6>(kd, "kd");
+           return from_config<CT>(cfg, "computed-torque controller");
+         }),
+         py::arg("vehicle"), py::arg("lambda_"), py::arg("kd"),
+         "vehicle: the nominal model (its parameters are copied); lambda_: Lambda (6,), > 0; "
+         "kd: K_d (6,), >= 0.");
+  def_common<CT>(ct);
+  ct.def_property_readonly(
+      "model_output", [](const CT& c) { return Vec6(c.model_output()); },
+      "M nu_r_dot + C(nu) nu_r + D(nu) nu_r + g(eta) of the last step, shape (6,).");
 }
 
 }  // namespace neurov::bindings
