@@ -15,6 +15,11 @@
     python bench/compare.py --quick    # CI smoke test (a few seconds)
     python bench/compare.py --json out.json
 
+It needs the timing module neurov._bench, which a default install leaves
+out; install with it:
+
+    pip install -Ccmake.define.NEUROV_BUILD_BENCH=ON .
+
 Times are medians of repeated measurements; on a shared machine compare the
 ratios, which are measured back to back in the same run.
 """
@@ -36,6 +41,12 @@ import numpy as np
 
 import neurov
 from neurov import _core
+
+try:
+    from neurov import _bench
+except ImportError:
+    raise SystemExit("bench/compare.py needs neurov._bench, the timing helpers a default install "
+                     "leaves out: pip install -Ccmake.define.NEUROV_BUILD_BENCH=ON .") from None
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import numpy_baseline as nb  # noqa: E402
@@ -151,7 +162,7 @@ def nn_step(ns: list[int], quick: bool, report: dict[str, Any]) -> None:
         t_np = per_call(lambda k: npc.step(*rows[k & 255]), calls, 3 if quick else 7)
         t_py = per_call(lambda k: nvc.step(*rows[k & 255]), calls, 3 if quick else 7)
         steps = 20000 if quick else 200000
-        t_cpp = _core._time_controller_steps(neurov_controller(c), inputs, steps, 3 if quick else 9)
+        t_cpp = _bench.time_controller_steps(neurov_controller(c), inputs, steps, 3 if quick else 9)
         print(f"  N = {n:5d}: {fmt(t_np)} | {fmt(t_py)} | {fmt(t_cpp)}   numpy / C++ loop = "
               f"{t_np / t_cpp:6.0f}x, numpy / Python call = {t_np / t_py:5.1f}x")
         out.append({"N": n, "numpy_s": t_np, "neurov_python_call_s": t_py, "neurov_cpp_loop_s": t_cpp,
@@ -166,7 +177,7 @@ def plant(quick: bool, report: dict[str, Any]) -> None:
     calls, reps = (500, 3) if quick else (5000, 7)
     t_np = per_call(lambda k: base.derivative(rows[k & 255, :6], rows[k & 255, 6:12], tau), calls, reps)
     t_py = per_call(lambda k: veh.acceleration(rows[k & 255, :6], rows[k & 255, 6:12], tau), calls, reps)
-    t_cpp = _core._time_acceleration(veh, rows[0, :6], rows[0, 6:12], tau, 200000 if quick else 2000000,
+    t_cpp = _bench.time_acceleration(veh, rows[0, :6], rows[0, 6:12], tau, 200000 if quick else 2000000,
                                      3 if quick else 9)
     print(f"\nOne plant evaluation (NEROV nu_dot): numpy {fmt(t_np)} | neurov from Python {fmt(t_py)} | "
           f"C++ loop {fmt(t_cpp)}   numpy / C++ = {t_np / t_cpp:.0f}x")
@@ -254,7 +265,7 @@ def machine() -> dict[str, Any]:
     except OSError:
         pass
     return {"cpu": model, "cpus": os.cpu_count(), "python": platform.python_version(),
-            "numpy": np.__version__, "neurov": neurov.__version__, "kernels": _core._kernel_isa()}
+            "numpy": np.__version__, "neurov": neurov.__version__, "kernels": _bench.kernel_isa()}
 
 
 def main() -> None:

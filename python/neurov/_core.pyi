@@ -389,6 +389,265 @@ class RbfNetwork:
     def n_centres(self) -> int:
         """Number of centres N."""
 
+@final
+class RobustModification:
+    """Robust modification of the NN controller's adaptive law."""
+
+    none: ClassVar[RobustModification]
+    """The paper's pure gradient law."""
+    sigma: ClassVar[RobustModification]
+    """Leakage: W_dot += -sigma_m W Gamma_w."""
+    e_modification: ClassVar[RobustModification]
+    """Leakage in proportion to the error: W_dot += -kappa ||J^-1 s|| W Gamma_w."""
+    projection: ClassVar[RobustModification]
+    """After each update, W scaled back onto ||W||_F <= w_max."""
+    __members__: ClassVar[dict[str, RobustModification]]
+
+    def __init__(self, value: SupportsInt | SupportsIndex) -> None:
+        """The modification with this integer value."""
+    def __eq__(self, other: object) -> bool: ...
+    def __ne__(self, other: object) -> bool: ...
+    def __hash__(self) -> int: ...
+    def __index__(self) -> int: ...
+    def __int__(self) -> int: ...
+    def __getstate__(self) -> int: ...
+    def __setstate__(self, state: SupportsInt | SupportsIndex) -> None: ...
+    @property
+    def name(self) -> str:
+        """The member's name, e.g. ``"sigma"``."""
+    @property
+    def value(self) -> int:
+        """The member's integer value (``none`` is 0)."""
+
+class PDConfig:
+    """Configuration of :class:`PDController`.
+
+    Every field has the C++ default; ``PDConfig(**fields)`` sets some by
+    keyword (an unknown one raises ``TypeError``), and a value of the wrong
+    shape or type raises naming its field. The controller's constructor and
+    :meth:`validate` run the one C++ validator.
+    """
+
+    def __init__(self, **kwargs: Any) -> None:
+        """Every field at its default, or as given by keyword."""
+    def validate(self) -> None:
+        """``ValueError`` naming the first bad field and what it must be; None when valid."""
+    @property
+    def kp(self) -> _Array:
+        """K_p, diagonal (6,), >= 0."""
+    @kp.setter
+    def kp(self, value: _ArrayLike) -> None: ...
+    @property
+    def kd(self) -> _Array:
+        """K_d, diagonal (6,), >= 0."""
+    @kd.setter
+    def kd(self, value: _ArrayLike) -> None: ...
+
+class PIDConfig:
+    """Configuration of :class:`PIDController`.
+
+    Every field has the C++ default; ``PIDConfig(**fields)`` sets some by
+    keyword (an unknown one raises ``TypeError``), and a value of the wrong
+    shape or type raises naming its field. The controller's constructor and
+    :meth:`validate` run the one C++ validator.
+    """
+
+    def __init__(self, **kwargs: Any) -> None:
+        """Every field at its default, or as given by keyword."""
+    def validate(self) -> None:
+        """``ValueError`` naming the first bad field and what it must be; None when valid."""
+    @property
+    def kp(self) -> _Array:
+        """K_p, diagonal (6,), >= 0."""
+    @kp.setter
+    def kp(self, value: _ArrayLike) -> None: ...
+    @property
+    def ki(self) -> _Array:
+        """K_i, diagonal (6,), >= 0."""
+    @ki.setter
+    def ki(self, value: _ArrayLike) -> None: ...
+    @property
+    def kd(self) -> _Array:
+        """K_d, diagonal (6,), >= 0."""
+    @kd.setter
+    def kd(self, value: _ArrayLike) -> None: ...
+    @property
+    def integral_limit(self) -> _Array:
+        """Largest |K_i z| per DOF (6,), > 0 [N, N m]."""
+    @integral_limit.setter
+    def integral_limit(self, value: _ArrayLike) -> None: ...
+    @property
+    def dt(self) -> float:
+        """Control period [s], > 0."""
+    @dt.setter
+    def dt(self, value: SupportsFloat) -> None: ...
+
+class SlidingModeConfig:
+    """Configuration of :class:`SlidingModeController`.
+
+    Every field has the C++ default; ``SlidingModeConfig(**fields)`` sets some by
+    keyword (an unknown one raises ``TypeError``), and a value of the wrong
+    shape or type raises naming its field. The controller's constructor and
+    :meth:`validate` run the one C++ validator.
+    """
+
+    def __init__(self, **kwargs: Any) -> None:
+        """Every field at its default, or as given by keyword."""
+    def validate(self) -> None:
+        """``ValueError`` naming the first bad field and what it must be; None when valid."""
+    @property
+    def lambda_(self) -> _Array:
+        """Lambda in s = eta_tilde_dot + Lambda eta_tilde, diagonal (6,), > 0."""
+    @lambda_.setter
+    def lambda_(self, value: _ArrayLike) -> None: ...
+    @property
+    def kd(self) -> _Array:
+        """K_d, diagonal (6,), >= 0."""
+    @kd.setter
+    def kd(self, value: _ArrayLike) -> None: ...
+    @property
+    def k(self) -> _Array:
+        """Switching gain K (6,), >= 0 [N, N m]."""
+    @k.setter
+    def k(self, value: _ArrayLike) -> None: ...
+    @property
+    def phi(self) -> _Array:
+        """Boundary-layer width (6,), > 0, in units of s."""
+    @phi.setter
+    def phi(self, value: _ArrayLike) -> None: ...
+    @property
+    def theta(self) -> _Array:
+        """The nominal model's theta (24,), e.g. ``regressor_parameters(vehicle)``."""
+    @theta.setter
+    def theta(self, value: _ArrayLike) -> None: ...
+
+class LinearAdaptiveConfig:
+    """Configuration of :class:`LinearAdaptiveController`.
+
+    Every field has the C++ default; ``LinearAdaptiveConfig(**fields)`` sets some by
+    keyword (an unknown one raises ``TypeError``), and a value of the wrong
+    shape or type raises naming its field. The controller's constructor and
+    :meth:`validate` run the one C++ validator.
+    """
+
+    def __init__(self, **kwargs: Any) -> None:
+        """Every field at its default, or as given by keyword."""
+    def validate(self) -> None:
+        """``ValueError`` naming the first bad field and what it must be; None when valid."""
+    @property
+    def lambda_(self) -> _Array:
+        """Lambda in s = eta_tilde_dot + Lambda eta_tilde, diagonal (6,), > 0."""
+    @lambda_.setter
+    def lambda_(self, value: _ArrayLike) -> None: ...
+    @property
+    def kd(self) -> _Array:
+        """K_d, diagonal (6,), >= 0."""
+    @kd.setter
+    def kd(self, value: _ArrayLike) -> None: ...
+    @property
+    def gamma(self) -> _Array:
+        """Diagonal of Gamma (24,), >= 0 (0 freezes that parameter); a number sets every entry."""
+    @gamma.setter
+    def gamma(self, value: SupportsFloat | _ArrayLike) -> None: ...
+    @property
+    def dt(self) -> float:
+        """Control period [s], > 0."""
+    @dt.setter
+    def dt(self, value: SupportsFloat) -> None: ...
+    @property
+    def theta0(self) -> _Array:
+        """theta_hat(0) (24,): zero, or a nominal guess such as ``regressor_parameters(vehicle)``."""
+    @theta0.setter
+    def theta0(self, value: _ArrayLike) -> None: ...
+
+class NNAdaptiveConfig:
+    """Configuration of :class:`NNAdaptiveController`.
+
+    Every field has the C++ default; ``NNAdaptiveConfig(**fields)`` sets some by
+    keyword (an unknown one raises ``TypeError``), and a value of the wrong
+    shape or type raises naming its field. The controller's constructor and
+    :meth:`validate` run the one C++ validator.
+    """
+
+    def __init__(self, **kwargs: Any) -> None:
+        """Every field at its default, or as given by keyword."""
+    def validate(self) -> None:
+        """``ValueError`` naming the first bad field and what it must be; None when valid."""
+    @property
+    def lambda_(self) -> _Array:
+        """Lambda in s = eta_tilde_dot + Lambda eta_tilde, diagonal (6,), > 0."""
+    @lambda_.setter
+    def lambda_(self, value: _ArrayLike) -> None: ...
+    @property
+    def kd(self) -> _Array:
+        """K_d, diagonal (6,), >= 0 (0 leaves the network alone)."""
+    @kd.setter
+    def kd(self, value: _ArrayLike) -> None: ...
+    @property
+    def gamma(self) -> float:
+        """Gamma_w = gamma I, >= 0 (the paper: 0.3)."""
+    @gamma.setter
+    def gamma(self, value: SupportsFloat) -> None: ...
+    @property
+    def dt(self) -> float:
+        """Control period [s], > 0 (the paper: 0.2)."""
+    @dt.setter
+    def dt(self, value: SupportsFloat) -> None: ...
+    @property
+    def modification(self) -> RobustModification:
+        """The robust modification: a RobustModification or its name."""
+    @modification.setter
+    def modification(self, value: RobustModification | _Modification) -> None: ...
+    @property
+    def sigma_m(self) -> float:
+        """Leakage of the sigma-modification (> 0 when used)."""
+    @sigma_m.setter
+    def sigma_m(self, value: SupportsFloat) -> None: ...
+    @property
+    def kappa(self) -> float:
+        """Gain of the e-modification (> 0 when used)."""
+    @kappa.setter
+    def kappa(self, value: SupportsFloat) -> None: ...
+    @property
+    def w_max(self) -> float:
+        """Frobenius bound of the projection (> 0 when used)."""
+    @w_max.setter
+    def w_max(self, value: SupportsFloat) -> None: ...
+    @property
+    def dead_zone(self) -> float:
+        """No adaptation while ||s|| < dead_zone (0 disables), >= 0."""
+    @dead_zone.setter
+    def dead_zone(self, value: SupportsFloat) -> None: ...
+
+class ComputedTorqueConfig:
+    """Configuration of :class:`ComputedTorqueController`.
+
+    Every field has the C++ default; ``ComputedTorqueConfig(**fields)`` sets some by
+    keyword (an unknown one raises ``TypeError``), and a value of the wrong
+    shape or type raises naming its field. The controller's constructor and
+    :meth:`validate` run the one C++ validator.
+    """
+
+    def __init__(self, **kwargs: Any) -> None:
+        """Every field at its default, or as given by keyword."""
+    def validate(self) -> None:
+        """``ValueError`` naming the first bad field and what it must be; None when valid."""
+    @property
+    def lambda_(self) -> _Array:
+        """Lambda in s = eta_tilde_dot + Lambda eta_tilde, diagonal (6,), > 0."""
+    @lambda_.setter
+    def lambda_(self, value: _ArrayLike) -> None: ...
+    @property
+    def kd(self) -> _Array:
+        """K_d, diagonal (6,), >= 0."""
+    @kd.setter
+    def kd(self, value: _ArrayLike) -> None: ...
+    @property
+    def vehicle(self) -> Vehicle | None:
+        """The nominal model, a Vehicle (None until set)."""
+    @vehicle.setter
+    def vehicle(self, value: Vehicle) -> None: ...
+
 @type_check_only
 class _Controller:
     """What every controller has (a stub-only base: at runtime the classes are unrelated)."""
@@ -425,6 +684,13 @@ class NNAdaptiveController(_Controller):
     weights from before the update.
     """
 
+    @overload
+    def __init__(
+        self, network: RbfNetwork, config: NNAdaptiveConfig, *, learning_rates: _ArrayLike | None = None
+    ) -> None:
+        """network: an RbfNetwork with 24 inputs (copied; its weights are W(0)); config:
+        an NNAdaptiveConfig; learning_rates (N,): per-centre Gamma_w."""
+    @overload
     def __init__(
         self,
         network: RbfNetwork,
@@ -447,6 +713,9 @@ class NNAdaptiveController(_Controller):
         ``'e_modification'`` (kappa > 0) or ``'projection'`` (||W||_F <= w_max);
         dead_zone: no adaptation while ||s|| < dead_zone; learning_rates (N,):
         per-centre Gamma_w."""
+    @property
+    def config(self) -> NNAdaptiveConfig:
+        """A copy of the configuration the controller was built from."""
     @property
     def weights(self) -> _Array:
         """Current weights W, shape (6, N); assignable (warm start)."""
@@ -482,6 +751,10 @@ class LinearAdaptiveController(_Controller):
     not its parameters.
     """
 
+    @overload
+    def __init__(self, config: LinearAdaptiveConfig) -> None:
+        """Builds the controller from its configuration object; ``ValueError`` names a bad field."""
+    @overload
     def __init__(
         self,
         lambda_: _ArrayLike,
@@ -495,6 +768,9 @@ class LinearAdaptiveController(_Controller):
         theta_hat(0) (24,), default zero (``regressor_parameters(vehicle)`` gives
         the true one)."""
     @property
+    def config(self) -> LinearAdaptiveConfig:
+        """A copy of the configuration the controller was built from."""
+    @property
     def theta(self) -> _Array:
         """Current estimate theta_hat (24,); assignable."""
     @theta.setter
@@ -506,8 +782,15 @@ class LinearAdaptiveController(_Controller):
 class PDController(_Controller):
     """PD baseline in the earth frame: ``tau = -J^T (K_p eta_tilde + K_d eta_tilde_dot)``."""
 
+    @overload
+    def __init__(self, config: PDConfig) -> None:
+        """Builds the controller from its configuration object; ``ValueError`` names a bad field."""
+    @overload
     def __init__(self, kp: _ArrayLike, kd: _ArrayLike) -> None:
         """kp, kd: diagonal gains (6,), >= 0."""
+    @property
+    def config(self) -> PDConfig:
+        """A copy of the configuration the controller was built from."""
 
 class PIDController(_Controller):
     """PID baseline in the earth frame with anti-windup.
@@ -517,6 +800,10 @@ class PIDController(_Controller):
     further into the limit.
     """
 
+    @overload
+    def __init__(self, config: PIDConfig) -> None:
+        """Builds the controller from its configuration object; ``ValueError`` names a bad field."""
+    @overload
     def __init__(
         self,
         kp: _ArrayLike,
@@ -528,6 +815,9 @@ class PIDController(_Controller):
         """kp, ki, kd: diagonal gains (6,), >= 0; integral_limit: largest |K_i z| per DOF
         (6,), > 0 [N, N m]; dt: control period [s]."""
     @property
+    def config(self) -> PIDConfig:
+        """A copy of the configuration the controller was built from."""
+    @property
     def integral(self) -> _Array:
         """The integrator state z (6,), the limited time integral of eta_tilde."""
 
@@ -538,6 +828,10 @@ class SlidingModeController(_Controller):
     nominal model's parameters (see :func:`regressor`).
     """
 
+    @overload
+    def __init__(self, config: SlidingModeConfig) -> None:
+        """Builds the controller from its configuration object; ``ValueError`` names a bad field."""
+    @overload
     def __init__(
         self,
         lambda_: _ArrayLike,
@@ -550,8 +844,32 @@ class SlidingModeController(_Controller):
         phi: boundary-layer width (6,), > 0; theta: the nominal model (24,), e.g.
         ``regressor_parameters(vehicle)``."""
     @property
+    def config(self) -> SlidingModeConfig:
+        """A copy of the configuration the controller was built from."""
+    @property
     def model_output(self) -> _Array:
         """The nominal model's f of the last step, shape (6,)."""
+
+class ComputedTorqueController(_Controller):
+    """Computed-torque (inverse-dynamics) controller on a nominal vehicle.
+
+    ``tau = M nu_r_dot + C(nu) nu_r + D(nu) nu_r + g(eta) - J^T K_d s`` with
+    the vehicle's own M, C(nu), D(nu) and g(eta), in either Coriolis form.
+    """
+
+    @overload
+    def __init__(self, config: ComputedTorqueConfig) -> None:
+        """Builds the controller from its configuration object; ``ValueError`` names a bad field."""
+    @overload
+    def __init__(self, vehicle: Vehicle, lambda_: _ArrayLike, kd: _ArrayLike) -> None:
+        """vehicle: the nominal model (its parameters are copied); lambda_: Lambda (6,),
+        > 0; kd: K_d (6,), >= 0."""
+    @property
+    def config(self) -> ComputedTorqueConfig:
+        """A copy of the configuration the controller was built from."""
+    @property
+    def model_output(self) -> _Array:
+        """M nu_r_dot + C(nu) nu_r + D(nu) nu_r + g(eta) of the last step, shape (6,)."""
 
 # --------------------------------------------------------------------------
 # Closed-loop simulation and thrust allocation

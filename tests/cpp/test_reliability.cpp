@@ -114,6 +114,12 @@ Bytes state_of(const SlidingModeController<S>& c) {
   b.add(c.model_output());
   return add_tracking(b, c.tracking());
 }
+template <typename S>
+Bytes state_of(const ComputedTorqueController<S>& c) {
+  Bytes b;
+  b.add(c.model_output());
+  return add_tracking(b, c.tracking());
+}
 
 template <typename S, int N>
 bool state_finite(const NNAdaptiveController<S, N>& c) {
@@ -133,6 +139,10 @@ bool state_finite(const PIDController<S>& c) {
 }
 template <typename S>
 bool state_finite(const SlidingModeController<S>& c) {
+  return c.model_output().allFinite() && c.tracking().s.allFinite();
+}
+template <typename S>
+bool state_finite(const ComputedTorqueController<S>& c) {
   return c.model_output().allFinite() && c.tracking().s.allFinite();
 }
 
@@ -367,6 +377,14 @@ SlidingModeController<S> smc() {
   return SlidingModeController<S>(cfg);
 }
 
+template <typename S>
+ComputedTorqueController<S> computed_torque() {
+  ComputedTorqueConfig<S> cfg;
+  cfg.kd << S(200), S(200), S(200), S(50), S(50), S(50);
+  cfg.vehicle = nerov_parameters<S>();
+  return ComputedTorqueController<S>(cfg);
+}
+
 /// Runs `check` on every controller and configuration a vehicle can fly.
 template <typename S, typename F>
 void for_each_controller(F&& check) {
@@ -410,6 +428,10 @@ void for_each_controller(F&& check) {
     SCOPED_TRACE("sliding mode");
     check(smc<S>(), 20u);
   }
+  {
+    SCOPED_TRACE("computed torque");
+    check(computed_torque<S>(), 21u);
+  }
 }
 
 TYPED_TEST(ReliabilityTest, ControllerStepHostileValueInEveryEntry) {
@@ -436,6 +458,7 @@ TYPED_TEST(ReliabilityTest, UnconfiguredControllersRefuseEveryStep) {
   check_one_step(PDController<S>{}, in, "PD");
   check_one_step(PIDController<S>{}, in, "PID");
   check_one_step(SlidingModeController<S>{}, in, "SMC");
+  check_one_step(ComputedTorqueController<S>{}, in, "computed torque");
   NNAdaptiveController<S> c;
   Vector6<S> tau;
   EXPECT_EQ(step(c, in, tau), Status::invalid_argument);

@@ -161,7 +161,7 @@ def test_function_parameters_match(name: str) -> None:
 def test_class_members_match(cls_name: str) -> None:
     cls = getattr(core, cls_name)
     methods = class_functions(cls_name)
-    if cls_name == "Status":
+    if hasattr(cls, "__members__"):  # an enum: its members are values, not members to match
         runtime = {n for n in vars(cls) if public(n) and not isinstance(vars(cls)[n], cls)}
         assert {n for n in methods if public(n)} == runtime
     else:
@@ -179,6 +179,16 @@ def test_class_members_match(cls_name: str) -> None:
             assert (raw.fset is not None) == has_setter, f"{cls_name}.{name} setter"
         else:
             assert [stub_parameters(n) for n in nodes] == runtime_signatures(getattr(cls, name)), name
+
+
+def test_benchmark_helpers_are_not_in_the_core() -> None:
+    """The timing helpers live in neurov._bench, built only with NEUROV_BUILD_BENCH."""
+    assert not [n for n in dir(core) if n.startswith(("_time", "_kernel"))]
+
+
+def test_robust_modification_members_match() -> None:
+    assert set(core.RobustModification.__members__) == {"none", "sigma", "e_modification", "projection"}
+    assert int(core.RobustModification.none) == 0
 
 
 def test_status_members_match() -> None:

@@ -239,46 +239,6 @@ inline ValidationError validate(const SimulationConfig<Scalar>& c) {
   return {};
 }
 
-/// How far a controller's adaptive part has moved, for the result.
-template <typename Scalar, int N>
-inline Scalar adaptive_norm(const NNAdaptiveController<Scalar, N>& c) noexcept {
-  return c.weight_norm();
-}
-template <typename Scalar>
-inline Scalar adaptive_norm(const LinearAdaptiveController<Scalar>& c) noexcept {
-  return c.theta().norm();
-}
-template <typename Scalar>
-inline Scalar adaptive_norm(const PDController<Scalar>&) noexcept {
-  return Scalar(0);
-}
-/// The PID's integrator is its only memory: report ||z||.
-template <typename Scalar>
-inline Scalar adaptive_norm(const PIDController<Scalar>& c) noexcept {
-  return c.integral().norm();
-}
-template <typename Scalar>
-inline Scalar adaptive_norm(const SlidingModeController<Scalar>&) noexcept {
-  return Scalar(0);
-}
-
-namespace detail {
-template <typename Controller, typename Row>
-inline void record_theta(const Controller&, Row&&) noexcept {}
-template <typename Scalar, typename Row>
-inline void record_theta(const LinearAdaptiveController<Scalar>& c, Row&& row) noexcept {
-  row = c.theta().transpose();
-}
-template <typename Controller>
-constexpr int theta_columns(const Controller*) noexcept {
-  return 0;
-}
-template <typename Scalar>
-constexpr int theta_columns(const LinearAdaptiveController<Scalar>*) noexcept {
-  return kRegressorParameters;
-}
-}  // namespace detail
-
 /// Runs the closed loop. The controller is used as given (reset it first for
 /// a fresh run) and left in its final state. Throws nothing; a bad
 /// configuration comes back as the ValidationError and an empty result.
@@ -298,7 +258,7 @@ ValidationError simulate(const Vehicle<Scalar>& vehicle, Controller& controller,
 
   const Eigen::Index rows = static_cast<Eigen::Index>(std::llround(config.duration / config.dt)) + 1;
   const Eigen::Index n_thr = config.use_thrusters ? thrusters.count() : 0;
-  const int n_theta = detail::theta_columns(&controller);
+  constexpr int n_theta = Controller::kLoggedParameters;
   SimulationResult<Scalar>& r = out;
   r.t.resize(rows);
   for (auto* m : {&r.eta, &r.nu, &r.eta_d, &r.eta_d_dot, &r.tau_demanded, &r.tau_applied,
@@ -393,9 +353,9 @@ ValidationError simulate(const Vehicle<Scalar>& vehicle, Controller& controller,
     r.eta_d_dot.row(k) = desired.eta_d_dot.transpose();
     r.tau_demanded.row(k) = tau.transpose();
     r.s.row(k) = controller.tracking().s.transpose();
-    r.adaptive_norm(k) = adaptive_norm(controller);
+    r.adaptive_norm(k) = controller.adaptive_norm();
     r.controller_status(k) = static_cast<std::uint8_t>(cs);
-    detail::record_theta(controller, r.theta.row(k));
+    if constexpr (n_theta > 0) r.theta.row(k) = controller.logged_parameters().transpose();
     r.disturbance.row(k) = disturbance_at(t).transpose();
 
     if (config.use_thrusters) thrusters.command(tau);

@@ -134,6 +134,12 @@ void bind_vehicle(py::module_& m) {
           py::arg("name"),
           "A vehicle shipped with neurov by name: 'nerov' or 'bluerov2_heavy' "
           "(neurov.vehicle_file.preset_names() lists them).")
+      .def(py::pickle(
+          [](const Vehicle<double>& v) { return parameters_dict(v.parameters()); },
+          [](const py::dict& d) {
+            // The keyword constructor, so an unpickled vehicle is validated like any other.
+            return py::type::of<Vehicle<double>>()(**d).cast<Vehicle<double>>();
+          }))
       .def("parameters", [](const Vehicle<double>& v) { return parameters_dict(v.parameters()); },
            "The parameters as a dict of keyword arguments: Vehicle(**v.parameters()) "
            "rebuilds the vehicle, so a perturbed copy is one dict edit away.")
