@@ -52,7 +52,16 @@ def default_centre_box(scenario: Scenario) -> tuple[Array, Array]:
     for nu_r_dot. A written-down choice: the paper says only "uniformly spaced
     in the state space"."""
     _, poses = scenario.command.timed_poses()
-    poses = np.vstack([poses, scenario.eta0])
+    # The box is the first use of eta0 and the poses: a NaN in either would
+    # otherwise be reported as the box's ('low' and 'high' must be finite).
+    eta0 = np.asarray(scenario.eta0, dtype=np.float64)
+    if eta0.shape != (6,) or not np.all(np.isfinite(eta0)):
+        raise ValueError(f"scenario {scenario.name!r}: argument 'eta0' (the initial pose) must be "
+                         f"6 finite numbers, got {eta0.tolist()}")
+    if not np.all(np.isfinite(poses)):
+        raise ValueError(f"scenario {scenario.name!r}: the command's poses must be finite, "
+                         f"got a non-finite value in pose {int(np.argmin(np.all(np.isfinite(poses), axis=1)))}")
+    poses = np.vstack([poses, eta0])
     pad = np.array([2.0, 2.0, 2.0, 0.5, 0.5, 0.5])
     vel = np.array([1.0, 1.0, 1.0, 0.5, 0.5, 0.5])
     acc = np.full(6, 0.5)
