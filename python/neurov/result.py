@@ -211,7 +211,7 @@ class Result:
         row, each number as the shortest text that reads back to the same
         float64. Written in blocks of :data:`CSV_BLOCK_ROWS` rows (a 24-hour
         run does not need its whole text in memory), through pyarrow's C++
-        writer when pyarrow is installed (``neurov[parquet]``; about 20 times
+        writer when pyarrow is installed (``neurov[parquet]``; about four times
         faster), else Python's csv module; unless `quiet`, a progress bar."""
         from neurov.progress import progress_bar
 
