@@ -202,3 +202,32 @@ def test_csv_written_in_blocks_reads_back_exactly(long_run: Result, tmp_path: Pa
     assert rows[0] == list(cols) and len(rows) == 5001
     table = np.array(rows[1:], dtype=np.float64)
     np.testing.assert_array_equal(table, np.column_stack(list(cols.values())))
+
+
+def test_diverged_study_run_is_a_failed_row(diverging: Path, tmp_path: Path,
+                                            capsys: pytest.CaptureFixture[str]) -> None:
+    import pandas as pd
+
+    (tmp_path / "study.toml").write_text(f"""
+name = "unstable"
+samples = 1
+after = 5.0
+scenarios = ["{diverging.name}"]
+
+[controllers.hot]
+type = "pd"
+kp = 1e7
+kd = 1e7
+
+[controllers.calm]
+type = "pd"
+kp = [100, 100, 100, 50, 50, 50]
+kd = [200, 200, 200, 50, 50, 50]
+""", encoding="utf-8")
+    out = tmp_path / "out"
+    assert cli.main(["study", str(tmp_path / "study.toml"), "--out", str(out), "--workers", "1",
+                     "--executor", "processes", "--no-plots", "--quiet"]) == 0
+    runs = pd.read_csv(out / "runs.csv").set_index("controller")
+    assert runs.loc["hot", "diverged"] == 1 and runs.loc["hot", "failed"]
+    assert math.isinf(runs.loc["hot", "rmse_position_m"]) and math.isinf(runs.loc["hot", "iae_z"])
+    assert runs.loc["calm", "diverged"] == 0 and math.isfinite(runs.loc["calm", "rmse_position_m"])
