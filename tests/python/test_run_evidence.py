@@ -231,3 +231,24 @@ kd = [200, 200, 200, 50, 50, 50]
     assert runs.loc["hot", "diverged"] == 1 and runs.loc["hot", "failed"]
     assert math.isinf(runs.loc["hot", "rmse_position_m"]) and math.isinf(runs.loc["hot", "iae_z"])
     assert runs.loc["calm", "diverged"] == 0 and math.isfinite(runs.loc["calm", "rmse_position_m"])
+
+
+def test_writing_and_plotting_show_progress_on_a_terminal(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    import io
+
+    from neurov.run import write_outputs
+
+    class Terminal(io.StringIO):
+        def isatty(self) -> bool:
+            return True
+
+    result = simulate(load_scenario(ROOT / "examples" / "scenarios" / "square_nn.toml").replace(duration=20.0))
+    tty = Terminal()
+    monkeypatch.setattr(sys, "stderr", tty)
+    write_outputs(result, result.metrics(), tmp_path, plot=True, quiet=False)
+    shown = tty.getvalue()
+    assert "result.csv" in shown and f"{len(result.t)}/{len(result.t)}" in shown
+    assert "result.npz" in shown and "figures" in shown and "5/5" in shown
+    monkeypatch.setattr(sys, "stderr", tty := Terminal())
+    write_outputs(result, result.metrics(), tmp_path, plot=True)  # quiet by default
+    assert tty.getvalue() == ""
