@@ -265,7 +265,7 @@ def machine() -> dict[str, Any]:
     except OSError:
         pass
     return {"cpu": model, "cpus": os.cpu_count(), "python": platform.python_version(),
-            "numpy": np.__version__, "neurov": neurov.__version__, "kernels": _bench.kernel_isa()}
+            "numpy": np.__version__, "neurov": neurov.__version__, "kernels": neurov._core._kernel_isa()}
 
 
 def main() -> None:

@@ -93,6 +93,4 @@ PYBIND11_MODULE(_bench, m) {
         py::arg("controller"), py::arg("inputs"), py::arg("steps"), py::arg("repeats") = 5);
   m.def("time_acceleration", &time_acceleration, py::arg("vehicle"), py::arg("eta"),
         py::arg("nu"), py::arg("tau"), py::arg("steps"), py::arg("repeats") = 5);
-  m.def("kernel_isa", [] { return std::string(detail::kernel_isa_name()); },
-        "Which copy of the RBF loops runs on this CPU (avx512, avx2, sse2, ...).");
 }

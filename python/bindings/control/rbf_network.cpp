@@ -1,6 +1,8 @@
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
 
+#include <string>
+
 #include "bindings.hpp"
 #include "neurov/control/rbf_network.hpp"
 #include "numpy_args.hpp"
@@ -93,6 +95,9 @@ void bind_rbf_network(py::module_& m) {
                              "Input scale, shape (n_in,).")
       .def_property_readonly("n_inputs", &Network::inputs, "Number of inputs n_in.")
       .def_property_readonly("n_centres", &Network::centres_count, "Number of centres N.");
+  // Private: neurov.kernels.kernel_path() is the public face (NEUROV_KERNEL pins it).
+  m.def("_kernel_isa", [] { return std::string(detail::kernel_isa_name()); },
+        "Which copy of the RBF loops runs on this CPU (avx512, avx2, generic).");
 }
 
 }  // namespace neurov::bindings
