@@ -1,0 +1,104 @@
+// The built-in closed loop: a Simulator driven by one of neurov's controllers,
+// all in C++ so that a whole run is one call. The same code path as a run
+// driven step by step from outside (simulator.hpp).
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+
+#include "neurov/control/linear_adaptive_controller.hpp"
+#include "neurov/control/nn_controller.hpp"
+#include "neurov/control/pd_controller.hpp"
+#include "neurov/control/pid_controller.hpp"
+#include "neurov/control/sliding_mode_controller.hpp"
+#include "neurov/core/status.hpp"
+#include "neurov/core/types.hpp"
+#include "neurov/core/validation.hpp"
+#include "neurov/model/regressor.hpp"
+#include "neurov/model/vehicle.hpp"
+#include "neurov/sim/config.hpp"
+#include "neurov/sim/result.hpp"
+#include "neurov/sim/simulator.hpp"
+
+namespace neurov {
+
+/// How far a controller's adaptive part has moved, for the result.
+template <typename Scalar, int N>
+inline Scalar adaptive_norm(const NNAdaptiveController<Scalar, N>& c) noexcept {
+  return c.weight_norm();
+}
+template <typename Scalar>
+inline Scalar adaptive_norm(const LinearAdaptiveController<Scalar>& c) noexcept {
+  return c.theta().norm();
+}
+template <typename Scalar>
+inline Scalar adaptive_norm(const PDController<Scalar>&) noexcept {
+  return Scalar(0);
+}
+/// The PID's integrator is its only memory: report ||z||.
+template <typename Scalar>
+inline Scalar adaptive_norm(const PIDController<Scalar>& c) noexcept {
+  return c.integral().norm();
+}
+template <typename Scalar>
+inline Scalar adaptive_norm(const SlidingModeController<Scalar>&) noexcept {
+  return Scalar(0);
+}
+
+namespace detail {
+template <typename Controller, typename Row>
+inline void record_theta(const Controller&, Row&&) noexcept {}
+template <typename Scalar, typename Row>
+inline void record_theta(const LinearAdaptiveController<Scalar>& c, Row&& row) noexcept {
+  row = c.theta().transpose();
+}
+template <typename Controller>
+constexpr int theta_columns(const Controller*) noexcept {
+  return 0;
+}
+template <typename Scalar>
+constexpr int theta_columns(const LinearAdaptiveController<Scalar>*) noexcept {
+  return kRegressorParameters;
+}
+}  // namespace detail
+
+/// The most parameters a built-in controller logs per step.
+constexpr int kMaxLoggedParameters = kRegressorParameters;
+
+/// The report of a controller's last step: its status, s, adaptive norm and
+/// logged parameters (copied into `parameters`, which the report points to).
+template <typename Scalar, typename Controller>
+ControllerReport<Scalar> controller_report(
+    const Controller& controller, Status status,
+    Eigen::Matrix<Scalar, 1, kMaxLoggedParameters>& parameters) noexcept {
+  ControllerReport<Scalar> report;
+  report.status = status;
+  report.s = controller.tracking().s;
+  report.adaptive_norm = adaptive_norm(controller);
+  report.parameter_count = detail::theta_columns(&controller);
+  detail::record_theta(controller, parameters.head(report.parameter_count));
+  report.parameters = parameters.data();
+  return report;
+}
+
+/// Runs the closed loop. The controller is used as given (reset it first for
+/// a fresh run) and left in its final state. Throws nothing; a bad
+/// configuration comes back as the ValidationError with `out` untouched.
+template <typename Scalar, typename Controller>
+ValidationError simulate(const Vehicle<Scalar>& vehicle, Controller& controller,
+                         const SimulationConfig<Scalar>& config, SimulationResult<Scalar>& out) {
+  Simulator<Scalar> sim;
+  if (auto e = Simulator<Scalar>::create(vehicle, config, sim, detail::theta_columns(&controller)))
+    return e;
+  Eigen::Matrix<Scalar, 1, kMaxLoggedParameters> parameters;
+  Vector6<Scalar> tau;
+  while (!sim.done()) {
+    const Observation<Scalar>& o = sim.observation();
+    const Status cs = controller.step(o.eta, o.nu, o.desired, tau);
+    sim.step(tau, controller_report<Scalar>(controller, cs, parameters));
+  }
+  sim.release_result(out);
+  return {};
+}
+
+}  // namespace neurov
