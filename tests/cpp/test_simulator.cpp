@@ -10,7 +10,6 @@
 
 #include <gtest/gtest.h>
 
-#include "legacy_loop.hpp"
 #include "neurov/neurov.hpp"
 #include "test_support.hpp"
 
@@ -239,28 +238,167 @@ void expect_same_run(const SimulationResult<S>& a, const SimulationResult<S>& b,
   EXPECT_TRUE(same_bits("faults", a.faults, b.faults)) << what;
 }
 
-/// Runs one controller type through both loops on every configuration.
-template <typename S, typename Make>
-void compare_with_legacy(Make make, const char* name) {
-  const Vehicle<S> vehicle(nerov_parameters<S>());
-  for (const auto& [label, cfg] : configurations<S>()) {
-    const std::string what = std::string(name) + ", " + label;
-    auto c_old = make();
-    auto c_new = make();
-    SimulationResult<S> old_run, new_run;
-    ASSERT_TRUE(legacy::simulate_legacy(vehicle, c_old, cfg, old_run).ok()) << what;
-    ASSERT_TRUE(simulate(vehicle, c_new, cfg, new_run).ok()) << what;
-    expect_same_run(old_run, new_run, what);
+/// The closed loop written out by hand on the Simulator's public API.
+template <typename S, typename Controller>
+void drive(Simulator<S>& sim, Controller& controller) {
+  Eigen::Matrix<S, 1, kMaxLoggedParameters> parameters;
+  Vector6<S> tau;
+  while (!sim.done()) {
+    const Observation<S>& o = sim.observation();
+    const Status cs = controller.step(o.eta, o.nu, o.desired, tau);
+    sim.step(tau, controller_report<S>(controller, cs, parameters));
   }
 }
 
-TYPED_TEST(SimulatorTest, ClosedLoopGivesTheRunsOfThePreviousLoopToTheBit) {
+/// simulate() and a run stepped by hand agree, and reset() replays the run.
+template <typename S, typename Make>
+void expect_stepped_run_is_simulate(Make make, const char* name) {
+  const Vehicle<S> vehicle(nerov_parameters<S>());
+  for (const auto& [label, cfg] : configurations<S>()) {
+    const std::string what = std::string(name) + ", " + label;
+    auto c1 = make();
+    auto c2 = make();
+    SimulationResult<S> whole;
+    ASSERT_TRUE(simulate(vehicle, c1, cfg, whole).ok()) << what;
+    Simulator<S> sim;
+    ASSERT_TRUE(Simulator<S>::create(vehicle, cfg, sim, detail::theta_columns(&c2)).ok()) << what;
+    drive(sim, c2);
+    expect_same_run(sim.result(), whole, what);
+    sim.reset();
+    c2.reset();
+    drive(sim, c2);
+    expect_same_run(sim.result(), whole, what + ", after reset()");
+  }
+}
+
+TYPED_TEST(SimulatorTest, ARunSteppedByHandIsTheClosedLoop) {
   using S = TypeParam;
-  compare_with_legacy<S>(make_pd<S>, "pd");
-  compare_with_legacy<S>(make_pid<S>, "pid");
-  compare_with_legacy<S>(make_smc<S>, "smc");
-  compare_with_legacy<S>(make_linear<S>, "linear");
-  compare_with_legacy<S>(make_nn<S>, "nn");
+  expect_stepped_run_is_simulate<S>(make_pd<S>, "pd");
+  expect_stepped_run_is_simulate<S>(make_linear<S>, "linear");
+  expect_stepped_run_is_simulate<S>(make_nn<S>, "nn");
+}
+
+// An independent reference for the timing: with no noise, no thrusters and a
+// force that depends on t only, row k is rk4_step applied substeps times from
+// row k-1 with the force plus the disturbance at each substep, and eta_d is a
+// ReferenceModel stepped at dt with the command at t_k.
+TYPED_TEST(SimulatorTest, RowsFollowTheZeroOrderHoldAndRk4Substeps) {
+  using S = TypeParam;
+  const Vehicle<S> vehicle(nerov_parameters<S>());
+  SimulationConfig<S> cfg = configurations<S>()[6].second;  // current steps and disturbances
+  ASSERT_EQ(configurations<S>()[6].first, "current steps and disturbances");
+  cfg.duration = S(12);
+  Simulator<S> sim;
+  ASSERT_TRUE(Simulator<S>::create(vehicle, cfg, sim).ok());
+  auto force = [](S t) {
+    Vector6<S> f;
+    f << S(40) * std::sin(t), S(-20), S(10) * std::cos(t / S(3)), S(0), S(1), S(-2) * t;
+    return f;
+  };
+  ReferenceModel<S> reference(cfg.lambda_d, cfg.omega, cfg.eta0);
+  DesiredState<S> desired = reference.desired();
+  Vector6<S> eta = cfg.eta0, nu = cfg.nu0;
+  const S h = cfg.dt / S(cfg.substeps);
+  const S two_pi = S(6.283185307179586);
+  while (!sim.done()) {
+    const Eigen::Index k = sim.steps();
+    const S t = S(k) * cfg.dt;
+    EXPECT_EQ(sim.observation().t, t);
+    EXPECT_EQ(sim.observation().eta, eta) << "k = " << k;  // no noise: the true state
+    EXPECT_EQ(sim.observation().desired.eta_d, desired.eta_d) << "k = " << k;
+    EXPECT_EQ(sim.observation().desired.eta_d_ddot, desired.eta_d_ddot) << "k = " << k;
+    ASSERT_EQ(sim.step(force(t), ControllerReport<S>{}), Status::ok);
+    for (int j = 0; j < cfg.substeps; ++j) {
+      const S ts = t + S(j) * h;
+      Vector6<S> d = Vector6<S>::Zero();
+      for (const auto& dist : cfg.disturbances)
+        if (ts >= dist.start)
+          d(dist.dof) +=
+              dist.amplitude * std::sin(two_pi * dist.frequency * (ts - dist.start) + dist.phase);
+      Vector3<S> current = cfg.current;
+      for (const auto& step : cfg.current_steps)
+        if (ts >= step.time) current = step.velocity;
+      current += cfg.current_amplitude * std::sin(two_pi * ts / cfg.current_period);
+      ASSERT_EQ(rk4_step(vehicle, eta, nu, Vector6<S>(force(t) + d), h, current), Status::ok);
+    }
+    reference.step(cfg.command.at(t), cfg.dt, desired);
+    EXPECT_EQ(sim.eta(), eta) << "k = " << k;
+    EXPECT_EQ(sim.nu(), nu) << "k = " << k;
+  }
+  EXPECT_EQ(sim.steps(), 61);
+  const SimulationResult<S> r = sim.result();
+  EXPECT_EQ(r.steps, 61);
+  EXPECT_EQ(r.tau_demanded.row(60).transpose(), force(S(60) * cfg.dt));
+  EXPECT_EQ(r.tau_applied.row(60), r.tau_demanded.row(60));
+}
+
+TYPED_TEST(SimulatorTest, RejectedCallsChangeNothing) {
+  using S = TypeParam;
+  const Vehicle<S> vehicle(nerov_parameters<S>());
+  SimulationConfig<S> cfg = configurations<S>()[1].second;  // noise
+  cfg.duration = S(1);
+  Simulator<S> sim;
+  ASSERT_TRUE(Simulator<S>::create(vehicle, cfg, sim, 2).ok());
+  const S theta[2] = {S(1), S(2)};
+  ControllerReport<S> good;
+  good.parameters = theta;
+  good.parameter_count = 2;
+  ASSERT_EQ(sim.step(Vector6<S>::Ones(), good), Status::ok);
+  const Observation<S> before = sim.observation();
+  const Vector6<S> eta = sim.eta();
+
+  ControllerReport<S> wrong_count = good;
+  wrong_count.parameter_count = 1;
+  EXPECT_EQ(sim.step(Vector6<S>::Ones(), wrong_count), Status::invalid_argument);
+  ControllerReport<S> no_parameters = good;
+  no_parameters.parameters = nullptr;
+  EXPECT_EQ(sim.step(Vector6<S>::Ones(), no_parameters), Status::invalid_argument);
+  Vector6<S> nan_tau = Vector6<S>::Ones();
+  nan_tau(2) = std::numeric_limits<S>::quiet_NaN();
+  EXPECT_EQ(sim.step(nan_tau, good), Status::non_finite_input);
+  EXPECT_EQ(sim.steps(), 1);
+  EXPECT_EQ(sim.eta(), eta);
+  EXPECT_EQ(sim.observation().eta, before.eta);
+
+  // A refused step's force is not applied, NaN or not: the policy decides.
+  ControllerReport<S> refused = good;
+  refused.status = Status::non_finite_input;
+  EXPECT_EQ(sim.step(nan_tau, refused), Status::ok);
+  EXPECT_EQ(sim.steps(), 2);
+  while (!sim.done()) sim.step(Vector6<S>::Zero(), good);
+  const SimulationResult<S> full = sim.result();
+  EXPECT_EQ(full.steps, 6);
+  EXPECT_TRUE(full.tau_demanded.row(1).isZero(S(0)));
+  EXPECT_EQ(full.controller_status(1), static_cast<std::uint8_t>(Status::non_finite_input));
+  EXPECT_EQ(full.theta(3, 1), S(2));
+  EXPECT_EQ(sim.step(Vector6<S>::Zero(), good), Status::invalid_argument);
+  expect_same_run(sim.result(), full, "after done");
+
+  Simulator<S> empty;
+  EXPECT_TRUE(empty.done());
+  EXPECT_EQ(empty.step(Vector6<S>::Zero(), ControllerReport<S>{}), Status::invalid_argument);
+  EXPECT_STREQ(Simulator<S>::create(vehicle, cfg, sim, -1).field, "logged_parameters");
+  EXPECT_STREQ(Simulator<S>::create(Vehicle<S>{}, cfg, sim).field, "vehicle");
+  EXPECT_EQ(sim.steps(), 6);  // a failed create leaves the simulator as it was
+}
+
+TYPED_TEST(SimulatorTest, ANewSeedChangesTheNoiseOnly) {
+  using S = TypeParam;
+  const Vehicle<S> vehicle(nerov_parameters<S>());
+  const SimulationConfig<S> cfg = configurations<S>()[1].second;  // noise
+  Simulator<S> sim;
+  ASSERT_TRUE(Simulator<S>::create(vehicle, cfg, sim).ok());
+  auto c = make_pd<S>();
+  drive(sim, c);
+  const SimulationResult<S> first = sim.result();
+  sim.reset(cfg.seed + 1);
+  c.reset();
+  drive(sim, c);
+  const SimulationResult<S> second = sim.result();
+  EXPECT_EQ(first.eta.row(0), second.eta.row(0));
+  EXPECT_NE(first.eta.row(5), second.eta.row(5));
+  EXPECT_NE(first.tau_demanded.row(0), second.tau_demanded.row(0));  // measured with other noise
+  EXPECT_EQ(first.eta_d, second.eta_d);  // the reference does not see the noise
 }
 
 // The configurations above exercise what they claim to: otherwise the
