@@ -26,6 +26,9 @@ PYBIND11_MODULE(_core, m) {
   neurov::bindings::bind_kinematics(m);
   neurov::bindings::bind_vehicle(m);
   neurov::bindings::bind_controllers(m);
-  neurov::bindings::bind_simulation(m);
+  neurov::bindings::bind_thrusters(m);
+  neurov::bindings::bind_sim_config(m);
+  neurov::bindings::bind_simulator(m);
+  neurov::bindings::bind_closed_loop(m);
   neurov::bindings::bind_bench(m);
 }
