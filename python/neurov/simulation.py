@@ -55,6 +55,8 @@ def simulation_config(scenario: Scenario) -> _core.SimulationConfig:
     c.eta0 = scenario.eta0
     c.nu0 = scenario.nu0
     times, poses = scenario.command.timed_poses()
+    if scenario.command.interpolation not in ("linear", "hold"):
+        raise ValueError(f"command.interpolation must be 'linear' or 'hold', got {scenario.command.interpolation!r}")
     c.command = _core.Command(times=times, poses=poses, linear=scenario.command.interpolation == "linear")
     c.lambda_d = scenario.lambda_d
     c.omega = scenario.omega

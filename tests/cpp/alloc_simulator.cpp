@@ -91,11 +91,10 @@ SimulationConfig<S> busy_config(RefusedStepPolicy policy) {
 template <typename S, typename Controller>
 void expect_run_does_not_allocate(Controller& controller, RefusedStepPolicy policy) {
   const Vehicle<S> vehicle(nerov_parameters<S>());
-  Simulator<S> sim;
-  ASSERT_TRUE(
-      Simulator<S>::create(vehicle, busy_config<S>(policy), sim, detail::theta_columns(&controller))
-          .ok());
   Eigen::Matrix<S, 1, kMaxLoggedParameters> parameters;
+  const int logged = controller_report<S>(controller, Status::ok, parameters).parameter_count;
+  Simulator<S> sim;
+  ASSERT_TRUE(Simulator<S>::create(vehicle, busy_config<S>(policy), sim, logged).ok());
   Vector6<S> tau;
   long refused = 0;
   Status worst_plant = Status::ok;

@@ -261,7 +261,9 @@ void expect_stepped_run_is_simulate(Make make, const char* name) {
     SimulationResult<S> whole;
     ASSERT_TRUE(simulate(vehicle, c1, cfg, whole).ok()) << what;
     Simulator<S> sim;
-    ASSERT_TRUE(Simulator<S>::create(vehicle, cfg, sim, detail::theta_columns(&c2)).ok()) << what;
+    Eigen::Matrix<S, 1, kMaxLoggedParameters> buffer;
+    const int logged = controller_report<S>(c2, Status::ok, buffer).parameter_count;
+    ASSERT_TRUE(Simulator<S>::create(vehicle, cfg, sim, logged).ok()) << what;
     drive(sim, c2);
     expect_same_run(sim.result(), whole, what);
     sim.reset();

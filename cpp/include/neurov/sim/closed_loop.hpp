@@ -4,7 +4,6 @@
 #pragma once
 
 #include <Eigen/Core>
-#include <array>
 
 #include "neurov/control/linear_adaptive_controller.hpp"
 #include "neurov/control/nn_controller.hpp"
@@ -67,6 +66,7 @@ constexpr int kMaxLoggedParameters = kRegressorParameters;
 
 /// The report of a controller's last step: its status, s, adaptive norm and
 /// logged parameters (copied into `parameters`, which the report points to).
+/// The one place that asks a controller for its diagnostics.
 template <typename Scalar, typename Controller>
 ControllerReport<Scalar> controller_report(
     const Controller& controller, Status status,
@@ -87,10 +87,11 @@ ControllerReport<Scalar> controller_report(
 template <typename Scalar, typename Controller>
 ValidationError simulate(const Vehicle<Scalar>& vehicle, Controller& controller,
                          const SimulationConfig<Scalar>& config, SimulationResult<Scalar>& out) {
-  Simulator<Scalar> sim;
-  if (auto e = Simulator<Scalar>::create(vehicle, config, sim, detail::theta_columns(&controller)))
-    return e;
   Eigen::Matrix<Scalar, 1, kMaxLoggedParameters> parameters;
+  // The report fixes how many parameters the run logs.
+  const int logged = controller_report<Scalar>(controller, Status::ok, parameters).parameter_count;
+  Simulator<Scalar> sim;
+  if (auto e = Simulator<Scalar>::create(vehicle, config, sim, logged)) return e;
   Vector6<Scalar> tau;
   while (!sim.done()) {
     const Observation<Scalar>& o = sim.observation();
