@@ -123,10 +123,11 @@ def fmt(seconds: float) -> str:
     return str(seconds)
 
 
-def closed_loop_kwargs(duration: float, **extra: Any) -> dict[str, Any]:
+def closed_loop_config(duration: float, **extra: Any) -> _core.SimulationConfig:
     times, poses = square_command()
-    return dict(dt=DT, substeps=SUBSTEPS, duration=duration, eta0=np.zeros(6), command_times=times,
-                command_poses=poses, lambda_d=np.ones(6), omega=np.full(6, 0.25), **extra)
+    return _core.SimulationConfig(dt=DT, substeps=SUBSTEPS, duration=duration, eta0=np.zeros(6),
+                                  command=_core.Command(times=times, poses=poses), lambda_d=np.ones(6),
+                                  omega=np.full(6, 0.25), **extra)
 
 
 # ------------------------------------------------------------------ sections
@@ -134,11 +135,11 @@ def closed_loop_kwargs(duration: float, **extra: Any) -> dict[str, Any]:
 
 def check_same_work(duration: float, report: dict[str, Any]) -> None:
     c = centres(64)
-    kw = closed_loop_kwargs(duration)
-    ours = _core.run_closed_loop(_core.Vehicle.nerov(), neurov_controller(c), **kw)
+    cfg = closed_loop_config(duration)
+    ours = _core.run_closed_loop(_core.Vehicle.nerov(), neurov_controller(c), cfg)
     base = nb.simulate(nb.Nerov(), numpy_controller(c), dt=DT, substeps=SUBSTEPS, duration=duration,
-                       eta0=np.zeros(6), command_times=kw["command_times"],
-                       command_poses=kw["command_poses"], lambda_d=kw["lambda_d"], omega=kw["omega"])
+                       eta0=np.zeros(6), command_times=cfg.command.times,
+                       command_poses=cfg.command.poses, lambda_d=cfg.lambda_d, omega=cfg.omega)
     d_eta = float(np.max(np.abs(ours["eta"] - base["eta"])))
     d_tau = float(np.max(np.abs(ours["tau_demanded"] - base["tau"])))
     scale_tau = float(np.max(np.abs(base["tau"])))
@@ -188,21 +189,21 @@ def plant(quick: bool, report: dict[str, Any]) -> None:
 def closed_loop(duration: float, numpy_duration: float, quick: bool, report: dict[str, Any]) -> None:
     c = centres(64)
     veh = _core.Vehicle.nerov()
-    kw = closed_loop_kwargs(duration)
+    cfg = closed_loop_config(duration)
     times = []
     for _ in range(5 if quick else 21):
         ctl = neurov_controller(c)
         t0 = time.perf_counter()
-        _core.run_closed_loop(veh, ctl, **kw)
+        _core.run_closed_loop(veh, ctl, cfg)
         times.append(time.perf_counter() - t0)
     t_ours = statistics.median(times)
-    kw_np = closed_loop_kwargs(numpy_duration)
+    cfg_np = closed_loop_config(numpy_duration)
     np_times = []
     for _ in range(1 if quick else 3):
         t0 = time.perf_counter()
         nb.simulate(nb.Nerov(), numpy_controller(c), dt=DT, substeps=SUBSTEPS, duration=numpy_duration,
-                    eta0=np.zeros(6), command_times=kw_np["command_times"],
-                    command_poses=kw_np["command_poses"], lambda_d=kw_np["lambda_d"], omega=kw_np["omega"])
+                    eta0=np.zeros(6), command_times=cfg_np.command.times,
+                    command_poses=cfg_np.command.poses, lambda_d=cfg_np.lambda_d, omega=cfg_np.omega)
         np_times.append(time.perf_counter() - t0)
     t_np = statistics.median(np_times)
     rtf_ours, rtf_np = duration / t_ours, numpy_duration / t_np
@@ -235,9 +236,9 @@ def throughput(runs: int, duration: float, report: dict[str, Any]) -> None:
 
     def one(job: tuple[dict[str, Any], np.ndarray, int]) -> bool:
         p, eta0, seed = job
-        kw = closed_loop_kwargs(duration, noise_eta=np.full(6, 0.01), noise_nu=np.full(6, 0.005), seed=seed)
-        kw["eta0"] = eta0
-        return bool(_core.run_closed_loop(_core.Vehicle(**p), neurov_controller(c), **kw)["diverged"])
+        cfg = closed_loop_config(duration, noise_eta=np.full(6, 0.01), noise_nu=np.full(6, 0.005), seed=seed)
+        cfg.eta0 = eta0
+        return bool(_core.run_closed_loop(_core.Vehicle(**p), neurov_controller(c), cfg)["diverged"])
 
     print(f"\nMonte-Carlo batch: {runs} closed loops of {duration:.0f} s (perturbed NEROV, noise seeds), "
           f"threads over one process ({os.cpu_count()} CPUs):")

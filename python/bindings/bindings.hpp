@@ -13,6 +13,7 @@ void bind_kinematics(pybind11::module_& m);
 void bind_vehicle(pybind11::module_& m);
 void bind_regressor(pybind11::module_& m);
 void bind_linearization(pybind11::module_& m);
+void bind_thrusters(pybind11::module_& m);
 // control/
 void bind_tracking_error(pybind11::module_& m);
 void bind_reference_model(pybind11::module_& m);
@@ -20,6 +21,8 @@ void bind_rbf_network(pybind11::module_& m);
 void bind_controller_configs(pybind11::module_& m);
 void bind_controllers(pybind11::module_& m);
 // sim/
-void bind_simulation(pybind11::module_& m);
+void bind_sim_config(pybind11::module_& m);
+void bind_simulator(pybind11::module_& m);
+void bind_closed_loop(pybind11::module_& m);
 
 }  // namespace neurov::bindings

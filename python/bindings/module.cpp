@@ -17,11 +17,14 @@ PYBIND11_MODULE(_core, m) {
   bind_kinematics(m);
   bind_vehicle(m);
   bind_linearization(m);
+  bind_thrusters(m);
   bind_regressor(m);
   bind_tracking_error(m);
   bind_reference_model(m);
   bind_rbf_network(m);
   bind_controller_configs(m);
   bind_controllers(m);
-  bind_simulation(m);
+  bind_sim_config(m);
+  bind_simulator(m);
+  bind_closed_loop(m);
 }

@@ -14,7 +14,10 @@ from neurov.result import Result
 from neurov.scenario import ControllerSpec, Scenario, make_centres
 from neurov.vehicle_file import load_thrusters, load_vehicle_parameters
 
-__all__ = ["Result", "build_controller", "build_vehicle", "default_centre_box", "simulate", "simulate_many"]
+__all__ = [
+    "Result", "build_controller", "build_vehicle", "default_centre_box", "simulate", "simulate_many",
+    "simulation_config",
+]
 
 Array = NDArray[np.float64]
 
@@ -26,23 +29,55 @@ def build_vehicle(scenario: Scenario) -> _core.Vehicle:
     return _core.Vehicle(**params)
 
 
-def thruster_arguments(scenario: Scenario) -> dict[str, Any]:
-    """Keyword arguments of run_closed_loop for the vehicle file's [thrusters]."""
-    if not scenario.use_thrusters:
-        return {}
-    t = load_thrusters(scenario.vehicle_path())
-    if t is None:
-        raise ValueError(f"scenario {scenario.name!r}: vehicle file {scenario.vehicle_path()} has no [thrusters] table")
-    out: dict[str, Any] = {
-        "thruster_matrix": t["matrix"],
-        "thruster_max": t["max_thrust"],
-        "thruster_min": t["min_thrust"],
-        "saturation": scenario.saturation,
-        "thruster_time_constant": (t["time_constant"] if scenario.thruster_time_constant is None
-                                   else scenario.thruster_time_constant),
-        "thruster_failures": [vars(f) for f in scenario.thruster_failures],
-    }
-    return out
+def _member(enum: Any, value: str, field: str) -> Any:
+    """The member of a bound C++ enum named `value`; ValueError naming the field."""
+    try:
+        return enum.__members__[value]
+    except KeyError:
+        raise ValueError(f"{field} must be one of {', '.join(map(repr, enum.__members__))}, got {value!r}") from None
+
+
+def simulation_config(scenario: Scenario) -> _core.SimulationConfig:
+    """The scenario as the C++ SimulationConfig a run takes (the thruster
+    layout from the vehicle file's [thrusters])."""
+    c = _core.SimulationConfig()
+    c.dt = scenario.dt
+    c.substeps = scenario.substeps
+    c.duration = scenario.duration
+    c.eta0 = scenario.eta0
+    c.nu0 = scenario.nu0
+    times, poses = scenario.command.timed_poses()
+    if scenario.command.interpolation not in ("linear", "hold"):
+        raise ValueError(f"command.interpolation must be 'linear' or 'hold', got {scenario.command.interpolation!r}")
+    c.command = _core.Command(times=times, poses=poses, linear=scenario.command.interpolation == "linear")
+    c.lambda_d = scenario.lambda_d
+    c.omega = scenario.omega
+    c.disturbances = [_core.SinusoidalDisturbance(**vars(d)) for d in scenario.disturbances]
+    c.current = scenario.current
+    c.current_amplitude = scenario.current_amplitude
+    c.current_period = scenario.current_period
+    c.noise_eta = scenario.noise_eta
+    c.noise_nu = scenario.noise_nu
+    c.seed = scenario.seed
+    c.sensor_faults = [
+        _core.SensorFault(**{**vars(f), "kind": _member(_core.SensorFaultKind, f.kind, "sensor_faults.kind")})
+        for f in scenario.sensor_faults
+    ]
+    c.current_steps = [_core.CurrentStep(**vars(s)) for s in scenario.current_steps]
+    c.refused_step_policy = _member(_core.RefusedStepPolicy, scenario.refused_step_policy, "refused_step_policy")
+    if scenario.use_thrusters:
+        t = load_thrusters(scenario.vehicle_path())
+        if t is None:
+            raise ValueError(f"scenario {scenario.name!r}: vehicle file {scenario.vehicle_path()} has no [thrusters] table")
+        c.use_thrusters = True
+        c.thrusters = _core.ThrusterConfig(
+            matrix=t["matrix"], max_thrust=t["max_thrust"], min_thrust=t["min_thrust"],
+            saturation=_member(_core.Saturation, scenario.saturation, "saturation"),
+            time_constant=(t["time_constant"] if scenario.thruster_time_constant is None
+                           else scenario.thruster_time_constant),
+        )
+        c.failures = [_core.ThrusterFailure(**vars(f)) for f in scenario.thruster_failures]
+    return c
 
 
 def default_centre_box(scenario: Scenario) -> tuple[Array, Array]:
@@ -110,32 +145,9 @@ def simulate(scenario: Scenario, controller: ControllerSpec | None = None, *,
     spec = controller or scenario.controller
     plant = vehicle if vehicle is not None else build_vehicle(scenario)
     ctrl = build_controller(spec, scenario)
-    times, poses = scenario.command.timed_poses()
-    kwargs: dict[str, Any] = {
-        "dt": scenario.dt,
-        "substeps": scenario.substeps,
-        "duration": scenario.duration,
-        "eta0": scenario.eta0,
-        "nu0": scenario.nu0,
-        "command_times": times,
-        "command_poses": poses,
-        "command_interpolation": scenario.command.interpolation,
-        "lambda_d": scenario.lambda_d,
-        "omega": scenario.omega,
-        "disturbances": [vars(d) for d in scenario.disturbances],
-        "current": scenario.current,
-        "current_amplitude": scenario.current_amplitude,
-        "current_period": scenario.current_period,
-        "noise_eta": scenario.noise_eta,
-        "noise_nu": scenario.noise_nu,
-        "seed": scenario.seed,
-        "sensor_faults": [vars(f) for f in scenario.sensor_faults],
-        "current_steps": [vars(c) for c in scenario.current_steps],
-        "refused_step_policy": scenario.refused_step_policy,
-        **thruster_arguments(scenario),
-    }
+    config = simulation_config(scenario)
     start = time.perf_counter()
-    raw = _core.run_closed_loop(plant, ctrl, **kwargs)
+    raw = _core.run_closed_loop(plant, ctrl, config)
     wall = time.perf_counter() - start
     diverged = bool(raw.pop("diverged"))
     return Result(scenario=scenario, controller=spec.name, diverged=diverged, wall_time=wall, **raw)

@@ -229,19 +229,18 @@ def test_tracking_keys_match_the_stub() -> None:
 
 
 def test_simulation_result_keys_match_the_stub() -> None:
-    result = core.run_closed_loop(
-        core.Vehicle.nerov(),
-        core.PDController([1.0] * 6, [1.0] * 6),
-        command_times=[0.0],
-        command_poses=[[0.0] * 6],
-        duration=0.4,
-    )
+    config = core.SimulationConfig(duration=0.4, command=core.Command(times=[0.0], poses=[[0.0] * 6]))
+    result = core.run_closed_loop(core.Vehicle.nerov(), core.PDController([1.0] * 6, [1.0] * 6), config)
     assert typed_dict_keys("_SimulationResult") == set(result)
+    simulator = core.Simulator(core.Vehicle.nerov(), config)
+    assert typed_dict_keys("_SimulationResult") == set(simulator.result())
 
 
-def test_simulation_options_are_documented_keywords() -> None:
-    """run_closed_loop takes **kwargs: the stub's TypedDict is the only list of them
-    a type checker sees, so each must be one the function documents."""
-    doc = core.run_closed_loop.__doc__ or ""
-    missing = [k for k in typed_dict_keys("_SimulationOptions") if not re.search(rf"\b{k}\b", doc)]
-    assert not missing
+@pytest.mark.parametrize("enum", ["SensorFaultKind", "RefusedStepPolicy", "Saturation"])
+def test_enum_members_match(enum: str) -> None:
+    members = {
+        node.target.id
+        for node in STUB_CLASSES[enum].body
+        if isinstance(node, ast.AnnAssign) and ast.unparse(node.annotation) == f"ClassVar[{enum}]"
+    }
+    assert members == set(getattr(core, enum).__members__)
