@@ -15,6 +15,11 @@
     python bench/compare.py --quick    # CI smoke test (a few seconds)
     python bench/compare.py --json out.json
 
+It needs the timing module neurov._bench, which a default install leaves
+out; install with it:
+
+    pip install -Ccmake.define.NEUROV_BUILD_BENCH=ON .
+
 Times are medians of repeated measurements; on a shared machine compare the
 ratios, which are measured back to back in the same run.
 """
@@ -36,6 +41,12 @@ import numpy as np
 
 import neurov
 from neurov import _core
+
+try:
+    from neurov import _bench
+except ImportError:
+    raise SystemExit("bench/compare.py needs neurov._bench, the timing helpers a default install "
+                     "leaves out: pip install -Ccmake.define.NEUROV_BUILD_BENCH=ON .") from None
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import numpy_baseline as nb  # noqa: E402
@@ -112,10 +123,11 @@ def fmt(seconds: float) -> str:
     return str(seconds)
 
 
-def closed_loop_kwargs(duration: float, **extra: Any) -> dict[str, Any]:
+def closed_loop_config(duration: float, **extra: Any) -> _core.SimulationConfig:
     times, poses = square_command()
-    return dict(dt=DT, substeps=SUBSTEPS, duration=duration, eta0=np.zeros(6), command_times=times,
-                command_poses=poses, lambda_d=np.ones(6), omega=np.full(6, 0.25), **extra)
+    return _core.SimulationConfig(dt=DT, substeps=SUBSTEPS, duration=duration, eta0=np.zeros(6),
+                                  command=_core.Command(times=times, poses=poses), lambda_d=np.ones(6),
+                                  omega=np.full(6, 0.25), **extra)
 
 
 # ------------------------------------------------------------------ sections
@@ -123,11 +135,11 @@ def closed_loop_kwargs(duration: float, **extra: Any) -> dict[str, Any]:
 
 def check_same_work(duration: float, report: dict[str, Any]) -> None:
     c = centres(64)
-    kw = closed_loop_kwargs(duration)
-    ours = _core.run_closed_loop(_core.Vehicle.nerov(), neurov_controller(c), **kw)
+    cfg = closed_loop_config(duration)
+    ours = _core.run_closed_loop(_core.Vehicle.nerov(), neurov_controller(c), cfg)
     base = nb.simulate(nb.Nerov(), numpy_controller(c), dt=DT, substeps=SUBSTEPS, duration=duration,
-                       eta0=np.zeros(6), command_times=kw["command_times"],
-                       command_poses=kw["command_poses"], lambda_d=kw["lambda_d"], omega=kw["omega"])
+                       eta0=np.zeros(6), command_times=cfg.command.times,
+                       command_poses=cfg.command.poses, lambda_d=cfg.lambda_d, omega=cfg.omega)
     d_eta = float(np.max(np.abs(ours["eta"] - base["eta"])))
     d_tau = float(np.max(np.abs(ours["tau_demanded"] - base["tau"])))
     scale_tau = float(np.max(np.abs(base["tau"])))
@@ -151,7 +163,7 @@ def nn_step(ns: list[int], quick: bool, report: dict[str, Any]) -> None:
         t_np = per_call(lambda k: npc.step(*rows[k & 255]), calls, 3 if quick else 7)
         t_py = per_call(lambda k: nvc.step(*rows[k & 255]), calls, 3 if quick else 7)
         steps = 20000 if quick else 200000
-        t_cpp = _core._time_controller_steps(neurov_controller(c), inputs, steps, 3 if quick else 9)
+        t_cpp = _bench.time_controller_steps(neurov_controller(c), inputs, steps, 3 if quick else 9)
         print(f"  N = {n:5d}: {fmt(t_np)} | {fmt(t_py)} | {fmt(t_cpp)}   numpy / C++ loop = "
               f"{t_np / t_cpp:6.0f}x, numpy / Python call = {t_np / t_py:5.1f}x")
         out.append({"N": n, "numpy_s": t_np, "neurov_python_call_s": t_py, "neurov_cpp_loop_s": t_cpp,
@@ -166,7 +178,7 @@ def plant(quick: bool, report: dict[str, Any]) -> None:
     calls, reps = (500, 3) if quick else (5000, 7)
     t_np = per_call(lambda k: base.derivative(rows[k & 255, :6], rows[k & 255, 6:12], tau), calls, reps)
     t_py = per_call(lambda k: veh.acceleration(rows[k & 255, :6], rows[k & 255, 6:12], tau), calls, reps)
-    t_cpp = _core._time_acceleration(veh, rows[0, :6], rows[0, 6:12], tau, 200000 if quick else 2000000,
+    t_cpp = _bench.time_acceleration(veh, rows[0, :6], rows[0, 6:12], tau, 200000 if quick else 2000000,
                                      3 if quick else 9)
     print(f"\nOne plant evaluation (NEROV nu_dot): numpy {fmt(t_np)} | neurov from Python {fmt(t_py)} | "
           f"C++ loop {fmt(t_cpp)}   numpy / C++ = {t_np / t_cpp:.0f}x")
@@ -177,21 +189,21 @@ def plant(quick: bool, report: dict[str, Any]) -> None:
 def closed_loop(duration: float, numpy_duration: float, quick: bool, report: dict[str, Any]) -> None:
     c = centres(64)
     veh = _core.Vehicle.nerov()
-    kw = closed_loop_kwargs(duration)
+    cfg = closed_loop_config(duration)
     times = []
     for _ in range(5 if quick else 21):
         ctl = neurov_controller(c)
         t0 = time.perf_counter()
-        _core.run_closed_loop(veh, ctl, **kw)
+        _core.run_closed_loop(veh, ctl, cfg)
         times.append(time.perf_counter() - t0)
     t_ours = statistics.median(times)
-    kw_np = closed_loop_kwargs(numpy_duration)
+    cfg_np = closed_loop_config(numpy_duration)
     np_times = []
     for _ in range(1 if quick else 3):
         t0 = time.perf_counter()
         nb.simulate(nb.Nerov(), numpy_controller(c), dt=DT, substeps=SUBSTEPS, duration=numpy_duration,
-                    eta0=np.zeros(6), command_times=kw_np["command_times"],
-                    command_poses=kw_np["command_poses"], lambda_d=kw_np["lambda_d"], omega=kw_np["omega"])
+                    eta0=np.zeros(6), command_times=cfg_np.command.times,
+                    command_poses=cfg_np.command.poses, lambda_d=cfg_np.lambda_d, omega=cfg_np.omega)
         np_times.append(time.perf_counter() - t0)
     t_np = statistics.median(np_times)
     rtf_ours, rtf_np = duration / t_ours, numpy_duration / t_np
@@ -224,9 +236,9 @@ def throughput(runs: int, duration: float, report: dict[str, Any]) -> None:
 
     def one(job: tuple[dict[str, Any], np.ndarray, int]) -> bool:
         p, eta0, seed = job
-        kw = closed_loop_kwargs(duration, noise_eta=np.full(6, 0.01), noise_nu=np.full(6, 0.005), seed=seed)
-        kw["eta0"] = eta0
-        return bool(_core.run_closed_loop(_core.Vehicle(**p), neurov_controller(c), **kw)["diverged"])
+        cfg = closed_loop_config(duration, noise_eta=np.full(6, 0.01), noise_nu=np.full(6, 0.005), seed=seed)
+        cfg.eta0 = eta0
+        return bool(_core.run_closed_loop(_core.Vehicle(**p), neurov_controller(c), cfg)["diverged"])
 
     print(f"\nMonte-Carlo batch: {runs} closed loops of {duration:.0f} s (perturbed NEROV, noise seeds), "
           f"threads over one process ({os.cpu_count()} CPUs):")
@@ -254,7 +266,7 @@ def machine() -> dict[str, Any]:
     except OSError:
         pass
     return {"cpu": model, "cpus": os.cpu_count(), "python": platform.python_version(),
-            "numpy": np.__version__, "neurov": neurov.__version__, "kernels": _core._kernel_isa()}
+            "numpy": np.__version__, "neurov": neurov.__version__, "kernels": neurov._core._kernel_isa()}
 
 
 def main() -> None:

@@ -107,15 +107,42 @@ void copy6(const Vec6& from, float* to) {
   for (int i = 0; i < 6; ++i) to[i] = from(i);
 }
 
+// Every object starts with a canary that create() writes last, once the object
+// is valid, and every other call checks: a buffer create() never saw (or
+// refused, or that holds the other kind of object) is refused as NULL is,
+// instead of being stepped as garbage. The values are neither a debugger's
+// fill patterns (0xCD.., 0xDEADBEEF, 0xA5..) nor zero.
+constexpr std::uint32_t kNNCanary = 0x4e4e6331u;         // "NNc1"
+constexpr std::uint32_t kReferenceCanary = 0x52456331u;  // "REc1"
+
 }  // namespace
 
 struct neurov_nn {
+  std::uint32_t canary;
   Controller controller;
 };
 
 struct neurov_reference {
+  std::uint32_t canary;
   neurov::ReferenceModel<float> model;
 };
+
+namespace {
+
+/// The canary of the object of type T at p, read as bytes (p may be any
+/// pointer a caller passes; it is dereferenced only when aligned for T).
+template <typename T>
+bool created(const T* p, std::uint32_t canary) {
+  if (p == nullptr || reinterpret_cast<std::uintptr_t>(p) % alignof(T) != 0) return false;
+  std::uint32_t found = 0;
+  std::memcpy(&found, &p->canary, sizeof found);
+  return found == canary;
+}
+
+bool valid(const neurov_nn* nn) { return created(nn, kNNCanary); }
+bool valid(const neurov_reference* ref) { return created(ref, kReferenceCanary); }
+
+}  // namespace
 
 // The compile-time sizes in c_api.h are what C firmware sizes its static
 // buffers with; an object outgrowing them must fail the build, not memory.
@@ -168,10 +195,12 @@ neurov_status neurov_nn_create(void* storage, size_t size, const neurov_nn_param
                                neurov_nn** out, neurov_validation_error* error) {
   if (out != nullptr) *out = nullptr;
   clear(error);
-  if (out == nullptr) return fail(error, "out", 0.0, "a pointer to receive the controller");
-  if (params == nullptr) return fail(error, "params", 0.0, "parameters, not NULL");
   neurov_status status = NEUROV_STATUS_OK;
   if (!storage_fits<neurov_nn>(storage, size, error, status)) return status;
+  // From here a refusal leaves no object in the buffer, whatever it held.
+  std::memset(&static_cast<neurov_nn*>(storage)->canary, 0, sizeof(std::uint32_t));
+  if (out == nullptr) return fail(error, "out", 0.0, "a pointer to receive the controller");
+  if (params == nullptr) return fail(error, "params", 0.0, "parameters, not NULL");
   if (params->centres_count != static_cast<uint32_t>(kCentres))
     return fail(error, "centres_count", static_cast<double>(params->centres_count),
                 "NEUROV_C_CENTRES of the library (neurov_nn_centres())");
@@ -210,18 +239,20 @@ neurov_status neurov_nn_create(void* storage, size_t size, const neurov_nn_param
   // order. The network itself is built in place in the caller's storage.
   const Network::CentreMatrix centres = CentresIn(params->centres);
 
+  // Value-initialised: the canary is 0 until the controller is valid.
   neurov_nn* nn = new (storage) neurov_nn{};
   const neurov::ValidationError e =
       Controller::create(centres, Eigen::Map<const Network::BasisVector>(params->widths), offset,
                          scale, config, nn->controller);
   if (e) return fail(error, e);
+  nn->canary = kNNCanary;
   *out = nn;
   return NEUROV_STATUS_OK;
 }
 
 neurov_status neurov_nn_step(neurov_nn* nn, const float eta[6], const float nu[6],
                              const neurov_desired* desired, float tau[6]) {
-  if (nn == nullptr || eta == nullptr || nu == nullptr || desired == nullptr || tau == nullptr) {
+  if (!valid(nn) || eta == nullptr || nu == nullptr || desired == nullptr || tau == nullptr) {
     zero6(tau);
     return NEUROV_STATUS_INVALID_ARGUMENT;
   }
@@ -234,15 +265,15 @@ neurov_status neurov_nn_step(neurov_nn* nn, const float eta[6], const float nu[6
 }
 
 neurov_status neurov_nn_status(const neurov_nn* nn) {
-  return nn != nullptr ? to_c(nn->controller.last_status()) : NEUROV_STATUS_INVALID_ARGUMENT;
+  return valid(nn) ? to_c(nn->controller.last_status()) : NEUROV_STATUS_INVALID_ARGUMENT;
 }
 
 void neurov_nn_reset(neurov_nn* nn) {
-  if (nn != nullptr) nn->controller.reset();
+  if (valid(nn)) nn->controller.reset();
 }
 
 void neurov_nn_tracking_error(const neurov_nn* nn, float eta_tilde[6], float s[6]) {
-  if (nn == nullptr) {
+  if (!valid(nn)) {
     zero6(eta_tilde);
     zero6(s);
     return;
@@ -252,17 +283,17 @@ void neurov_nn_tracking_error(const neurov_nn* nn, float eta_tilde[6], float s[6
 }
 
 float neurov_nn_weight_norm(const neurov_nn* nn) {
-  return nn != nullptr ? nn->controller.weight_norm() : 0.0f;
+  return valid(nn) ? nn->controller.weight_norm() : 0.0f;
 }
 
 void neurov_nn_get_weights(const neurov_nn* nn, float* weights) {
-  if (nn == nullptr || weights == nullptr) return;
+  if (!valid(nn) || weights == nullptr) return;
   Eigen::Map<WeightsRowMajor> out(weights);
   out = nn->controller.weights();
 }
 
 neurov_status neurov_nn_set_initial_weights(neurov_nn* nn, const float* weights) {
-  if (nn == nullptr || weights == nullptr || !nn->controller.configured())
+  if (!valid(nn) || weights == nullptr)
     return NEUROV_STATUS_INVALID_ARGUMENT;
   const Controller::WeightMatrix w = Eigen::Map<const WeightsRowMajor>(weights);
   if (!w.allFinite()) return NEUROV_STATUS_NON_FINITE_INPUT;
@@ -281,9 +312,10 @@ neurov_status neurov_reference_create(void* storage, size_t size, const float la
                                       neurov_reference** out, neurov_validation_error* error) {
   if (out != nullptr) *out = nullptr;
   clear(error);
-  if (out == nullptr) return fail(error, "out", 0.0, "a pointer to receive the model");
   neurov_status status = NEUROV_STATUS_OK;
   if (!storage_fits<neurov_reference>(storage, size, error, status)) return status;
+  std::memset(&static_cast<neurov_reference*>(storage)->canary, 0, sizeof(std::uint32_t));
+  if (out == nullptr) return fail(error, "out", 0.0, "a pointer to receive the model");
   if (lambda_d == nullptr) return fail(error, "lambda_d", 0.0, "6 floats, not NULL");
   if (omega == nullptr) return fail(error, "omega", 0.0, "6 floats, not NULL");
   if (eta0 == nullptr) return fail(error, "eta0", 0.0, "6 floats, not NULL");
@@ -291,13 +323,14 @@ neurov_status neurov_reference_create(void* storage, size_t size, const float la
   const neurov::ValidationError e = neurov::ReferenceModel<float>::create(
       CVec6(lambda_d), CVec6(omega), CVec6(eta0), ref->model);
   if (e) return fail(error, e);
+  ref->canary = kReferenceCanary;
   *out = ref;
   return NEUROV_STATUS_OK;
 }
 
 neurov_status neurov_reference_step(neurov_reference* ref, const float r[6], float dt,
                                     neurov_desired* out) {
-  if (ref == nullptr || r == nullptr || out == nullptr) return NEUROV_STATUS_INVALID_ARGUMENT;
+  if (!valid(ref) || r == nullptr || out == nullptr) return NEUROV_STATUS_INVALID_ARGUMENT;
   neurov::DesiredState<float> d;
   const neurov::Status s = ref->model.step(CVec6(r), dt, d);
   copy6(d.eta_d, out->eta_d);
@@ -307,7 +340,7 @@ neurov_status neurov_reference_step(neurov_reference* ref, const float r[6], flo
 }
 
 neurov_status neurov_reference_reset(neurov_reference* ref, const float eta0[6]) {
-  if (ref == nullptr || eta0 == nullptr) return NEUROV_STATUS_INVALID_ARGUMENT;
+  if (!valid(ref) || eta0 == nullptr) return NEUROV_STATUS_INVALID_ARGUMENT;
   return ref->model.reset(CVec6(eta0)) ? NEUROV_STATUS_OK : NEUROV_STATUS_NON_FINITE_INPUT;
 }
 

@@ -186,6 +186,16 @@ inline double positive(const py::handle& obj, const char* name) {
   return v;
 }
 
+/// A time step of an integrator: finite, > 0 and <= neurov::kMaxStep.
+inline double step(const py::handle& obj, const char* name) {
+  const double v = scalar(obj, name);
+  if (detail::check_step(name, v))
+    throw py::value_error(std::string("argument '") + name + "' must be > 0 and <= " +
+                          num(kMaxStep) + " s (the longest step neurov integrates, " +
+                          "docs/reliability.md), got " + num(v));
+  return v;
+}
+
 /// Raises ValueError with the message of a failed validation.
 inline void raise_if_invalid(const ValidationError& e, const char* what) {
   if (!e) return;

@@ -7,14 +7,22 @@ with Eigen); this package re-exports it and adds files, scenarios and plots.
 from neurov import centres, trajectories
 from neurov._core import (
     THETA_NAMES,
+    ComputedTorqueConfig,
+    ComputedTorqueController,
+    LinearAdaptiveConfig,
     LinearAdaptiveController,
     allocate_thrust,
     run_closed_loop,
+    NNAdaptiveConfig,
     NNAdaptiveController,
+    PDConfig,
     PDController,
+    PIDConfig,
     PIDController,
     RbfNetwork,
     ReferenceModel,
+    RobustModification,
+    SlidingModeConfig,
     SlidingModeController,
     Status,
     Vehicle,
@@ -41,6 +49,7 @@ from neurov.scenario import (
     ThrusterFailure,
     load_scenario,
 )
+from neurov.kernels import check_kernel_request as _check_kernel_request
 from neurov.simulation import Result, simulate, simulate_many
 from neurov.vehicle_file import VehicleFileError
 
@@ -61,12 +70,20 @@ __all__ = [
     "simulate",
     "simulate_many",
     "trajectories",
+    "ComputedTorqueConfig",
+    "ComputedTorqueController",
+    "LinearAdaptiveConfig",
     "LinearAdaptiveController",
+    "NNAdaptiveConfig",
     "NNAdaptiveController",
+    "PDConfig",
     "PDController",
+    "PIDConfig",
     "PIDController",
     "RbfNetwork",
     "ReferenceModel",
+    "RobustModification",
+    "SlidingModeConfig",
     "SlidingModeController",
     "Status",
     "Vehicle",
@@ -84,3 +101,5 @@ __all__ = [
     "singularity_threshold",
     "tracking_error",
 ]
+
+_check_kernel_request()

@@ -11,7 +11,7 @@ raises ``TypeError``; both name the argument. Scalars are real numbers (not
 """
 
 import os
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable
 from typing import (
     Any,
     ClassVar,
@@ -27,7 +27,6 @@ from typing import (
 
 import numpy
 import numpy.typing
-from typing_extensions import Unpack
 
 _Array = numpy.typing.NDArray[numpy.float64]
 _ArrayLike = numpy.typing.ArrayLike
@@ -389,6 +388,265 @@ class RbfNetwork:
     def n_centres(self) -> int:
         """Number of centres N."""
 
+@final
+class RobustModification:
+    """Robust modification of the NN controller's adaptive law."""
+
+    none: ClassVar[RobustModification]
+    """The paper's pure gradient law."""
+    sigma: ClassVar[RobustModification]
+    """Leakage: W_dot += -sigma_m W Gamma_w."""
+    e_modification: ClassVar[RobustModification]
+    """Leakage in proportion to the error: W_dot += -kappa ||J^-1 s|| W Gamma_w."""
+    projection: ClassVar[RobustModification]
+    """After each update, W scaled back onto ||W||_F <= w_max."""
+    __members__: ClassVar[dict[str, RobustModification]]
+
+    def __init__(self, value: SupportsInt | SupportsIndex) -> None:
+        """The modification with this integer value."""
+    def __eq__(self, other: object) -> bool: ...
+    def __ne__(self, other: object) -> bool: ...
+    def __hash__(self) -> int: ...
+    def __index__(self) -> int: ...
+    def __int__(self) -> int: ...
+    def __getstate__(self) -> int: ...
+    def __setstate__(self, state: SupportsInt | SupportsIndex) -> None: ...
+    @property
+    def name(self) -> str:
+        """The member's name, e.g. ``"sigma"``."""
+    @property
+    def value(self) -> int:
+        """The member's integer value (``none`` is 0)."""
+
+class PDConfig:
+    """Configuration of :class:`PDController`.
+
+    Every field has the C++ default; ``PDConfig(**fields)`` sets some by
+    keyword (an unknown one raises ``TypeError``), and a value of the wrong
+    shape or type raises naming its field. The controller's constructor and
+    :meth:`validate` run the one C++ validator.
+    """
+
+    def __init__(self, **kwargs: Any) -> None:
+        """Every field at its default, or as given by keyword."""
+    def validate(self) -> None:
+        """``ValueError`` naming the first bad field and what it must be; None when valid."""
+    @property
+    def kp(self) -> _Array:
+        """K_p, diagonal (6,), >= 0."""
+    @kp.setter
+    def kp(self, value: _ArrayLike) -> None: ...
+    @property
+    def kd(self) -> _Array:
+        """K_d, diagonal (6,), >= 0."""
+    @kd.setter
+    def kd(self, value: _ArrayLike) -> None: ...
+
+class PIDConfig:
+    """Configuration of :class:`PIDController`.
+
+    Every field has the C++ default; ``PIDConfig(**fields)`` sets some by
+    keyword (an unknown one raises ``TypeError``), and a value of the wrong
+    shape or type raises naming its field. The controller's constructor and
+    :meth:`validate` run the one C++ validator.
+    """
+
+    def __init__(self, **kwargs: Any) -> None:
+        """Every field at its default, or as given by keyword."""
+    def validate(self) -> None:
+        """``ValueError`` naming the first bad field and what it must be; None when valid."""
+    @property
+    def kp(self) -> _Array:
+        """K_p, diagonal (6,), >= 0."""
+    @kp.setter
+    def kp(self, value: _ArrayLike) -> None: ...
+    @property
+    def ki(self) -> _Array:
+        """K_i, diagonal (6,), >= 0."""
+    @ki.setter
+    def ki(self, value: _ArrayLike) -> None: ...
+    @property
+    def kd(self) -> _Array:
+        """K_d, diagonal (6,), >= 0."""
+    @kd.setter
+    def kd(self, value: _ArrayLike) -> None: ...
+    @property
+    def integral_limit(self) -> _Array:
+        """Largest |K_i z| per DOF (6,), > 0 [N, N m]."""
+    @integral_limit.setter
+    def integral_limit(self, value: _ArrayLike) -> None: ...
+    @property
+    def dt(self) -> float:
+        """Control period [s], > 0."""
+    @dt.setter
+    def dt(self, value: SupportsFloat) -> None: ...
+
+class SlidingModeConfig:
+    """Configuration of :class:`SlidingModeController`.
+
+    Every field has the C++ default; ``SlidingModeConfig(**fields)`` sets some by
+    keyword (an unknown one raises ``TypeError``), and a value of the wrong
+    shape or type raises naming its field. The controller's constructor and
+    :meth:`validate` run the one C++ validator.
+    """
+
+    def __init__(self, **kwargs: Any) -> None:
+        """Every field at its default, or as given by keyword."""
+    def validate(self) -> None:
+        """``ValueError`` naming the first bad field and what it must be; None when valid."""
+    @property
+    def lambda_(self) -> _Array:
+        """Lambda in s = eta_tilde_dot + Lambda eta_tilde, diagonal (6,), > 0."""
+    @lambda_.setter
+    def lambda_(self, value: _ArrayLike) -> None: ...
+    @property
+    def kd(self) -> _Array:
+        """K_d, diagonal (6,), >= 0."""
+    @kd.setter
+    def kd(self, value: _ArrayLike) -> None: ...
+    @property
+    def k(self) -> _Array:
+        """Switching gain K (6,), >= 0 [N, N m]."""
+    @k.setter
+    def k(self, value: _ArrayLike) -> None: ...
+    @property
+    def phi(self) -> _Array:
+        """Boundary-layer width (6,), > 0, in units of s."""
+    @phi.setter
+    def phi(self, value: _ArrayLike) -> None: ...
+    @property
+    def theta(self) -> _Array:
+        """The nominal model's theta (24,), e.g. ``regressor_parameters(vehicle)``."""
+    @theta.setter
+    def theta(self, value: _ArrayLike) -> None: ...
+
+class LinearAdaptiveConfig:
+    """Configuration of :class:`LinearAdaptiveController`.
+
+    Every field has the C++ default; ``LinearAdaptiveConfig(**fields)`` sets some by
+    keyword (an unknown one raises ``TypeError``), and a value of the wrong
+    shape or type raises naming its field. The controller's constructor and
+    :meth:`validate` run the one C++ validator.
+    """
+
+    def __init__(self, **kwargs: Any) -> None:
+        """Every field at its default, or as given by keyword."""
+    def validate(self) -> None:
+        """``ValueError`` naming the first bad field and what it must be; None when valid."""
+    @property
+    def lambda_(self) -> _Array:
+        """Lambda in s = eta_tilde_dot + Lambda eta_tilde, diagonal (6,), > 0."""
+    @lambda_.setter
+    def lambda_(self, value: _ArrayLike) -> None: ...
+    @property
+    def kd(self) -> _Array:
+        """K_d, diagonal (6,), >= 0."""
+    @kd.setter
+    def kd(self, value: _ArrayLike) -> None: ...
+    @property
+    def gamma(self) -> _Array:
+        """Diagonal of Gamma (24,), >= 0 (0 freezes that parameter); a number sets every entry."""
+    @gamma.setter
+    def gamma(self, value: SupportsFloat | _ArrayLike) -> None: ...
+    @property
+    def dt(self) -> float:
+        """Control period [s], > 0."""
+    @dt.setter
+    def dt(self, value: SupportsFloat) -> None: ...
+    @property
+    def theta0(self) -> _Array:
+        """theta_hat(0) (24,): zero, or a nominal guess such as ``regressor_parameters(vehicle)``."""
+    @theta0.setter
+    def theta0(self, value: _ArrayLike) -> None: ...
+
+class NNAdaptiveConfig:
+    """Configuration of :class:`NNAdaptiveController`.
+
+    Every field has the C++ default; ``NNAdaptiveConfig(**fields)`` sets some by
+    keyword (an unknown one raises ``TypeError``), and a value of the wrong
+    shape or type raises naming its field. The controller's constructor and
+    :meth:`validate` run the one C++ validator.
+    """
+
+    def __init__(self, **kwargs: Any) -> None:
+        """Every field at its default, or as given by keyword."""
+    def validate(self) -> None:
+        """``ValueError`` naming the first bad field and what it must be; None when valid."""
+    @property
+    def lambda_(self) -> _Array:
+        """Lambda in s = eta_tilde_dot + Lambda eta_tilde, diagonal (6,), > 0."""
+    @lambda_.setter
+    def lambda_(self, value: _ArrayLike) -> None: ...
+    @property
+    def kd(self) -> _Array:
+        """K_d, diagonal (6,), >= 0 (0 leaves the network alone)."""
+    @kd.setter
+    def kd(self, value: _ArrayLike) -> None: ...
+    @property
+    def gamma(self) -> float:
+        """Gamma_w = gamma I, >= 0 (the paper: 0.3)."""
+    @gamma.setter
+    def gamma(self, value: SupportsFloat) -> None: ...
+    @property
+    def dt(self) -> float:
+        """Control period [s], > 0 (the paper: 0.2)."""
+    @dt.setter
+    def dt(self, value: SupportsFloat) -> None: ...
+    @property
+    def modification(self) -> RobustModification:
+        """The robust modification: a RobustModification or its name."""
+    @modification.setter
+    def modification(self, value: RobustModification | _Modification) -> None: ...
+    @property
+    def sigma_m(self) -> float:
+        """Leakage of the sigma-modification (> 0 when used)."""
+    @sigma_m.setter
+    def sigma_m(self, value: SupportsFloat) -> None: ...
+    @property
+    def kappa(self) -> float:
+        """Gain of the e-modification (> 0 when used)."""
+    @kappa.setter
+    def kappa(self, value: SupportsFloat) -> None: ...
+    @property
+    def w_max(self) -> float:
+        """Frobenius bound of the projection (> 0 when used)."""
+    @w_max.setter
+    def w_max(self, value: SupportsFloat) -> None: ...
+    @property
+    def dead_zone(self) -> float:
+        """No adaptation while ||s|| < dead_zone (0 disables), >= 0."""
+    @dead_zone.setter
+    def dead_zone(self, value: SupportsFloat) -> None: ...
+
+class ComputedTorqueConfig:
+    """Configuration of :class:`ComputedTorqueController`.
+
+    Every field has the C++ default; ``ComputedTorqueConfig(**fields)`` sets some by
+    keyword (an unknown one raises ``TypeError``), and a value of the wrong
+    shape or type raises naming its field. The controller's constructor and
+    :meth:`validate` run the one C++ validator.
+    """
+
+    def __init__(self, **kwargs: Any) -> None:
+        """Every field at its default, or as given by keyword."""
+    def validate(self) -> None:
+        """``ValueError`` naming the first bad field and what it must be; None when valid."""
+    @property
+    def lambda_(self) -> _Array:
+        """Lambda in s = eta_tilde_dot + Lambda eta_tilde, diagonal (6,), > 0."""
+    @lambda_.setter
+    def lambda_(self, value: _ArrayLike) -> None: ...
+    @property
+    def kd(self) -> _Array:
+        """K_d, diagonal (6,), >= 0."""
+    @kd.setter
+    def kd(self, value: _ArrayLike) -> None: ...
+    @property
+    def vehicle(self) -> Vehicle | None:
+        """The nominal model, a Vehicle (None until set)."""
+    @vehicle.setter
+    def vehicle(self, value: Vehicle) -> None: ...
+
 @type_check_only
 class _Controller:
     """What every controller has (a stub-only base: at runtime the classes are unrelated)."""
@@ -425,6 +683,13 @@ class NNAdaptiveController(_Controller):
     weights from before the update.
     """
 
+    @overload
+    def __init__(
+        self, network: RbfNetwork, config: NNAdaptiveConfig, *, learning_rates: _ArrayLike | None = None
+    ) -> None:
+        """network: an RbfNetwork with 24 inputs (copied; its weights are W(0)); config:
+        an NNAdaptiveConfig; learning_rates (N,): per-centre Gamma_w."""
+    @overload
     def __init__(
         self,
         network: RbfNetwork,
@@ -447,6 +712,9 @@ class NNAdaptiveController(_Controller):
         ``'e_modification'`` (kappa > 0) or ``'projection'`` (||W||_F <= w_max);
         dead_zone: no adaptation while ||s|| < dead_zone; learning_rates (N,):
         per-centre Gamma_w."""
+    @property
+    def config(self) -> NNAdaptiveConfig:
+        """A copy of the configuration the controller was built from."""
     @property
     def weights(self) -> _Array:
         """Current weights W, shape (6, N); assignable (warm start)."""
@@ -482,6 +750,10 @@ class LinearAdaptiveController(_Controller):
     not its parameters.
     """
 
+    @overload
+    def __init__(self, config: LinearAdaptiveConfig) -> None:
+        """Builds the controller from its configuration object; ``ValueError`` names a bad field."""
+    @overload
     def __init__(
         self,
         lambda_: _ArrayLike,
@@ -495,6 +767,9 @@ class LinearAdaptiveController(_Controller):
         theta_hat(0) (24,), default zero (``regressor_parameters(vehicle)`` gives
         the true one)."""
     @property
+    def config(self) -> LinearAdaptiveConfig:
+        """A copy of the configuration the controller was built from."""
+    @property
     def theta(self) -> _Array:
         """Current estimate theta_hat (24,); assignable."""
     @theta.setter
@@ -506,8 +781,15 @@ class LinearAdaptiveController(_Controller):
 class PDController(_Controller):
     """PD baseline in the earth frame: ``tau = -J^T (K_p eta_tilde + K_d eta_tilde_dot)``."""
 
+    @overload
+    def __init__(self, config: PDConfig) -> None:
+        """Builds the controller from its configuration object; ``ValueError`` names a bad field."""
+    @overload
     def __init__(self, kp: _ArrayLike, kd: _ArrayLike) -> None:
         """kp, kd: diagonal gains (6,), >= 0."""
+    @property
+    def config(self) -> PDConfig:
+        """A copy of the configuration the controller was built from."""
 
 class PIDController(_Controller):
     """PID baseline in the earth frame with anti-windup.
@@ -517,6 +799,10 @@ class PIDController(_Controller):
     further into the limit.
     """
 
+    @overload
+    def __init__(self, config: PIDConfig) -> None:
+        """Builds the controller from its configuration object; ``ValueError`` names a bad field."""
+    @overload
     def __init__(
         self,
         kp: _ArrayLike,
@@ -528,6 +814,9 @@ class PIDController(_Controller):
         """kp, ki, kd: diagonal gains (6,), >= 0; integral_limit: largest |K_i z| per DOF
         (6,), > 0 [N, N m]; dt: control period [s]."""
     @property
+    def config(self) -> PIDConfig:
+        """A copy of the configuration the controller was built from."""
+    @property
     def integral(self) -> _Array:
         """The integrator state z (6,), the limited time integral of eta_tilde."""
 
@@ -538,6 +827,10 @@ class SlidingModeController(_Controller):
     nominal model's parameters (see :func:`regressor`).
     """
 
+    @overload
+    def __init__(self, config: SlidingModeConfig) -> None:
+        """Builds the controller from its configuration object; ``ValueError`` names a bad field."""
+    @overload
     def __init__(
         self,
         lambda_: _ArrayLike,
@@ -550,80 +843,440 @@ class SlidingModeController(_Controller):
         phi: boundary-layer width (6,), > 0; theta: the nominal model (24,), e.g.
         ``regressor_parameters(vehicle)``."""
     @property
+    def config(self) -> SlidingModeConfig:
+        """A copy of the configuration the controller was built from."""
+    @property
     def model_output(self) -> _Array:
         """The nominal model's f of the last step, shape (6,)."""
+
+class ComputedTorqueController(_Controller):
+    """Computed-torque (inverse-dynamics) controller on a nominal vehicle.
+
+    ``tau = M nu_r_dot + C(nu) nu_r + D(nu) nu_r + g(eta) - J^T K_d s`` with
+    the vehicle's own M, C(nu), D(nu) and g(eta), in either Coriolis form.
+    """
+
+    @overload
+    def __init__(self, config: ComputedTorqueConfig) -> None:
+        """Builds the controller from its configuration object; ``ValueError`` names a bad field."""
+    @overload
+    def __init__(self, vehicle: Vehicle, lambda_: _ArrayLike, kd: _ArrayLike) -> None:
+        """vehicle: the nominal model (its parameters are copied); lambda_: Lambda (6,),
+        > 0; kd: K_d (6,), >= 0."""
+    @property
+    def config(self) -> ComputedTorqueConfig:
+        """A copy of the configuration the controller was built from."""
+    @property
+    def model_output(self) -> _Array:
+        """M nu_r_dot + C(nu) nu_r + D(nu) nu_r + g(eta) of the last step, shape (6,)."""
 
 # --------------------------------------------------------------------------
 # Closed-loop simulation and thrust allocation
 
-@type_check_only
-class _Disturbance(TypedDict):
-    """A sinusoidal disturbance on one DOF."""
+# --------------------------------------------------------------------------
+# The configuration of a run (neurov/sim/config.hpp), field by field: Python
+# holds the C++ object. Fixed-size vectors are writable views into it;
+# dynamic arrays (command times and poses, thruster arrays) are read-only
+# copies and lists of structs tuples of copies: assign them whole.
 
-    dof: int
-    amplitude: float
-    frequency: float
-    phase: float
-    start: float
+class SensorFaultKind:
+    """What a sensor fault does to a measurement."""
 
-@type_check_only
-class _ThrusterFailure(TypedDict):
-    """From ``time`` on, thruster ``index`` delivers ``efficiency`` times its thrust."""
+    freeze: ClassVar[SensorFaultKind]
+    """Repeats the last measurement delivered."""
+    dropout: ClassVar[SensorFaultKind]
+    """NaN, which the controller refuses."""
+    noise_burst: ClassVar[SensorFaultKind]
+    """Extra white noise."""
+    __members__: ClassVar[dict[str, SensorFaultKind]]
 
-    index: int
-    efficiency: float
-    time: float
+    def __init__(self, value: SupportsInt | SupportsIndex) -> None:
+        """The member with this integer value."""
+    def __eq__(self, other: object) -> bool: ...
+    def __ne__(self, other: object) -> bool: ...
+    def __hash__(self) -> int: ...
+    def __index__(self) -> int: ...
+    def __int__(self) -> int: ...
+    def __getstate__(self) -> int: ...
+    def __setstate__(self, state: SupportsInt | SupportsIndex) -> None: ...
+    @property
+    def name(self) -> str:
+        """The member's name."""
+    @property
+    def value(self) -> int:
+        """The member's integer value."""
 
-@type_check_only
-class _SensorFault(TypedDict):
-    """A sensor fault from ``start`` to ``end`` [s] on the pose (``eta``) and/or velocity (``nu``) measurement."""
+class RefusedStepPolicy:
+    """The force applied when the controller refuses a step."""
 
-    kind: Literal["freeze", "dropout", "noise_burst"]
-    start: float
-    end: float
-    eta: bool
-    nu: bool
-    noise_eta: _ArrayLike
-    noise_nu: _ArrayLike
+    zero: ClassVar[RefusedStepPolicy]
+    """No force."""
+    hold: ClassVar[RefusedStepPolicy]
+    """The last force the controller accepted."""
+    __members__: ClassVar[dict[str, RefusedStepPolicy]]
 
-@type_check_only
-class _CurrentStep(TypedDict):
-    """From ``time`` [s] on, the NED current is ``velocity`` (3,) [m/s]."""
+    def __init__(self, value: SupportsInt | SupportsIndex) -> None:
+        """The member with this integer value."""
+    def __eq__(self, other: object) -> bool: ...
+    def __ne__(self, other: object) -> bool: ...
+    def __hash__(self) -> int: ...
+    def __index__(self) -> int: ...
+    def __int__(self) -> int: ...
+    def __getstate__(self) -> int: ...
+    def __setstate__(self, state: SupportsInt | SupportsIndex) -> None: ...
+    @property
+    def name(self) -> str:
+        """The member's name."""
+    @property
+    def value(self) -> int:
+        """The member's integer value."""
 
-    time: float
-    velocity: _ArrayLike
+class Saturation:
+    """How thrusts beyond their limits are brought back."""
 
-@type_check_only
-class _SimulationOptions(TypedDict, total=False):
-    """Keyword arguments of :func:`run_closed_loop`; only the command is required."""
+    scale: ClassVar[Saturation]
+    """Every thruster scaled by one factor: the wrench keeps its direction."""
+    clip: ClassVar[Saturation]
+    """Each thruster clipped to its limits: the wrench turns."""
+    __members__: ClassVar[dict[str, Saturation]]
 
-    dt: SupportsFloat
-    substeps: int
-    duration: SupportsFloat
-    eta0: _ArrayLike
-    nu0: _ArrayLike
-    command_times: _ArrayLike
-    command_poses: _ArrayLike
-    command_interpolation: Literal["linear", "hold"]
-    lambda_d: _ArrayLike
-    omega: _ArrayLike
-    disturbances: Iterable[_Disturbance | Mapping[str, Any]]
-    current: _ArrayLike
-    current_amplitude: _ArrayLike
-    current_period: SupportsFloat
-    noise_eta: _ArrayLike
-    noise_nu: _ArrayLike
-    seed: int
-    thruster_matrix: _ArrayLike
-    thruster_max: _ArrayLike
-    thruster_min: _ArrayLike
-    thruster_weights: _ArrayLike
-    saturation: _Saturation
-    thruster_time_constant: SupportsFloat
-    thruster_failures: Iterable[_ThrusterFailure | Mapping[str, Any]]
-    sensor_faults: Iterable[_SensorFault | Mapping[str, Any]]
-    current_steps: Iterable[_CurrentStep | Mapping[str, Any]]
-    refused_step_policy: Literal["zero", "hold"]
+    def __init__(self, value: SupportsInt | SupportsIndex) -> None:
+        """The member with this integer value."""
+    def __eq__(self, other: object) -> bool: ...
+    def __ne__(self, other: object) -> bool: ...
+    def __hash__(self) -> int: ...
+    def __index__(self) -> int: ...
+    def __int__(self) -> int: ...
+    def __getstate__(self) -> int: ...
+    def __setstate__(self, state: SupportsInt | SupportsIndex) -> None: ...
+    @property
+    def name(self) -> str:
+        """The member's name."""
+    @property
+    def value(self) -> int:
+        """The member's integer value."""
+
+@final
+class SinusoidalDisturbance:
+    """A force or moment in one body DOF: amplitude * sin(2 pi frequency (t - start) + phase) for t >= start."""
+
+    def __init__(self, **kwargs: Any) -> None:
+        """Every field is a keyword argument (an unknown one is a TypeError)."""
+    @property
+    def dof(self) -> int:
+        """0..5: surge, sway, heave, roll, pitch, yaw."""
+    @dof.setter
+    def dof(self, value: SupportsIndex) -> None: ...
+    @property
+    def amplitude(self) -> float:
+        """[N] or [N m]."""
+    @amplitude.setter
+    def amplitude(self, value: SupportsFloat) -> None: ...
+    @property
+    def frequency(self) -> float:
+        """[Hz]."""
+    @frequency.setter
+    def frequency(self, value: SupportsFloat) -> None: ...
+    @property
+    def phase(self) -> float:
+        """[rad]."""
+    @phase.setter
+    def phase(self, value: SupportsFloat) -> None: ...
+    @property
+    def start(self) -> float:
+        """[s]."""
+    @start.setter
+    def start(self, value: SupportsFloat) -> None: ...
+    def __copy__(self) -> SinusoidalDisturbance: ...
+    def __deepcopy__(self, memo: dict[int, Any]) -> SinusoidalDisturbance: ...
+    def __getstate__(self) -> dict[str, Any]: ...
+    def __setstate__(self, state: dict[str, Any]) -> None: ...
+
+@final
+class ThrusterFailure:
+    """Thruster ``index`` works at ``efficiency`` (0: failed) from ``time`` on."""
+
+    def __init__(self, **kwargs: Any) -> None:
+        """Every field is a keyword argument (an unknown one is a TypeError)."""
+    @property
+    def index(self) -> int:
+        """The thruster (a column of the thruster matrix)."""
+    @index.setter
+    def index(self, value: SupportsIndex) -> None: ...
+    @property
+    def efficiency(self) -> float:
+        """In [0, 1]."""
+    @efficiency.setter
+    def efficiency(self, value: SupportsFloat) -> None: ...
+    @property
+    def time(self) -> float:
+        """[s]."""
+    @time.setter
+    def time(self, value: SupportsFloat) -> None: ...
+    def __copy__(self) -> ThrusterFailure: ...
+    def __deepcopy__(self, memo: dict[int, Any]) -> ThrusterFailure: ...
+    def __getstate__(self) -> dict[str, Any]: ...
+    def __setstate__(self, state: dict[str, Any]) -> None: ...
+
+@final
+class SensorFault:
+    """A sensor fault over [start, end): the measurement of eta and/or nu freezes, drops out (NaN) or gets extra white noise."""
+
+    def __init__(self, **kwargs: Any) -> None:
+        """Every field is a keyword argument (an unknown one is a TypeError)."""
+    @property
+    def kind(self) -> SensorFaultKind:
+        """What the fault does."""
+    @kind.setter
+    def kind(self, value: SensorFaultKind) -> None: ...
+    @property
+    def start(self) -> float:
+        """[s]."""
+    @start.setter
+    def start(self, value: SupportsFloat) -> None: ...
+    @property
+    def end(self) -> float:
+        """[s], >= start."""
+    @end.setter
+    def end(self, value: SupportsFloat) -> None: ...
+    @property
+    def eta(self) -> bool:
+        """Affects the pose measurement."""
+    @eta.setter
+    def eta(self, value: bool) -> None: ...
+    @property
+    def nu(self) -> bool:
+        """Affects the velocity measurement."""
+    @nu.setter
+    def nu(self, value: bool) -> None: ...
+    @property
+    def noise_eta(self) -> _Array:
+        """Standard deviations (6,); noise_burst only."""
+    @noise_eta.setter
+    def noise_eta(self, value: _ArrayLike) -> None: ...
+    @property
+    def noise_nu(self) -> _Array:
+        """Standard deviations (6,); noise_burst only."""
+    @noise_nu.setter
+    def noise_nu(self, value: _ArrayLike) -> None: ...
+    def __copy__(self) -> SensorFault: ...
+    def __deepcopy__(self, memo: dict[int, Any]) -> SensorFault: ...
+    def __getstate__(self) -> dict[str, Any]: ...
+    def __setstate__(self, state: dict[str, Any]) -> None: ...
+
+@final
+class CurrentStep:
+    """From ``time`` on, the mean current is ``velocity``."""
+
+    def __init__(self, **kwargs: Any) -> None:
+        """Every field is a keyword argument (an unknown one is a TypeError)."""
+    @property
+    def time(self) -> float:
+        """[s]."""
+    @time.setter
+    def time(self, value: SupportsFloat) -> None: ...
+    @property
+    def velocity(self) -> _Array:
+        """NED [m/s] (3,)."""
+    @velocity.setter
+    def velocity(self, value: _ArrayLike) -> None: ...
+    def __copy__(self) -> CurrentStep: ...
+    def __deepcopy__(self, memo: dict[int, Any]) -> CurrentStep: ...
+    def __getstate__(self) -> dict[str, Any]: ...
+    def __setstate__(self, state: dict[str, Any]) -> None: ...
+
+@final
+class Command:
+    """Commanded poses at increasing times; held before the first and after the last; between them linear or held."""
+
+    def __init__(self, **kwargs: Any) -> None:
+        """Every field is a keyword argument (an unknown one is a TypeError)."""
+    @property
+    def times(self) -> _Array:
+        """(K,) strictly increasing [s] (a read-only copy)."""
+    @times.setter
+    def times(self, value: _ArrayLike) -> None: ...
+    @property
+    def poses(self) -> _Array:
+        """(K, 6) poses eta (a read-only copy)."""
+    @poses.setter
+    def poses(self, value: _ArrayLike) -> None: ...
+    @property
+    def linear(self) -> bool:
+        """Linear between the poses; False: piecewise constant."""
+    @linear.setter
+    def linear(self, value: bool) -> None: ...
+    def __copy__(self) -> Command: ...
+    def __deepcopy__(self, memo: dict[int, Any]) -> Command: ...
+    def __getstate__(self) -> dict[str, Any]: ...
+    def __setstate__(self, state: dict[str, Any]) -> None: ...
+    def at(self, t: SupportsFloat) -> _Array:
+        """The commanded pose at time t."""
+
+@final
+class ThrusterConfig:
+    """n thrusters: tau = B u, allocated by the weighted pseudo-inverse, saturated, with a first-order lag."""
+
+    def __init__(self, **kwargs: Any) -> None:
+        """Every field is a keyword argument (an unknown one is a TypeError)."""
+    @property
+    def matrix(self) -> _Array:
+        """B (6, n): the wrench of each thruster per unit thrust (a read-only copy)."""
+    @matrix.setter
+    def matrix(self, value: _ArrayLike) -> None: ...
+    @property
+    def min_thrust(self) -> _Array:
+        """Lower limits [N] (n,), <= 0 (a read-only copy)."""
+    @min_thrust.setter
+    def min_thrust(self, value: _ArrayLike) -> None: ...
+    @property
+    def max_thrust(self) -> _Array:
+        """Upper limits [N] (n,), > min_thrust (a read-only copy)."""
+    @max_thrust.setter
+    def max_thrust(self, value: _ArrayLike) -> None: ...
+    @property
+    def weights(self) -> _Array:
+        """Allocation weights (n,), > 0; empty means all 1 (a read-only copy)."""
+    @weights.setter
+    def weights(self, value: _ArrayLike) -> None: ...
+    @property
+    def saturation(self) -> Saturation:
+        """How thrusts beyond their limits are brought back."""
+    @saturation.setter
+    def saturation(self, value: Saturation) -> None: ...
+    @property
+    def time_constant(self) -> float:
+        """First-order lag [s]; 0 means none."""
+    @time_constant.setter
+    def time_constant(self, value: SupportsFloat) -> None: ...
+    def __copy__(self) -> ThrusterConfig: ...
+    def __deepcopy__(self, memo: dict[int, Any]) -> ThrusterConfig: ...
+    def __getstate__(self) -> dict[str, Any]: ...
+    def __setstate__(self, state: dict[str, Any]) -> None: ...
+    def validate(self) -> None:
+        """Raises ValueError naming the first field that is wrong and what it expected."""
+
+@final
+class SimulationConfig:
+    """Everything of a closed-loop run but the vehicle and the controller.
+
+    Rows of a run are at t_k = k dt; the force is held over each control
+    period and the plant integrated by RK4 at dt / substeps.
+    """
+
+    def __init__(self, **kwargs: Any) -> None:
+        """Every field is a keyword argument (an unknown one is a TypeError)."""
+    @property
+    def dt(self) -> float:
+        """Control period [s]."""
+    @dt.setter
+    def dt(self, value: SupportsFloat) -> None: ...
+    @property
+    def substeps(self) -> int:
+        """RK4 steps per control period."""
+    @substeps.setter
+    def substeps(self, value: SupportsIndex) -> None: ...
+    @property
+    def duration(self) -> float:
+        """[s]."""
+    @duration.setter
+    def duration(self, value: SupportsFloat) -> None: ...
+    @property
+    def eta0(self) -> _Array:
+        """Initial pose (6,)."""
+    @eta0.setter
+    def eta0(self, value: _ArrayLike) -> None: ...
+    @property
+    def nu0(self) -> _Array:
+        """Initial body velocity (6,)."""
+    @nu0.setter
+    def nu0(self, value: _ArrayLike) -> None: ...
+    @property
+    def command(self) -> Command:
+        """The commanded path."""
+    @command.setter
+    def command(self, value: Command) -> None: ...
+    @property
+    def lambda_d(self) -> _Array:
+        """Reference-model damping (6,)."""
+    @lambda_d.setter
+    def lambda_d(self, value: _ArrayLike) -> None: ...
+    @property
+    def omega(self) -> _Array:
+        """Reference-model stiffness (6,)."""
+    @omega.setter
+    def omega(self, value: _ArrayLike) -> None: ...
+    @property
+    def disturbances(self) -> tuple[SinusoidalDisturbance, ...]:
+        """Sinusoidal forces (a tuple of copies; assign a list)."""
+    @disturbances.setter
+    def disturbances(self, value: Iterable[SinusoidalDisturbance]) -> None: ...
+    @property
+    def current(self) -> _Array:
+        """Mean current, NED [m/s] (3,)."""
+    @current.setter
+    def current(self, value: _ArrayLike) -> None: ...
+    @property
+    def current_amplitude(self) -> _Array:
+        """Amplitude of the current's sinusoid per axis (3,)."""
+    @current_amplitude.setter
+    def current_amplitude(self, value: _ArrayLike) -> None: ...
+    @property
+    def current_period(self) -> float:
+        """[s]; 0 means a constant current."""
+    @current_period.setter
+    def current_period(self, value: SupportsFloat) -> None: ...
+    @property
+    def noise_eta(self) -> _Array:
+        """Standard deviations of the pose noise (6,)."""
+    @noise_eta.setter
+    def noise_eta(self, value: _ArrayLike) -> None: ...
+    @property
+    def noise_nu(self) -> _Array:
+        """Standard deviations of the velocity noise (6,)."""
+    @noise_nu.setter
+    def noise_nu(self, value: _ArrayLike) -> None: ...
+    @property
+    def seed(self) -> int:
+        """Seed of the measurement noise."""
+    @seed.setter
+    def seed(self, value: SupportsIndex) -> None: ...
+    @property
+    def use_thrusters(self) -> bool:
+        """Allocate the force to ``thrusters``; False: the force acts directly."""
+    @use_thrusters.setter
+    def use_thrusters(self, value: bool) -> None: ...
+    @property
+    def thrusters(self) -> ThrusterConfig:
+        """The thruster layout."""
+    @thrusters.setter
+    def thrusters(self, value: ThrusterConfig) -> None: ...
+    @property
+    def failures(self) -> tuple[ThrusterFailure, ...]:
+        """Thruster failures (a tuple of copies; assign a list)."""
+    @failures.setter
+    def failures(self, value: Iterable[ThrusterFailure]) -> None: ...
+    @property
+    def sensor_faults(self) -> tuple[SensorFault, ...]:
+        """Sensor faults (a tuple of copies; assign a list)."""
+    @sensor_faults.setter
+    def sensor_faults(self, value: Iterable[SensorFault]) -> None: ...
+    @property
+    def current_steps(self) -> tuple[CurrentStep, ...]:
+        """Steps of the mean current, in increasing time (a tuple of copies; assign a list)."""
+    @current_steps.setter
+    def current_steps(self, value: Iterable[CurrentStep]) -> None: ...
+    @property
+    def refused_step_policy(self) -> RefusedStepPolicy:
+        """The force applied on a refused step."""
+    @refused_step_policy.setter
+    def refused_step_policy(self, value: RefusedStepPolicy) -> None: ...
+    def __copy__(self) -> SimulationConfig: ...
+    def __deepcopy__(self, memo: dict[int, Any]) -> SimulationConfig: ...
+    def __getstate__(self) -> dict[str, Any]: ...
+    def __setstate__(self, state: dict[str, Any]) -> None: ...
+    def validate(self) -> None:
+        """Raises ValueError naming the first field that is wrong and what it expected."""
 
 @type_check_only
 class _SimulationResult(TypedDict):
@@ -649,34 +1302,27 @@ class _SimulationResult(TypedDict):
     diverged: bool
 
 @overload
-def run_closed_loop(
-    vehicle: Vehicle, controller: NNAdaptiveController, **kwargs: Unpack[_SimulationOptions]
-) -> _SimulationResult:
-    """Runs a closed loop in C++ and returns a dict of arrays (rows at t_k = k dt).
+def run_closed_loop(vehicle: Vehicle, controller: NNAdaptiveController, config: SimulationConfig) -> _SimulationResult:
+    """Runs a closed loop in C++ with ``config`` and returns a dict of arrays (rows at t_k = k dt).
 
     Keys: t, eta, nu, eta_d, eta_d_dot, tau_demanded, tau_applied,
     disturbance, s, thrusts, theta, adaptive_norm, controller_status,
     plant_status, faults, and diverged (bool). The controller is used as given and
-    left in its final state. ``neurov.simulate(scenario)`` is the friendly
-    front end.
+    left in its final state; the GIL is released meanwhile. A bad configuration
+    raises ValueError naming the field. ``neurov.simulate(scenario)`` is the
+    friendly front end.
     """
 
 @overload
-def run_closed_loop(
-    vehicle: Vehicle, controller: LinearAdaptiveController, **kwargs: Unpack[_SimulationOptions]
-) -> _SimulationResult: ...
+def run_closed_loop(vehicle: Vehicle, controller: LinearAdaptiveController, config: SimulationConfig) -> _SimulationResult: ...
 @overload
-def run_closed_loop(
-    vehicle: Vehicle, controller: PDController, **kwargs: Unpack[_SimulationOptions]
-) -> _SimulationResult: ...
+def run_closed_loop(vehicle: Vehicle, controller: PDController, config: SimulationConfig) -> _SimulationResult: ...
 @overload
-def run_closed_loop(
-    vehicle: Vehicle, controller: PIDController, **kwargs: Unpack[_SimulationOptions]
-) -> _SimulationResult: ...
+def run_closed_loop(vehicle: Vehicle, controller: PIDController, config: SimulationConfig) -> _SimulationResult: ...
 @overload
-def run_closed_loop(
-    vehicle: Vehicle, controller: SlidingModeController, **kwargs: Unpack[_SimulationOptions]
-) -> _SimulationResult: ...
+def run_closed_loop(vehicle: Vehicle, controller: SlidingModeController, config: SimulationConfig) -> _SimulationResult: ...
+@overload
+def run_closed_loop(vehicle: Vehicle, controller: ComputedTorqueController, config: SimulationConfig) -> _SimulationResult: ...
 def allocate_thrust(
     matrix: _ArrayLike,
     tau: _ArrayLike,
@@ -691,3 +1337,100 @@ def allocate_thrust(
     direction, ``'clip'`` clips each thruster). Returns ``(thrusts (n,),
     produced wrench (6,))``.
     """
+
+# --------------------------------------------------------------------------
+# The simulator stepped from Python (neurov/sim/simulator.hpp)
+
+@final
+class Observation:
+    """What a controller is given at t_k: the measured pose and velocity (noise and
+    sensor faults applied; NaN in a dropout) and the desired state."""
+
+    def __init__(
+        self,
+        t: float,
+        eta: _ArrayLike,
+        nu: _ArrayLike,
+        eta_d: _ArrayLike,
+        eta_d_dot: _ArrayLike,
+        eta_d_ddot: _ArrayLike,
+    ) -> None:
+        """An observation, e.g. to test a controller (eta and nu may hold NaN, as in a dropout)."""
+    @property
+    def t(self) -> float:
+        """Time t_k [s]."""
+    @property
+    def eta(self) -> _Array:
+        """Measured pose (6,)."""
+    @property
+    def nu(self) -> _Array:
+        """Measured body velocity (6,)."""
+    @property
+    def eta_d(self) -> _Array:
+        """Desired pose (6,)."""
+    @property
+    def eta_d_dot(self) -> _Array:
+        """Its first time derivative (6,)."""
+    @property
+    def eta_d_ddot(self) -> _Array:
+        """Its second time derivative (6,)."""
+
+@final
+class Simulator:
+    """Everything of a run except the controller, stepped one control period at a time.
+
+    The same rows as :func:`run_closed_loop` for the same forces.
+    """
+
+    def __init__(self, vehicle: Vehicle, config: SimulationConfig, logged_parameters: int = 0) -> None:
+        """Copies the vehicle and the configuration; ``logged_parameters`` is the number
+        of parameters :meth:`step` logs per row (the result's theta columns). Raises
+        ValueError naming a bad field."""
+    def reset(self, seed: int | None = None) -> None:
+        """Back to t = 0 with noise from ``seed``; None: the seed of the last reset
+        (the configuration's at first), so the same run again."""
+    @property
+    def observation(self) -> Observation:
+        """What the controller is to be given at t_k = steps * dt."""
+    def step(
+        self,
+        tau: _ArrayLike,
+        status: Status = Status.ok,
+        s: _ArrayLike | None = None,
+        adaptive_norm: float = 0.0,
+        parameters: _ArrayLike | None = None,
+    ) -> Status:
+        """Logs row k with the force ``tau`` (6,) and the controller's report, and
+        advances one control period; returns the plant's status.
+
+        ``status`` other than ok is a refused step: the refused-step policy decides
+        the force. ``s``, ``adaptive_norm`` and ``parameters`` (logged_parameters,)
+        are logged. ``tau`` must be finite when ``status`` is ok. After done,
+        raises RuntimeError and changes nothing.
+        """
+    @property
+    def done(self) -> bool:
+        """Every row simulated, or the plant diverged."""
+    @property
+    def diverged(self) -> bool:
+        """The plant diverged (its last row is the one where it did)."""
+    @property
+    def steps(self) -> int:
+        """Rows logged so far."""
+    @property
+    def planned_steps(self) -> int:
+        """Rows of a whole run: round(duration / dt) + 1."""
+    @property
+    def logged_parameters(self) -> int:
+        """Parameters logged per row."""
+    @property
+    def faults(self) -> int:
+        """Fault bits of the sensor faults and pitch limit in the observation."""
+    @property
+    def state(self) -> tuple[_Array, _Array]:
+        """The true (eta, nu) at t_k."""
+    @property
+    def config(self) -> SimulationConfig:
+        """A copy of the configuration."""
+    def result(self) -> _SimulationResult:
+        """The rows logged so far, as the dict :func:`run_closed_loop` returns."""

@@ -8,12 +8,26 @@ from collections.abc import Sequence
 
 __all__ = ["main"]
 
+# The numbers are neurov.run.EXIT_DIVERGED and its neighbours; written out
+# here so that --help answers without importing numpy.
+_EXIT_STATUS = """exit status:
+  0    success
+  1    error: a bad file or argument, an output folder that cannot be written
+  2    bad command line
+  3    a run diverged (neurov run, neurov paper); everything simulated is
+       still written and the metrics cover it
+  130  interrupted (Ctrl-C)
+
+documentation: docs/running.md (running a scenario: outputs, metrics window,
+divergence, long runs)"""
+
 
 def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="neurov",
         description="Adaptive neural-network control for underwater vehicles: run the paper's "
         "experiments or your own scenarios.",
+        epilog=_EXIT_STATUS, formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("--version", action="store_true", help="print the version and exit")
     sub = p.add_subparsers(dest="command", metavar="COMMAND")
@@ -23,7 +37,8 @@ def _parser() -> argparse.ArgumentParser:
         help="reproduce the paper's Figs. 3-5",
         description="Runs the paper's experiments (NEROV, 5 Hz, RBF network with width 30 and "
         "gain 0.3) and writes fig3_xy.png, fig4_inputs.png, fig5_yaw_disturbance.png, "
-        "metrics.json and summary.md.",
+        "metrics.json and summary.md. See docs/paper-reproduction.md.",
+        epilog=_EXIT_STATUS, formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     paper.add_argument("--out", default="paper-results", metavar="DIR",
                        help="output folder (default: paper-results)")
@@ -31,8 +46,12 @@ def _parser() -> argparse.ArgumentParser:
     run = sub.add_parser(
         "run",
         help="run a scenario file",
-        description="Runs one scenario file (TOML; see neurov.scenario for the format), prints "
-        "its metrics, and with --out writes result.csv, result.npz and metrics.json.",
+        description="Runs one scenario file (TOML; the format and the shipped examples are in "
+        "docs/running.md), prints its metrics over t >= 10 s (the start-up transient skipped; "
+        "half the run if it is shorter than 20 s), and with --out writes result.csv, result.npz "
+        "and metrics.json. A run that diverges still writes everything it simulated and exits "
+        "with status 3.",
+        epilog=_EXIT_STATUS, formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     run.add_argument("scenario", metavar="SCENARIO.toml", help="the scenario file")
     run.add_argument("--out", default=None, metavar="DIR", help="folder for the results")
@@ -77,15 +96,22 @@ def main(argv: Sequence[str] | None = None) -> int:
     # Commands import lazily so that --help answers at once.
     try:
         if args.command == "paper":
-            from neurov.paper import run_paper
+            from neurov.paper import diverged_runs, run_paper
+            from neurov.run import EXIT_DIVERGED
 
-            run_paper(args.out)
+            bad = diverged_runs(run_paper(args.out))
+            if bad:
+                print(f"neurov: diverged: {', '.join(bad)} (exit status {EXIT_DIVERGED})", file=sys.stderr)
+                return EXIT_DIVERGED
         elif args.command == "run":
             if args.plot and args.out is None:
                 parser.error("--plot needs --out DIR")
-            from neurov.run import run_scenario_file
+            from neurov.run import EXIT_DIVERGED, run_scenario_file
 
-            run_scenario_file(args.scenario, out_dir=args.out, plot=args.plot)
+            result, _ = run_scenario_file(args.scenario, out_dir=args.out, plot=args.plot)
+            if result.diverged:
+                print(f"neurov: {result.divergence_message()} (exit status {EXIT_DIVERGED})", file=sys.stderr)
+                return EXIT_DIVERGED
         elif args.command == "study":
             if args.workers is not None and args.workers < 1:
                 parser.error("--workers must be >= 1")

@@ -19,15 +19,16 @@ import numpy as np
 
 from neurov.scenario import ControllerSpec, Scenario, load_scenario
 from neurov.plotting.paper import figure_inputs, figure_xy, figure_yaw
+from neurov.run import _finite_or_none, check_output_dir
 from neurov.simulation import Result, simulate
 
-__all__ = ["EXPERIMENTS", "METRIC_KEYS", "Experiment", "paper_scenario", "run_paper"]
+__all__ = ["EXPERIMENTS", "METRIC_KEYS", "Experiment", "diverged_runs", "paper_scenario", "run_paper"]
 
 SCENARIO_DIR = Path(__file__).with_name("scenarios")
-#: Metrics are taken after this transient [s] (the reference model starts the path at 5 s).
-TRANSIENT = 10.0
-#: The keys every metrics.json entry carries (more follow them).
-METRIC_KEYS = ("rmse_position_m", "rmse_yaw_rad", "max_position_error_m", "mean_abs_tau", "max_abs_tau")
+#: The keys every metrics.json entry carries (more follow them). The metrics
+#: cover Result.metrics()'s window, t >= neurov.result.metrics_start(duration).
+METRIC_KEYS = ("rmse_position_m", "rmse_yaw_rad", "max_position_error_m", "mean_abs_tau", "max_abs_tau",
+               "window_start_s", "diverged")
 
 
 @dataclass(frozen=True)
@@ -86,7 +87,7 @@ def run_disturbance_sweep() -> list[dict[str, Any]]:
             scenario = base.replace(disturbances=[d])
             row: dict[str, Any] = {"amplitude_nm": amplitude, "frequency_hz": frequency}
             for key, spec in specs.items():
-                m = simulate(scenario, spec).metrics(after=TRANSIENT)
+                m = simulate(scenario, spec).metrics()
                 row[key] = {k: m[k] for k in METRIC_KEYS}
             rows.append(row)
     return rows
@@ -98,7 +99,10 @@ def _sweep_table(rows: list[dict[str, Any]]) -> str:
              "|" + "---|" * 7]
     for r in rows:
         nn, lin = r["fig5_nn"], r["fig5_linear"]
-        better = "NN" if nn["rmse_yaw_rad"] < lin["rmse_yaw_rad"] else "linear"
+        if nn["diverged"] or lin["diverged"]:
+            better = "(diverged: " + ", ".join(k for k, m in (("NN", nn), ("linear", lin)) if m["diverged"]) + ")"
+        else:
+            better = "NN" if nn["rmse_yaw_rad"] < lin["rmse_yaw_rad"] else "linear"
         lines.append(f"| {r['amplitude_nm']:g} | {r['frequency_hz']:g} | {nn['rmse_yaw_rad']:.4f} | "
                      f"{lin['rmse_yaw_rad']:.4f} | {nn['rmse_position_m']:.4f} | "
                      f"{lin['rmse_position_m']:.4f} | {better} |")
@@ -119,12 +123,25 @@ def _table(rows: list[tuple[str, str, dict[str, Any]]]) -> str:
     return "\n".join(lines)
 
 
+def diverged_runs(metrics: dict[str, Any]) -> list[str]:
+    """The experiments (``fig3_nn``, ...) and sweep cases (``fig5_sweep[10 N m, 0.05 Hz].fig5_nn``)
+    of `run_paper`'s metrics that diverged."""
+    bad = [key for key, m in metrics.items() if isinstance(m, dict) and m.get("diverged")]
+    for row in metrics.get("fig5_sweep", []):
+        bad += [f"fig5_sweep[{row['amplitude_nm']:g} N m, {row['frequency_hz']:g} Hz].{key}"
+                for key, m in row.items() if isinstance(m, dict) and m.get("diverged")]
+    return bad
+
+
 def run_paper(out_dir: str | Path = "paper-results", quiet: bool = False) -> dict[str, Any]:
     """Runs every experiment, writes fig3_xy.png, fig4_inputs.png,
-    fig5_yaw_disturbance.png, metrics.json and summary.md into `out_dir`, prints
-    the metrics table, and returns the metrics."""
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    fig5_yaw_disturbance.png, metrics.json and summary.md into `out_dir`
+    (checked first: an existing file or an unwritable folder raises OSError
+    before anything runs), prints the metrics table, and returns the metrics
+    (those of metrics.json: one entry per experiment and ``fig5_sweep``). A
+    diverged run is written like the others, flagged ``diverged``: see
+    :func:`diverged_runs`."""
+    out = check_output_dir(out_dir)
     start = time.perf_counter()
     results = run_experiments()
     sweep = run_disturbance_sweep()
@@ -139,16 +156,21 @@ def run_paper(out_dir: str | Path = "paper-results", quiet: bool = False) -> dic
     rows = []
     for e in EXPERIMENTS:
         r = results[e.key]
-        m = r.metrics(after=TRANSIENT)
+        m = r.metrics()
         metrics[e.key] = {"scenario": e.scenario, "controller": r.controller, **m}
         rows.append((e.key, r.controller, m))
     table = _table(rows)
     sweep_table = _sweep_table(sweep)
-    (out / "metrics.json").write_text(json.dumps({**metrics, "fig5_sweep": sweep}, indent=2) + "\n")
+    metrics["fig5_sweep"] = sweep
+    (out / "metrics.json").write_text(json.dumps(_finite_or_none(metrics), indent=2) + "\n")
+    starts = sorted({m["window_start_s"] for m in metrics.values() if isinstance(m, dict)}
+                    | {m["window_start_s"] for row in sweep for m in row.values() if isinstance(m, dict)})
+    window = " and ".join(f"{t:g}" for t in starts)
     total = time.perf_counter() - start
     (out / "summary.md").write_text(
         "# neurov paper: results\n\n"
-        f"Metrics over t >= {TRANSIENT:g} s. Set-ups: scenarios/paper_fig3.toml and "
+        f"Metrics over t >= {window} s (the start-up transient skipped; "
+        f"neurov.result.metrics_start). Set-ups: scenarios/paper_fig3.toml and "
         "scenarios/paper_fig5.toml in the neurov package; the choices the paper leaves open "
         "are discussed in docs/paper-reproduction.md.\n\n"
         f"{table}\n\n"
@@ -159,6 +181,7 @@ def run_paper(out_dir: str | Path = "paper-results", quiet: bool = False) -> dic
         f"command took {total:.2f} s.\n"
     )
     if not quiet:
+        print(f"metrics over t >= {window} s (the start-up transient skipped)")
         print(table)
         print("\nFig. 5 comparison over disturbance amplitude and frequency:\n")
         print(sweep_table)

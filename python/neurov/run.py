@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import sys
 from pathlib import Path
 from typing import Any, TextIO
@@ -18,14 +19,30 @@ from typing import Any, TextIO
 from neurov.scenario import load_scenario
 from neurov.simulation import Result, simulate
 
-__all__ = ["FIGURES", "TRANSIENT_FRACTION", "format_metrics", "run_scenario_file", "write_outputs"]
+__all__ = ["EXIT_DIVERGED", "FIGURES", "check_output_dir", "format_metrics", "run_scenario_file",
+           "write_outputs"]
 
-TRANSIENT_FRACTION = 0.1
-"""Metrics skip this fraction of the run's duration: the start-up transient
-(weights from zero, the reference model catching up) would otherwise dominate
-the tracking errors of a short run."""
+EXIT_DIVERGED = 3
+"""Exit status of ``neurov run`` and ``neurov paper`` when a run diverged
+(everything simulated is still written): 0 is success, 1 an error (bad
+file, unwritable output), 2 a bad command line, 130 interrupted."""
 
 FIGURES = ("xy.png", "dofs.png", "errors.png", "inputs.png", "adaptive_norm.png")
+
+
+def check_output_dir(out_dir: str | Path) -> Path:
+    """Creates `out_dir` if missing and checks that files can be written in
+    it, before anything is computed; raises OSError naming the folder."""
+    out = Path(out_dir)
+    if out.exists() and not out.is_dir():
+        raise NotADirectoryError(f"output folder {str(out)!r} is an existing file, not a folder")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        raise OSError(f"output folder {str(out)!r} cannot be created: {e.strerror or e}") from e
+    if not os.access(out, os.W_OK | os.X_OK):
+        raise PermissionError(f"output folder {str(out)!r} is not writable")
+    return out
 
 
 def _finite_or_none(value: Any) -> Any:
@@ -42,13 +59,15 @@ def _finite_or_none(value: Any) -> Any:
 def format_metrics(result: Result, metrics: dict[str, Any]) -> str:
     """The short text table `run_scenario_file` prints."""
     s = result.scenario
-    after = metrics["transient_s"]
     lines = [
         f"scenario {s.name!r}: {result.controller}, {s.duration:g} s at dt = {s.dt:g} s"
         + (" (diverged)" if result.diverged else ""),
-        f"metrics over t >= {after:g} s (the first {TRANSIENT_FRACTION:.0%} of the duration is "
-        "skipped as the start-up transient)",
     ]
+    if result.diverged:
+        lines.append(result.divergence_message())
+    lines.append(f"metrics over {metrics['window_start_s']:g} s <= t <= {metrics['window_end_s']:g} s"
+                 + (" (what was simulated before the divergence)" if result.diverged else
+                    " (the start-up transient before is skipped)"))
     rmse, mx = metrics["rmse"], metrics["max_abs_error"]
     rows = [
         ("RMS position error", f"{metrics['rmse_position_m']:.4g} m"),
@@ -68,61 +87,66 @@ def format_metrics(result: Result, metrics: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
-def write_outputs(result: Result, metrics: dict[str, Any], out_dir: str | Path, plot: bool = False) -> list[Path]:
+def write_outputs(result: Result, metrics: dict[str, Any], out_dir: str | Path, plot: bool = False,
+                  quiet: bool = True) -> list[Path]:
     """Writes result.csv, result.npz, metrics.json and, with `plot`, the
     figures of :data:`FIGURES` into `out_dir` (created if missing); returns
-    the paths written."""
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    written = [result.to_csv(out / "result.csv"), result.to_npz(out / "result.npz")]
+    the paths written. Unless `quiet`, progress bars (on a terminal). A long
+    run's figures draw at most :data:`neurov.decimation.MAX_PLOT_ROWS` rows."""
+    from neurov.progress import progress_bar
+
+    out = check_output_dir(out_dir)
     metrics_path = out / "metrics.json"
     metrics_path.write_text(json.dumps(_finite_or_none(metrics), indent=2) + "\n", encoding="utf-8")
-    written.append(metrics_path)
+    written = [result.to_csv(out / "result.csv", quiet=quiet), result.to_npz(out / "result.npz", quiet=quiet),
+               metrics_path]
     if plot:
         # Imported here: matplotlib costs a second to import and a run without
         # plots does not need it.
         from neurov.plotting import runs as plots
 
         figures = {
-            "xy.png": plots.xy_path(result),
-            "dofs.png": plots.dof_time(result),
-            "errors.png": plots.errors(result),
-            "inputs.png": plots.control_inputs(result),
-            "adaptive_norm.png": plots.adaptive_norm(result),
+            "xy.png": plots.xy_path, "dofs.png": plots.dof_time, "errors.png": plots.errors,
+            "inputs.png": plots.control_inputs, "adaptive_norm.png": plots.adaptive_norm,
         }
-        written += [plots.save(fig, out / name) for name, fig in figures.items()]
+        with progress_bar(len(figures), "figures", unit="figure", quiet=quiet) as bar:
+            for name, draw in figures.items():
+                written.append(plots.save(draw(result), out / name))
+                bar.update(1)
     return written
 
 
 def run_scenario_file(path: str | Path, out_dir: str | Path | None = None,
                       plot: bool = False) -> tuple[Result, dict[str, Any]]:
     """Loads the scenario file at `path`, simulates it, and prints a short
-    metrics table to stdout. The metrics skip the first 10 % of the duration
-    (the start-up transient) and the table says so.
+    metrics table to stdout. The metrics cover t >= :func:`neurov.result.metrics_start`
+    (10 s, or half a shorter run: the start-up transient is skipped) and the
+    table says so.
 
-    With `out_dir`, writes result.csv, result.npz and metrics.json there, and
-    with `plot` also xy.png, dofs.png, errors.png, inputs.png and
-    adaptive_norm.png. `plot` without `out_dir` raises ValueError.
+    With `out_dir` (checked before the run: an existing file or a folder
+    that cannot be written raises OSError), writes result.csv, result.npz and
+    metrics.json there, and with `plot` also xy.png, dofs.png, errors.png,
+    inputs.png and adaptive_norm.png. `plot` without `out_dir` raises
+    ValueError.
 
-    Returns the result and the metrics: ``Result.metrics(after)`` plus
-    ``scenario``, ``controller`` and ``transient_s`` (= after), the same dict
-    metrics.json holds (where non-finite numbers are written as null). A bad
-    file raises :class:`neurov.scenario.ScenarioError` naming the file and
-    the field."""
+    A run that diverges is not an error: the table says when and how, the
+    files hold every row simulated, and the metrics cover those rows
+    (``diverged`` true, ``diverged_at_s`` set); check ``result.diverged``.
+
+    Returns the result and the metrics: ``Result.metrics()`` plus
+    ``scenario`` and ``controller``, the same dict metrics.json holds (where
+    non-finite numbers are written as null). A bad file raises
+    :class:`neurov.scenario.ScenarioError` naming the file and the field."""
     if plot and out_dir is None:
         raise ValueError("argument 'plot' needs 'out_dir': the figures are written as PNG files there")
     scenario = load_scenario(path)
+    if out_dir is not None:
+        check_output_dir(out_dir)
     result = simulate(scenario)
-    after = TRANSIENT_FRACTION * scenario.duration
-    metrics: dict[str, Any] = {
-        "scenario": scenario.name,
-        "controller": result.controller,
-        "transient_s": after,
-        **result.metrics(after=after),
-    }
+    metrics: dict[str, Any] = {"scenario": scenario.name, "controller": result.controller, **result.metrics()}
     stream: TextIO = sys.stdout
     print(format_metrics(result, metrics), file=stream)
     if out_dir is not None:
-        written = write_outputs(result, metrics, out_dir, plot=plot)
+        written = write_outputs(result, metrics, out_dir, plot=plot, quiet=False)
         print(f"wrote {', '.join(p.name for p in written)} to {Path(out_dir)}", file=stream)
     return result, metrics

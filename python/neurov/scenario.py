@@ -71,6 +71,7 @@ from numpy.typing import NDArray
 
 from neurov import centres as centre_placement
 from neurov import trajectories
+from neurov.files import read_text
 from neurov.vehicle_file import VehicleFile, VehicleFileError, preset_path, read_vehicle_file
 
 if sys.version_info >= (3, 11):
@@ -604,8 +605,7 @@ def load_scenario(path: str | Path) -> Scenario:
     """Reads a scenario file; raises :class:`ScenarioError` naming the file and field."""
     path = Path(path)
     try:
-        with path.open("rb") as f:
-            data = tomllib.load(f)
+        data = tomllib.loads(read_text(path, ScenarioError))
     except FileNotFoundError:
         raise ScenarioError(f"{path}: no such scenario file") from None
     except tomllib.TOMLDecodeError as e:

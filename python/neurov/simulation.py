@@ -3,27 +3,22 @@ and wrap the arrays in a :class:`Result` with metrics and export."""
 
 from __future__ import annotations
 
-import csv
-import json
 from collections.abc import Iterable, Iterator, Sequence
-from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from neurov import _core
+from neurov.result import Result
 from neurov.scenario import ControllerSpec, Scenario, make_centres
 
-__all__ = ["Result", "build_controller", "build_vehicle", "default_centre_box", "simulate", "simulate_many"]
+__all__ = [
+    "Result", "build_controller", "build_vehicle", "default_centre_box", "simulate", "simulate_many",
+    "simulation_config",
+]
 
 Array = NDArray[np.float64]
-
-_SERIES = (
-    "t", "eta", "nu", "eta_d", "eta_d_dot", "tau_demanded", "tau_applied", "disturbance", "s",
-    "thrusts", "theta", "adaptive_norm", "controller_status", "plant_status", "faults",
-)
 
 
 def build_vehicle(scenario: Scenario) -> _core.Vehicle:
@@ -31,23 +26,55 @@ def build_vehicle(scenario: Scenario) -> _core.Vehicle:
     return scenario.vehicle_data().vehicle(scenario.vehicle_parameters)
 
 
-def thruster_arguments(scenario: Scenario) -> dict[str, Any]:
-    """Keyword arguments of run_closed_loop for the vehicle file's [thrusters]."""
-    if not scenario.use_thrusters:
-        return {}
-    t = scenario.vehicle_data().thrusters
-    if t is None:
-        raise ValueError(f"scenario {scenario.name!r}: vehicle file {scenario.vehicle_path()} has no [thrusters] table")
-    out: dict[str, Any] = {
-        "thruster_matrix": t["matrix"],
-        "thruster_max": t["max_thrust"],
-        "thruster_min": t["min_thrust"],
-        "saturation": scenario.saturation,
-        "thruster_time_constant": (t["time_constant"] if scenario.thruster_time_constant is None
-                                   else scenario.thruster_time_constant),
-        "thruster_failures": [vars(f) for f in scenario.thruster_failures],
-    }
-    return out
+def _member(enum: Any, value: str, field: str) -> Any:
+    """The member of a bound C++ enum named `value`; ValueError naming the field."""
+    try:
+        return enum.__members__[value]
+    except KeyError:
+        raise ValueError(f"{field} must be one of {', '.join(map(repr, enum.__members__))}, got {value!r}") from None
+
+
+def simulation_config(scenario: Scenario) -> _core.SimulationConfig:
+    """The scenario as the C++ SimulationConfig a run takes (the thruster
+    layout from the vehicle file's [thrusters])."""
+    c = _core.SimulationConfig()
+    c.dt = scenario.dt
+    c.substeps = scenario.substeps
+    c.duration = scenario.duration
+    c.eta0 = scenario.eta0
+    c.nu0 = scenario.nu0
+    times, poses = scenario.command.timed_poses()
+    if scenario.command.interpolation not in ("linear", "hold"):
+        raise ValueError(f"command.interpolation must be 'linear' or 'hold', got {scenario.command.interpolation!r}")
+    c.command = _core.Command(times=times, poses=poses, linear=scenario.command.interpolation == "linear")
+    c.lambda_d = scenario.lambda_d
+    c.omega = scenario.omega
+    c.disturbances = [_core.SinusoidalDisturbance(**vars(d)) for d in scenario.disturbances]
+    c.current = scenario.current
+    c.current_amplitude = scenario.current_amplitude
+    c.current_period = scenario.current_period
+    c.noise_eta = scenario.noise_eta
+    c.noise_nu = scenario.noise_nu
+    c.seed = scenario.seed
+    c.sensor_faults = [
+        _core.SensorFault(**{**vars(f), "kind": _member(_core.SensorFaultKind, f.kind, "sensor_faults.kind")})
+        for f in scenario.sensor_faults
+    ]
+    c.current_steps = [_core.CurrentStep(**vars(s)) for s in scenario.current_steps]
+    c.refused_step_policy = _member(_core.RefusedStepPolicy, scenario.refused_step_policy, "refused_step_policy")
+    if scenario.use_thrusters:
+        t = scenario.vehicle_data().thrusters
+        if t is None:
+            raise ValueError(f"scenario {scenario.name!r}: vehicle file {scenario.vehicle_path()} has no [thrusters] table")
+        c.use_thrusters = True
+        c.thrusters = _core.ThrusterConfig(
+            matrix=t["matrix"], max_thrust=t["max_thrust"], min_thrust=t["min_thrust"],
+            saturation=_member(_core.Saturation, scenario.saturation, "saturation"),
+            time_constant=(t["time_constant"] if scenario.thruster_time_constant is None
+                           else scenario.thruster_time_constant),
+        )
+        c.failures = [_core.ThrusterFailure(**vars(f)) for f in scenario.thruster_failures]
+    return c
 
 
 def default_centre_box(scenario: Scenario) -> tuple[Array, Array]:
@@ -57,7 +84,16 @@ def default_centre_box(scenario: Scenario) -> tuple[Array, Array]:
     for nu_r_dot. A written-down choice: the paper says only "uniformly spaced
     in the state space"."""
     _, poses = scenario.command.timed_poses()
-    poses = np.vstack([poses, scenario.eta0])
+    # The box is the first use of eta0 and the poses: a NaN in either would
+    # otherwise be reported as the box's ('low' and 'high' must be finite).
+    eta0 = np.asarray(scenario.eta0, dtype=np.float64)
+    if eta0.shape != (6,) or not np.all(np.isfinite(eta0)):
+        raise ValueError(f"scenario {scenario.name!r}: argument 'eta0' (the initial pose) must be "
+                         f"6 finite numbers, got {eta0.tolist()}")
+    if not np.all(np.isfinite(poses)):
+        raise ValueError(f"scenario {scenario.name!r}: the command's poses must be finite, "
+                         f"got a non-finite value in pose {int(np.argmin(np.all(np.isfinite(poses), axis=1)))}")
+    poses = np.vstack([poses, eta0])
     pad = np.array([2.0, 2.0, 2.0, 0.5, 0.5, 0.5])
     vel = np.array([1.0, 1.0, 1.0, 0.5, 0.5, 0.5])
     acc = np.full(6, 0.5)
@@ -98,163 +134,6 @@ def build_controller(spec: ControllerSpec, scenario: Scenario) -> Any:
     raise ValueError(f"controller.type must be 'nn', 'linear', 'pd', 'pid' or 'smc', got {spec.type!r}")
 
 
-@dataclass
-class Result:
-    """Time series of one closed-loop run; rows at t_k = k dt."""
-
-    scenario: Scenario
-    controller: str
-    t: Array
-    eta: Array
-    nu: Array
-    eta_d: Array
-    eta_d_dot: Array
-    tau_demanded: Array
-    tau_applied: Array
-    disturbance: Array
-    s: Array
-    thrusts: Array
-    theta: Array
-    adaptive_norm: Array
-    controller_status: NDArray[np.uint8]
-    plant_status: NDArray[np.uint8]
-    faults: NDArray[np.uint8]
-    diverged: bool
-    wall_time: float = 0.0
-    extra: dict[str, Any] = field(default_factory=dict)
-
-    @property
-    def error(self) -> Array:
-        """eta - eta_d, shape (K, 6)."""
-        return self.eta - self.eta_d
-
-    def metrics(self, after: float = 0.0) -> dict[str, Any]:
-        """Tracking and effort metrics over t >= after (a transient to skip):
-        RMS error per DOF and of the 3-D position, maximum errors, mean and
-        maximum ``|tau|`` per DOF, control energy integral ``||tau|| dt``, integral
-        absolute error per DOF. Non-finite or diverged runs give inf errors."""
-        m = self.t >= after
-        if not np.any(m):
-            raise ValueError(f"argument 'after' = {after} leaves no samples (run ends at {self.t[-1] if len(self.t) else 0})")
-        e = self.error[m]
-        tau = self.tau_demanded[m]
-        dt = self.scenario.dt
-        pos = np.linalg.norm(e[:, :3], axis=1)
-        names = ("x", "y", "z", "roll", "pitch", "yaw")
-        out: dict[str, Any] = {
-            "rmse_position_m": float(np.sqrt(np.mean(pos**2))),
-            "max_position_error_m": float(np.max(pos)),
-            "rmse_yaw_rad": float(np.sqrt(np.mean(e[:, 5] ** 2))),
-            "max_yaw_error_rad": float(np.max(np.abs(e[:, 5]))),
-            "rmse": {n: float(np.sqrt(np.mean(e[:, i] ** 2))) for i, n in enumerate(names)},
-            "max_abs_error": {n: float(np.max(np.abs(e[:, i]))) for i, n in enumerate(names)},
-            "iae": {n: float(np.sum(np.abs(e[:, i])) * dt) for i, n in enumerate(names)},
-            "mean_abs_tau": float(np.mean(np.abs(tau))),
-            "max_abs_tau": float(np.max(np.abs(tau))),
-            "mean_abs_tau_dof": [float(x) for x in np.mean(np.abs(tau), axis=0)],
-            "max_abs_tau_dof": [float(x) for x in np.max(np.abs(tau), axis=0)],
-            "control_energy": float(np.sum(np.linalg.norm(tau, axis=1)) * dt),
-            "final_adaptive_norm": float(self.adaptive_norm[-1]),
-            "max_adaptive_norm": float(np.max(self.adaptive_norm)),
-            "refused_steps": int(np.count_nonzero(self.controller_status[m])),
-            "diverged": bool(self.diverged),
-        }
-        if self.diverged or not np.all(np.isfinite(e)):
-            for k in ("rmse_position_m", "max_position_error_m", "rmse_yaw_rad", "max_yaw_error_rad"):
-                out[k] = float("inf")
-        return out
-
-    def columns(self) -> dict[str, Array]:
-        """Flat named columns (one per DOF, thruster and parameter)."""
-        cols: dict[str, Array] = {"t": self.t}
-        dof = ("x", "y", "z", "phi", "theta", "psi")
-        body = ("u", "v", "w", "p", "q", "r")
-        for name, arr, labels in (
-            ("eta", self.eta, dof), ("nu", self.nu, body), ("eta_d", self.eta_d, dof),
-            ("eta_d_dot", self.eta_d_dot, dof), ("tau_demanded", self.tau_demanded, body),
-            ("tau_applied", self.tau_applied, body), ("disturbance", self.disturbance, body),
-            ("s", self.s, dof),
-        ):
-            for i, lab in enumerate(labels):
-                cols[f"{name}_{lab}"] = arr[:, i]
-        for i in range(self.thrusts.shape[1]):
-            cols[f"thrust_{i}"] = self.thrusts[:, i]
-        for i, n in enumerate(_core.THETA_NAMES[: self.theta.shape[1]]):
-            cols[f"theta[{n}]"] = self.theta[:, i]
-        cols["adaptive_norm"] = self.adaptive_norm
-        cols["controller_status"] = self.controller_status.astype(np.float64)
-        cols["plant_status"] = self.plant_status.astype(np.float64)
-        cols["faults"] = self.faults.astype(np.float64)
-        return cols
-
-    def to_pandas(self) -> Any:
-        """The run as a tidy :class:`pandas.DataFrame`: one row per control
-        step, indexed by time ``t`` [s]. Columns: the pose ``x, y, z, phi,
-        theta, psi`` [m, rad]; the body velocities ``u, v, w, p, q, r``; the
-        desired pose ``x_d`` ... ``psi_d`` and its rate ``x_d_dot`` ...;
-        the demanded generalised force ``tau_X`` ... ``tau_N`` [N, N m] and the
-        applied one ``tau_applied_X`` ...; the disturbance ``d_X`` ...; the
-        sliding variable ``s_x`` ... ``s_psi``; the thrusts ``thrust_0`` ... [N]; the
-        adapted parameters ``theta[m]`` ... (linear adaptive only); the
-        ``adaptive_norm``; ``controller_status`` and ``plant_status`` as
-        :class:`neurov.Status` names; and the fault flags ``fault_freeze``,
-        ``fault_dropout``, ``fault_noise_burst``, ``fault_thruster`` and
-        ``pitch_limited`` (bits 1, 2, 4, 8, 16 of :attr:`faults`)."""
-        import pandas as pd
-
-        pose, body = ("x", "y", "z", "phi", "theta", "psi"), ("u", "v", "w", "p", "q", "r")
-        force = ("X", "Y", "Z", "K", "M", "N")
-        cols: dict[str, Any] = {}
-        for arr, names in ((self.eta, pose), (self.nu, body), (self.eta_d, [f"{n}_d" for n in pose]),
-                           (self.eta_d_dot, [f"{n}_d_dot" for n in pose]),
-                           (self.tau_demanded, [f"tau_{n}" for n in force]),
-                           (self.tau_applied, [f"tau_applied_{n}" for n in force]),
-                           (self.disturbance, [f"d_{n}" for n in force]),
-                           (self.s, [f"s_{n}" for n in pose])):
-            cols.update((n, arr[:, i]) for i, n in enumerate(names))
-        cols.update((f"thrust_{i}", self.thrusts[:, i]) for i in range(self.thrusts.shape[1]))
-        cols.update((f"theta[{n}]", self.theta[:, i])
-                    for i, n in enumerate(_core.THETA_NAMES[: self.theta.shape[1]]))
-        cols["adaptive_norm"] = self.adaptive_norm
-        statuses = [s.name for s in sorted(_core.Status.__members__.values(), key=int)]
-        for name in ("controller_status", "plant_status"):
-            codes = getattr(self, name).astype(np.int64)
-            cols[name] = pd.Categorical.from_codes(codes, categories=statuses)
-        for bit, name in enumerate(("fault_freeze", "fault_dropout", "fault_noise_burst", "fault_thruster",
-                                    "pitch_limited")):
-            cols[name] = (self.faults & (1 << bit)) != 0
-        return pd.DataFrame(cols, index=pd.Index(self.t, name="t"))
-
-    def to_csv(self, path: str | Path) -> Path:
-        """Writes every column to a CSV file with a header row."""
-        path = Path(path)
-        cols = self.columns()
-        with path.open("w", newline="") as f:
-            w = csv.writer(f)
-            w.writerow(cols.keys())
-            w.writerows(zip(*(c.tolist() for c in cols.values())))
-        return path
-
-    def to_npz(self, path: str | Path) -> Path:
-        """Writes the arrays (and the scenario name and controller) to .npz."""
-        path = Path(path)
-        arrays = {k: getattr(self, k) for k in _SERIES}
-        np.savez_compressed(path, scenario=self.scenario.name, controller=self.controller,
-                            diverged=self.diverged, **arrays)
-        return path
-
-    def to_time_response(self) -> Any:
-        """This run as ``control.TimeResponseData`` (needs ``neurov[control]``);
-        see :func:`neurov.control.to_time_response`."""
-        from neurov.control import to_time_response
-
-        return to_time_response(self)
-
-    def summary_json(self, after: float = 0.0) -> str:
-        return json.dumps({"scenario": self.scenario.name, "controller": self.controller,
-                           **self.metrics(after)}, indent=2)
-
-
 def simulate(scenario: Scenario, controller: ControllerSpec | None = None, *,
              vehicle: _core.Vehicle | None = None) -> Result:
     """Runs one closed loop (the loop itself is C++; no Python per step)."""
@@ -263,32 +142,9 @@ def simulate(scenario: Scenario, controller: ControllerSpec | None = None, *,
     spec = controller or scenario.controller
     plant = vehicle if vehicle is not None else build_vehicle(scenario)
     ctrl = build_controller(spec, scenario)
-    times, poses = scenario.command.timed_poses()
-    kwargs: dict[str, Any] = {
-        "dt": scenario.dt,
-        "substeps": scenario.substeps,
-        "duration": scenario.duration,
-        "eta0": scenario.eta0,
-        "nu0": scenario.nu0,
-        "command_times": times,
-        "command_poses": poses,
-        "command_interpolation": scenario.command.interpolation,
-        "lambda_d": scenario.lambda_d,
-        "omega": scenario.omega,
-        "disturbances": [vars(d) for d in scenario.disturbances],
-        "current": scenario.current,
-        "current_amplitude": scenario.current_amplitude,
-        "current_period": scenario.current_period,
-        "noise_eta": scenario.noise_eta,
-        "noise_nu": scenario.noise_nu,
-        "seed": scenario.seed,
-        "sensor_faults": [vars(f) for f in scenario.sensor_faults],
-        "current_steps": [vars(c) for c in scenario.current_steps],
-        "refused_step_policy": scenario.refused_step_policy,
-        **thruster_arguments(scenario),
-    }
+    config = simulation_config(scenario)
     start = time.perf_counter()
-    raw = _core.run_closed_loop(plant, ctrl, **kwargs)
+    raw = _core.run_closed_loop(plant, ctrl, config)
     wall = time.perf_counter() - start
     diverged = bool(raw.pop("diverged"))
     return Result(scenario=scenario, controller=spec.name, diverged=diverged, wall_time=wall, **raw)

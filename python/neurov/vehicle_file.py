@@ -29,6 +29,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from neurov.files import read_text
+
 if sys.version_info >= (3, 11):
     import tomllib
 else:  # pragma: no cover - exercised on Python 3.10 only
@@ -143,8 +145,7 @@ def read_vehicle_file(path: str | Path) -> VehicleFile:
     path = Path(path)
     where = str(path)
     try:
-        with path.open("rb") as f:
-            data = tomllib.load(f)
+        data = tomllib.loads(read_text(path, VehicleFileError))
     except FileNotFoundError:
         raise VehicleFileError(f"{where}: no such vehicle file") from None
     except tomllib.TOMLDecodeError as e:

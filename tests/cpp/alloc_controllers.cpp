@@ -241,6 +241,62 @@ TYPED_TEST(ControllerAllocTest, LinearAndPDStepsDoNotAllocate) {
   EXPECT_TRUE(std::isfinite(static_cast<double>(sink)));
 }
 
+/// create(), accepted and refused steps and reset() of a controller whose
+/// create() takes only its configuration, all inside the watch window.
+template <typename Ctl>
+void expect_fixed_size_controller_does_not_allocate(const typename Ctl::Config& cfg) {
+  using S = typename Ctl::Scalar;
+  const Inputs<S> in;
+  Ctl ctl;
+  ValidationError e;
+  Status st[4] = {};
+  volatile double sink = 0;
+  const Window w = watch([&] {
+    e = Ctl::create(cfg, ctl);
+    Vector6<S> tau;
+    DesiredState<S> d;
+    d.eta_d = in.eta_d;
+    for (int k = 0; k < 100; ++k) {
+      st[0] = worst(st[0], ctl.step(in.eta, in.nu, in.eta_d, in.eta_d_dot, in.eta_d_ddot, tau));
+      consume(sink, tau);
+    }
+    st[1] = ctl.step(in.eta, in.nu, d, tau);
+    consume(sink, tau);
+    st[2] = ctl.step(in.bad_eta, in.nu, in.eta_d, in.eta_d_dot, in.eta_d_ddot, tau);
+    st[3] = ctl.step(in.singular_eta, in.nu, in.eta_d, in.eta_d_dot, in.eta_d_ddot, tau);
+    sink = sink + static_cast<double>(ctl.adaptive_norm());
+    consume(sink, ctl.logged_parameters());
+    ctl.reset();
+  });
+  EXPECT_EQ(w.new_calls, 0);
+  EXPECT_EQ(w.eigen_failures, 0);
+  EXPECT_TRUE(e.ok());
+  EXPECT_EQ(st[0], Status::ok);
+  EXPECT_EQ(st[1], Status::ok);
+  EXPECT_EQ(st[2], Status::non_finite_input);
+  EXPECT_EQ(st[3], Status::near_singularity);
+  EXPECT_TRUE(std::isfinite(static_cast<double>(sink)));
+}
+
+TYPED_TEST(ControllerAllocTest, PidSlidingModeAndComputedTorqueDoNotAllocate) {
+  using S = TypeParam;
+  PIDConfig<S> pid;
+  pid.kp.setConstant(S(50));
+  pid.ki.setConstant(S(5));
+  pid.kd.setConstant(S(10));
+  expect_fixed_size_controller_does_not_allocate<PIDController<S>>(pid);
+  SlidingModeConfig<S> smc;
+  smc.kd.setConstant(S(20));
+  smc.k.setConstant(S(5));
+  ASSERT_TRUE(regressor_parameters(nerov_parameters<S>(), smc.theta).ok());
+  expect_fixed_size_controller_does_not_allocate<SlidingModeController<S>>(smc);
+  ComputedTorqueConfig<S> ct;
+  ct.kd.setConstant(S(20));
+  ct.vehicle = nerov_parameters<S>();
+  ct.vehicle.coriolis_form = CoriolisForm::kirchhoff;
+  expect_fixed_size_controller_does_not_allocate<ComputedTorqueController<S>>(ct);
+}
+
 TYPED_TEST(ControllerAllocTest, ReferenceModelAndTrackingErrorDoNotAllocate) {
   using S = TypeParam;
   const Inputs<S> in;

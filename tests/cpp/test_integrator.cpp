@@ -259,11 +259,15 @@ TYPED_TEST(IntegratorTest, OverflowIsRejectedAndStateUntouched) {
   Vector6<S> nu = huge;
   EXPECT_EQ(rk4_step(v, eta, nu, Vector6<S>::Zero(), S(0.01)), Status::non_finite_output);
   EXPECT_TRUE(same_bits(eta, initial_pose<S>()) && same_bits(nu, huge));
-  // ... and in a later one (a finite but absurd step).
-  nu = initial_velocity<S>();
-  EXPECT_EQ(rk4_step(v, eta, nu, Vector6<S>::Zero(), std::numeric_limits<S>::max() / 4),
+  // ... and in a later one: a velocity whose first stage is finite, at the
+  // longest step taken (a longer one is refused before any stage, kMaxStep).
+  const Vector6<S> fast = huge / S(100);
+  Vector6<S> k1e, k1n;
+  ASSERT_EQ(v.derivative(eta, fast, Vector6<S>::Zero(), Vector3<S>::Zero(), k1e, k1n), Status::ok);
+  nu = fast;
+  EXPECT_EQ(rk4_step(v, eta, nu, Vector6<S>::Zero(), S(neurov::kMaxStep)),
             Status::non_finite_output);
-  EXPECT_TRUE(same_bits(eta, initial_pose<S>()) && same_bits(nu, initial_velocity<S>()));
+  EXPECT_TRUE(same_bits(eta, initial_pose<S>()) && same_bits(nu, fast));
 }
 
 // Every stage finite, only the weighted sum k1 + 2 (k2 + k3) + k4 overflows:

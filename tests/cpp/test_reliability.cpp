@@ -114,6 +114,12 @@ Bytes state_of(const SlidingModeController<S>& c) {
   b.add(c.model_output());
   return add_tracking(b, c.tracking());
 }
+template <typename S>
+Bytes state_of(const ComputedTorqueController<S>& c) {
+  Bytes b;
+  b.add(c.model_output());
+  return add_tracking(b, c.tracking());
+}
 
 template <typename S, int N>
 bool state_finite(const NNAdaptiveController<S, N>& c) {
@@ -133,6 +139,10 @@ bool state_finite(const PIDController<S>& c) {
 }
 template <typename S>
 bool state_finite(const SlidingModeController<S>& c) {
+  return c.model_output().allFinite() && c.tracking().s.allFinite();
+}
+template <typename S>
+bool state_finite(const ComputedTorqueController<S>& c) {
   return c.model_output().allFinite() && c.tracking().s.allFinite();
 }
 
@@ -367,6 +377,14 @@ SlidingModeController<S> smc() {
   return SlidingModeController<S>(cfg);
 }
 
+template <typename S>
+ComputedTorqueController<S> computed_torque() {
+  ComputedTorqueConfig<S> cfg;
+  cfg.kd << S(200), S(200), S(200), S(50), S(50), S(50);
+  cfg.vehicle = nerov_parameters<S>();
+  return ComputedTorqueController<S>(cfg);
+}
+
 /// Runs `check` on every controller and configuration a vehicle can fly.
 template <typename S, typename F>
 void for_each_controller(F&& check) {
@@ -410,6 +428,10 @@ void for_each_controller(F&& check) {
     SCOPED_TRACE("sliding mode");
     check(smc<S>(), 20u);
   }
+  {
+    SCOPED_TRACE("computed torque");
+    check(computed_torque<S>(), 21u);
+  }
 }
 
 TYPED_TEST(ReliabilityTest, ControllerStepHostileValueInEveryEntry) {
@@ -436,6 +458,7 @@ TYPED_TEST(ReliabilityTest, UnconfiguredControllersRefuseEveryStep) {
   check_one_step(PDController<S>{}, in, "PD");
   check_one_step(PIDController<S>{}, in, "PID");
   check_one_step(SlidingModeController<S>{}, in, "SMC");
+  check_one_step(ComputedTorqueController<S>{}, in, "computed torque");
   NNAdaptiveController<S> c;
   Vector6<S> tau;
   EXPECT_EQ(step(c, in, tau), Status::invalid_argument);
@@ -555,7 +578,7 @@ TYPED_TEST(ReliabilityTest, ReferenceModelHostileCommandAndTimeStep) {
     }
   for (const S dt : hostile_values<S>()) {
     const Status st = check(r, dt, "dt = " + show(dt));
-    if (!(std::isfinite(dt) && dt > S(0))) {
+    if (!(std::isfinite(dt) && dt > S(0) && dt <= S(neurov::kMaxStep))) {
       EXPECT_EQ(st, Status::invalid_argument) << show(dt);
     }
   }
@@ -687,12 +710,12 @@ TYPED_TEST(ReliabilityTest, DynamicsAndRk4HostileValueInEveryEntry) {
   for (int a = 0; a < 4; ++a)
     for (int i = 0; i < (a == 3 ? 3 : 6); ++i)
       for (const S v : hostile_values<S>()) run(a, i, v);
-  // dt: non-positive or non-finite is refused with the state untouched.
+  // dt: non-positive, non-finite or above kMaxStep is refused with the state untouched.
   for (const S dt : hostile_values<S>()) {
     Vector6<S> e = eta, n = nu;
     const Status st = rk4_step(vehicle, e, n, tau, dt, current);
     EXPECT_TRUE(e.allFinite() && n.allFinite()) << "dt = " << show(dt);
-    if (!(std::isfinite(dt) && dt > S(0))) {
+    if (!(std::isfinite(dt) && dt > S(0) && dt <= S(neurov::kMaxStep))) {
       EXPECT_EQ(st, Status::invalid_argument) << show(dt);
       EXPECT_TRUE((e.array() == eta.array()).all() && (n.array() == nu.array()).all());
     }
@@ -1066,6 +1089,7 @@ TYPED_TEST(ReliabilityTest, SimulationConfigurationNamesTheBadField) {
   const std::vector<Case> cases = {
       {"zero dt", [](auto& c) { c.dt = S(0); }, "dt"},
       {"negative dt", [](auto& c) { c.dt = S(-0.2); }, "dt"},
+      {"dt above kMaxStep", [](auto& c) { c.dt = S(10.5); }, "dt"},
       {"zero substeps", [](auto& c) { c.substeps = 0; }, "substeps"},
       {"negative duration", [](auto& c) { c.duration = S(-1); }, "duration"},
       {"too many steps", [](auto& c) { c.duration = S(1e9); }, "duration"},

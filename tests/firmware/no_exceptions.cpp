@@ -47,7 +47,8 @@ constexpr bool no_throwing_constructors() {
          !std::is_constructible<PDController<S>, const PDConfig<S>&>::value &&
          !std::is_constructible<PIDController<S>, const PIDConfig<S>&>::value &&
          !std::is_constructible<SlidingModeController<S>, const SlidingModeConfig<S>&>::value &&
-         !std::is_constructible<LinearAdaptiveController<S>, const LinearAdaptiveConfig<S>&>::value;
+         !std::is_constructible<LinearAdaptiveController<S>, const LinearAdaptiveConfig<S>&>::value &&
+         !std::is_constructible<ComputedTorqueController<S>, const ComputedTorqueConfig<S>&>::value;
 }
 static_assert(no_throwing_constructors<float>(), "throwing constructors in firmware mode");
 static_assert(no_throwing_constructors<double>(), "throwing constructors in firmware mode");
@@ -156,6 +157,42 @@ void closed_loop_and_bad_input() {
               static_cast<double>((eta - r).norm()), static_cast<double>(w.norm()));
 }
 
+/// The computed-torque controller on the exact NEROV model: a bad gain is
+/// named, and the pose step is tracked with everything on the stack.
+template <typename S>
+void computed_torque() {
+  using V6 = Vector6<S>;
+  ComputedTorqueConfig<S> cfg;
+  cfg.vehicle = nerov_parameters<S>();
+  cfg.kd << S(200), S(200), S(200), S(50), S(50), S(50);
+  cfg.kd(2) = S(-1);
+  ComputedTorqueController<S> ctrl;
+  CHECK(same_field(ComputedTorqueController<S>::create(cfg, ctrl), "kd"));
+  CHECK(!ctrl.configured());
+  cfg.kd(2) = S(200);
+  CHECK(ComputedTorqueController<S>::create(cfg, ctrl).ok());
+  Vehicle<S> plant;
+  CHECK(Vehicle<S>::create(nerov_parameters<S>(), plant).ok());
+  ReferenceModel<S> ref;
+  CHECK(ReferenceModel<S>::create(V6::Ones(), V6::Constant(S(0.25)), V6::Zero(), ref).ok());
+  V6 r;
+  r << S(2), S(1), S(0.5), S(0), S(0), S(0.5);
+  V6 eta = V6::Zero(), nu = V6::Zero(), tau = V6::Zero();
+  DesiredState<S> d;
+  int bad = 0;
+  for (int k = 0; k < 300; ++k) {  // 60 s at 5 Hz
+    if (ref.step(r, S(0.2), d) != Status::ok) ++bad;
+    if (ctrl.step(eta, nu, d, tau) != Status::ok) ++bad;
+    for (int i = 0; i < 10; ++i)
+      if (rk4_step(plant, eta, nu, tau, S(0.02)) != Status::ok) ++bad;
+  }
+  CHECK(bad == 0);
+  CHECK((eta - r).norm() < S(0.05));
+  std::printf("%s: computed torque, |eta - r| after 60 s = %.2e m/rad\n",
+              std::is_same<S, float>::value ? "float" : "double",
+              static_cast<double>((eta - r).norm()));
+}
+
 }  // namespace
 
 int main() {
@@ -163,6 +200,8 @@ int main() {
   validation_returns_errors<double>();
   closed_loop_and_bad_input<float>();
   closed_loop_and_bad_input<double>();
+  computed_torque<float>();
+  computed_torque<double>();
   std::printf("%s: %d failure(s)\n", failures == 0 ? "PASS" : "FAIL", failures);
   return failures == 0 ? 0 : 1;
 }

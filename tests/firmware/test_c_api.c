@@ -199,10 +199,108 @@ static void closed_loop(void) {
   CHECK(fabsf(neurov_nn_weight_norm(nn) - w_norm) <= 1e-5f * w_norm);
 }
 
+/* Storage filled with a debugger's pattern, as a buffer create() never saw. */
+static void fill_pattern(unsigned char* buf, size_t size, int deadbeef) {
+  static const unsigned char beef[4] = {0xDE, 0xAD, 0xBE, 0xEF};
+  for (size_t i = 0; i < size; ++i) buf[i] = deadbeef ? beef[i % 4] : 0xCD;
+}
+
+/* Every call on an object refuses a buffer that create() never saw, one
+ * whose create() was refused, and the other kind of object. */
+static void uncreated_objects_are_refused(void) {
+  const float zero[6] = {0}, ones[6] = {1, 1, 1, 1, 1, 1};
+  for (int pattern = 0; pattern < 3; ++pattern) {
+    if (pattern < 2) {
+      fill_pattern(nn_storage, sizeof nn_storage, pattern);
+      fill_pattern(ref_storage, sizeof ref_storage, pattern);
+    } else { /* a create refused for its parameters, on a buffer that held an object */
+      neurov_nn_params p;
+      neurov_nn_params_init(&p);
+      p.centres = centres;
+      p.widths = widths;
+      neurov_nn* made = NULL;
+      neurov_reference* made_ref = NULL;
+      CHECK(neurov_nn_create(nn_storage, sizeof nn_storage, &p, &made, NULL) == NEUROV_STATUS_OK);
+      CHECK(neurov_reference_create(ref_storage, sizeof ref_storage, ones, ones, zero, &made_ref,
+                                    NULL) == NEUROV_STATUS_OK);
+      p.gamma = -1.0f;
+      CHECK(neurov_nn_create(nn_storage, sizeof nn_storage, &p, &made, NULL) ==
+            NEUROV_STATUS_INVALID_ARGUMENT);
+      CHECK(neurov_reference_create(ref_storage, sizeof ref_storage, ones, zero, zero, &made_ref,
+                                    NULL) == NEUROV_STATUS_INVALID_ARGUMENT);
+    }
+    neurov_nn* nn = (neurov_nn*)nn_storage;
+    neurov_reference* ref = (neurov_reference*)ref_storage;
+    neurov_desired d;
+    memset(&d, 0, sizeof d);
+    float tau[6] = {1, 1, 1, 1, 1, 1}, et[6] = {1, 1, 1, 1, 1, 1}, s[6] = {1, 1, 1, 1, 1, 1};
+    CHECK(neurov_nn_step(nn, zero, zero, &d, tau) == NEUROV_STATUS_INVALID_ARGUMENT);
+    for (int i = 0; i < 6; ++i) CHECK(tau[i] == 0.0f);
+    CHECK(neurov_nn_status(nn) == NEUROV_STATUS_INVALID_ARGUMENT);
+    CHECK(neurov_nn_weight_norm(nn) == 0.0f);
+    neurov_nn_tracking_error(nn, et, s);
+    for (int i = 0; i < 6; ++i) CHECK(et[i] == 0.0f && s[i] == 0.0f);
+    weights_after[0] = 42.0f;
+    neurov_nn_get_weights(nn, weights_after);
+    CHECK(weights_after[0] == 42.0f);
+    memset(weights_before, 0, sizeof weights_before);
+    CHECK(neurov_nn_set_initial_weights(nn, weights_before) == NEUROV_STATUS_INVALID_ARGUMENT);
+    unsigned char kept[sizeof nn_storage];
+    memcpy(kept, nn_storage, sizeof kept);
+    neurov_nn_reset(nn);
+    CHECK(memcmp(kept, nn_storage, sizeof kept) == 0);
+    CHECK(neurov_reference_step(ref, zero, 0.2f, &d) == NEUROV_STATUS_INVALID_ARGUMENT);
+    CHECK(neurov_reference_reset(ref, zero) == NEUROV_STATUS_INVALID_ARGUMENT);
+    /* The other kind of object, however it got there. */
+    CHECK(neurov_nn_step((neurov_nn*)(void*)ref, zero, zero, &d, tau) ==
+          NEUROV_STATUS_INVALID_ARGUMENT);
+    CHECK(neurov_reference_step((neurov_reference*)(void*)nn, zero, 0.2f, &d) ==
+          NEUROV_STATUS_INVALID_ARGUMENT);
+  }
+  /* A real object of each kind is still refused in the other's calls. */
+  neurov_nn_params p;
+  neurov_nn_params_init(&p);
+  p.centres = centres;
+  p.widths = widths;
+  neurov_nn* nn = NULL;
+  neurov_reference* ref = NULL;
+  CHECK(neurov_nn_create(nn_storage, sizeof nn_storage, &p, &nn, NULL) == NEUROV_STATUS_OK);
+  CHECK(neurov_reference_create(ref_storage, sizeof ref_storage, ones, ones, zero, &ref, NULL) ==
+        NEUROV_STATUS_OK);
+  neurov_desired d;
+  float tau[6];
+  CHECK(neurov_reference_step((neurov_reference*)(void*)nn, zero, 0.2f, &d) ==
+        NEUROV_STATUS_INVALID_ARGUMENT);
+  memset(&d, 0, sizeof d);
+  CHECK(neurov_nn_step((neurov_nn*)(void*)ref, zero, zero, &d, tau) ==
+        NEUROV_STATUS_INVALID_ARGUMENT);
+}
+
+/* A step longer than the documented maximum (10 s) is an invalid argument,
+ * not a non-finite input, and changes nothing. */
+static void absurd_step_is_refused(void) {
+  const float zero[6] = {0}, ones[6] = {1, 1, 1, 1, 1, 1}, r[6] = {1, 0, 0, 0, 0, 0};
+  neurov_reference* ref = NULL;
+  CHECK(neurov_reference_create(ref_storage, sizeof ref_storage, ones, ones, zero, &ref, NULL) ==
+        NEUROV_STATUS_OK);
+  if (ref == NULL) return;
+  neurov_desired d, before;
+  CHECK(neurov_reference_step(ref, r, 0.2f, &d) == NEUROV_STATUS_OK);
+  before = d;
+  const float steps[3] = {1e30f, 1e6f, 10.5f};
+  for (int i = 0; i < 3; ++i) {
+    CHECK(neurov_reference_step(ref, r, steps[i], &d) == NEUROV_STATUS_INVALID_ARGUMENT);
+    CHECK(memcmp(&d, &before, sizeof d) == 0);
+  }
+  CHECK(neurov_reference_step(ref, r, 10.0f, &d) == NEUROV_STATUS_OK);
+}
+
 int main(void) {
   fill_centres();
   sizes();
   create_refuses_bad_arguments();
+  uncreated_objects_are_refused();
+  absurd_step_is_refused();
   closed_loop();
   printf("%s: %d failure(s)\n", failures == 0 ? "PASS" : "FAIL", failures);
   return failures == 0 ? 0 : 1;

@@ -425,7 +425,7 @@ _CHILD = textwrap.dedent(
     import ctypes, json, sys
     import numpy as np
     import neurov
-    from neurov.simulation import build_controller, build_vehicle, thruster_arguments
+    from neurov.simulation import build_controller, build_vehicle, simulation_config
 
     count = ctypes.CDLL(None).neurov_alloc_count
     count.restype = ctypes.c_long
@@ -439,15 +439,12 @@ _CHILD = textwrap.dedent(
         s.controller.type = case["controller"]
         s.controller.kp = np.full(6, 100.0)
         vehicle = build_vehicle(s)
-        times, poses = s.command.timed_poses()
         def run(duration):
             c = build_controller(s.controller, s)
-            kw = dict(dt=s.dt, substeps=s.substeps, duration=duration, command_times=times,
-                      command_poses=poses, noise_eta=s.noise_eta, noise_nu=s.noise_nu, seed=s.seed,
-                      sensor_faults=[vars(f) for f in s.sensor_faults],
-                      refused_step_policy=s.refused_step_policy, **thruster_arguments(s))
+            config = simulation_config(s)
+            config.duration = duration
             before = count()
-            r = neurov.run_closed_loop(vehicle, c, **kw)
+            r = neurov.run_closed_loop(vehicle, c, config)
             used = count() - before
             return used, int(np.count_nonzero(r["controller_status"]))
         run(case["short"])  # warm caches (pymalloc arenas, lazily built tables)

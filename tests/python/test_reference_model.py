@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 import neurov
+from neurov import _core
 
 
 def second_order(t: np.ndarray, lam: float, om: float, x0: float, r: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -228,10 +229,9 @@ def test_pitch_beyond_the_limit_is_held_at_it_and_commanding_back_returns(lam: f
 
 def closed_loop_pitch(poses: list[list[float]], times: list[float]) -> dict:
     kd = np.full(6, 100.0)
-    return neurov.run_closed_loop(
-        neurov.Vehicle.nerov(), neurov.PDController(kd, kd), dt=0.2, duration=80.0,
-        command_times=times, command_poses=poses, command_interpolation="hold",
-        lambda_d=np.full(6, 1.0), omega=np.full(6, 0.25))
+    config = _core.SimulationConfig(dt=0.2, duration=80.0, lambda_d=np.full(6, 1.0), omega=np.full(6, 0.25),
+                                    command=_core.Command(times=times, poses=poses, linear=False))
+    return neurov.run_closed_loop(neurov.Vehicle.nerov(), neurov.PDController(kd, kd), config)
 
 
 def test_closed_loop_reports_a_pitch_limited_reference_in_the_fault_bits() -> None:

@@ -1,7 +1,7 @@
 """Bad configuration through the Python API, where test_bad_input.py (array
 and scalar arguments) and the file tests (test_vehicle_files.py,
 test_scenario.py) leave gaps: centre sets, widths, gains and time steps of
-every controller, the closed loop's keyword arguments and the fault tables of
+every controller, the closed loop's configuration and the fault tables of
 a scenario file. Each error must be a ValueError or TypeError that names the
 offending field. docs/reliability.md lists what is covered where.
 """
@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 import neurov
+from neurov import _core
 from neurov.scenario import ScenarioError, load_scenario
 
 CENTRES = np.random.default_rng(1).uniform(-1, 1, size=(4, 24))
@@ -112,68 +113,103 @@ def test_controller_configuration_names_the_bad_field(case: str) -> None:
         make()
 
 
-# ------------------------------------------------- the closed loop's keywords
+# ------------------------------------------------- the closed loop's configuration
 
-LOOP: dict[str, Any] = {"duration": 2.0, "command_times": [0.0], "command_poses": [[1, 0, 0, 0, 0, 0]]}
 NEROV_B = np.vstack([np.eye(6)]).T  # any full-rank 6 x 6 layout
-FAULT = {"kind": "dropout", "start": 0.4, "end": 0.8, "eta": True, "nu": True,
-         "noise_eta": np.zeros(6), "noise_nu": np.zeros(6)}
 
-BAD_LOOPS: dict[str, tuple[dict[str, Any], type[Exception], str]] = {
-    "no command": ({"command_times": None}, TypeError, "command_times"),
-    "poses for two times, one time": ({"command_poses": np.zeros((2, 6))}, ValueError, "command_poses"),
-    "times not increasing": ({"command_times": [1.0, 1.0], "command_poses": np.zeros((2, 6))},
+
+def loop_config() -> _core.SimulationConfig:
+    return _core.SimulationConfig(duration=2.0, command=_core.Command(times=[0.0], poses=[[1, 0, 0, 0, 0, 0]]))
+
+
+def fault(**changes: Any) -> _core.SensorFault:
+    return _core.SensorFault(**{"kind": _core.SensorFaultKind.dropout, "start": 0.4, "end": 0.8, **changes})
+
+
+def with_thrusters(c: _core.SimulationConfig, limit: Any = np.full(6, 100.0)) -> None:
+    c.use_thrusters = True
+    c.thrusters = _core.ThrusterConfig(matrix=NEROV_B, max_thrust=limit, min_thrust=-np.full(6, 100.0))
+
+
+def thruster_failure(**changes: Any) -> Callable[[_core.SimulationConfig], None]:
+    def change(c: _core.SimulationConfig) -> None:
+        with_thrusters(c)
+        c.failures = [_core.ThrusterFailure(**{"index": 0, "efficiency": 0.0, "time": 1.0, **changes})]
+    return change
+
+
+def setter(field: str, value: Any) -> Callable[[_core.SimulationConfig], None]:
+    return lambda c: setattr(c, field, value)
+
+
+# Each case changes a good configuration; the change itself (a field of the
+# wrong type or shape) or the C++ validator (a value it refuses) must name the field.
+BAD_LOOPS: dict[str, tuple[Callable[[_core.SimulationConfig], Any], type[Exception], str]] = {
+    "no command": (setter("command", _core.Command()), ValueError, "command.times"),
+    "command not a Command": (setter("command", [0.0]), TypeError, "SimulationConfig.command"),
+    "poses for two times, one time": (lambda c: setattr(c.command, "poses", np.zeros((2, 6))), ValueError,
+                                      "command.poses"),
+    "poses of five columns": (lambda c: setattr(c.command, "poses", np.zeros((1, 5))), ValueError,
+                              "Command.poses"),
+    "times not increasing": (setter("command", _core.Command(times=[1.0, 1.0], poses=np.zeros((2, 6)))),
                              ValueError, "command.times"),
-    "zero dt": ({"dt": 0.0}, ValueError, "dt"),
-    "zero substeps": ({"substeps": 0}, ValueError, "substeps"),
-    "float substeps": ({"substeps": 2.5}, TypeError, "substeps"),
-    "too many steps": ({"duration": 1e9}, ValueError, "duration"),
-    "NaN initial pose": ({"eta0": [0, 0, np.nan, 0, 0, 0]}, ValueError, "eta0"),
-    "initial pitch at 90 deg": ({"eta0": [0, 0, 0, 0, np.pi / 2, 0]}, ValueError, "eta0"),
-    "negative noise": ({"noise_nu": -np.ones(6)}, ValueError, "noise_nu"),
-    "negative seed": ({"seed": -1}, ValueError, "seed"),
-    "disturbance in DOF 7": ({"disturbances": [{"dof": 7, "amplitude": 1.0, "frequency": 0.1, "phase": 0.0,
-                                                "start": 0.0}]}, ValueError, "dof"),
-    "disturbance without amplitude": ({"disturbances": [{"dof": 5}]}, ValueError, "amplitude"),
-    "unknown sensor fault": ({"sensor_faults": [{**FAULT, "kind": "stuck"}]}, ValueError, "kind"),
-    "sensor fault ending before it starts": ({"sensor_faults": [{**FAULT, "end": 0.1}]}, ValueError,
+    "zero dt": (setter("dt", 0.0), ValueError, "dt"),
+    "zero substeps": (setter("substeps", 0), ValueError, "substeps"),
+    "float substeps": (setter("substeps", 2.5), TypeError, "substeps"),
+    "too many steps": (setter("duration", 1e9), ValueError, "duration"),
+    "NaN initial pose": (setter("eta0", [0, 0, np.nan, 0, 0, 0]), ValueError, "eta0"),
+    "initial pose of five": (setter("eta0", np.zeros(5)), ValueError, "eta0"),
+    "initial pitch at 90 deg": (setter("eta0", [0, 0, 0, 0, np.pi / 2, 0]), ValueError, "eta0"),
+    "negative noise": (setter("noise_nu", -np.ones(6)), ValueError, "noise_nu"),
+    "negative seed": (setter("seed", -1), ValueError, "seed"),
+    "disturbance in DOF 7": (setter("disturbances", [_core.SinusoidalDisturbance(dof=7)]), ValueError, "dof"),
+    "disturbance as a dict": (setter("disturbances", [{"dof": 5}]), TypeError, "disturbances"),
+    "unknown sensor fault": (lambda c: fault(kind="stuck"), TypeError, "kind"),
+    "sensor fault ending before it starts": (setter("sensor_faults", [fault(end=0.1)]), ValueError,
                                              "sensor_faults"),
-    "sensor fault without an end": ({"sensor_faults": [{k: v for k, v in FAULT.items() if k != "end"}]},
-                                    ValueError, "end"),
-    "negative burst noise": ({"sensor_faults": [{**FAULT, "kind": "noise_burst", "noise_nu": -np.ones(6)}]},
-                             ValueError, "noise_nu"),
-    "current steps out of order": ({"current_steps": [{"time": 5.0, "velocity": np.zeros(3)},
-                                                      {"time": 1.0, "velocity": np.zeros(3)}]},
+    "sensor fault without an end": (setter("sensor_faults", [fault(end=np.nan)]), ValueError, "end"),
+    "negative burst noise": (setter("sensor_faults", [fault(kind=_core.SensorFaultKind.noise_burst,
+                                                            noise_nu=-np.ones(6))]), ValueError, "noise_nu"),
+    "current steps out of order": (setter("current_steps", [_core.CurrentStep(time=5.0),
+                                                            _core.CurrentStep(time=1.0)]),
                                    ValueError, "current_steps"),
-    "current step of two components": ({"current_steps": [{"time": 1.0, "velocity": np.zeros(2)}]},
-                                       ValueError, "velocity"),
-    "unknown refused-step policy": ({"refused_step_policy": "coast"}, ValueError, "refused_step_policy"),
-    "failure of thruster 6 of 6": ({"thruster_matrix": NEROV_B, "thruster_max": np.full(6, 100.0),
-                                    "thruster_failures": [{"index": 6, "efficiency": 0.0, "time": 1.0}]},
-                                   ValueError, "thruster_failures.index"),
-    "efficiency above one": ({"thruster_matrix": NEROV_B, "thruster_max": np.full(6, 100.0),
-                              "thruster_failures": [{"index": 0, "efficiency": 1.5, "time": 1.0}]},
-                             ValueError, "efficiency"),
-    "rank-deficient thrusters": ({"thruster_matrix": np.eye(6)[:, [0, 1, 2, 3, 4, 4]],
-                                  "thruster_max": np.full(6, 100.0)}, ValueError, "thrusters.matrix"),
-    "thruster limits of the wrong size": ({"thruster_matrix": NEROV_B, "thruster_max": np.full(5, 100.0)},
-                                          ValueError, "thruster_max"),
+    "current step of two components": (lambda c: _core.CurrentStep(time=1.0, velocity=np.zeros(2)), ValueError,
+                                       "velocity"),
+    "unknown refused-step policy": (setter("refused_step_policy", "coast"), TypeError, "refused_step_policy"),
+    "unknown field": (lambda c: _core.SimulationConfig(dtt=0.1), TypeError, "dtt"),
+    "failure of thruster 6 of 6": (thruster_failure(index=6), ValueError, "thruster_failures.index"),
+    "efficiency above one": (thruster_failure(efficiency=1.5), ValueError, "efficiency"),
+    "failure without thrusters": (setter("failures", [_core.ThrusterFailure()]), ValueError,
+                                  "thruster_failures"),
+    "rank-deficient thrusters": (lambda c: (with_thrusters(c), setattr(c.thrusters, "matrix",
+                                                                       np.eye(6)[:, [0, 1, 2, 3, 4, 4]])),
+                                 ValueError, "thrusters.matrix"),
+    "thruster limits of the wrong size": (lambda c: with_thrusters(c, np.full(5, 100.0)), ValueError,
+                                          "max_thrust"),
 }
 
 
 @pytest.mark.parametrize("case", list(BAD_LOOPS))
-def test_run_closed_loop_names_the_bad_keyword(case: str) -> None:
-    changes, error, field = BAD_LOOPS[case]
-    kwargs = {**LOOP, **changes}
-    kwargs = {k: v for k, v in kwargs.items() if v is not None}
+def test_simulation_config_names_the_bad_field(case: str) -> None:
+    change, error, field = BAD_LOOPS[case]
+    config = loop_config()
     with pytest.raises(error, match=field):
-        neurov.run_closed_loop(neurov.Vehicle.nerov(), neurov.PDController(KD, KD), **kwargs)
+        change(config)
+        config.validate()
+    # run_closed_loop hears the same validator.
+    if error is ValueError:
+        with pytest.raises(ValueError, match=field):
+            change(config)
+            neurov.run_closed_loop(neurov.Vehicle.nerov(), neurov.PDController(KD, KD), config)
 
 
 def test_a_good_loop_runs() -> None:
     """The base of the cases above is valid, so each failure is its own change."""
-    r = neurov.run_closed_loop(neurov.Vehicle.nerov(), neurov.PDController(KD, KD), **LOOP,
-                               sensor_faults=[FAULT], thruster_matrix=NEROV_B, thruster_max=np.full(6, 100.0))
+    config = loop_config()
+    config.sensor_faults = [fault()]
+    with_thrusters(config)
+    config.validate()
+    r = neurov.run_closed_loop(neurov.Vehicle.nerov(), neurov.PDController(KD, KD), config)
     assert not r["diverged"] and len(r["t"]) == 11
     assert np.all(np.isfinite(r["tau_applied"]))
 

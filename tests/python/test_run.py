@@ -54,13 +54,13 @@ def test_prints_metrics_after_the_transient(scenario_file: Path, capsys: pytest.
     result, metrics = run_scenario_file(scenario_file)
     out = capsys.readouterr().out
     assert "short_square" in out and "NN adaptive" in out
-    assert "t >= 1 s" in out and "10%" in out and "transient" in out
+    # The one metrics window (neurov.result.metrics_start): 10 s, or half a run shorter than 20 s.
+    assert "metrics over 5 s <= t <= 10 s" in out and "transient" in out
     assert "RMS position error" in out
-    # The metrics are those of Result.metrics after 10 % of the duration.
-    assert metrics["transient_s"] == pytest.approx(1.0)
-    expected = result.metrics(after=1.0)
-    assert {k: metrics[k] for k in expected} == expected
-    assert metrics["rmse_position_m"] != result.metrics()["rmse_position_m"]
+    assert metrics["window_start_s"] == pytest.approx(5.0) and metrics["window_end_s"] == pytest.approx(10.0)
+    expected = result.metrics(after=5.0)
+    assert {k: metrics[k] for k in expected} == expected == result.metrics()
+    assert metrics["rmse_position_m"] != result.metrics(after=0.0)["rmse_position_m"]
     assert metrics["scenario"] == "short_square" and metrics["controller"] == "NN adaptive"
 
 

@@ -13,6 +13,7 @@ import pytest
 
 import neurov
 from neurov.scenario import CommandSpec, ControllerSpec, Disturbance, Scenario
+from neurov.result import SERIES
 from neurov.simulation import Result, simulate
 
 ZERO_GAINS = ControllerSpec(type="pd", kp=np.zeros(6), kd=np.zeros(6))
@@ -211,6 +212,8 @@ def _numbers(value: object) -> list[float]:
         return [x for v in value.values() for x in _numbers(v)]
     if isinstance(value, list):
         return [x for v in value for x in _numbers(v)]
+    if value is None:  # diverged_at_s of a run that did not diverge
+        return []
     return [float(value)]  # type: ignore[arg-type]
 
 
@@ -219,7 +222,7 @@ def test_metrics_keys_present_and_finite(result: Result) -> None:
     assert METRIC_KEYS <= set(m)
     assert set(m["rmse"]) == {"x", "y", "z", "roll", "pitch", "yaw"}
     assert all(math.isfinite(x) for x in _numbers(m))
-    assert m["diverged"] is False
+    assert m["diverged"] is False and m["diverged_at_s"] is None
     assert m["rmse_position_m"] > 0 and m["control_energy"] > 0
 
 
@@ -238,7 +241,7 @@ def test_metrics_after_uses_only_the_later_samples(result: Result) -> None:
     spoilt_tau[~keep] = 1e6
     spoilt = dataclasses.replace(result, eta=spoilt_eta, tau_demanded=spoilt_tau)
     assert spoilt.metrics(after=after) == m
-    assert spoilt.metrics()["rmse_position_m"] > 100
+    assert spoilt.metrics(after=0.0)["rmse_position_m"] > 100
 
 
 @pytest.mark.parametrize("after", [20.01, 1e9, float("nan")])
@@ -247,9 +250,16 @@ def test_metrics_bad_after(result: Result, after: float) -> None:
         result.metrics(after=after)
 
 
-def test_metrics_of_a_diverged_run_are_infinite(result: Result) -> None:
-    m = dataclasses.replace(result, diverged=True).metrics()
-    assert m["rmse_position_m"] == math.inf and m["diverged"] is True
+def test_metrics_of_a_diverged_run_cover_what_was_simulated(result: Result) -> None:
+    # Was: a diverged run's errors were all inf. Now its metrics are those of
+    # its rows, flagged; a window it never reached falls back to every row.
+    cut = dataclasses.replace(result, diverged=True, **{k: getattr(result, k)[:21] for k in SERIES})
+    m = cut.metrics()
+    assert m["diverged"] is True and m["diverged_at_s"] == pytest.approx(4.0)
+    assert m["window_start_s"] == 0.0 and m["window_end_s"] == pytest.approx(4.0)
+    pos = np.linalg.norm(cut.error[:, :3], axis=1)
+    assert m["rmse_position_m"] == pytest.approx(np.sqrt(np.mean(pos**2)), rel=1e-12)
+    assert dataclasses.replace(result, diverged=True).metrics(after=8.0)["window_start_s"] == pytest.approx(8.0)
 
 
 def test_to_csv_has_a_header_and_one_row_per_step(result: Result, tmp_path: Path) -> None:

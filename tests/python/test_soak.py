@@ -18,7 +18,6 @@ from __future__ import annotations
 import os
 import resource
 import time
-from typing import Any
 
 import numpy as np
 import pytest
@@ -26,7 +25,7 @@ import pytest
 import neurov
 from neurov import _core
 from neurov.scenario import Disturbance, Scenario
-from neurov.simulation import build_controller, build_vehicle, thruster_arguments
+from neurov.simulation import build_controller, build_vehicle, simulation_config
 
 HOURS = 24
 HOUR_S = 3600.0
@@ -64,16 +63,12 @@ def rss_bytes() -> int:
         return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
 
 
-def hour_arguments(s: Scenario, eta0: np.ndarray, nu0: np.ndarray, seed: int) -> dict[str, Any]:
-    times, poses = s.command.timed_poses()
-    return {
-        "dt": s.dt, "substeps": s.substeps, "duration": s.duration, "eta0": eta0, "nu0": nu0,
-        "command_times": times, "command_poses": poses, "lambda_d": s.lambda_d, "omega": s.omega,
-        "disturbances": [vars(d) for d in s.disturbances], "current": s.current,
-        "current_amplitude": s.current_amplitude, "current_period": s.current_period,
-        "noise_eta": s.noise_eta, "noise_nu": s.noise_nu, "seed": seed,
-        **thruster_arguments(s),
-    }
+def hour_config(s: Scenario, eta0: np.ndarray, nu0: np.ndarray, seed: int) -> _core.SimulationConfig:
+    config = simulation_config(s)
+    config.eta0 = eta0
+    config.nu0 = nu0
+    config.seed = seed
+    return config
 
 
 @pytest.mark.slow
@@ -90,7 +85,7 @@ def test_24_hours_nn_sigma_modification() -> None:
     steps = 0
     start, cpu_start = time.perf_counter(), time.process_time()
     for hour in range(HOURS):
-        r = _core.run_closed_loop(vehicle, controller, **hour_arguments(s, eta, nu, seed=hour))
+        r = _core.run_closed_loop(vehicle, controller, hour_config(s, eta, nu, seed=hour))
         assert not r["diverged"], f"hour {hour}"
         for key in ("eta", "nu", "tau_demanded", "tau_applied", "s", "adaptive_norm", "thrusts"):
             assert np.all(np.isfinite(r[key])), f"{key} non-finite in hour {hour}"

@@ -8,7 +8,7 @@ import pytest
 
 from neurov import _core
 from neurov.scenario import CommandSpec, ControllerSpec, Scenario, ThrusterFailure
-from neurov.simulation import simulate, thruster_arguments
+from neurov.simulation import simulate, simulation_config
 from neurov.vehicle_file import load_thrusters, preset_path
 
 NEROV = load_thrusters(preset_path("nerov"))
@@ -122,10 +122,11 @@ def square_with_thrusters(**changes: object) -> Scenario:
 
 
 def test_scenario_passes_the_vehicle_file_thrusters() -> None:
-    kw = thruster_arguments(square_with_thrusters(saturation="clip"))
-    np.testing.assert_array_equal(kw["thruster_matrix"], B)
-    assert kw["saturation"] == "clip"
-    assert thruster_arguments(square_with_thrusters(use_thrusters=False)) == {}
+    config = simulation_config(square_with_thrusters(saturation="clip"))
+    assert config.use_thrusters
+    np.testing.assert_array_equal(config.thrusters.matrix, B)
+    assert config.thrusters.saturation == _core.Saturation.clip
+    assert not simulation_config(square_with_thrusters(use_thrusters=False)).use_thrusters
 
 
 def test_unsaturated_thrusters_apply_the_demanded_tau() -> None:
@@ -162,18 +163,16 @@ def test_failed_thruster_gives_zero_thrust_after_the_failure() -> None:
 def test_saturating_closed_loop_scale_vs_clip() -> None:
     # Weak thrusters: the demand saturates. 'scale' keeps the applied wrench
     # parallel to the demanded one at every step, 'clip' does not.
-    weak = {"thruster_max": np.full(6, 5.0)}
     scenario = square_with_thrusters(duration=20.0)
 
     def run(saturation: str) -> tuple[np.ndarray, np.ndarray]:
         from neurov.simulation import build_controller, build_vehicle
 
-        kw = thruster_arguments(scenario.replace(saturation=saturation)) | weak
-        kw.pop("thruster_min")
-        times, poses = scenario.command.timed_poses()
+        config = simulation_config(scenario.replace(saturation=saturation))
+        config.thrusters.max_thrust = np.full(6, 5.0)
+        config.thrusters.min_thrust = np.full(6, -5.0)
         raw = _core.run_closed_loop(build_vehicle(scenario), build_controller(scenario.controller, scenario),
-                                    dt=scenario.dt, substeps=scenario.substeps, duration=scenario.duration,
-                                    command_times=times, command_poses=poses, **kw)
+                                    config)
         return raw["tau_demanded"], raw["tau_applied"]
 
     demanded, applied = run("scale")

@@ -11,6 +11,13 @@
  * (NED position, ZYX Euler angles), nu = [u, v, w, p, q, r] (body velocity),
  * tau = body forces and moments.
  *
+ * Every call on an object treats a pointer that create() did not hand out
+ * (a buffer never passed to create, one whose create was refused, the other
+ * kind of object) as it treats NULL: INVALID_ARGUMENT and zero outputs, or
+ * nothing done. create() writes a canary into the object last and every call
+ * checks it. A refused create() leaves no object in a usable buffer (not
+ * NULL, aligned, large enough), whatever it held before.
+ *
  * Link neurov::neurov_c with CMake; it carries the NEUROV_C_CENTRES the
  * library was built with. docs/firmware.md has the details.
  */

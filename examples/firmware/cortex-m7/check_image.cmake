@@ -2,7 +2,7 @@
 #
 # Prints the .text/.data/.bss sizes of each file and fails if any of them
 # defines or references a heap function, operator new/delete, a C++
-# exception-handling or unwinding routine, or RTTI: what a firmware build of
+# exception-handling or unwinding routine, RTTI, or a guarded static: what a firmware build of
 # neurov promises not to contain.
 set(forbidden
   "^(malloc|free|calloc|realloc|memalign|aligned_alloc|posix_memalign|valloc|pvalloc)$"
@@ -15,6 +15,7 @@ set(forbidden
   "^_Unwind_"
   "^__aeabi_unwind_cpp_pr"
   "^_ZTI"                   # typeinfo (RTTI)
+  "^__cxa_guard_"           # thread-safe statics: the C++ runtime a C image lacks
 )
 
 set(failed FALSE)

@@ -7,8 +7,8 @@
 #include <string>
 #include <utility>
 
-#include "../bindings.hpp"
-#include "../numpy_args.hpp"
+#include "bindings.hpp"
+#include "numpy_args.hpp"
 #include "neurov/model/linearization.hpp"
 #include "neurov/model/vehicle.hpp"
 

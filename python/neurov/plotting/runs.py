@@ -25,6 +25,7 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
+from neurov.decimation import for_plotting
 from neurov.simulation import Result
 
 __all__ = ["adaptive_norm", "control_inputs", "dof_time", "errors", "save", "xy_path"]
@@ -38,6 +39,7 @@ _COLOURS = ("tab:blue", "tab:red", "tab:green", "tab:orange", "tab:purple", "tab
             "tab:pink", "tab:olive", "tab:cyan", "tab:gray")
 _DASHES = ("--", "-.", ":")
 _GRID = {"alpha": 0.3}
+_METRIC_DOFS = ("x", "y", "z", "roll", "pitch", "yaw")  # the keys of Result.metrics()["rmse"]
 
 
 def _as_list(results: Result | Sequence[Result]) -> list[Result]:
@@ -48,6 +50,12 @@ def _as_list(results: Result | Sequence[Result]) -> list[Result]:
         if not isinstance(r, Result):
             raise TypeError(f"argument 'results' must hold neurov.simulation.Result, got {type(r).__name__}")
     return runs
+
+
+def _drawn(results: Result | Sequence[Result]) -> list[Result]:
+    """The rows of each run a plot draws (a long run's are decimated: see
+    :mod:`neurov.decimation`)."""
+    return [for_plotting(r) for r in _as_list(results)]
 
 
 def _labels(runs: list[Result], labels: Sequence[str] | None) -> list[str]:
@@ -110,7 +118,7 @@ def xy_path(results: Result | Sequence[Result], labels: Sequence[str] | None = N
 
     One axes; its lines are one desired path (one per run if the runs were
     given different desired paths) and then one path per run."""
-    runs = _as_list(results)
+    runs = _drawn(results)
     names = _labels(runs, labels)
     fig = Figure(figsize=(6.5, 6.0), layout="constrained")
     ax = fig.add_subplot()
@@ -143,7 +151,7 @@ def dof_time(results: Result | Sequence[Result], dofs: Sequence[int] = (0, 1, 2,
     One axes per DOF in `dofs` (0..5: x, y, z, roll, pitch, yaw), stacked with
     a shared time axis; each holds one desired line (one per run if their
     desired trajectories differ) and one line per run."""
-    runs = _as_list(results)
+    runs = _drawn(results)
     names = _labels(runs, labels)
     dofs = _dofs(dofs)
     shared = _desired_shared(runs)
@@ -169,8 +177,9 @@ def dof_time(results: Result | Sequence[Result], dofs: Sequence[int] = (0, 1, 2,
 def errors(results: Result | Sequence[Result], dofs: Sequence[int] = (0, 1, 2, 5),
            labels: Sequence[str] | None = None, title: str | None = None) -> Figure:
     """Tracking error eta - eta_d per DOF over time (m for positions, deg for
-    angles), one line per run; the legend gives each run's RMS error over
-    the whole run (``Result.metrics`` can skip a transient; this does not).
+    angles), one line per run; the legend gives each run's RMS error over the
+    metrics window of ``Result.metrics()`` (t >= 10 s, stated there) and the
+    skipped transient is shaded.
 
     One axes per DOF in `dofs`, one line per run in each."""
     runs = _as_list(results)
@@ -178,11 +187,16 @@ def errors(results: Result | Sequence[Result], dofs: Sequence[int] = (0, 1, 2, 5
     dofs = _dofs(dofs)
     fig = Figure(figsize=(8.0, 1.9 * len(dofs) + 0.8), layout="constrained")
     axes = fig.subplots(len(dofs), 1, sharex=True, squeeze=False)[:, 0]
+    # The RMS of the whole run over the metrics window, not of the rows drawn.
+    window = [r.metrics() for r in runs]
+    drawn = [for_plotting(r) for r in runs]
     for ax, d in zip(axes, dofs):
-        for i, (r, lab) in enumerate(zip(runs, names)):
-            e = _display(r.error[:, d], d)
-            rms = float(np.sqrt(np.mean(e**2))) if len(e) else float("nan")
-            ax.plot(r.t, e, label=f"{lab} (RMS {rms:.3g} {DOF_UNITS[d]})", **_style(i))
+        for i, (r, lab) in enumerate(zip(drawn, names)):
+            rms, start = float(_display(window[i]["rmse"][_METRIC_DOFS[d]], d)), window[i]["window_start_s"]
+            ax.plot(r.t, _display(r.error[:, d], d), **_style(i),
+                    label=f"{lab} (RMS {rms:.3g} {DOF_UNITS[d]} over t ≥ {start:g} s)")
+            if i == 0 and start > r.t[0]:
+                ax.axvspan(r.t[0], start, color="0.92", zorder=0)
         ax.set_ylabel(f"{DOF_LABELS[d].split()[0]} error [{DOF_UNITS[d]}]")
         ax.grid(True, **_GRID)
         ax.legend(loc="best", fontsize=7)
@@ -217,6 +231,7 @@ def control_inputs(result: Result, show_thrusts: bool = True, title: str | None 
     thrust panel has one per thruster plus the limit lines."""
     if not isinstance(result, Result):
         raise TypeError(f"argument 'result' must be a neurov.simulation.Result, got {type(result).__name__}")
+    result = for_plotting(result)
     has_thrusts = show_thrusts and result.thrusts.shape[1] > 0
     panels = 3 if has_thrusts else 2
     fig = Figure(figsize=(9.5, 2.5 * panels + 0.6), layout="constrained")
@@ -265,7 +280,7 @@ def adaptive_norm(results: Result | Sequence[Result], labels: Sequence[str] | No
     (the pure gradient law with an approximation error or a disturbance).
 
     One axes, one line per run."""
-    runs = _as_list(results)
+    runs = _drawn(results)
     names = _labels(runs, labels)
     fig = Figure(figsize=(8.0, 3.6), layout="constrained")
     ax = fig.add_subplot()

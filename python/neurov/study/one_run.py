@@ -46,7 +46,7 @@ def _flat_metrics(m: Mapping[str, Any]) -> dict[str, float]:
             for i, x in enumerate(v):
                 out[f"{key}_{i}"] = float(x)
         else:
-            out[key] = float(v)
+            out[key] = math.nan if v is None else float(v)
     return out
 
 
@@ -77,11 +77,12 @@ def run_one(study: Study, key: RunKey) -> dict[str, Any]:
     controller = study.controllers[key.controller]
     plant, columns = sample_plant(study, scenario, key.sample)
     result = simulate(plant, resolved_spec(study, key.controller, key.scenario))
-    if result.diverged and not np.any(result.t >= study.after):
-        # Diverged before the transient ended: every error metric is inf.
-        metrics = _flat_metrics(result.metrics(after=0.0))
-    else:
-        metrics = _flat_metrics(result.metrics(after=study.after))
+    # A diverged run's metrics cover what it simulated (all of it if it
+    # stopped before `after`); its error metrics are inf here so that it
+    # ranks as the failure it is, whatever its errors before it stopped.
+    metrics = _flat_metrics(result.metrics(after=study.after))
+    if result.diverged:
+        metrics.update({k: math.inf for k in metrics if k.startswith(("rmse", "max_position", "max_yaw", "max_abs_error", "iae"))})
     row: dict[str, Any] = {
         "scenario": scenario.name,
         "vehicle": vehicle_key(scenario),

@@ -11,6 +11,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from neurov.files import read_text
 from neurov.scenario import ControllerSpec, Scenario, ScenarioError, _controller, _Reader, load_scenario
 from neurov.study.one_run import resolved_spec
 from neurov.study.sampling import nominal_parameters, scaled
@@ -282,8 +283,7 @@ def load_study(path: str | Path) -> Study:
     :class:`StudyError` naming the file and the field."""
     path = study_path(path)
     try:
-        with path.open("rb") as f:
-            data = tomllib.load(f)
+        data = tomllib.loads(read_text(path, StudyError))
     except FileNotFoundError:
         raise StudyError(f"{path}: no such study file") from None
     except tomllib.TOMLDecodeError as e:

@@ -6,18 +6,12 @@
 
 #include <cmath>
 
-#include "neurov/core/config.hpp"
-#include "neurov/control/desired_state.hpp"
-#include "neurov/model/regressor.hpp"
-#include "neurov/core/status.hpp"
+#include "neurov/control/controller_base.hpp"
 #include "neurov/control/tracking_error.hpp"
+#include "neurov/core/status.hpp"
 #include "neurov/core/types.hpp"
 #include "neurov/core/validation.hpp"
-
-#if NEUROV_HAS_EXCEPTIONS
-#include <stdexcept>
-#include <string>
-#endif
+#include "neurov/model/regressor.hpp"
 
 namespace neurov {
 
@@ -43,100 +37,81 @@ inline ValidationError validate(const LinearAdaptiveConfig<Scalar>& c) noexcept 
 }
 
 template <typename ScalarT>
-class LinearAdaptiveController {
+class LinearAdaptiveController
+    : public ControllerBase<LinearAdaptiveController<ScalarT>, ScalarT,
+                            LinearAdaptiveConfig<ScalarT>> {
+  using Base =
+      ControllerBase<LinearAdaptiveController<ScalarT>, ScalarT, LinearAdaptiveConfig<ScalarT>>;
+
  public:
-  using Scalar = ScalarT;
-  using Vec6 = Vector6<Scalar>;
-  using Config = LinearAdaptiveConfig<Scalar>;
+  using typename Base::Config;
+  using typename Base::Scalar;
+  using typename Base::Vec6;
+  using Base::step;
+  /// theta_hat is what the closed loop logs per step.
+  static constexpr int kLoggedParameters = kRegressorParameters;
 
   LinearAdaptiveController() = default;
 
 #if NEUROV_HAS_EXCEPTIONS
   explicit LinearAdaptiveController(const Config& config) {
-    if (const ValidationError e = create(config, *this)) {
-      char buf[256];
-      e.format(buf, sizeof buf);
-      throw std::invalid_argument(std::string("linear adaptive controller: ") + buf);
-    }
+    detail::throw_if_invalid(create(config, *this), "linear adaptive controller");
   }
 #endif
 
   static ValidationError create(const Config& config, LinearAdaptiveController& out) noexcept {
-    if (auto e = validate(config)) return e;
-    out.config_ = config;
-    out.configured_ = true;
-    out.reset();
-    return {};
+    return Base::configure(config, out);
   }
 
   /// Control law and one adaptation step. On any status but ok, tau = 0 and
   /// theta_hat is exactly as before.
   Status step(const Vec6& eta, const Vec6& nu, const Vec6& eta_d, const Vec6& eta_d_dot,
               const Vec6& eta_d_ddot, Vec6& tau) noexcept {
-    if (!configured_) return refuse(Status::invalid_argument, tau);
+    const Config& c = this->config_;
     TrackingError<Scalar> e;
-    const Status ts = compute_tracking_error(eta, nu, eta_d, eta_d_dot, eta_d_ddot,
-                                             config_.lambda, e);
-    if (ts != Status::ok) return refuse(ts, tau);
+    if (const Status ts = this->track(eta, nu, eta_d, eta_d_dot, eta_d_ddot, c.lambda, e, tau);
+        ts != Status::ok)
+      return ts;
     const auto& trig = e.kinematics.trig;
     const RegressorMatrix<Scalar> phi =
         regressor<Scalar>(e.nu_r_dot, e.nu_r, nu, trig.sin_phi, trig.cos_phi, trig.sin_theta,
                           trig.cos_theta);
     const Vec6 f_hat = phi * theta_hat_;
-    const Vec6 tau_new = f_hat - e.kinematics.apply_transpose(config_.kd.cwiseProduct(e.s));
+    const Vec6 tau_new = f_hat - e.kinematics.apply_transpose(c.kd.cwiseProduct(e.s));
     const ParameterVector<Scalar> theta_next =
-        theta_hat_ - config_.dt * config_.gamma.cwiseProduct(
-                                      phi.transpose() * e.kinematics.apply_inverse(e.s));
+        theta_hat_ -
+        c.dt * c.gamma.cwiseProduct(phi.transpose() * e.kinematics.apply_inverse(e.s));
     if (!(tau_new.allFinite() && theta_next.allFinite()))
-      return refuse(Status::non_finite_output, tau);
+      return this->refuse(Status::non_finite_output, tau);
     theta_hat_ = theta_next;
-    tracking_ = e;
     f_hat_ = f_hat;
-    tau = tau_new;
-    status_ = Status::ok;
-    return Status::ok;
-  }
-
-  Status step(const Vec6& eta, const Vec6& nu, const DesiredState<Scalar>& d, Vec6& tau) noexcept {
-    return step(eta, nu, d.eta_d, d.eta_d_dot, d.eta_d_ddot, tau);
+    return this->accept(e, tau_new, tau);
   }
 
   /// Back to theta0 and a zero history.
   void reset() noexcept {
-    theta_hat_ = config_.theta0;
-    tracking_ = TrackingError<Scalar>{};
+    theta_hat_ = this->config_.theta0;
     f_hat_.setZero();
-    status_ = Status::ok;
+    this->reset_common();
   }
 
   /// Replaces theta_hat; false (unchanged) on a NaN/Inf.
   bool set_theta(const ParameterVector<Scalar>& theta) noexcept {
-    if (!configured_ || !theta.allFinite()) return false;
+    if (!this->configured_ || !theta.allFinite()) return false;
     theta_hat_ = theta;
     return true;
   }
 
-  bool configured() const noexcept { return configured_; }
-  const Config& config() const noexcept { return config_; }
   const ParameterVector<Scalar>& theta() const noexcept { return theta_hat_; }
-  const TrackingError<Scalar>& tracking() const noexcept { return tracking_; }
   /// Phi theta_hat of the last accepted step: the model's estimate of f.
   const Vec6& model_output() const noexcept { return f_hat_; }
-  Status last_status() const noexcept { return status_; }
+  /// ||theta_hat||.
+  Scalar adaptive_norm() const noexcept { return theta_hat_.norm(); }
+  const ParameterVector<Scalar>& logged_parameters() const noexcept { return theta_hat_; }
 
  private:
-  Status refuse(Status s, Vec6& tau) noexcept {
-    tau.setZero();
-    status_ = s;
-    return s;
-  }
-
-  Config config_{};
   ParameterVector<Scalar> theta_hat_ = ParameterVector<Scalar>::Zero();
-  TrackingError<Scalar> tracking_{};
   Vec6 f_hat_ = Vec6::Zero();
-  Status status_ = Status::ok;
-  bool configured_ = false;
 };
 
 }  // namespace neurov

@@ -14,19 +14,13 @@
 #include <limits>
 #include <type_traits>
 
-#include "neurov/core/config.hpp"
-#include "neurov/control/desired_state.hpp"
+#include "neurov/control/controller_base.hpp"
 #include "neurov/control/rbf_kernels.hpp"
 #include "neurov/control/rbf_network.hpp"
-#include "neurov/core/status.hpp"
 #include "neurov/control/tracking_error.hpp"
+#include "neurov/core/status.hpp"
 #include "neurov/core/types.hpp"
 #include "neurov/core/validation.hpp"
-
-#if NEUROV_HAS_EXCEPTIONS
-#include <stdexcept>
-#include <string>
-#endif
 
 namespace neurov {
 
@@ -110,25 +104,32 @@ inline ValidationError validate(const NNAdaptiveConfig<Scalar>& c) noexcept {
 constexpr int kNNInputs = 24;
 
 template <typename ScalarT, int CentresT = Eigen::Dynamic>
-class NNAdaptiveController {
+class NNAdaptiveController
+    : public ControllerBase<NNAdaptiveController<ScalarT, CentresT>, ScalarT,
+                            NNAdaptiveConfig<ScalarT>> {
+  using Base =
+      ControllerBase<NNAdaptiveController<ScalarT, CentresT>, ScalarT, NNAdaptiveConfig<ScalarT>>;
+  using Base::config_;
+  using Base::configured_;
+  using Base::refuse;
+  using Base::status_;
+  using Base::tracking_;
+
  public:
-  using Scalar = ScalarT;
-  using Vec6 = Vector6<Scalar>;
+  using typename Base::Config;
+  using typename Base::Scalar;
+  using typename Base::Vec6;
+  using Base::step;
   using Network = RbfNetwork<Scalar, kNNInputs, CentresT, 6>;
   using InputVector = typename Network::InputVector;
   using BasisVector = typename Network::BasisVector;
   using WeightMatrix = typename Network::WeightMatrix;
-  using Config = NNAdaptiveConfig<Scalar>;
 
   NNAdaptiveController() = default;
 
 #if NEUROV_HAS_EXCEPTIONS
   NNAdaptiveController(const Network& network, const Config& config) {
-    if (const ValidationError e = create(network, config, *this)) {
-      char buf[256];
-      e.format(buf, sizeof buf);
-      throw std::invalid_argument(std::string("NN controller: ") + buf);
-    }
+    detail::throw_if_invalid(create(network, config, *this), "NN controller");
   }
 #endif
 
@@ -175,11 +176,11 @@ class NNAdaptiveController {
   /// every other piece of state are exactly as before the call.
   Status step(const Vec6& eta, const Vec6& nu, const Vec6& eta_d, const Vec6& eta_d_dot,
               const Vec6& eta_d_ddot, Vec6& tau) noexcept {
-    if (!configured_) return refuse(Status::invalid_argument, tau);
     TrackingError<Scalar> e;
-    const Status ts = compute_tracking_error(eta, nu, eta_d, eta_d_dot, eta_d_ddot,
-                                             config_.lambda, e);
-    if (ts != Status::ok) return refuse(ts, tau);
+    if (const Status ts =
+            this->track(eta, nu, eta_d, eta_d_dot, eta_d_ddot, config_.lambda, e, tau);
+        ts != Status::ok)
+      return ts;
 
     InputVector x;
     x << e.nu_r_dot, e.nu_r, nu, eta;
@@ -209,15 +210,8 @@ class NNAdaptiveController {
       if (cs != Status::ok) return refuse(cs, tau);
     }
     adapted_ = adapt;
-    tracking_ = e;
     f_hat_ = f_hat;
-    tau = f_hat - kd_s;
-    status_ = Status::ok;
-    return Status::ok;
-  }
-
-  Status step(const Vec6& eta, const Vec6& nu, const DesiredState<Scalar>& d, Vec6& tau) noexcept {
-    return step(eta, nu, d.eta_d, d.eta_d_dot, d.eta_d_ddot, tau);
+    return this->accept(e, Vec6(f_hat - kd_s), tau);
   }
 
   /// Per-centre learning rates Gamma_w = diag(rates); false (unchanged) for a
@@ -245,34 +239,25 @@ class NNAdaptiveController {
   void reset() noexcept {
     network_.weights() = initial_weights_;
     weight_norm_ = initial_weights_.norm();
-    tracking_ = TrackingError<Scalar>{};
     f_hat_.setZero();
-    status_ = Status::ok;
     adapted_ = false;
+    this->reset_common();
   }
 
-  bool configured() const noexcept { return configured_; }
-  const Config& config() const noexcept { return config_; }
   const Network& network() const noexcept { return network_; }
   const WeightMatrix& weights() const noexcept { return network_.weights(); }
   const BasisVector& learning_rates() const noexcept { return learning_rates_; }
   /// Quantities of the last accepted step, for plots and logs.
-  const TrackingError<Scalar>& tracking() const noexcept { return tracking_; }
   const Vec6& network_output() const noexcept { return f_hat_; }
   /// g(x) of the last accepted step (zero before the first): a step refused
   /// after the network ran leaves it as it was, like everything else.
   const BasisVector& basis() const noexcept { return basis_; }
   Scalar weight_norm() const noexcept { return weight_norm_; }
+  /// ||W||_F.
+  Scalar adaptive_norm() const noexcept { return weight_norm_; }
   bool adapted() const noexcept { return adapted_; }
-  Status last_status() const noexcept { return status_; }
 
  private:
-  Status refuse(Status s, Vec6& tau) noexcept {
-    tau.setZero();
-    status_ = s;
-    return s;
-  }
-
   /// The leakage of the sigma- or e-modification (0 for the others).
   Scalar leakage(const Vec6& a) const noexcept {
     if (config_.modification == RobustModification::sigma) return config_.sigma_m;
@@ -359,17 +344,13 @@ class NNAdaptiveController {
   using ScratchBasis = std::conditional_t<kDynamicCentres, BasisVector, NoScratch>;
 
   Network network_{};
-  Config config_{};
   BasisVector learning_rates_{};
   Scalar learning_rates_norm_ = Scalar(0);  ///< ||gamma||, for update_cannot_overflow()
   BasisVector basis_{};
   WeightMatrix initial_weights_{};
-  TrackingError<Scalar> tracking_{};
   Vec6 f_hat_ = Vec6::Zero();
   Scalar weight_norm_ = Scalar(0);
-  Status status_ = Status::ok;
   bool adapted_ = false;
-  bool configured_ = false;
   ScratchBasis scratch_basis_{};
 };
 

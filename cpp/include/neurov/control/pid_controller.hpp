@@ -9,17 +9,11 @@
 #include <algorithm>
 #include <cmath>
 
-#include "neurov/core/config.hpp"
-#include "neurov/control/desired_state.hpp"
-#include "neurov/core/status.hpp"
+#include "neurov/control/controller_base.hpp"
 #include "neurov/control/tracking_error.hpp"
+#include "neurov/core/status.hpp"
 #include "neurov/core/types.hpp"
 #include "neurov/core/validation.hpp"
-
-#if NEUROV_HAS_EXCEPTIONS
-#include <stdexcept>
-#include <string>
-#endif
 
 namespace neurov {
 
@@ -44,92 +38,70 @@ inline ValidationError validate(const PIDConfig<Scalar>& c) noexcept {
 }
 
 template <typename ScalarT>
-class PIDController {
+class PIDController
+    : public ControllerBase<PIDController<ScalarT>, ScalarT, PIDConfig<ScalarT>> {
+  using Base = ControllerBase<PIDController<ScalarT>, ScalarT, PIDConfig<ScalarT>>;
+
  public:
-  using Scalar = ScalarT;
-  using Vec6 = Vector6<Scalar>;
-  using Config = PIDConfig<Scalar>;
+  using typename Base::Config;
+  using typename Base::Scalar;
+  using typename Base::Vec6;
+  using Base::step;
 
   PIDController() = default;
 
 #if NEUROV_HAS_EXCEPTIONS
   explicit PIDController(const Config& config) {
-    if (const ValidationError e = create(config, *this)) {
-      char buf[256];
-      e.format(buf, sizeof buf);
-      throw std::invalid_argument(std::string("PID controller: ") + buf);
-    }
+    detail::throw_if_invalid(create(config, *this), "PID controller");
   }
 #endif
 
   static ValidationError create(const Config& config, PIDController& out) noexcept {
-    if (auto e = validate(config)) return e;
-    out.config_ = config;
-    out.configured_ = true;
-    out.reset();
-    return {};
+    return Base::configure(config, out);
   }
 
   /// tau from the errors, then one step of the integrator. On any status but
   /// ok, tau = 0 and the integrator is exactly as before.
   Status step(const Vec6& eta, const Vec6& nu, const Vec6& eta_d, const Vec6& eta_d_dot,
               const Vec6& eta_d_ddot, Vec6& tau) noexcept {
-    if (!configured_) return refuse(Status::invalid_argument, tau);
     TrackingError<Scalar> e;
     // Lambda only shapes s, which the PID law does not use; any positive value.
-    const Status ts =
-        compute_tracking_error(eta, nu, eta_d, eta_d_dot, eta_d_ddot, Vec6::Ones().eval(), e);
-    if (ts != Status::ok) return refuse(ts, tau);
-    const Vec6 integral_term = config_.ki.cwiseProduct(integral_);
-    const Vec6 tau_new = -e.kinematics.apply_transpose(config_.kp.cwiseProduct(e.eta_tilde) +
+    if (const Status ts = this->track(eta, nu, eta_d, eta_d_dot, eta_d_ddot,
+                                      Vec6::Ones().eval(), e, tau);
+        ts != Status::ok)
+      return ts;
+    const Config& c = this->config_;
+    const Vec6 integral_term = c.ki.cwiseProduct(integral_);
+    const Vec6 tau_new = -e.kinematics.apply_transpose(c.kp.cwiseProduct(e.eta_tilde) +
                                                         integral_term +
-                                                        config_.kd.cwiseProduct(e.eta_tilde_dot));
+                                                        c.kd.cwiseProduct(e.eta_tilde_dot));
     Vec6 next = integral_;
     for (int i = 0; i < 6; ++i) {
-      if (config_.ki(i) == Scalar(0)) continue;
-      const Scalar limit = config_.integral_limit(i) / config_.ki(i);
+      if (c.ki(i) == Scalar(0)) continue;
+      const Scalar limit = c.integral_limit(i) / c.ki(i);
       const bool at_limit = std::abs(integral_(i)) >= limit;
       const bool pushing_out = integral_(i) * e.eta_tilde(i) > Scalar(0);
-      if (!(at_limit && pushing_out)) next(i) += config_.dt * e.eta_tilde(i);
+      if (!(at_limit && pushing_out)) next(i) += c.dt * e.eta_tilde(i);
       next(i) = std::max(-limit, std::min(limit, next(i)));
     }
-    if (!(tau_new.allFinite() && next.allFinite())) return refuse(Status::non_finite_output, tau);
+    if (!(tau_new.allFinite() && next.allFinite()))
+      return this->refuse(Status::non_finite_output, tau);
     integral_ = next;
-    tracking_ = e;
-    tau = tau_new;
-    status_ = Status::ok;
-    return Status::ok;
-  }
-
-  Status step(const Vec6& eta, const Vec6& nu, const DesiredState<Scalar>& d, Vec6& tau) noexcept {
-    return step(eta, nu, d.eta_d, d.eta_d_dot, d.eta_d_ddot, tau);
+    return this->accept(e, tau_new, tau);
   }
 
   void reset() noexcept {
     integral_.setZero();
-    tracking_ = TrackingError<Scalar>{};
-    status_ = Status::ok;
+    this->reset_common();
   }
 
-  bool configured() const noexcept { return configured_; }
-  const Config& config() const noexcept { return config_; }
   /// The integrator state z (the time integral of eta_tilde, limited).
   const Vec6& integral() const noexcept { return integral_; }
-  const TrackingError<Scalar>& tracking() const noexcept { return tracking_; }
-  Status last_status() const noexcept { return status_; }
+  /// The integrator is the PID's only memory: ||z||.
+  Scalar adaptive_norm() const noexcept { return integral_.norm(); }
 
  private:
-  Status refuse(Status s, Vec6& tau) noexcept {
-    tau.setZero();
-    status_ = s;
-    return s;
-  }
-
-  Config config_{};
   Vec6 integral_ = Vec6::Zero();
-  TrackingError<Scalar> tracking_{};
-  Status status_ = Status::ok;
-  bool configured_ = false;
 };
 
 }  // namespace neurov

@@ -19,13 +19,18 @@
 // AVX-512 copies of these loops and picks one from the CPU at the first call.
 // They round differently from the SSE2 copy (FMA, and sums split over a
 // different number of lanes), so the same binary can differ in the last bits
-// between CPUs. Define NEUROV_NO_RUNTIME_DISPATCH for the SSE2 loops
-// everywhere; builds for a newer baseline (-march=native, -mavx2) compile the
-// loops for it and need no dispatch.
+// between CPUs. The environment variable NEUROV_KERNEL, read at the first
+// call, pins the copy: "generic" (the build's own loops), "avx2" or "avx512"
+// (each only where the CPU has it, else the best below it); unset, empty or
+// "auto" picks the best the CPU has. Define NEUROV_NO_RUNTIME_DISPATCH for
+// the build's loops everywhere; builds for a newer baseline (-march=native,
+// -mavx2) compile the loops for it and need no dispatch.
 #pragma once
 
 #include <Eigen/Core>
+#include <atomic>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <type_traits>
 #include <utility>
@@ -428,6 +433,7 @@ enum class KernelIsa : std::uint8_t { build = 0, avx2 = 1, avx512 = 2 };
 #define NEUROV_TARGET_AVX512 \
   __attribute__((target("avx512f,avx512vl,avx512dq,avx512bw,avx2,fma"), noinline))
 
+/// The widest copy of the loops this CPU can run.
 inline KernelIsa detect_kernel_isa() noexcept {
   __builtin_cpu_init();
   if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
@@ -437,8 +443,41 @@ inline KernelIsa detect_kernel_isa() noexcept {
   return KernelIsa::build;
 }
 
+/// The copy a NEUROV_KERNEL value asks for, capped at what the CPU supports
+/// (a request the CPU cannot run would be an illegal instruction); an unset,
+/// empty, "auto" or unknown value gives `supported`.
+inline KernelIsa requested_kernel_isa(const char* request, KernelIsa supported) noexcept {
+  const auto is = [request](const char* name) {
+    return request != nullptr && std::strcmp(request, name) == 0;
+  };
+  const KernelIsa want = is("generic") ? KernelIsa::build
+                         : is("avx2")  ? KernelIsa::avx2
+                                       : supported;
+  return want < supported ? want : supported;
+}
+
+// The choice lives in a constant-initialised atomic, not a function-local
+// static: that would need a thread-safe guard (__cxa_guard_acquire from the
+// C++ runtime), which C firmware linking neurov_c does not have. Threads that
+// race at the first call all compute and store the same value.
+constexpr std::uint8_t kKernelIsaUnset = 0xff;
+inline std::atomic<std::uint8_t> kernel_isa_choice{kKernelIsaUnset};
+
 inline KernelIsa kernel_isa() noexcept {
-  static const KernelIsa isa = detect_kernel_isa();
+  std::uint8_t isa = kernel_isa_choice.load(std::memory_order_relaxed);
+  if (isa == kKernelIsaUnset) {
+    isa = static_cast<std::uint8_t>(
+        requested_kernel_isa(std::getenv("NEUROV_KERNEL"), detect_kernel_isa()));
+    kernel_isa_choice.store(isa, std::memory_order_relaxed);
+  }
+  return static_cast<KernelIsa>(isa);
+}
+
+/// Switches the copy for the process (capped as NEUROV_KERNEL is); returns
+/// the one in use. For tests and benchmarks, not while a network steps.
+inline KernelIsa set_kernel_isa(KernelIsa want) noexcept {
+  const KernelIsa isa = want < detect_kernel_isa() ? want : detect_kernel_isa();
+  kernel_isa_choice.store(static_cast<std::uint8_t>(isa), std::memory_order_relaxed);
   return isa;
 }
 
@@ -472,20 +511,15 @@ NEUROV_TARGET_AVX512 void output_avx512(const S* w, Index n, const S* g, S* y) n
 }
 #else
 inline KernelIsa kernel_isa() noexcept { return KernelIsa::build; }
+inline KernelIsa set_kernel_isa(KernelIsa) noexcept { return KernelIsa::build; }
 #endif
 
 /// Which copy of the loops runs here: "avx512" or "avx2" (dispatched), or
 /// the build's own: "avx512-build", "avx2-build", "avx", "sse2", "neon",
 /// "scalar".
 inline const char* kernel_isa_name() noexcept {
-  switch (kernel_isa()) {
-    case KernelIsa::avx512:
-      return "avx512";
-    case KernelIsa::avx2:
-      return "avx2";
-    case KernelIsa::build:
-      break;
-  }
+  const KernelIsa isa = kernel_isa();
+  if (isa != KernelIsa::build) return isa == KernelIsa::avx512 ? "avx512" : "avx2";
 #if defined(__AVX512F__)
   return "avx512-build";
 #elif defined(__AVX2__)

@@ -41,6 +41,7 @@
 #include <cmath>
 
 #include "neurov/core/config.hpp"
+#include "neurov/core/rk4.hpp"
 #include "neurov/control/desired_state.hpp"
 #include "neurov/model/kinematics.hpp"
 #include "neurov/core/status.hpp"
@@ -112,7 +113,7 @@ class ReferenceModel {
   /// unchanged and `out` keeps the last good desired state; near_singularity
   /// means the reference was reset into the singular band.
   Status step(const Vec6& r, Scalar dt, DesiredState<Scalar>& out) noexcept {
-    if (!configured_ || !(std::isfinite(dt) && dt > Scalar(0))) {
+    if (!configured_ || detail::check_step("dt", static_cast<double>(dt))) {
       out = desired_;
       return Status::invalid_argument;
     }
@@ -131,15 +132,17 @@ class ReferenceModel {
     Vec6 rc = r;
     rc(4) = std::min(std::max(r(4), centre - pitch_limit()), centre + pitch_limit());
     bool limited = rc(4) != r(4);
-    Vec6 k1e, k1n, k2e, k2n, k3e, k3n, k4e, k4n;
-    const Scalar h2 = Scalar(0.5) * dt;
-    Status s = stage(eta_d_, nu_d_, rc, centre, k1e, k1n, limited);
-    s = worst(s, stage(eta_d_ + h2 * k1e, nu_d_ + h2 * k1n, rc, centre, k2e, k2n, limited));
-    s = worst(s, stage(eta_d_ + h2 * k2e, nu_d_ + h2 * k2n, rc, centre, k3e, k3n, limited));
-    s = worst(s, stage(eta_d_ + dt * k3e, nu_d_ + dt * k3n, rc, centre, k4e, k4n, limited));
-    const Scalar h6 = dt / Scalar(6);
-    Vec6 eta_next = eta_d_ + h6 * (k1e + Scalar(2) * (k2e + k3e) + k4e);
-    Vec6 nu_next = nu_d_ + h6 * (k1n + Scalar(2) * (k2n + k3n) + k4n);
+    Vec6 eta_next, nu_next;
+    // The stages run on copies, which the wall may move (see derivative()).
+    Status s = detail::rk4(
+                   eta_d_, nu_d_, dt,
+                   [&](const Vec6& eta_stage, const Vec6& nu_stage, Vec6& eta_dot,
+                       Vec6& nu_dot) noexcept {
+                     Vec6 eta = eta_stage, nu = nu_stage;
+                     return derivative(eta, nu, rc, centre, eta_dot, nu_dot, limited);
+                   },
+                   [](Status st) noexcept { return st == Status::ok; }, eta_next, nu_next)
+                   .status;
     if (s == Status::ok && !(eta_next.allFinite() && nu_next.allFinite()))
       s = Status::non_finite_output;
     if (s == Status::ok) {
@@ -220,13 +223,6 @@ class ReferenceModel {
     eta_d_dot = k.apply(nu);
     nu_d_dot = -lambda_d_.cwiseProduct(nu) + k.apply_transpose(omega_.cwiseProduct(r - eta));
     return k.status();
-  }
-
-  /// derivative() at an RK4 stage, on copies.
-  Status stage(const Vec6& eta_stage, const Vec6& nu_stage, const Vec6& r, Scalar centre,
-               Vec6& eta_d_dot, Vec6& nu_d_dot, bool& limited) const noexcept {
-    Vec6 eta = eta_stage, nu = nu_stage;
-    return derivative(eta, nu, r, centre, eta_d_dot, nu_d_dot, limited);
   }
 
   void fill_desired(const Vec6& eta_d, const Vec6& nu_d, const Vec6& nu_d_dot) noexcept {

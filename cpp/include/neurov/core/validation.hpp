@@ -44,6 +44,16 @@ struct ValidationError {
   }
 };
 
+/// The longest step [s] that rk4_step and ReferenceModel::step take. A step
+/// is one control period or one RK4 substep of the plant (the paper: 0.2 s),
+/// and RK4 is stable only while |lambda| dt < 2.785 for a real mode lambda:
+/// the slowest damped mode of the shipped vehicles, NEROV's surge
+/// ((m + X_u_dot) / X_u = 215 / 70 = 3.1 s), allows 8.6 s. Nothing a vehicle
+/// model can integrate needs 10 s or more; such a dt is a unit mistake or a
+/// corrupt value, whose "result" would be finite nonsense (1e43 after a step
+/// of 1e6 s) or an overflow reported as if the input were not finite.
+inline constexpr double kMaxStep = 10.0;
+
 namespace detail {
 
 inline ValidationError invalid(const char* field, int index, double value,
@@ -112,6 +122,13 @@ inline ValidationError check_symmetric(const char* field, const Derived& m) noex
 
 inline ValidationError check_positive_scalar(const char* field, double v) noexcept {
   if (!(std::isfinite(v) && v > 0.0)) return invalid(field, -1, v, "> 0 and finite");
+  return {};
+}
+
+/// A time step: > 0, finite and at most kMaxStep.
+inline ValidationError check_step(const char* field, double dt) noexcept {
+  if (!(std::isfinite(dt) && dt > 0.0 && dt <= kMaxStep))
+    return invalid(field, -1, dt, "> 0 and <= 10 s (neurov::kMaxStep)");
   return {};
 }
 

@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "neurov/core/rk4.hpp"
 #include "neurov/core/status.hpp"
 #include "neurov/core/types.hpp"
 #include "neurov/model/vehicle.hpp"
@@ -21,25 +22,21 @@ inline Status rk4_step(const Vehicle<Scalar>& vehicle, Vector6<Scalar>& eta, Vec
                        typename Vehicle<Scalar>::Scalar dt,
                        const typename Vehicle<Scalar>::Vec3& current_ned =
                            Vector3<Scalar>::Zero()) noexcept {
-  if (!(std::isfinite(dt) && dt > Scalar(0))) return Status::invalid_argument;
+  if (detail::check_step("dt", static_cast<double>(dt))) return Status::invalid_argument;
   using V6 = Vector6<Scalar>;
-  V6 k1e, k1n, k2e, k2n, k3e, k3n, k4e, k4n;
-  const Scalar h2 = Scalar(0.5) * dt;
-  Status s = vehicle.derivative(eta, nu, tau, current_ned, k1e, k1n);
-  if (s != Status::ok && s != Status::near_singularity) return s;
-  Status flag = s;
-  s = vehicle.derivative(eta + h2 * k1e, nu + h2 * k1n, tau, current_ned, k2e, k2n);
-  if (s != Status::ok && s != Status::near_singularity) return Status::non_finite_output;
-  flag = worst(flag, s);
-  s = vehicle.derivative(eta + h2 * k2e, nu + h2 * k2n, tau, current_ned, k3e, k3n);
-  if (s != Status::ok && s != Status::near_singularity) return Status::non_finite_output;
-  flag = worst(flag, s);
-  s = vehicle.derivative(eta + dt * k3e, nu + dt * k3n, tau, current_ned, k4e, k4n);
-  if (s != Status::ok && s != Status::near_singularity) return Status::non_finite_output;
-  flag = worst(flag, s);
-  const Scalar h6 = dt / Scalar(6);
-  const V6 eta_next = eta + h6 * (k1e + Scalar(2) * (k2e + k3e) + k4e);
-  const V6 nu_next = nu + h6 * (k1n + Scalar(2) * (k2n + k3n) + k4n);
+  V6 eta_next, nu_next;
+  const detail::Rk4Outcome r = detail::rk4(
+      eta, nu, dt,
+      [&](const V6& e, const V6& n, V6& e_dot, V6& n_dot) noexcept {
+        return vehicle.derivative(e, n, tau, current_ned, e_dot, n_dot);
+      },
+      [](Status s) noexcept { return s == Status::ok || s == Status::near_singularity; },
+      eta_next, nu_next);
+  // A later stage that fails started from a finite state the first accepted:
+  // the step itself overflowed.
+  if (r.stage == 1) return r.status;
+  if (r.stage > 1) return Status::non_finite_output;
+  const Status flag = r.status;
   if (!detail::all_finite(eta_next, nu_next)) return Status::non_finite_output;
   eta = eta_next;
   nu = nu_next;

@@ -92,8 +92,6 @@ class Thrusters {
 
   Eigen::Index count() const noexcept { return config_.matrix.cols(); }
   const ThrusterConfig<Scalar>& config() const noexcept { return config_; }
-  /// W^-1 B^T (B W^-1 B^T)^-1, n x 6.
-  const Eigen::Matrix<Scalar, Eigen::Dynamic, 6>& pseudo_inverse() const noexcept { return pinv_; }
 
   /// Thrust commands for a demanded wrench, saturated; stored as the command
   /// the lag follows.
@@ -151,8 +149,6 @@ class Thrusters {
   const Vector& thrust() const noexcept { return thrust_; }
   const Vector& commanded() const noexcept { return command_; }
   const Vector& efficiency() const noexcept { return efficiency_; }
-  /// The thrusts actually produced (efficiency applied).
-  Vector produced() const { return efficiency_.cwiseProduct(thrust_); }
 
  private:
   /// The rare path of command(): a finite tau so large that B^+ tau

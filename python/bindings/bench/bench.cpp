@@ -1,7 +1,8 @@
-// Private timing helpers for bench/compare.py: a loop of steps run inside C++
-// (on a copy, so the caller's object is untouched, and with the GIL
-// released), timed there, so Python can put the per-step cost of the C++
-// loop beside the per-call cost from Python in one run. Not public API.
+// neurov._bench, timing helpers for bench/compare.py, built only with
+// NEUROV_BUILD_BENCH so the production module carries none of them: a loop of
+// steps run inside C++ (on a copy, so the caller's object is untouched, and
+// with the GIL released), timed there, so Python can put the per-step cost of
+// the C++ loop beside the per-call cost from Python in one run.
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
 
@@ -9,14 +10,13 @@
 #include <chrono>
 #include <vector>
 
-#include "bindings.hpp"
 #include "neurov/model/integrator.hpp"
 #include "neurov/control/linear_adaptive_controller.hpp"
 #include "neurov/control/nn_controller.hpp"
 #include "neurov/control/rbf_kernels.hpp"
 #include "numpy_args.hpp"
 
-namespace neurov::bindings {
+namespace neurov::bench {
 
 namespace py = pybind11;
 using Vec6 = Vector6<double>;
@@ -78,15 +78,19 @@ double time_acceleration(const Vehicle<double>& vehicle, py::handle eta, py::han
 
 }  // namespace
 
-void bind_bench(py::module_& m) {
-  m.def("_time_controller_steps", &time_steps<NNAdaptiveController<double>>,
-        py::arg("controller"), py::arg("inputs"), py::arg("steps"), py::arg("repeats") = 5);
-  m.def("_time_controller_steps", &time_steps<LinearAdaptiveController<double>>,
-        py::arg("controller"), py::arg("inputs"), py::arg("steps"), py::arg("repeats") = 5);
-  m.def("_time_acceleration", &time_acceleration, py::arg("vehicle"), py::arg("eta"),
-        py::arg("nu"), py::arg("tau"), py::arg("steps"), py::arg("repeats") = 5);
-  m.def("_kernel_isa", [] { return std::string(detail::kernel_isa_name()); },
-        "Which copy of the RBF loops runs on this CPU (avx512, avx2, sse2, ...).");
-}
+}  // namespace neurov::bench
 
-}  // namespace neurov::bindings
+PYBIND11_MODULE(_bench, m) {
+  namespace py = pybind11;
+  using namespace neurov;
+  using namespace neurov::bench;
+  m.doc() = "Timing helpers for bench/compare.py (built with NEUROV_BUILD_BENCH); not public API.";
+  // The controllers and the vehicle are _core's types: import it so they are registered.
+  py::module_::import("neurov._core");
+  m.def("time_controller_steps", &time_steps<NNAdaptiveController<double>>,
+        py::arg("controller"), py::arg("inputs"), py::arg("steps"), py::arg("repeats") = 5);
+  m.def("time_controller_steps", &time_steps<LinearAdaptiveController<double>>,
+        py::arg("controller"), py::arg("inputs"), py::arg("steps"), py::arg("repeats") = 5);
+  m.def("time_acceleration", &time_acceleration, py::arg("vehicle"), py::arg("eta"),
+        py::arg("nu"), py::arg("tau"), py::arg("steps"), py::arg("repeats") = 5);
+}

@@ -117,6 +117,12 @@ void bind_vehicle(py::module_& m) {
       .def_static(
           "nerov", [] { return make_vehicle(nerov_parameters<double>()); },
           "NEROV, the paper's vehicle, with the numbers of its section 5.")
+      .def(py::pickle(
+          [](const Vehicle<double>& v) { return parameters_dict(v.parameters()); },
+          [](const py::dict& d) {
+            // The keyword constructor, so an unpickled vehicle is validated like any other.
+            return py::type::of<Vehicle<double>>()(**d).cast<Vehicle<double>>();
+          }))
       .def("parameters", [](const Vehicle<double>& v) { return parameters_dict(v.parameters()); },
            "The parameters as a dict of keyword arguments: Vehicle(**v.parameters()) "
            "rebuilds the vehicle, so a perturbed copy is one dict edit away.")
@@ -197,7 +203,7 @@ void bind_vehicle(py::module_& m) {
         Vec6 e = py_args::vector<6>(eta, "eta");
         Vec6 n = py_args::vector<6>(nu, "nu");
         const Vec6 t = py_args::vector<6>(tau, "tau");
-        const double h = py_args::positive(dt, "dt");
+        const double h = py_args::step(dt, "dt");
         const Vec3 c = optional_current(current);
         raise_status(rk4_step(v, e, n, t, h, c), "rk4_step");
         return std::make_pair(e, n);

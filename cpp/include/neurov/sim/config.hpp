@@ -1,0 +1,218 @@
+// The configuration of one closed-loop run: timing, the commanded path and
+// the reference model, disturbances, current, measurement noise, thrusters
+// and the faults injected into a run, with its one validator.
+#pragma once
+
+#include <Eigen/Core>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "neurov/control/reference_model.hpp"
+#include "neurov/core/types.hpp"
+#include "neurov/core/validation.hpp"
+#include "neurov/model/thrusters.hpp"
+
+namespace neurov {
+
+/// A sinusoidal force or moment in one body DOF:
+/// amplitude * sin(2 pi frequency (t - start) + phase) for t >= start.
+template <typename Scalar>
+struct SinusoidalDisturbance {
+  int dof = 5;  ///< 0..5: surge, sway, heave, roll, pitch, yaw
+  Scalar amplitude = Scalar(0);  ///< [N] or [N m]
+  Scalar frequency = Scalar(0);  ///< [Hz]
+  Scalar phase = Scalar(0);      ///< [rad]
+  Scalar start = Scalar(0);      ///< [s]
+};
+
+/// Thruster i works at `efficiency` (0: failed) from `time` on.
+template <typename Scalar>
+struct ThrusterFailure {
+  int index = 0;
+  Scalar efficiency = Scalar(0);
+  Scalar time = Scalar(0);
+};
+
+/// A sensor fault over [start, end): the measurement of eta and/or nu freezes
+/// at its last value, drops out (NaN, which the controller refuses), or gets
+/// extra white noise of the given standard deviations.
+enum class SensorFaultKind : std::uint8_t { freeze = 0, dropout = 1, noise_burst = 2 };
+
+template <typename Scalar>
+struct SensorFault {
+  SensorFaultKind kind = SensorFaultKind::freeze;
+  Scalar start = Scalar(0);
+  Scalar end = Scalar(0);
+  bool eta = true;  ///< affects the pose measurement
+  bool nu = true;   ///< affects the velocity measurement
+  Vector6<Scalar> noise_eta = Vector6<Scalar>::Zero();  ///< noise_burst only
+  Vector6<Scalar> noise_nu = Vector6<Scalar>::Zero();   ///< noise_burst only
+};
+
+/// From `time` on, the mean current is `velocity` (NED): a step in the current.
+template <typename Scalar>
+struct CurrentStep {
+  Scalar time = Scalar(0);
+  Vector3<Scalar> velocity = Vector3<Scalar>::Zero();
+};
+
+/// What the loop applies when the controller refuses a step (a NaN
+/// measurement, the pitch singularity): the zero force the controller writes,
+/// or the last force it accepted.
+enum class RefusedStepPolicy : std::uint8_t { zero = 0, hold = 1 };
+
+/// Bits of SimulationResult::faults, one per kind of fault active in a step.
+namespace fault_bits {
+constexpr std::uint8_t freeze = 1;
+constexpr std::uint8_t dropout = 2;
+constexpr std::uint8_t noise_burst = 4;
+constexpr std::uint8_t thruster = 8;  ///< some thruster below full efficiency
+/// The row's desired state came from a reference step that limited the pitch
+/// (ReferenceModel::pitch_limited(): the command's pitch clamped, or the
+/// reference's own held at the limit).
+constexpr std::uint8_t pitch_limited = 16;
+}  // namespace fault_bits
+
+/// Commanded poses r(t) at increasing times; held before the first and after
+/// the last; between them linear or held (piecewise constant).
+template <typename Scalar>
+struct Command {
+  Eigen::Matrix<Scalar, Eigen::Dynamic, 1> times;
+  Eigen::Matrix<Scalar, Eigen::Dynamic, 6, Eigen::RowMajor> poses;
+  bool linear = true;
+
+  Vector6<Scalar> at(Scalar t) const noexcept {
+    const Eigen::Index n = times.size();
+    if (n == 0) return Vector6<Scalar>::Zero();
+    if (t <= times(0)) return poses.row(0).transpose();
+    if (t >= times(n - 1)) return poses.row(n - 1).transpose();
+    Eigen::Index lo = 0, hi = n - 1;  // binary search: times(lo) <= t < times(hi)
+    while (hi - lo > 1) {
+      const Eigen::Index mid = (lo + hi) / 2;
+      (times(mid) <= t ? lo : hi) = mid;
+    }
+    if (!linear) return poses.row(lo).transpose();
+    const Scalar a = (t - times(lo)) / (times(hi) - times(lo));
+    return ((Scalar(1) - a) * poses.row(lo) + a * poses.row(hi)).transpose();
+  }
+};
+
+template <typename Scalar>
+struct SimulationConfig {
+  Scalar dt = Scalar(0.2);  ///< control period [s]
+  int substeps = 10;        ///< RK4 steps per control period
+  Scalar duration = Scalar(60);
+  Vector6<Scalar> eta0 = Vector6<Scalar>::Zero();
+  Vector6<Scalar> nu0 = Vector6<Scalar>::Zero();
+  Command<Scalar> command;
+  Vector6<Scalar> lambda_d = Vector6<Scalar>::Constant(Scalar(1));  ///< reference damping
+  Vector6<Scalar> omega = Vector6<Scalar>::Constant(Scalar(0.25));  ///< reference stiffness
+  std::vector<SinusoidalDisturbance<Scalar>> disturbances;
+  /// Current in NED: mean + amplitude * sin(2 pi t / period) per axis.
+  Vector3<Scalar> current = Vector3<Scalar>::Zero();
+  Vector3<Scalar> current_amplitude = Vector3<Scalar>::Zero();
+  Scalar current_period = Scalar(0);  ///< [s]; 0 means a constant current
+  /// Standard deviations of white Gaussian noise on the measured eta and nu.
+  Vector6<Scalar> noise_eta = Vector6<Scalar>::Zero();
+  Vector6<Scalar> noise_nu = Vector6<Scalar>::Zero();
+  std::uint64_t seed = 0;
+  bool use_thrusters = false;
+  ThrusterConfig<Scalar> thrusters;
+  std::vector<ThrusterFailure<Scalar>> failures;
+  std::vector<SensorFault<Scalar>> sensor_faults;
+  std::vector<CurrentStep<Scalar>> current_steps;  ///< in increasing time
+  RefusedStepPolicy refused_step_policy = RefusedStepPolicy::zero;
+};
+
+/// Checks every field a run needs (allocates: the thrusters' pseudo-inverse is
+/// computed to know that it exists); the first error names the field.
+template <typename Scalar>
+inline ValidationError validate(const SimulationConfig<Scalar>& c) {
+  if (auto e = detail::check_step("dt", static_cast<double>(c.dt))) return e;
+  if (c.substeps < 1)
+    return detail::invalid("substeps", -1, static_cast<double>(c.substeps), ">= 1");
+  if (auto e = detail::check_positive_scalar("duration", static_cast<double>(c.duration))) return e;
+  if (c.duration / c.dt > Scalar(1e8))
+    return detail::invalid("duration", -1, static_cast<double>(c.duration),
+                           "at most 1e8 control steps");
+  if (auto e = detail::check_finite("eta0", c.eta0)) return e;
+  if (auto e = detail::check_finite("nu0", c.nu0)) return e;
+  if (c.command.times.size() < 1)
+    return detail::invalid("command.times", -1, 0.0, "at least one commanded pose");
+  if (c.command.poses.rows() != c.command.times.size())
+    return detail::invalid("command.poses", -1, static_cast<double>(c.command.poses.rows()),
+                           "one pose per time");
+  if (auto e = detail::check_finite("command.times", c.command.times)) return e;
+  if (auto e = detail::check_finite("command.poses", c.command.poses)) return e;
+  for (Eigen::Index i = 1; i < c.command.times.size(); ++i)
+    if (!(c.command.times(i) > c.command.times(i - 1)))
+      return detail::invalid("command.times", static_cast<int>(i),
+                             static_cast<double>(c.command.times(i)), "strictly increasing");
+  if (auto e = detail::check_positive("lambda_d", c.lambda_d)) return e;
+  if (auto e = detail::check_positive("omega", c.omega)) return e;
+  for (std::size_t i = 0; i < c.disturbances.size(); ++i) {
+    const auto& d = c.disturbances[i];
+    if (d.dof < 0 || d.dof > 5)
+      return detail::invalid("disturbances.dof", static_cast<int>(i), d.dof, "0..5");
+    if (!(std::isfinite(d.amplitude) && std::isfinite(d.phase) && std::isfinite(d.start)))
+      return detail::invalid("disturbances", static_cast<int>(i), std::nan(""),
+                             "finite amplitude, phase and start");
+    if (!(std::isfinite(d.frequency) && d.frequency >= Scalar(0)))
+      return detail::invalid("disturbances.frequency", static_cast<int>(i),
+                             static_cast<double>(d.frequency), ">= 0 and finite");
+  }
+  if (auto e = detail::check_finite("current", c.current)) return e;
+  if (auto e = detail::check_finite("current_amplitude", c.current_amplitude)) return e;
+  if (auto e = detail::check_non_negative_scalar("current_period",
+                                                 static_cast<double>(c.current_period)))
+    return e;
+  if (auto e = detail::check_non_negative("noise_eta", c.noise_eta)) return e;
+  if (auto e = detail::check_non_negative("noise_nu", c.noise_nu)) return e;
+  for (std::size_t i = 0; i < c.failures.size(); ++i) {
+    const auto& f = c.failures[i];
+    if (!c.use_thrusters)
+      return detail::invalid("thruster_failures", static_cast<int>(i), std::nan(""),
+                             "a thruster configuration");
+    if (f.index < 0 || f.index >= c.thrusters.matrix.cols())
+      return detail::invalid("thruster_failures.index", static_cast<int>(i), f.index,
+                             "a thruster index");
+    if (!(f.efficiency >= Scalar(0) && f.efficiency <= Scalar(1)))
+      return detail::invalid("thruster_failures.efficiency", static_cast<int>(i),
+                             static_cast<double>(f.efficiency), "in [0, 1]");
+    if (!std::isfinite(f.time))
+      return detail::invalid("thruster_failures.time", static_cast<int>(i),
+                             static_cast<double>(f.time), "finite");
+  }
+  for (std::size_t i = 0; i < c.sensor_faults.size(); ++i) {
+    const auto& f = c.sensor_faults[i];
+    if (!(std::isfinite(f.start) && std::isfinite(f.end) && f.end >= f.start))
+      return detail::invalid("sensor_faults", static_cast<int>(i), static_cast<double>(f.end),
+                             "finite start <= end");
+    if (static_cast<int>(f.kind) > 2)
+      return detail::invalid("sensor_faults.kind", static_cast<int>(i),
+                             static_cast<double>(f.kind), "freeze, dropout or noise_burst");
+    if (auto e = detail::check_non_negative("sensor_faults.noise_eta", f.noise_eta)) return e;
+    if (auto e = detail::check_non_negative("sensor_faults.noise_nu", f.noise_nu)) return e;
+  }
+  for (std::size_t i = 0; i < c.current_steps.size(); ++i) {
+    if (!std::isfinite(c.current_steps[i].time) ||
+        (i > 0 && !(c.current_steps[i].time > c.current_steps[i - 1].time)))
+      return detail::invalid("current_steps.time", static_cast<int>(i),
+                             static_cast<double>(c.current_steps[i].time),
+                             "finite and strictly increasing");
+    if (auto e = detail::check_finite("current_steps.velocity", c.current_steps[i].velocity))
+      return e;
+  }
+  // The reference model's and the thrusters' own rules, so that a
+  // configuration that passes here is one a Simulator can be created from.
+  ReferenceModel<Scalar> reference;
+  if (auto e = ReferenceModel<Scalar>::create(c.lambda_d, c.omega, c.eta0, reference)) return e;
+  if (c.use_thrusters) {
+    Thrusters<Scalar> thrusters;
+    if (auto e = Thrusters<Scalar>::create(c.thrusters, thrusters)) return e;
+  }
+  return {};
+}
+
+}  // namespace neurov

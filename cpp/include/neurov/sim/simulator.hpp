@@ -1,0 +1,345 @@
+// Everything of a closed-loop run except the controller, as an object that is
+// stepped one control period at a time: the vehicle, the reference model and
+// its command, thrusters (allocation, saturation, lag, failures), current and
+// disturbances, measurement noise and sensor faults. Whoever drives it - the
+// C++ loop in closed_loop.hpp, a Python controller, a learning agent - sees the
+// same observations and gets the same rows for the same forces.
+//
+// Timing: control at dt with the force held over each control interval
+// (zero-order hold); the plant integrated by RK4 at dt / substeps, thrusters
+// advanced per substep; the reference model advanced at the control rate. Row
+// k of the result is the instant t_k = k dt: the true state there, the
+// desired state the controller was given, and the force it demanded for
+// [t_k, t_k+1).
+#pragma once
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <utility>
+#include <vector>
+
+#include "neurov/control/desired_state.hpp"
+#include "neurov/control/reference_model.hpp"
+#include "neurov/core/random.hpp"
+#include "neurov/core/status.hpp"
+#include "neurov/core/types.hpp"
+#include "neurov/core/validation.hpp"
+#include "neurov/model/integrator.hpp"
+#include "neurov/model/thrusters.hpp"
+#include "neurov/model/vehicle.hpp"
+#include "neurov/sim/config.hpp"
+#include "neurov/sim/result.hpp"
+
+namespace neurov {
+
+/// What a controller is given at t_k: the pose and velocity as measured
+/// (noise and sensor faults applied; NaN during a dropout) and the desired
+/// state from the reference model.
+template <typename Scalar>
+struct Observation {
+  Scalar t = Scalar(0);
+  Vector6<Scalar> eta = Vector6<Scalar>::Zero();
+  Vector6<Scalar> nu = Vector6<Scalar>::Zero();
+  DesiredState<Scalar> desired;
+};
+
+/// What the result logs of a controller's step besides its force.
+template <typename Scalar>
+struct ControllerReport {
+  /// Anything but ok is a refused step: the run's RefusedStepPolicy decides
+  /// the force applied, and the force passed is ignored.
+  Status status = Status::ok;
+  Vector6<Scalar> s = Vector6<Scalar>::Zero();  ///< filtered tracking error
+  Scalar adaptive_norm = Scalar(0);             ///< how far the adaptive part moved
+  /// parameter_count logged parameters (theta_hat of the linear adaptive
+  /// controller), or nullptr and 0; the count is fixed when the simulator is
+  /// created.
+  const Scalar* parameters = nullptr;
+  int parameter_count = 0;
+};
+
+template <typename Scalar>
+class Simulator {
+ public:
+  using Vec3 = Vector3<Scalar>;
+  using Vec6 = Vector6<Scalar>;
+
+  /// Empty: done() is true and step() refuses until create() fills it.
+  Simulator() = default;
+
+  /// Validates the vehicle and the configuration, copies them, and allocates
+  /// the result rows of the whole duration (the only allocation), with
+  /// `logged_parameters` parameter columns. `out` is untouched on failure.
+  /// Ready at t = 0 with the configuration's seed.
+  static ValidationError create(const Vehicle<Scalar>& vehicle,
+                                const SimulationConfig<Scalar>& config, Simulator& out,
+                                int logged_parameters = 0) {
+    if (!vehicle.valid()) return detail::invalid("vehicle", -1, std::nan(""), "a valid vehicle");
+    if (auto e = validate(config)) return e;
+    if (logged_parameters < 0)
+      return detail::invalid("logged_parameters", -1, static_cast<double>(logged_parameters),
+                             ">= 0");
+    // Both were checked by validate(); create() builds them.
+    ReferenceModel<Scalar> reference;
+    ReferenceModel<Scalar>::create(config.lambda_d, config.omega, config.eta0, reference);
+    Thrusters<Scalar> thrusters;
+    if (config.use_thrusters) Thrusters<Scalar>::create(config.thrusters, thrusters);
+    Simulator s;
+    s.vehicle_ = vehicle;
+    s.config_ = config;
+    s.reference_ = std::move(reference);
+    s.thrusters_ = std::move(thrusters);
+    s.rows_ = static_cast<Eigen::Index>(std::llround(config.duration / config.dt)) + 1;
+    s.thruster_count_ = config.use_thrusters ? s.thrusters_.count() : 0;
+    s.parameter_count_ = logged_parameters;
+    s.noisy_ = !(config.noise_eta.isZero(Scalar(0)) && config.noise_nu.isZero(Scalar(0)));
+    s.h_ = config.dt / static_cast<Scalar>(config.substeps);
+    s.failure_applied_.assign(config.failures.size(), false);
+    s.result_.allocate(s.rows_, s.thruster_count_, logged_parameters);
+    s.configured_ = true;
+    s.reset(config.seed);
+    out = std::move(s);
+    return {};
+  }
+
+  /// Back to t = 0 with the seed of the last reset (the configuration's at
+  /// first): the same run again. Clears the rows; allocates nothing.
+  void reset() noexcept { reset(seed_); }
+
+  /// Back to t = 0 with measurement noise drawn from `seed`.
+  void reset(std::uint64_t seed) noexcept {
+    if (!configured_) return;
+    seed_ = seed;
+    rng_.reseed(seed);
+    reference_.reset(config_.eta0);
+    if (config_.use_thrusters) thrusters_.reset();
+    std::fill(failure_applied_.begin(), failure_applied_.end(), false);
+    eta_ = config_.eta0;
+    nu_ = config_.nu0;
+    observation_.desired = reference_.desired();
+    held_eta_ = eta_;
+    held_nu_ = nu_;
+    last_accepted_tau_.setZero();
+    result_.clear();
+    k_ = 0;
+    observe();
+  }
+
+  /// What the controller is to be given at t_k = steps() dt.
+  const Observation<Scalar>& observation() const noexcept { return observation_; }
+  /// fault_bits of the sensor faults and the pitch limit active in the
+  /// observation (the thruster bit is set by step()).
+  std::uint8_t faults() const noexcept { return faults_; }
+
+  /// Logs row k with the controller's force `tau` (or, on a refused step, the
+  /// force the refused-step policy gives) and advances the plant one control
+  /// period to t_k+1, where the next observation is measured. Returns the
+  /// plant's status: ok, near_singularity, or another status when the plant
+  /// diverged (then the row is the last, diverged() and done()).
+  /// A call that is refused returns invalid_argument (after done(); a report
+  /// whose parameter_count is not the one of create) or non_finite_input (an
+  /// accepted step with a non-finite force) and changes nothing.
+  Status step(const Vec6& tau, const ControllerReport<Scalar>& report) noexcept {
+    if (done()) return Status::invalid_argument;
+    if (report.parameter_count != parameter_count_ ||
+        (parameter_count_ > 0 && report.parameters == nullptr))
+      return Status::invalid_argument;
+    if (report.status == Status::ok && !tau.allFinite()) return Status::non_finite_input;
+
+    const Eigen::Index k = k_;
+    const Scalar t = observation_.t;
+    Vec6 applied_tau = tau;
+    if (report.status == Status::ok)
+      last_accepted_tau_ = tau;
+    else if (config_.refused_step_policy == RefusedStepPolicy::hold)
+      applied_tau = last_accepted_tau_;
+    else
+      applied_tau.setZero();
+
+    SimulationResult<Scalar>& r = result_;
+    const DesiredState<Scalar>& desired = observation_.desired;
+    r.t(k) = t;
+    r.eta.row(k) = eta_.transpose();
+    r.nu.row(k) = nu_.transpose();
+    r.eta_d.row(k) = desired.eta_d.transpose();
+    r.eta_d_dot.row(k) = desired.eta_d_dot.transpose();
+    r.tau_demanded.row(k) = applied_tau.transpose();
+    r.s.row(k) = report.s.transpose();
+    r.adaptive_norm(k) = report.adaptive_norm;
+    r.controller_status(k) = static_cast<std::uint8_t>(report.status);
+    if (parameter_count_ > 0)
+      r.theta.row(k) =
+          Eigen::Map<const Eigen::Matrix<Scalar, 1, Eigen::Dynamic>>(report.parameters,
+                                                                     parameter_count_);
+    r.disturbance.row(k) = disturbance_at(t).transpose();
+
+    std::uint8_t faults = faults_;
+    if (config_.use_thrusters) thrusters_.command(applied_tau);
+    Status ps = Status::ok;
+    Vec6 applied_sum = Vec6::Zero();
+    for (int j = 0; j < config_.substeps; ++j) {
+      const Scalar ts = t + static_cast<Scalar>(j) * h_;
+      Vec6 applied = applied_tau;
+      if (config_.use_thrusters) {
+        for (std::size_t f = 0; f < config_.failures.size(); ++f) {
+          if (!failure_applied_[f] && ts >= config_.failures[f].time) {
+            thrusters_.set_efficiency(config_.failures[f].index, config_.failures[f].efficiency);
+            failure_applied_[f] = true;
+          }
+        }
+        // Checked per substep, where a failure or repair takes effect, so the
+        // bit describes the same interval as this row's thrusts and tau_applied.
+        if ((thrusters_.efficiency().array() < Scalar(1)).any()) faults |= fault_bits::thruster;
+        thrusters_.advance(h_);
+        applied = thrusters_.wrench();
+        if (thruster_count_ > 0)
+          r.thrusts.row(k) +=
+              thrusters_.efficiency().cwiseProduct(thrusters_.thrust()).transpose() /
+              static_cast<Scalar>(config_.substeps);
+      }
+      applied_sum += applied;
+      ps = worst(ps, rk4_step(vehicle_, eta_, nu_, (applied + disturbance_at(ts)).eval(), h_,
+                              current_at(ts)));
+      if (ps != Status::ok && ps != Status::near_singularity) break;
+    }
+    r.tau_applied.row(k) = (applied_sum / static_cast<Scalar>(config_.substeps)).transpose();
+    r.plant_status(k) = static_cast<std::uint8_t>(ps);
+    r.faults(k) = faults;
+    k_ = k + 1;
+    r.steps = k_;
+    if (ps != Status::ok && ps != Status::near_singularity) {
+      r.diverged = true;
+      return ps;
+    }
+    // The desired state for t_k+1; on a refused reference step it stays.
+    reference_.step(config_.command.at(t), config_.dt, observation_.desired);
+    if (k_ < rows_) observe();
+    return ps;
+  }
+
+  /// The run is over: every row logged, or the plant diverged.
+  bool done() const noexcept { return k_ >= rows_ || result_.diverged; }
+  bool diverged() const noexcept { return result_.diverged; }
+  /// The true state at t_k = steps() dt (the last state reached if diverged).
+  const Vec6& eta() const noexcept { return eta_; }
+  const Vec6& nu() const noexcept { return nu_; }
+  /// Rows logged so far.
+  Eigen::Index steps() const noexcept { return k_; }
+  /// Rows of a whole run: round(duration / dt) + 1.
+  Eigen::Index planned_steps() const noexcept { return rows_; }
+  int logged_parameters() const noexcept { return parameter_count_; }
+  Eigen::Index thruster_count() const noexcept { return thruster_count_; }
+  const SimulationConfig<Scalar>& config() const noexcept { return config_; }
+  const Vehicle<Scalar>& vehicle() const noexcept { return vehicle_; }
+
+  /// A copy of the rows logged so far (allocates).
+  SimulationResult<Scalar> result() const {
+    SimulationResult<Scalar> out = result_;
+    out.truncate(k_);
+    return out;
+  }
+
+  /// Moves the rows logged so far into `out` without a copy; the simulator is
+  /// empty afterwards (create it again to run again).
+  void release_result(SimulationResult<Scalar>& out) {
+    out = std::move(result_);
+    if (k_ < rows_) out.truncate(k_);
+    *this = Simulator();
+  }
+
+ private:
+  /// The measurement at t_k = k_ dt: noise for this row, then the sensor
+  /// faults in their order (a noise burst draws after the measurement noise).
+  void observe() noexcept {
+    const Scalar t = static_cast<Scalar>(k_) * config_.dt;
+    Vec6 eta_m = eta_, nu_m = nu_;
+    if (noisy_) {
+      for (int i = 0; i < 6; ++i) {
+        eta_m(i) += config_.noise_eta(i) * static_cast<Scalar>(rng_.normal());
+        nu_m(i) += config_.noise_nu(i) * static_cast<Scalar>(rng_.normal());
+      }
+    }
+    // The desired state (this row's eta_d) is from the last accepted reference step.
+    std::uint8_t faults =
+        reference_.pitch_limited() ? fault_bits::pitch_limited : std::uint8_t(0);
+    bool freeze_eta = false, freeze_nu = false;
+    const Scalar nan = std::numeric_limits<Scalar>::quiet_NaN();
+    for (const auto& f : config_.sensor_faults) {
+      if (!(t >= f.start && t < f.end)) continue;
+      if (f.kind == SensorFaultKind::freeze) {
+        faults |= fault_bits::freeze;
+        freeze_eta = freeze_eta || f.eta;
+        freeze_nu = freeze_nu || f.nu;
+      } else if (f.kind == SensorFaultKind::dropout) {
+        faults |= fault_bits::dropout;
+        if (f.eta) eta_m.setConstant(nan);
+        if (f.nu) nu_m.setConstant(nan);
+      } else {
+        faults |= fault_bits::noise_burst;
+        for (int i = 0; i < 6; ++i) {
+          if (f.eta) eta_m(i) += f.noise_eta(i) * static_cast<Scalar>(rng_.normal());
+          if (f.nu) nu_m(i) += f.noise_nu(i) * static_cast<Scalar>(rng_.normal());
+        }
+      }
+    }
+    // A freeze repeats the last measurement delivered unfrozen.
+    if (freeze_eta)
+      eta_m = held_eta_;
+    else if (eta_m.allFinite())
+      held_eta_ = eta_m;
+    if (freeze_nu)
+      nu_m = held_nu_;
+    else if (nu_m.allFinite())
+      held_nu_ = nu_m;
+    faults_ = faults;
+    observation_.t = t;
+    observation_.eta = eta_m;
+    observation_.nu = nu_m;
+  }
+
+  Vec6 disturbance_at(Scalar t) const noexcept {
+    Vec6 d = Vec6::Zero();
+    for (const auto& s : config_.disturbances)
+      if (t >= s.start)
+        d(s.dof) += s.amplitude * std::sin(kTwoPi * s.frequency * (t - s.start) + s.phase);
+    return d;
+  }
+
+  Vec3 current_at(Scalar t) const noexcept {
+    Vec3 c = config_.current;
+    for (const auto& step : config_.current_steps)
+      if (t >= step.time) c = step.velocity;
+    if (config_.current_period > Scalar(0))
+      c += config_.current_amplitude * std::sin(kTwoPi * t / config_.current_period);
+    return c;
+  }
+
+  static constexpr Scalar kTwoPi = Scalar(6.283185307179586);
+
+  Vehicle<Scalar> vehicle_;
+  SimulationConfig<Scalar> config_;
+  ReferenceModel<Scalar> reference_;
+  Thrusters<Scalar> thrusters_;
+  NormalRandom rng_;
+  std::uint64_t seed_ = 0;
+  bool configured_ = false;
+  bool noisy_ = false;
+  Scalar h_ = Scalar(0);
+  Eigen::Index rows_ = 0;
+  Eigen::Index k_ = 0;
+  Eigen::Index thruster_count_ = 0;
+  int parameter_count_ = 0;
+  std::vector<bool> failure_applied_;
+  Vec6 eta_ = Vec6::Zero(), nu_ = Vec6::Zero();
+  // The last measurements delivered unfrozen, which a freeze keeps repeating.
+  Vec6 held_eta_ = Vec6::Zero(), held_nu_ = Vec6::Zero();
+  Vec6 last_accepted_tau_ = Vec6::Zero();
+  Observation<Scalar> observation_;
+  std::uint8_t faults_ = 0;
+  SimulationResult<Scalar> result_;
+};
+
+}  // namespace neurov

@@ -1,0 +1,251 @@
+// The controllers: each constructed from its bound configuration object or
+// from keyword arguments (the signatures the tests and scripts use), with
+// the members every controller shares (controller_bindings.hpp).
+#include <pybind11/eigen.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <string>
+
+#include "bindings.hpp"
+#include "controller_bindings.hpp"
+#include "neurov/control/computed_torque_controller.hpp"
+#include "neurov/control/linear_adaptive_controller.hpp"
+#include "neurov/control/nn_controller.hpp"
+#include "neurov/control/pd_controller.hpp"
+#include "neurov/control/pid_controller.hpp"
+#include "neurov/control/rbf_network.hpp"
+#include "neurov/control/sliding_mode_controller.hpp"
+#include "neurov/model/regressor.hpp"
+#include "neurov/model/vehicle.hpp"
+#include "numpy_args.hpp"
+
+namespace neurov::bindings {
+
+namespace py = pybind11;
+using Vec6 = Vector6<double>;
+using Network = RbfNetwork<double>;  // dynamic inputs and centres
+using NNController = NNAdaptiveController<double>;
+using LinController = LinearAdaptiveController<double>;
+using PD = PDController<double>;
+using PID = PIDController<double>;
+using SMC = SlidingModeController<double>;
+using CT = ComputedTorqueController<double>;
+
+namespace {
+
+/// The NN controller from a network with any number of inputs (checked to
+/// be 24) and its configuration.
+NNController make_nn(const Network& network, const NNAdaptiveConfig<double>& cfg,
+                     py::handle learning_rates) {
+  if (network.inputs() != kNNInputs)
+    throw py::value_error("argument 'network' must have 24 inputs ([nu_r_dot; nu_r; nu; eta]), "
+                          "got " + std::to_string(network.inputs()));
+  NNController::Network fixed_inputs;
+  py_args::raise_if_invalid(
+      NNController::Network::create(network.centres(), network.widths(), network.input_offset(),
+                                    network.input_scale(), fixed_inputs),
+      "network");
+  fixed_inputs.set_weights(network.weights());
+  NNController c;
+  py_args::raise_if_invalid(NNController::create(fixed_inputs, cfg, c), "NN controller");
+  if (!learning_rates.is_none()) {
+    const Eigen::VectorXd rates =
+        py_args::dynamic_vector(learning_rates, "learning_rates", network.centres_count());
+    if ((rates.array() < 0.0).any())
+      throw py::value_error("argument 'learning_rates' must be >= 0");
+    c.set_learning_rates(rates);
+  }
+  return c;
+}
+
+}  // namespace
+
+void bind_controllers(py::module_& m) {
+  // --- NN adaptive controller -------------------------------------------------
+  py::class_<NNController> nn(
+      m, "NNAdaptiveController",
+      "Direct adaptive RBF-network controller (eq. 35, 37): tau = W g(x) - J^T K_d s with "
+      "x = [nu_r_dot; nu_r; nu; eta] (24 inputs), then W <- W - dt (J^-1 s) g(x)^T Gamma_w. "
+      "tau uses the weights from before the update.");
+  nn.def(py::init(&make_nn), py::arg("network"), py::arg("config"), py::kw_only(),
+         py::arg("learning_rates") = py::none(),
+         "network: an RbfNetwork with 24 inputs (copied; its weights are W(0)); config: an "
+         "NNAdaptiveConfig; learning_rates (N,): per-centre Gamma_w.");
+  nn.def(py::init([](const Network& network, py::handle lambda_, py::handle kd, py::handle gamma,
+                     py::handle dt, py::handle modification, py::handle sigma_m, py::handle kappa,
+                     py::handle w_max, py::handle dead_zone, py::handle learning_rates) {
+           NNAdaptiveConfig<double> cfg;
+           cfg.lambda = py_args::vector<6>(lambda_, "lambda_");
+           cfg.kd = py_args::vector<6>(kd, "kd");
+           cfg.gamma = py_args::scalar(gamma, "gamma");
+           cfg.dt = py_args::scalar(dt, "dt");
+           cfg.modification = parse_modification(modification);
+           cfg.sigma_m = py_args::scalar(sigma_m, "sigma_m");
+           cfg.kappa = py_args::scalar(kappa, "kappa");
+           cfg.w_max = py_args::scalar(w_max, "w_max");
+           cfg.dead_zone = py_args::scalar(dead_zone, "dead_zone");
+           return make_nn(network, cfg, learning_rates);
+         }),
+         py::arg("network"), py::arg("lambda_"), py::arg("kd"), py::arg("gamma") = 0.3,
+         py::arg("dt") = 0.2, py::kw_only(), py::arg("modification") = "none",
+         py::arg("sigma_m") = 0.0, py::arg("kappa") = 0.0, py::arg("w_max") = 0.0,
+         py::arg("dead_zone") = 0.0, py::arg("learning_rates") = py::none(),
+         "network: an RbfNetwork with 24 inputs (copied; its weights are W(0)); lambda_: "
+         "Lambda diagonal (6,), > 0; kd: K_d diagonal (6,), >= 0; gamma: Gamma_w = gamma I "
+         "(the paper: 0.3); dt: control period [s] (the paper: 0.2). Robust modifications (off "
+         "by default, as in the paper): modification = 'sigma' (sigma_m > 0), "
+         "'e_modification' (kappa > 0) or 'projection' (||W||_F <= w_max); dead_zone: no "
+         "adaptation while ||s|| < dead_zone. learning_rates (N,): per-centre Gamma_w.");
+  def_common<NNController>(nn);
+  nn.def_property(
+        "weights", [](const NNController& c) { return Eigen::MatrixXd(c.weights()); },
+        [](NNController& c, py::handle w) {
+          if (!c.set_weights(py_args::dynamic_matrix(w, "weights", 6, c.network().centres_count())))
+            throw py::value_error("argument 'weights' is so large that its norm overflows");
+        },
+        "Current weights W, shape (6, N); assignable (warm start).")
+      .def_property_readonly("weight_norm", &NNController::weight_norm, "||W||_F.")
+      .def_property_readonly(
+          "network_output", [](const NNController& c) { return Vec6(c.network_output()); },
+          "W g(x) of the last step (before its update), shape (6,).")
+      .def_property_readonly(
+          "basis", [](const NNController& c) { return Eigen::VectorXd(c.basis()); },
+          "g(x) of the last step, shape (N,).")
+      .def_property_readonly("adapted", &NNController::adapted,
+                             "Whether the last step moved the weights (False in the dead zone).")
+      .def_property_readonly("n_centres",
+                             [](const NNController& c) { return c.network().centres_count(); },
+                             "Number of centres N.")
+      .def_property_readonly(
+          "centres", [](const NNController& c) { return Eigen::MatrixXd(c.network().centres()); },
+          "Centres, shape (N, 24).")
+      .def_property_readonly(
+          "modification",
+          [](const NNController& c) { return std::string(to_string(c.config().modification)); },
+          "The robust modification in use.");
+
+  // --- linear adaptive controller ---------------------------------------------
+  py::class_<LinController> lin(
+      m, "LinearAdaptiveController",
+      "Linearly parameterised adaptive controller (eq. 26, 28; Fossen and Sagatun): tau = Phi "
+      "theta_hat - J^T K_d s, theta_hat <- theta_hat - dt Gamma Phi^T J^-1 s. Knows NEROV's "
+      "model structure (see regressor), not its parameters.");
+  def_init_from_config<LinController>(lin, "linear adaptive controller");
+  lin.def(py::init([](py::handle lambda_, py::handle kd, py::handle gamma, py::handle dt,
+                      py::handle theta0) {
+            LinearAdaptiveConfig<double> cfg;
+            cfg.lambda = py_args::vector<6>(lambda_, "lambda_");
+            cfg.kd = py_args::vector<6>(kd, "kd");
+            if (py::isinstance<py::float_>(gamma) || py::isinstance<py::int_>(gamma))
+              cfg.gamma.setConstant(py_args::scalar(gamma, "gamma"));
+            else
+              cfg.gamma = py_args::vector<kRegressorParameters>(gamma, "gamma");
+            cfg.dt = py_args::scalar(dt, "dt");
+            cfg.theta0 = theta0.is_none() ? ParameterVector<double>::Zero()
+                                          : py_args::vector<kRegressorParameters>(theta0, "theta0");
+            return from_config<LinController>(cfg, "linear adaptive controller");
+          }),
+          py::arg("lambda_"), py::arg("kd"), py::arg("gamma"), py::arg("dt") = 0.2,
+          py::arg("theta0") = py::none(),
+          "lambda_: Lambda diagonal (6,), > 0; kd: K_d diagonal (6,), >= 0; gamma: Gamma "
+          "diagonal, a number or (24,), >= 0; dt: control period [s]; theta0: theta_hat(0) "
+          "(24,), default zero (regressor_parameters(vehicle) gives the true one).");
+  def_common<LinController>(lin);
+  lin.def_property(
+         "theta", [](const LinController& c) { return ParameterVector<double>(c.theta()); },
+         [](LinController& c, py::handle t) {
+           c.set_theta(py_args::vector<kRegressorParameters>(t, "theta"));
+         },
+         "Current estimate theta_hat (24,); assignable.")
+      .def_property_readonly(
+          "model_output", [](const LinController& c) { return Vec6(c.model_output()); },
+          "Phi theta_hat of the last step, shape (6,).");
+
+  // --- PD ------------------------------------------------------------------
+  py::class_<PD> pd(m, "PDController",
+                    "PD baseline in the earth frame: tau = -J^T (K_p eta_tilde + K_d eta_tilde_dot).");
+  def_init_from_config<PD>(pd, "PD controller");
+  pd.def(py::init([](py::handle kp, py::handle kd) {
+           PDConfig<double> cfg;
+           cfg.kp = py_args::vector<6>(kp, "kp");
+           cfg.kd = py_args::vector<6>(kd, "kd");
+           return from_config<PD>(cfg, "PD controller");
+         }),
+         py::arg("kp"), py::arg("kd"), "kp, kd: diagonal gains (6,), >= 0.");
+  def_common<PD>(pd);
+
+  // --- PID ------------------------------------------------------------------
+  py::class_<PID> pid(
+      m, "PIDController",
+      "PID baseline in the earth frame with anti-windup: tau = -J^T (K_p eta_tilde + K_i z + "
+      "K_d eta_tilde_dot), z the integral of eta_tilde, |K_i z| <= integral_limit per DOF and "
+      "no integration further into the limit.");
+  def_init_from_config<PID>(pid, "PID controller");
+  pid.def(py::init([](py::handle kp, py::handle ki, py::handle kd, py::handle integral_limit,
+                      py::handle dt) {
+            PIDConfig<double> cfg;
+            cfg.kp = py_args::vector<6>(kp, "kp");
+            cfg.ki = py_args::vector<6>(ki, "ki");
+            cfg.kd = py_args::vector<6>(kd, "kd");
+            cfg.integral_limit = py_args::vector<6>(integral_limit, "integral_limit");
+            cfg.dt = py_args::scalar(dt, "dt");
+            return from_config<PID>(cfg, "PID controller");
+          }),
+          py::arg("kp"), py::arg("ki"), py::arg("kd"), py::arg("integral_limit"),
+          py::arg("dt") = 0.2,
+          "kp, ki, kd: diagonal gains (6,), >= 0; integral_limit: largest |K_i z| per DOF (6,), "
+          "> 0 [N, N m]; dt: control period [s].");
+  def_common<PID>(pid);
+  pid.def_property_readonly(
+      "integral", [](const PID& c) { return Vec6(c.integral()); },
+      "The integrator state z (6,), the limited time integral of eta_tilde.");
+
+  // --- sliding mode -----------------------------------------------------------
+  py::class_<SMC> smc(
+      m, "SlidingModeController",
+      "Sliding-mode controller with a boundary layer: tau = Phi theta - J^T (K_d s + K "
+      "sat(s / phi)), with theta the nominal model's parameters (regressor).");
+  def_init_from_config<SMC>(smc, "sliding-mode controller");
+  smc.def(py::init([](py::handle lambda_, py::handle kd, py::handle k, py::handle phi,
+                      py::handle theta) {
+            SlidingModeConfig<double> cfg;
+            cfg.lambda = py_args::vector<6>(lambda_, "lambda_");
+            cfg.kd = py_args::vector<6>(kd, "kd");
+            cfg.k = py_args::vector<6>(k, "k");
+            cfg.phi = py_args::vector<6>(phi, "phi");
+            cfg.theta = py_args::vector<kRegressorParameters>(theta, "theta");
+            return from_config<SMC>(cfg, "sliding-mode controller");
+          }),
+          py::arg("lambda_"), py::arg("kd"), py::arg("k"), py::arg("phi"), py::arg("theta"),
+          "lambda_: Lambda (6,), > 0; kd: K_d (6,), >= 0; k: switching gain (6,), >= 0; phi: "
+          "boundary-layer width (6,), > 0; theta: the nominal model (24,), e.g. "
+          "regressor_parameters(vehicle).");
+  def_common<SMC>(smc);
+  smc.def_property_readonly(
+      "model_output", [](const SMC& c) { return Vec6(c.model_output()); },
+      "The nominal model's f of the last step, shape (6,).");
+
+  // --- computed torque ---------------------------------------------------------
+  py::class_<CT> ct(
+      m, "ComputedTorqueController",
+      "Computed-torque (inverse-dynamics) controller on a nominal vehicle: tau = M nu_r_dot + "
+      "C(nu) nu_r + D(nu) nu_r + g(eta) - J^T K_d s, with the vehicle's own M, C, D and g.");
+  def_init_from_config<CT>(ct, "computed-torque controller");
+  ct.def(py::init([](const Vehicle<double>& vehicle, py::handle lambda_, py::handle kd) {
+           ComputedTorqueConfig<double> cfg;
+           cfg.vehicle = vehicle.parameters();
+           cfg.lambda = py_args::vector<6>(lambda_, "lambda_");
+           cfg.kd = py_args::vector<6>(kd, "kd");
+           return from_config<CT>(cfg, "computed-torque controller");
+         }),
+         py::arg("vehicle"), py::arg("lambda_"), py::arg("kd"),
+         "vehicle: the nominal model (its parameters are copied); lambda_: Lambda (6,), > 0; "
+         "kd: K_d (6,), >= 0.");
+  def_common<CT>(ct);
+  ct.def_property_readonly(
+      "model_output", [](const CT& c) { return Vec6(c.model_output()); },
+      "M nu_r_dot + C(nu) nu_r + D(nu) nu_r + g(eta) of the last step, shape (6,).");
+}
+
+}  // namespace neurov::bindings

@@ -1,0 +1,263 @@
+// Binds a plain C++ configuration struct to Python field by field, so that
+// Python holds the very C++ object and the C++ validator is the one that
+// judges it:
+//  * numbers, bools and enums: def_readwrite;
+//  * fixed-size vectors: writable numpy views into the struct (the storage is
+//    inside it, so a view lives as long as the struct);
+//  * dynamic arrays: read-only copies, assigned whole (a view could outlive a
+//    buffer that a later assignment frees);
+//  * lists of structs: tuples of copies, assigned whole from any sequence;
+//  * nested structs: references into the parent.
+// Every struct also gets a keyword constructor that refuses unknown names, a
+// repr, copy and pickle support.
+#pragma once
+
+#include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <type_traits>
+#include <typeinfo>
+#include <utility>
+#include <vector>
+
+#include "numpy_args.hpp"
+
+namespace neurov::bindings {
+
+namespace py = pybind11;
+
+template <typename T>
+class Fields {
+ public:
+  Fields(py::class_<T>& cls, std::string type_name)
+      : cls_(cls), type_(std::move(type_name)), names_(std::make_shared<std::vector<std::string>>()) {}
+
+  /// A number, bool, enum (by value) or nested struct (a reference into this
+  /// one). A value of the wrong type is a TypeError naming the field.
+  template <typename D>
+  Fields& value(const char* name, D T::*member, const char* doc) {
+    const std::string qualified = type_ + "." + name;
+    auto set = [member, qualified](T& self, const py::object& v) {
+      self.*member = checked<D>(v, qualified);
+    };
+    if constexpr (std::is_arithmetic_v<D> || std::is_enum_v<D>)
+      cls_.def_property(name, [member](const T& self) { return self.*member; }, set, doc);
+    else
+      cls_.def_property(name, [member](T& self) -> D& { return self.*member; }, set, doc);
+    names_->push_back(name);
+    return *this;
+  }
+
+  /// A fixed-size vector: a writable numpy view; assigned from any real
+  /// array-like of the right length.
+  template <int N>
+  Fields& vector(const char* name, Eigen::Matrix<double, N, 1> T::*member, const char* doc) {
+    const std::string qualified = type_ + "." + name;
+    cls_.def_property(
+        name, [member](T& self) -> Eigen::Matrix<double, N, 1>& { return self.*member; },
+        [member, qualified](T& self, const py::handle& v) {
+          auto a = shaped(v, qualified, 1, N, -1);
+          self.*member = Eigen::Map<const Eigen::Matrix<double, N, 1>>(a.data());
+        },
+        doc);
+    names_->push_back(name);
+    return *this;
+  }
+
+  /// A dynamic vector: a read-only copy; assigned whole.
+  template <typename M>
+  Fields& dynamic_vector(const char* name, M T::*member, const char* doc) {
+    return dynamic(name, member, 1, -1, -1, doc);
+  }
+
+  /// A dynamic matrix (rows or cols < 0: any): a read-only copy; assigned whole.
+  template <typename M>
+  Fields& dynamic_matrix(const char* name, M T::*member, py::ssize_t rows, py::ssize_t cols,
+                         const char* doc) {
+    return dynamic(name, member, 2, rows, cols, doc);
+  }
+
+  /// A list of bound structs: a tuple of copies (changing one changes the
+  /// copy, not the struct); assigned whole from any sequence of E.
+  template <typename E>
+  Fields& list(const char* name, std::vector<E> T::*member, const char* element,
+               const char* doc) {
+    const std::string qualified = type_ + "." + name;
+    const std::string element_name = element;
+    cls_.def_property(
+        name,
+        [member](const T& self) {
+          py::tuple out((self.*member).size());
+          for (std::size_t i = 0; i < (self.*member).size(); ++i)
+            out[i] = py::cast((self.*member)[i]);
+          return out;
+        },
+        [member, qualified, element_name](T& self, const py::handle& v) {
+          if (py::isinstance<py::str>(v) || !py::isinstance<py::sequence>(v))
+            throw py::type_error(qualified + " must be a list of " + element_name + ", got " +
+                                 type_name(v));
+          std::vector<E> items;
+          std::size_t i = 0;
+          for (const py::handle item : v) {
+            if (!py::isinstance<E>(item))
+              throw py::type_error(qualified + "[" + std::to_string(i) + "] must be a " +
+                                   element_name + ", got " + type_name(item));
+            items.push_back(item.cast<E>());
+            ++i;
+          }
+          self.*member = std::move(items);
+        },
+        doc);
+    names_->push_back(name);
+    return *this;
+  }
+
+  /// The keyword constructor, repr, copy and pickle; call after the fields.
+  void finish() {
+    auto names = names_;
+    const std::string type = type_;
+    cls_.def(py::init([names, type](const py::kwargs& kw) {
+               auto obj = std::make_unique<T>();
+               if (kw.size() > 0) assign(*obj, kw, *names, type);
+               return obj;
+             }),
+             ("Every field is a keyword argument: " + joined(*names) + ".").c_str());
+    cls_.def("__repr__", [names, type](const py::object& self) {
+      std::string s = type + "(";
+      for (std::size_t i = 0; i < names->size(); ++i)
+        s += (i ? ", " : "") + (*names)[i] + "=" +
+             std::string(py::repr(self.attr((*names)[i].c_str())));
+      return s + ")";
+    });
+    cls_.def("__copy__", [](const T& self) { return T(self); });
+    cls_.def("__deepcopy__", [](const T& self, const py::dict&) { return T(self); },
+             py::arg("memo"));
+    cls_.def(py::pickle(
+        [names](const py::object& self) {
+          py::dict state;
+          for (const auto& n : *names) state[py::str(n)] = self.attr(n.c_str());
+          return state;
+        },
+        [names, type](const py::dict& state) {
+          T obj;
+          assign(obj, state, *names, type);
+          return obj;
+        }));
+  }
+
+ private:
+  template <typename M>
+  Fields& dynamic(const char* name, M T::*member, int ndim, py::ssize_t rows, py::ssize_t cols,
+                  const char* doc) {
+    const std::string qualified = type_ + "." + name;
+    cls_.def_property(
+        name,
+        [member](const T& self) {
+          py::array a = py::cast(M(self.*member));
+          a.attr("setflags")(py::arg("write") = false);
+          return a;
+        },
+        [member, qualified, ndim, rows, cols](T& self, const py::handle& v) {
+          auto a = shaped(v, qualified, ndim, rows, cols);
+          if constexpr (M::ColsAtCompileTime == 1)
+            self.*member = Eigen::Map<const Eigen::VectorXd>(a.data(), a.shape(0));
+          else
+            self.*member =
+                Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic,
+                                               Eigen::RowMajor>>(a.data(), a.shape(0), a.shape(1));
+        },
+        doc);
+    names_->push_back(name);
+    return *this;
+  }
+
+  /// v as a real array with ndim dimensions of the given sizes (< 0: any);
+  /// TypeError or ValueError naming the field.
+  static py::array_t<double, py::array::c_style> shaped(const py::handle& v,
+                                                        const std::string& name, int ndim,
+                                                        py::ssize_t rows, py::ssize_t cols) {
+    const auto size = [](py::ssize_t n, const char* any) {
+      return n < 0 ? std::string(any) : std::to_string(n);
+    };
+    const std::string expected = ndim == 1 ? "(" + size(rows, "n") + ",)"
+                                           : "(" + size(rows, "n") + ", " + size(cols, "m") + ")";
+    auto a = py_args::real_array(v, name.c_str(), expected);
+    const bool ok = a.ndim() == ndim && (rows < 0 || a.shape(0) == rows) &&
+                    (ndim == 1 || cols < 0 || a.shape(1) == cols);
+    if (!ok)
+      throw py::value_error(name + " must have shape " + expected + ", got " +
+                            py_args::shape_string(a));
+    return a;
+  }
+
+  /// v as a D: a bool only from a bool, an integer only from an int, a real
+  /// number from an int or float, a bound type only from itself.
+  template <typename D>
+  static D checked(const py::object& v, const std::string& name) {
+    const auto got = [&] { return type_name(v); };
+    if constexpr (std::is_same_v<D, bool>) {
+      if (!py::isinstance<py::bool_>(v) && got() != "bool_")
+        throw py::type_error(name + " must be a bool, got " + got());
+      return v.cast<bool>();
+    } else if constexpr (std::is_integral_v<D>) {
+      if (py::isinstance<py::bool_>(v) || !py::hasattr(v, "__index__"))
+        throw py::type_error(name + " must be an int, got " + got());
+      const py::int_ i(v);
+      if constexpr (std::is_unsigned_v<D>) {
+        if (i < py::int_(0)) throw py::value_error(name + " must be >= 0, got " + std::string(py::str(i)));
+      }
+      try {
+        return i.cast<D>();
+      } catch (const py::cast_error&) {
+        throw py::value_error(name + " is out of range: " + std::string(py::str(i)));
+      }
+    } else if constexpr (std::is_floating_point_v<D>) {
+      if (py::isinstance<py::bool_>(v) || !py::hasattr(v, "__float__") ||
+          (py::isinstance<py::array>(v) && py::reinterpret_borrow<py::array>(v).ndim() != 0))
+        throw py::type_error(name + " must be a real number, got " + got());
+      return v.cast<D>();
+    } else {
+      // A bound struct or enum (py::enum_ types have no py::type::of in pybind11 3).
+      const py::handle type = py::detail::get_type_handle(typeid(D), true);
+      if (!py::isinstance(v, type))
+        throw py::type_error(name + " must be a " + std::string(py::str(type.attr("__name__"))) +
+                             ", got " + got());
+      return v.cast<D>();
+    }
+  }
+
+  static std::string type_name(const py::handle& v) {
+    return std::string(py::str(py::type::handle_of(v).attr("__name__")));
+  }
+
+  static std::string joined(const std::vector<std::string>& names) {
+    std::string s;
+    for (const auto& n : names) s += (s.empty() ? "" : ", ") + n;
+    return s;
+  }
+
+  /// Sets the fields named in `kw` through their Python setters.
+  static void assign(T& obj, const py::dict& kw, const std::vector<std::string>& names,
+                     const std::string& type) {
+    py::object view = py::cast(&obj, py::return_value_policy::reference);
+    for (const auto& item : kw) {
+      const auto key = py::str(item.first).cast<std::string>();
+      bool known = false;
+      for (const auto& n : names) known = known || n == key;
+      if (!known)
+        throw py::type_error(type + "() got an unexpected keyword argument '" + key +
+                             "'; the fields are " + joined(names));
+      view.attr(item.first) = item.second;
+    }
+  }
+
+  py::class_<T>& cls_;
+  std::string type_;
+  std::shared_ptr<std::vector<std::string>> names_;
+};
+
+}  // namespace neurov::bindings

@@ -1,0 +1,13 @@
+// A SimulationResult as the dict of numpy arrays that run_closed_loop and
+// Simulator.result() return.
+#pragma once
+
+#include <pybind11/pybind11.h>
+
+#include "neurov/sim/result.hpp"
+
+namespace neurov::bindings {
+
+pybind11::dict result_dict(const SimulationResult<double>& r);
+
+}  // namespace neurov::bindings

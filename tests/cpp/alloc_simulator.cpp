@@ -1,0 +1,144 @@
+// The Simulator allocates in create() only: step() and reset() touch no heap,
+// whatever the run holds (noise, every sensor fault, thrusters with failures,
+// current steps, disturbances, logged parameters, refused steps), in float
+// and double.
+//
+// The detectors are in alloc_probe.hpp; the counting global operator new is
+// defined in alloc_foundation.cpp (there may be only one per executable).
+#include "alloc_probe.hpp"
+
+#include <string>
+#include <type_traits>
+
+#include <gtest/gtest.h>
+
+#include "neurov/neurov.hpp"
+
+namespace {
+
+using namespace neurov;
+
+using alloc_probe::watch;
+using alloc_probe::Window;
+
+template <typename S>
+class SimulatorAllocTest : public ::testing::Test {};
+using Scalars = ::testing::Types<float, double>;
+struct ScalarName {
+  template <typename T>
+  static std::string GetName(int) {
+    return std::is_same<T, float>::value ? "float" : "double";
+  }
+};
+TYPED_TEST_SUITE(SimulatorAllocTest, Scalars, ScalarName);
+
+template <typename S>
+SimulationConfig<S> busy_config(RefusedStepPolicy policy) {
+  SimulationConfig<S> c;
+  c.duration = S(30);
+  c.command.times.resize(3);
+  c.command.times << S(0), S(10), S(20);
+  c.command.poses.setZero(3, 6);
+  c.command.poses.row(1) << S(3), S(0), S(1), S(0), S(0), S(0.5);
+  c.command.poses.row(2) << S(3), S(3), S(1), S(0), S(0), S(1.5);
+  c.noise_eta.setConstant(S(0.01));
+  c.noise_nu.setConstant(S(0.005));
+  c.refused_step_policy = policy;
+  SensorFault<S> freeze, dropout, burst;
+  freeze.kind = SensorFaultKind::freeze;
+  freeze.start = S(2);
+  freeze.end = S(4);
+  dropout.kind = SensorFaultKind::dropout;
+  dropout.start = S(6);
+  dropout.end = S(7);
+  burst.kind = SensorFaultKind::noise_burst;
+  burst.start = S(8);
+  burst.end = S(10);
+  burst.noise_eta.setConstant(S(0.1));
+  c.sensor_faults = {freeze, dropout, burst};
+  CurrentStep<S> step;
+  step.time = S(12);
+  step.velocity << S(0.2), S(0), S(0);
+  c.current_steps = {step};
+  c.current_amplitude << S(0.05), S(0), S(0);
+  c.current_period = S(10);
+  SinusoidalDisturbance<S> d;
+  d.amplitude = S(5);
+  d.frequency = S(0.1);
+  c.disturbances = {d};
+  c.use_thrusters = true;
+  const double dir[6][3] = {{1, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+  const double pos[6][3] = {{-0.5, 0.3, 0}, {-0.5, -0.3, 0}, {0.4, 0, 0},
+                            {0.4, 0, 0},    {-0.4, 0.3, 0},  {-0.4, -0.3, 0}};
+  c.thrusters.matrix.resize(6, 6);
+  for (int j = 0; j < 6; ++j) {
+    const Eigen::Vector3d r(pos[j][0], pos[j][1], pos[j][2]), u(dir[j][0], dir[j][1], dir[j][2]);
+    c.thrusters.matrix.col(j) << u.cast<S>(), r.cross(u).cast<S>();
+  }
+  c.thrusters.max_thrust = ThrusterConfig<S>::Vector::Constant(6, S(100));
+  c.thrusters.min_thrust = -c.thrusters.max_thrust;
+  c.thrusters.time_constant = S(0.2);
+  ThrusterFailure<S> f;
+  f.index = 1;
+  f.efficiency = S(0.5);
+  f.time = S(15);
+  c.failures = {f};
+  return c;
+}
+
+/// Runs a whole closed loop (controller, report, simulator step) and a
+/// reset in the watch window.
+template <typename S, typename Controller>
+void expect_run_does_not_allocate(Controller& controller, RefusedStepPolicy policy) {
+  const Vehicle<S> vehicle(nerov_parameters<S>());
+  Eigen::Matrix<S, 1, kMaxLoggedParameters> parameters;
+  const int logged = controller_report<S>(controller, Status::ok, parameters).parameter_count;
+  Simulator<S> sim;
+  ASSERT_TRUE(Simulator<S>::create(vehicle, busy_config<S>(policy), sim, logged).ok());
+  Vector6<S> tau;
+  long refused = 0;
+  Status worst_plant = Status::ok;
+  const Window w = watch([&] {
+    for (int run = 0; run < 2; ++run) {
+      while (!sim.done()) {
+        const Observation<S>& o = sim.observation();
+        const Status cs = controller.step(o.eta, o.nu, o.desired, tau);
+        refused += cs != Status::ok;
+        worst_plant = worst(worst_plant, sim.step(tau, controller_report<S>(controller, cs, parameters)));
+      }
+      // Rejected calls change nothing and allocate nothing either.
+      worst_plant = worst(worst_plant, sim.step(tau, ControllerReport<S>{}) == Status::invalid_argument
+                                           ? Status::ok
+                                           : Status::non_finite_output);
+      sim.reset(static_cast<std::uint64_t>(run + 5));
+      controller.reset();
+    }
+  });
+  EXPECT_EQ(w.new_calls, 0);
+  EXPECT_EQ(w.eigen_failures, 0);
+  EXPECT_EQ(worst_plant, Status::ok);
+  EXPECT_GE(refused, 2 * 5);  // the dropout: 1 s at 5 Hz, in each of the two runs
+}
+
+TYPED_TEST(SimulatorAllocTest, StepAndResetDoNotAllocateWithAPDController) {
+  using S = TypeParam;
+  PDConfig<S> cfg;
+  cfg.kp.setConstant(S(50));
+  cfg.kd.setConstant(S(80));
+  PDController<S> pd;
+  ASSERT_TRUE(PDController<S>::create(cfg, pd).ok());
+  expect_run_does_not_allocate<S>(pd, RefusedStepPolicy::zero);
+  expect_run_does_not_allocate<S>(pd, RefusedStepPolicy::hold);
+}
+
+TYPED_TEST(SimulatorAllocTest, StepAndResetDoNotAllocateWhileLoggingParameters) {
+  using S = TypeParam;
+  LinearAdaptiveConfig<S> cfg;
+  cfg.kd.setConstant(S(50));
+  ASSERT_TRUE(regressor_parameters(nerov_parameters<S>(), cfg.theta0).ok());
+  LinearAdaptiveController<S> linear;
+  ASSERT_TRUE(LinearAdaptiveController<S>::create(cfg, linear).ok());
+  expect_run_does_not_allocate<S>(linear, RefusedStepPolicy::hold);
+}
+
+}  // namespace

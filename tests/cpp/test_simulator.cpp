@@ -1,0 +1,433 @@
+// The Simulator: the plant side of a run as a steppable object, and the
+// closed loop built on it.
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <functional>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "neurov/neurov.hpp"
+#include "test_support.hpp"
+
+namespace {
+
+using namespace neurov;
+using neurov_test::Rng;
+
+template <typename S>
+class SimulatorTest : public ::testing::Test {};
+TYPED_TEST_SUITE(SimulatorTest, neurov_test::Scalars, neurov_test::ScalarName);
+
+/// A square in the horizontal plane with a turn in yaw, 40 s.
+template <typename S>
+SimulationConfig<S> square() {
+  SimulationConfig<S> c;
+  c.duration = S(40);
+  c.command.times.resize(5);
+  c.command.times << S(0), S(10), S(20), S(30), S(40);
+  c.command.poses.setZero(5, 6);
+  c.command.poses.row(1) << S(4), S(0), S(1), S(0), S(0), S(0.5);
+  c.command.poses.row(2) << S(4), S(4), S(1), S(0), S(0), S(1.5);
+  c.command.poses.row(3) << S(0), S(4), S(1), S(0), S(0), S(2.5);
+  c.command.poses.row(4) << S(0), S(0), S(0), S(0), S(0), S(3);
+  return c;
+}
+
+template <typename S>
+ThrusterConfig<S> six_thrusters() {
+  const double pos[6][3] = {{-0.5, 0.3, 0}, {-0.5, -0.3, 0}, {0.4, 0, 0},
+                            {0.4, 0, 0},    {-0.4, 0.3, 0},  {-0.4, -0.3, 0}};
+  const double dir[6][3] = {{1, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+  ThrusterConfig<S> c;
+  c.matrix.resize(6, 6);
+  for (int j = 0; j < 6; ++j) {
+    const Eigen::Vector3d r(pos[j][0], pos[j][1], pos[j][2]), d(dir[j][0], dir[j][1], dir[j][2]);
+    c.matrix.col(j) << d.cast<S>(), r.cross(d).cast<S>();
+  }
+  c.max_thrust = ThrusterConfig<S>::Vector::Constant(6, S(60));
+  c.min_thrust = -c.max_thrust;
+  c.time_constant = S(0.15);
+  return c;
+}
+
+/// The configurations every comparison runs: each adds what the loop can do.
+template <typename S>
+std::vector<std::pair<std::string, SimulationConfig<S>>> configurations() {
+  std::vector<std::pair<std::string, SimulationConfig<S>>> out;
+  out.emplace_back("plain", square<S>());
+
+  SimulationConfig<S> noisy = square<S>();
+  noisy.noise_eta.setConstant(S(0.02));
+  noisy.noise_nu.setConstant(S(0.01));
+  noisy.seed = 7;
+  noisy.command.linear = false;
+  out.emplace_back("noise, held command", noisy);
+
+  SimulationConfig<S> faults = noisy;
+  faults.command.linear = true;
+  SensorFault<S> freeze, dropout, burst;
+  freeze.kind = SensorFaultKind::freeze;
+  freeze.start = S(3);
+  freeze.end = S(5);
+  freeze.nu = false;
+  dropout.kind = SensorFaultKind::dropout;
+  dropout.start = S(9);
+  dropout.end = S(11.1);
+  burst.kind = SensorFaultKind::noise_burst;
+  burst.start = S(15);
+  burst.end = S(19);
+  burst.noise_eta.setConstant(S(0.1));
+  burst.noise_nu.setConstant(S(0.05));
+  faults.sensor_faults = {freeze, dropout, burst};
+  out.emplace_back("sensor faults, refused steps zero", faults);
+  faults.refused_step_policy = RefusedStepPolicy::hold;
+  out.emplace_back("sensor faults, refused steps held", faults);
+
+  SimulationConfig<S> thr = square<S>();
+  thr.use_thrusters = true;
+  thr.thrusters = six_thrusters<S>();
+  ThrusterFailure<S> f1, f2;
+  f1.index = 2;
+  f1.efficiency = S(0.3);
+  f1.time = S(7.05);
+  f2.index = 4;
+  f2.efficiency = S(0);
+  f2.time = S(20);
+  thr.failures = {f1, f2};
+  thr.noise_eta.setConstant(S(0.01));
+  thr.seed = 3;
+  out.emplace_back("thrusters with failures", thr);
+  thr.thrusters.saturation = Saturation::clip;
+  out.emplace_back("thrusters with failures, clipped", thr);
+
+  SimulationConfig<S> sea = square<S>();
+  sea.current << S(0.2), S(-0.1), S(0);
+  sea.current_amplitude << S(0.05), S(0.05), S(0.02);
+  sea.current_period = S(12);
+  CurrentStep<S> c1, c2;
+  c1.time = S(10);
+  c1.velocity << S(-0.3), S(0.1), S(0);
+  c2.time = S(25.5);
+  c2.velocity << S(0), S(0.3), S(0.05);
+  sea.current_steps = {c1, c2};
+  SinusoidalDisturbance<S> d1, d2;
+  d1.dof = 5;
+  d1.amplitude = S(20);
+  d1.frequency = S(0.1);
+  d1.start = S(5);
+  d2.dof = 1;
+  d2.amplitude = S(15);
+  d2.frequency = S(0.05);
+  d2.phase = S(0.4);
+  sea.disturbances = {d1, d2};
+  sea.substeps = 4;
+  sea.eta0 << S(0.5), S(-0.5), S(0.2), S(0.05), S(-0.05), S(0.3);
+  sea.nu0 << S(0.1), S(0), S(0), S(0), S(0), S(0.02);
+  out.emplace_back("current steps and disturbances", sea);
+
+  // A disturbance far beyond what the vehicle can take: the plant diverges.
+  SimulationConfig<S> wild = square<S>();
+  SinusoidalDisturbance<S> huge;
+  huge.dof = 0;
+  huge.amplitude = std::numeric_limits<S>::max() / S(8);
+  huge.frequency = S(0);
+  huge.phase = S(1.5);
+  huge.start = S(4);
+  wild.disturbances = {huge};
+  out.emplace_back("divergence", wild);
+  return out;
+}
+
+template <typename S>
+PDController<S> make_pd() {
+  PDConfig<S> cfg;
+  cfg.kp << S(200), S(200), S(200), S(50), S(50), S(100);
+  cfg.kd << S(300), S(300), S(300), S(60), S(60), S(120);
+  return PDController<S>(cfg);
+}
+
+template <typename S>
+LinearAdaptiveController<S> make_linear() {
+  LinearAdaptiveConfig<S> cfg;
+  cfg.lambda.setConstant(S(0.5));
+  cfg.kd << S(200), S(200), S(200), S(50), S(50), S(100);
+  cfg.gamma.setConstant(S(0.5));
+  ParameterVector<S> theta;
+  EXPECT_TRUE(regressor_parameters(nerov_parameters<S>(), theta).ok());
+  cfg.theta0 = theta * S(0.5);
+  return LinearAdaptiveController<S>(cfg);
+}
+
+template <typename S>
+PIDController<S> make_pid() {
+  PIDConfig<S> cfg;
+  cfg.kp << S(200), S(200), S(200), S(50), S(50), S(100);
+  cfg.ki.setConstant(S(5));
+  cfg.kd << S(300), S(300), S(300), S(60), S(60), S(120);
+  return PIDController<S>(cfg);
+}
+
+template <typename S>
+SlidingModeController<S> make_smc() {
+  SlidingModeConfig<S> cfg;
+  cfg.kd << S(200), S(200), S(200), S(50), S(50), S(100);
+  cfg.k.setConstant(S(10));
+  EXPECT_TRUE(regressor_parameters(nerov_parameters<S>(), cfg.theta).ok());
+  return SlidingModeController<S>(cfg);
+}
+
+template <typename S>
+NNAdaptiveController<S> make_nn() {
+  using Ctl = NNAdaptiveController<S>;
+  constexpr int n = 20;
+  Rng rng(11);
+  typename Ctl::Network::CentreMatrix centres(n, kNNInputs);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < centres.cols(); ++i) centres(j, i) = rng.uniform<S>(-2, 2);
+  typename Ctl::Network net;
+  EXPECT_TRUE(Ctl::Network::create(centres, Ctl::BasisVector::Constant(n, S(2)), net).ok());
+  NNAdaptiveConfig<S> cfg;
+  cfg.lambda.setConstant(S(0.8));
+  cfg.kd << S(200), S(200), S(200), S(50), S(50), S(100);
+  cfg.gamma = S(0.5);
+  cfg.dt = S(0.2);
+  Ctl c;
+  EXPECT_TRUE(Ctl::create(net, cfg, c).ok());
+  return c;
+}
+
+/// Bitwise equality of two arrays (NaN equals NaN of the same bits).
+template <typename A, typename B>
+::testing::AssertionResult same_bits(const char* what, const A& a, const B& b) {
+  if (a.rows() != b.rows() || a.cols() != b.cols())
+    return ::testing::AssertionFailure() << what << ": shape " << a.rows() << "x" << a.cols()
+                                         << " vs " << b.rows() << "x" << b.cols();
+  for (Eigen::Index i = 0; i < a.rows(); ++i)
+    for (Eigen::Index j = 0; j < a.cols(); ++j) {
+      const auto x = a(i, j), y = b(i, j);
+      if (std::memcmp(&x, &y, sizeof x) != 0)
+        return ::testing::AssertionFailure()
+               << what << "(" << i << ", " << j << "): " << +x << " vs " << +y;
+    }
+  return ::testing::AssertionSuccess();
+}
+
+template <typename S>
+void expect_same_run(const SimulationResult<S>& a, const SimulationResult<S>& b,
+                     const std::string& what) {
+  EXPECT_EQ(a.steps, b.steps) << what;
+  EXPECT_EQ(a.diverged, b.diverged) << what;
+  EXPECT_TRUE(same_bits("t", a.t, b.t)) << what;
+  EXPECT_TRUE(same_bits("eta", a.eta, b.eta)) << what;
+  EXPECT_TRUE(same_bits("nu", a.nu, b.nu)) << what;
+  EXPECT_TRUE(same_bits("eta_d", a.eta_d, b.eta_d)) << what;
+  EXPECT_TRUE(same_bits("eta_d_dot", a.eta_d_dot, b.eta_d_dot)) << what;
+  EXPECT_TRUE(same_bits("tau_demanded", a.tau_demanded, b.tau_demanded)) << what;
+  EXPECT_TRUE(same_bits("tau_applied", a.tau_applied, b.tau_applied)) << what;
+  EXPECT_TRUE(same_bits("disturbance", a.disturbance, b.disturbance)) << what;
+  EXPECT_TRUE(same_bits("s", a.s, b.s)) << what;
+  EXPECT_TRUE(same_bits("thrusts", a.thrusts, b.thrusts)) << what;
+  EXPECT_TRUE(same_bits("theta", a.theta, b.theta)) << what;
+  EXPECT_TRUE(same_bits("adaptive_norm", a.adaptive_norm, b.adaptive_norm)) << what;
+  EXPECT_TRUE(same_bits("controller_status", a.controller_status, b.controller_status)) << what;
+  EXPECT_TRUE(same_bits("plant_status", a.plant_status, b.plant_status)) << what;
+  EXPECT_TRUE(same_bits("faults", a.faults, b.faults)) << what;
+}
+
+/// The closed loop written out by hand on the Simulator's public API.
+template <typename S, typename Controller>
+void drive(Simulator<S>& sim, Controller& controller) {
+  Eigen::Matrix<S, 1, kMaxLoggedParameters> parameters;
+  Vector6<S> tau;
+  while (!sim.done()) {
+    const Observation<S>& o = sim.observation();
+    const Status cs = controller.step(o.eta, o.nu, o.desired, tau);
+    sim.step(tau, controller_report<S>(controller, cs, parameters));
+  }
+}
+
+/// simulate() and a run stepped by hand agree, and reset() replays the run.
+template <typename S, typename Make>
+void expect_stepped_run_is_simulate(Make make, const char* name) {
+  const Vehicle<S> vehicle(nerov_parameters<S>());
+  for (const auto& [label, cfg] : configurations<S>()) {
+    const std::string what = std::string(name) + ", " + label;
+    auto c1 = make();
+    auto c2 = make();
+    SimulationResult<S> whole;
+    ASSERT_TRUE(simulate(vehicle, c1, cfg, whole).ok()) << what;
+    Simulator<S> sim;
+    Eigen::Matrix<S, 1, kMaxLoggedParameters> buffer;
+    const int logged = controller_report<S>(c2, Status::ok, buffer).parameter_count;
+    ASSERT_TRUE(Simulator<S>::create(vehicle, cfg, sim, logged).ok()) << what;
+    drive(sim, c2);
+    expect_same_run(sim.result(), whole, what);
+    sim.reset();
+    c2.reset();
+    drive(sim, c2);
+    expect_same_run(sim.result(), whole, what + ", after reset()");
+  }
+}
+
+TYPED_TEST(SimulatorTest, ARunSteppedByHandIsTheClosedLoop) {
+  using S = TypeParam;
+  expect_stepped_run_is_simulate<S>(make_pd<S>, "pd");
+  expect_stepped_run_is_simulate<S>(make_linear<S>, "linear");
+  expect_stepped_run_is_simulate<S>(make_nn<S>, "nn");
+}
+
+// An independent reference for the timing: with no noise, no thrusters and a
+// force that depends on t only, row k is rk4_step applied substeps times from
+// row k-1 with the force plus the disturbance at each substep, and eta_d is a
+// ReferenceModel stepped at dt with the command at t_k.
+TYPED_TEST(SimulatorTest, RowsFollowTheZeroOrderHoldAndRk4Substeps) {
+  using S = TypeParam;
+  const Vehicle<S> vehicle(nerov_parameters<S>());
+  SimulationConfig<S> cfg = configurations<S>()[6].second;  // current steps and disturbances
+  ASSERT_EQ(configurations<S>()[6].first, "current steps and disturbances");
+  cfg.duration = S(12);
+  Simulator<S> sim;
+  ASSERT_TRUE(Simulator<S>::create(vehicle, cfg, sim).ok());
+  auto force = [](S t) {
+    Vector6<S> f;
+    f << S(40) * std::sin(t), S(-20), S(10) * std::cos(t / S(3)), S(0), S(1), S(-2) * t;
+    return f;
+  };
+  ReferenceModel<S> reference(cfg.lambda_d, cfg.omega, cfg.eta0);
+  DesiredState<S> desired = reference.desired();
+  Vector6<S> eta = cfg.eta0, nu = cfg.nu0;
+  const S h = cfg.dt / S(cfg.substeps);
+  const S two_pi = S(6.283185307179586);
+  while (!sim.done()) {
+    const Eigen::Index k = sim.steps();
+    const S t = S(k) * cfg.dt;
+    EXPECT_EQ(sim.observation().t, t);
+    EXPECT_EQ(sim.observation().eta, eta) << "k = " << k;  // no noise: the true state
+    EXPECT_EQ(sim.observation().desired.eta_d, desired.eta_d) << "k = " << k;
+    EXPECT_EQ(sim.observation().desired.eta_d_ddot, desired.eta_d_ddot) << "k = " << k;
+    ASSERT_EQ(sim.step(force(t), ControllerReport<S>{}), Status::ok);
+    for (int j = 0; j < cfg.substeps; ++j) {
+      const S ts = t + S(j) * h;
+      Vector6<S> d = Vector6<S>::Zero();
+      for (const auto& dist : cfg.disturbances)
+        if (ts >= dist.start)
+          d(dist.dof) +=
+              dist.amplitude * std::sin(two_pi * dist.frequency * (ts - dist.start) + dist.phase);
+      Vector3<S> current = cfg.current;
+      for (const auto& step : cfg.current_steps)
+        if (ts >= step.time) current = step.velocity;
+      current += cfg.current_amplitude * std::sin(two_pi * ts / cfg.current_period);
+      ASSERT_EQ(rk4_step(vehicle, eta, nu, Vector6<S>(force(t) + d), h, current), Status::ok);
+    }
+    reference.step(cfg.command.at(t), cfg.dt, desired);
+    EXPECT_EQ(sim.eta(), eta) << "k = " << k;
+    EXPECT_EQ(sim.nu(), nu) << "k = " << k;
+  }
+  EXPECT_EQ(sim.steps(), 61);
+  const SimulationResult<S> r = sim.result();
+  EXPECT_EQ(r.steps, 61);
+  EXPECT_EQ(r.tau_demanded.row(60).transpose(), force(S(60) * cfg.dt));
+  EXPECT_EQ(r.tau_applied.row(60), r.tau_demanded.row(60));
+}
+
+TYPED_TEST(SimulatorTest, RejectedCallsChangeNothing) {
+  using S = TypeParam;
+  const Vehicle<S> vehicle(nerov_parameters<S>());
+  SimulationConfig<S> cfg = configurations<S>()[1].second;  // noise
+  cfg.duration = S(1);
+  Simulator<S> sim;
+  ASSERT_TRUE(Simulator<S>::create(vehicle, cfg, sim, 2).ok());
+  const S theta[2] = {S(1), S(2)};
+  ControllerReport<S> good;
+  good.parameters = theta;
+  good.parameter_count = 2;
+  ASSERT_EQ(sim.step(Vector6<S>::Ones(), good), Status::ok);
+  const Observation<S> before = sim.observation();
+  const Vector6<S> eta = sim.eta();
+
+  ControllerReport<S> wrong_count = good;
+  wrong_count.parameter_count = 1;
+  EXPECT_EQ(sim.step(Vector6<S>::Ones(), wrong_count), Status::invalid_argument);
+  ControllerReport<S> no_parameters = good;
+  no_parameters.parameters = nullptr;
+  EXPECT_EQ(sim.step(Vector6<S>::Ones(), no_parameters), Status::invalid_argument);
+  Vector6<S> nan_tau = Vector6<S>::Ones();
+  nan_tau(2) = std::numeric_limits<S>::quiet_NaN();
+  EXPECT_EQ(sim.step(nan_tau, good), Status::non_finite_input);
+  EXPECT_EQ(sim.steps(), 1);
+  EXPECT_EQ(sim.eta(), eta);
+  EXPECT_EQ(sim.observation().eta, before.eta);
+
+  // A refused step's force is not applied, NaN or not: the policy decides.
+  ControllerReport<S> refused = good;
+  refused.status = Status::non_finite_input;
+  EXPECT_EQ(sim.step(nan_tau, refused), Status::ok);
+  EXPECT_EQ(sim.steps(), 2);
+  while (!sim.done()) sim.step(Vector6<S>::Zero(), good);
+  const SimulationResult<S> full = sim.result();
+  EXPECT_EQ(full.steps, 6);
+  EXPECT_TRUE(full.tau_demanded.row(1).isZero(S(0)));
+  EXPECT_EQ(full.controller_status(1), static_cast<std::uint8_t>(Status::non_finite_input));
+  EXPECT_EQ(full.theta(3, 1), S(2));
+  EXPECT_EQ(sim.step(Vector6<S>::Zero(), good), Status::invalid_argument);
+  expect_same_run(sim.result(), full, "after done");
+
+  Simulator<S> empty;
+  EXPECT_TRUE(empty.done());
+  EXPECT_EQ(empty.step(Vector6<S>::Zero(), ControllerReport<S>{}), Status::invalid_argument);
+  EXPECT_STREQ(Simulator<S>::create(vehicle, cfg, sim, -1).field, "logged_parameters");
+  EXPECT_STREQ(Simulator<S>::create(Vehicle<S>{}, cfg, sim).field, "vehicle");
+  EXPECT_EQ(sim.steps(), 6);  // a failed create leaves the simulator as it was
+}
+
+TYPED_TEST(SimulatorTest, ANewSeedChangesTheNoiseOnly) {
+  using S = TypeParam;
+  const Vehicle<S> vehicle(nerov_parameters<S>());
+  const SimulationConfig<S> cfg = configurations<S>()[1].second;  // noise
+  Simulator<S> sim;
+  ASSERT_TRUE(Simulator<S>::create(vehicle, cfg, sim).ok());
+  auto c = make_pd<S>();
+  drive(sim, c);
+  const SimulationResult<S> first = sim.result();
+  sim.reset(cfg.seed + 1);
+  c.reset();
+  drive(sim, c);
+  const SimulationResult<S> second = sim.result();
+  EXPECT_EQ(first.eta.row(0), second.eta.row(0));
+  EXPECT_NE(first.eta.row(5), second.eta.row(5));
+  EXPECT_NE(first.tau_demanded.row(0), second.tau_demanded.row(0));  // measured with other noise
+  EXPECT_EQ(first.eta_d, second.eta_d);  // the reference does not see the noise
+}
+
+// The configurations above exercise what they claim to: otherwise the
+// comparison would prove little.
+TYPED_TEST(SimulatorTest, ComparisonConfigurationsReachTheirFeatures) {
+  using S = TypeParam;
+  const Vehicle<S> vehicle(nerov_parameters<S>());
+  for (const auto& [label, cfg] : configurations<S>()) {
+    auto c = make_pd<S>();
+    SimulationResult<S> r;
+    ASSERT_TRUE(simulate(vehicle, c, cfg, r).ok()) << label;
+    std::uint8_t bits = 0;
+    for (Eigen::Index k = 0; k < r.steps; ++k) bits |= r.faults(k);
+    if (!cfg.sensor_faults.empty()) {
+      EXPECT_EQ(bits & (fault_bits::freeze | fault_bits::dropout | fault_bits::noise_burst),
+                fault_bits::freeze | fault_bits::dropout | fault_bits::noise_burst)
+          << label;
+      EXPECT_GT((r.controller_status.array() != 0).count(), 5) << label;
+    }
+    if (!cfg.failures.empty()) {
+      EXPECT_TRUE(bits & fault_bits::thruster) << label;
+    }
+    EXPECT_EQ(r.diverged, label == std::string("divergence")) << label;
+    if (r.diverged) {
+      EXPECT_LT(r.steps, 40) << label;
+    }
+  }
+}
+
+}  // namespace

@@ -1,0 +1,105 @@
+"""Files that are not files (docs/reliability.md): a scenario, study or vehicle
+path naming a device, a FIFO, a directory, a file too large or not UTF-8 gets
+an error naming the file, without reading without bound or blocking."""
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+import pytest
+
+from neurov import cli, files
+from neurov.scenario import ScenarioError, load_scenario
+from neurov.study import StudyError, load_study
+from neurov.vehicle_file import VehicleFileError, load_thrusters, load_vehicle_parameters
+
+LOADERS = [
+    pytest.param(load_scenario, ScenarioError, id="scenario"),
+    pytest.param(load_study, StudyError, id="study"),
+    pytest.param(load_vehicle_parameters, VehicleFileError, id="vehicle"),
+    pytest.param(load_thrusters, VehicleFileError, id="vehicle-thrusters"),
+]
+
+posix_only = pytest.mark.skipif(sys.platform == "win32", reason="device files and FIFOs are POSIX")
+
+
+@pytest.mark.parametrize(("load", "error"), LOADERS)
+def test_directory_is_named_as_such(tmp_path: Path, load, error) -> None:
+    folder = tmp_path / "a_folder.toml"
+    folder.mkdir()
+    with pytest.raises(error, match="is a directory") as err:
+        load(folder)
+    assert str(folder) in str(err.value)
+
+
+@posix_only
+@pytest.mark.parametrize(("load", "error"), LOADERS)
+def test_fifo_is_refused_without_blocking(tmp_path: Path, load, error) -> None:
+    fifo = tmp_path / "pipe.toml"
+    os.mkfifo(fifo)  # no writer: a plain open() would block for ever
+    with pytest.raises(error, match="FIFO") as err:
+        load(fifo)
+    assert str(fifo) in str(err.value)
+
+
+@posix_only
+@pytest.mark.parametrize(("load", "error"), LOADERS)
+def test_endless_device_is_refused_without_reading(tmp_path: Path, load, error) -> None:
+    device = tmp_path / "device.toml"  # a .toml name, so a study is not looked up by name
+    device.symlink_to("/dev/zero")
+    with pytest.raises(error, match="character device") as err:
+        load(device)
+    assert str(device) in str(err.value)
+
+
+@pytest.mark.parametrize(("load", "error"), LOADERS)
+def test_file_over_the_limit_is_refused(tmp_path: Path, load, error) -> None:
+    big = tmp_path / "big.toml"
+    with big.open("wb") as f:
+        f.truncate(files.MAX_FILE_BYTES + 1)  # sparse: no 4 MiB written
+    with pytest.raises(error, match=f"larger than {files.MAX_FILE_BYTES} bytes") as err:
+        load(big)
+    assert str(big) in str(err.value)
+
+
+def test_file_at_the_limit_is_read(tmp_path: Path) -> None:
+    exact = tmp_path / "exact.toml"
+    exact.write_bytes(b"a = 1\n" + b" " * (files.MAX_FILE_BYTES - 6))
+    assert files.read_text(exact).startswith("a = 1\n")
+    assert len(files.read_text(exact)) == files.MAX_FILE_BYTES
+
+
+@pytest.mark.parametrize(("load", "error"), LOADERS)
+def test_non_utf8_file_names_the_file_and_the_byte(tmp_path: Path, load, error) -> None:
+    latin1 = tmp_path / "latin1.toml"
+    latin1.write_bytes('name = "caf\u00e9"\n'.encode("latin-1"))
+    with pytest.raises(error, match=r"not UTF-8 text \(byte 0xe9 at offset 11\)") as err:
+        load(latin1)
+    assert str(latin1) in str(err.value)
+
+
+@posix_only
+def test_unreadable_file_names_the_file(tmp_path: Path) -> None:
+    if os.geteuid() == 0:
+        pytest.skip("root reads every file")
+    secret = tmp_path / "secret.toml"
+    secret.write_text("a = 1\n")
+    secret.chmod(0)
+    with pytest.raises(ScenarioError, match="cannot open") as err:
+        load_scenario(secret)
+    assert str(secret) in str(err.value)
+
+
+def test_missing_file_is_still_worded_by_the_loader(tmp_path: Path) -> None:
+    with pytest.raises(ScenarioError, match="no such scenario file"):
+        load_scenario(tmp_path / "nowhere.toml")
+    with pytest.raises(FileNotFoundError):
+        files.read_text(tmp_path / "nowhere.toml")
+
+
+@posix_only
+def test_cli_run_on_dev_zero_fails_at_once_naming_it(capsys: pytest.CaptureFixture[str]) -> None:
+    assert cli.main(["run", "/dev/zero"]) == 1
+    err = capsys.readouterr().err
+    assert "/dev/zero" in err and "character device" in err
