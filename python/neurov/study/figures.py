@@ -13,6 +13,7 @@ from types import ModuleType
 import pandas as pd
 
 from neurov.progress import progress_bar
+from neurov.scenario import Scenario
 from neurov.study.log import Record
 from neurov.study.spec import Study
 
@@ -45,12 +46,19 @@ def _figures(study: Study, table: pd.DataFrame, records: Mapping[tuple[str, str,
             _digest("boxes", study.name, study.samples, labels, [s.name for s in study.scenarios],
                     shown.to_csv(index=False)),
             lambda path: _plots().plot_boxes(study, table, path))]
+    bands: list = []  # one figure object for every band plot, built at the first one drawn
+
+    def draw_bands(path: Path, scenario: Scenario) -> Path:
+        if not bands:
+            bands.append(_plots().BandPlotter(study))
+        return bands[0].draw(records, scenario, path)
+
     for s in study.scenarios:
         series = [records[(s.name, c, k)]["series"] for c in study.controllers for k in range(study.samples)
                   if (s.name, c, k) in records]
         out.append((f"error_bands_{s.name}.png",
                     _digest("bands", s.name, study.samples, study.after, labels, series),
-                    lambda path, s=s: _plots().plot_bands(study, records, s, path)))
+                    lambda path, s=s: draw_bands(path, s)))
     return out
 
 
