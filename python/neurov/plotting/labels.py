@@ -44,7 +44,7 @@ METRIC_LABELS: dict[str, str] = {
     "final_adaptive_norm": "final norm of the adapted parameters [mixed units]",
     "max_adaptive_norm": "max norm of the adapted parameters [mixed units]",
     "refused_steps": "refused control steps [count]",
-    "diverged": "diverged [0 or 1]",
+    "diverged": "run diverged [0 or 1]",
 }
 
 

@@ -21,7 +21,7 @@ if TYPE_CHECKING:
 
 from neurov.plotting.labels import metric_label
 
-__all__ = ["FEW_SAMPLES", "BandPlotter", "plot_bands", "plot_boxes"]
+__all__ = ["FEW_SAMPLES", "BandPlotter", "box_figure", "plot_bands", "plot_boxes"]
 
 
 #: Below this many finite values a box (quartiles, 5th-95th percentile
@@ -36,6 +36,12 @@ def _spread(n: int) -> np.ndarray:
 
 
 def plot_boxes(study: Study, table: pd.DataFrame, path: Path) -> Path:
+    """Draws :func:`box_figure` into `path`."""
+    box_figure(study, table).savefig(path, dpi=110)
+    return path
+
+
+def box_figure(study: Study, table: pd.DataFrame) -> Figure:
     """The ranking metric per controller, one panel per scenario: a box
     (quartiles, whiskers 5th-95th percentile) where a controller has at least
     :data:`FEW_SAMPLES` finite runs, each run as a point (with a median tick
@@ -96,8 +102,7 @@ def plot_boxes(study: Study, table: pd.DataFrame, path: Path) -> Path:
         how.append(f"points: each run (under {FEW_SAMPLES} per controller)"
                    + (", bar: median" if any_median else ""))
     fig.suptitle(f"{study.name}: {label} over {study.samples} sample(s); " + "; ".join(how))
-    fig.savefig(path, dpi=110)
-    return path
+    return fig
 
 
 def _fixed_positions(ax: Any) -> None:
