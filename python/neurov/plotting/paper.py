@@ -90,5 +90,6 @@ def figure_yaw(runs: list[Result], caption: str | None = None) -> Figure:
     d = runs[0].scenario.disturbances[0]
     ax_yaw.set_title(f"Yaw disturbance {d.amplitude:g} N m at {d.frequency:g} Hz")
     if caption:
-        fig.supxlabel(caption, fontsize=9)
+        # One clause a line: a caption one figure wide would break inside a number.
+        fig.supxlabel(caption.replace("; ", ";\n"), fontsize=9)
     return fig

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
-from matplotlib.ticker import NullLocator
+from matplotlib.ticker import LogFormatter, NullLocator
 
 if TYPE_CHECKING:
     from neurov.scenario import Scenario
@@ -41,58 +41,84 @@ def plot_boxes(study: Study, table: pd.DataFrame, path: Path) -> Path:
     return path
 
 
+class _PlainLog(LogFormatter):
+    """Log-axis tick labels as plain numbers (0.3, not 3e-01), choosing which
+    ticks to label as matplotlib's own log formatter does."""
+
+    def _num_to_string(self, x: float, vmin: float, vmax: float) -> str:
+        return f"{x:g}"
+
+
 def box_figure(study: Study, table: pd.DataFrame) -> Figure:
     """The ranking metric per controller, one panel per scenario: a box
     (quartiles, whiskers 5th-95th percentile) where a controller has at least
     :data:`FEW_SAMPLES` finite runs, each run as a point (with a median tick
-    when there are two or more) where it has fewer."""
+    when there are two or more) where it has fewer. Every panel puts each
+    controller at the same place, named under the bottom panel of each
+    column."""
     metric = study.ranking_metric
     n = len(study.scenarios)
     cols = min(3, n)
     nrows = math.ceil(n / cols)
-    fig = Figure(figsize=(4.8 * cols, 3.6 * nrows), layout="constrained")
-    axes = fig.subplots(nrows, cols, squeeze=False)
+    # Fixed margins [in], room for the slanted controller names at the bottom:
+    # a layout engine measures every label of every panel, several times.
+    width, height = 4.8 * cols, 2.7 * nrows + 2.4
+    fig = Figure(figsize=(width, height))
+    fig.subplots_adjust(left=0.9 / width, right=1 - 0.2 / width, bottom=1.9 / height,
+                        top=1 - 1.0 / height, wspace=0.3, hspace=0.35)
+    axes = fig.subplots(nrows, cols, squeeze=False, sharex=True)
     groups = {key: g[metric].to_numpy(dtype=np.float64)
               for key, g in table.groupby(["scenario", "controller"], sort=False)}
     label = metric_label(metric)
+    names = [study.label(c) for c in study.controllers]
     any_box = any_points = any_median = False
-    for ax, s in zip(axes.flat, study.scenarios):
-        data, labels, failures = [], [], []
-        for c in study.controllers:
+    for k, (ax, s) in enumerate(zip(axes.flat, study.scenarios)):
+        data: dict[int, np.ndarray] = {}
+        failures: dict[int, int] = {}
+        for i, c in enumerate(study.controllers):
             vals = groups.get((s.name, c))
             if vals is None or not len(vals):
                 continue
-            finite = vals[np.isfinite(vals)]
-            data.append(finite)
-            labels.append(study.label(c))
-            failures.append(len(vals) - len(finite))
-        boxed = [i for i, d in enumerate(data) if len(d) >= FEW_SAMPLES]
+            data[i + 1] = vals[np.isfinite(vals)]
+            failures[i + 1] = len(vals) - len(data[i + 1])
+        boxed = [x for x, d in data.items() if len(d) >= FEW_SAMPLES]
         if boxed:
-            ax.boxplot([data[i] for i in boxed], positions=[i + 1 for i in boxed], whis=(5, 95),
-                       showfliers=True)
+            ax.boxplot([data[x] for x in boxed], positions=boxed, whis=(5, 95), showfliers=True,
+                       manage_ticks=False)
             any_box = True
-        few = [i for i, d in enumerate(data) if 0 < len(d) < FEW_SAMPLES]
+        few = [x for x, d in data.items() if 0 < len(d) < FEW_SAMPLES]
         if few:
-            x = np.concatenate([i + 1 + _spread(len(data[i])) for i in few])
-            y = np.concatenate([data[i] for i in few])
-            ax.scatter(x, y, s=14, color="C0", alpha=0.8, zorder=3, gid="samples")
-            ticks = [i for i in few if len(data[i]) > 1]
+            ax.scatter(np.concatenate([x + _spread(len(data[x])) for x in few]),
+                       np.concatenate([data[x] for x in few]), s=14, color="C0", alpha=0.8, zorder=3,
+                       gid="samples")
+            ticks = [x for x in few if len(data[x]) > 1]
             if ticks:
-                ax.hlines([float(np.median(data[i])) for i in ticks], [i + 0.7 for i in ticks],
-                          [i + 1.3 for i in ticks], color="C1", lw=1.5, zorder=4, gid="median")
+                ax.hlines([float(np.median(data[x])) for x in ticks], [x - 0.3 for x in ticks],
+                          [x + 0.3 for x in ticks], color="C1", lw=1.5, zorder=4, gid="median")
                 any_median = True
             any_points = True
-        ax.set_xlim(0.5, len(labels) + 0.5)
-        ax.set_xticks(range(1, len(labels) + 1), labels, rotation=40, ha="right", fontsize=8)
-        if all(v > 0 for d in data for v in d):
+        if data and all(v > 0 for d in data.values() for v in d):
             ax.set_yscale("log")
-        for i, nf in enumerate(failures):
+            # Plain numbers (0.3, not 3 x 10^-1): narrower, so the label beside them fits.
+            ax.yaxis.set_major_formatter(_PlainLog())
+            ax.yaxis.set_minor_formatter(_PlainLog(labelOnlyBase=False, minor_thresholds=(1, 0.4)))
+        for x, nf in failures.items():
             if nf:
-                ax.annotate(f"{nf} not finite", (i + 1, 1.0), xycoords=("data", "axes fraction"),
+                ax.annotate(f"{nf} not finite", (x, 1.0), xycoords=("data", "axes fraction"),
                             ha="center", va="top", fontsize=7, color="C3")
-        ax.set_title(s.name, fontsize=10)
+        ax.set_title(s.name, fontsize=10, y=1.0)
         ax.set_ylabel(label, fontsize=8)
+        ax.yaxis.set_label_coords(-0.13, 0.5)
         ax.grid(True, axis="y", alpha=0.3)
+        ax.tick_params(which="both", labelsize=7)
+        # The bottom panel of each column, even above an empty cell of the last row.
+        if k + cols >= n:
+            ax.xaxis.set_tick_params(labelbottom=True)
+    axes[0, 0].set_xlim(0.5, len(names) + 0.5)
+    axes[0, 0].set_xticks(range(1, len(names) + 1), names)
+    for ax in axes.flat:
+        for t in ax.get_xticklabels():
+            t.set(rotation=40, ha="right", fontsize=8)
     for ax in list(axes.flat)[n:]:
         ax.set_visible(False)
     how = []
