@@ -102,10 +102,10 @@ def box_figure(study: Study, table: pd.DataFrame) -> Figure:
             # Plain numbers (0.3, not 3 x 10^-1): narrower, so the label beside them fits.
             ax.yaxis.set_major_formatter(_PlainLog())
             ax.yaxis.set_minor_formatter(_PlainLog(labelOnlyBase=False, minor_thresholds=(1, 0.4)))
-        for x, nf in failures.items():
-            if nf:
-                ax.annotate(f"{nf} not finite", (x, 1.0), xycoords=("data", "axes fraction"),
-                            ha="center", va="top", fontsize=7, color="C3")
+        # Alternately high and low: neighbours' notes would overlap.
+        for j, x in enumerate(x for x, nf in failures.items() if nf):
+            ax.annotate(f"{failures[x]} not finite", (x, 1.0 - 0.07 * (j % 2)),
+                        xycoords=("data", "axes fraction"), ha="center", va="top", fontsize=7, color="C3")
         ax.set_title(s.name, fontsize=10, y=1.0)
         ax.set_ylabel(label, fontsize=8)
         ax.yaxis.set_label_coords(-0.13, 0.5)
@@ -189,7 +189,7 @@ class BandPlotter:
         self.fig = fig = Figure(figsize=(width, height))
         # Fixed margins [in] instead of a layout engine: laid out once, not per figure.
         fig.subplots_adjust(left=0.75 / width, right=1 - 0.2 / width, bottom=0.55 / height,
-                            top=1 - 0.6 / height, wspace=0.12, hspace=0.3)
+                            top=1 - 0.6 / height, wspace=0.12, hspace=0.22)
         axes = fig.subplots(rows, cols, squeeze=False, sharex=True, sharey=True)
         self.axes = dict(zip(names, axes.flat))
         for ax in list(axes.flat)[len(names):]:
