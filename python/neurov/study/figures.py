@@ -20,12 +20,16 @@ from neurov.study.spec import Study
 __all__ = ["FIGURE_STATE", "draw_figures"]
 
 FIGURE_STATE = "figures.json"
+#: Part of every figure's digest: raised when the drawing changes within a
+#: release, so that a study folder drawn by the old code is redrawn.
+#: 2: few samples as points, metric labels in words, fixed layouts.
+FIGURE_STYLE = 2
 
 
 def _digest(*parts: object) -> str:
     from neurov import __version__
 
-    text = json.dumps([__version__, *parts], sort_keys=True, default=str)
+    text = json.dumps([__version__, FIGURE_STYLE, *parts], sort_keys=True, default=str)
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
