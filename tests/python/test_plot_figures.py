@@ -224,3 +224,27 @@ def test_one_band_figure_object_draws_each_scenario_as_a_fresh_one_would(tmp_pat
     BandPlotter(study).draw(records, second, tmp_path / "fresh.png")
     assert (tmp_path / "reused.png").read_bytes() == (tmp_path / "fresh.png").read_bytes()
     _assert_units(reused.fig)
+
+
+def test_grey_curves_break_at_gaps_as_a_line_would() -> None:
+    from neurov.plotting.study import _finite_runs
+
+    t = np.arange(8.0)
+    y = np.array([1.0, 2.0, np.nan, 3.0, np.nan, 4.0, 5.0, 6.0])
+    runs = _finite_runs(t, y)
+    # The lone point at t = 3 draws nothing, as in a Line2D.
+    assert [r.tolist() for r in runs] == [[[0, 1], [1, 2]], [[5, 4], [6, 5], [7, 6]]]
+    assert _finite_runs(t, np.full(8, np.nan)) == []
+
+
+def test_band_panels_hold_every_other_controller_in_grey(tmp_path: Path) -> None:
+    study, _ = _study_table(samples=3)
+    scenario = study.scenarios[0]  # type: ignore[attr-defined]
+    records = _records(study, scenario.name, 1.0)
+    plotter = BandPlotter(study)
+    plotter.draw(records, scenario, tmp_path / "bands.png")
+    n = len(study.controllers)  # type: ignore[attr-defined]
+    for c, grey in plotter.others.items():
+        assert len(grey.get_segments()) == n - 1
+        median = plotter.median[c].get_ydata()
+        assert not any(np.array_equal(seg[:, 1], median) for seg in grey.get_segments())

@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pandas as pd
+from matplotlib.collections import LineCollection
 from matplotlib.figure import Figure
 from matplotlib.ticker import LogFormatter, NullLocator
 
@@ -174,6 +175,14 @@ def _curves(study: Study, records: Mapping[tuple[str, str, int], Mapping[str, An
     return out
 
 
+def _finite_runs(t: np.ndarray, y: np.ndarray) -> list[np.ndarray]:
+    """The stretches of the curve (t, y) between its gaps (nan), as (k, 2)
+    arrays: a collection does not break a line at a nan as a Line2D does."""
+    ok = np.isfinite(y)
+    edges = np.flatnonzero(np.diff(np.concatenate([[False], ok, [False]]).astype(np.int8)))
+    return [np.column_stack([t[a:b], y[a:b]]) for a, b in zip(edges[::2], edges[1::2]) if b - a > 1]
+
+
 class BandPlotter:
     """A study's error-band figures, one per scenario: position error over
     time, one panel per controller, its median over the samples with the
@@ -198,11 +207,13 @@ class BandPlotter:
         self.axes = dict(zip(names, axes.flat))
         for ax in list(axes.flat)[len(names):]:
             ax.set_visible(False)
-        self.others: dict[str, dict[str, Any]] = {}
+        self.others: dict[str, LineCollection] = {}
         self.median: dict[str, Any] = {}
         self.band: dict[str, Any] = {}
         for i, (c, ax) in enumerate(self.axes.items()):
-            self.others[c] = {o: ax.plot([], [], color="0.8", lw=0.6)[0] for o in names if o != c}
+            # One artist for the nine or so grey lines: drawn per artist, not per point.
+            self.others[c] = ax.add_collection(LineCollection([], colors="0.8", linewidths=0.6),
+                                               autolim=False)
             self.median[c] = ax.plot([], [], color=_colour(i), lw=1.2, gid="median")[0]
             ax.axvline(study.after, color="0.5", lw=0.6, ls=":")
             _fixed_positions(ax)
@@ -230,8 +241,8 @@ class BandPlotter:
             ax.set_visible(c in curves)
             if c not in curves:
                 continue
-            for other, line in self.others[c].items():
-                line.set_data(*curves[other][:2]) if other in curves else line.set_data([], [])
+            self.others[c].set_segments([seg for other, m in curves.items() if other != c
+                                         for seg in _finite_runs(m[0], m[1])])
             t, med, lo, hi = curves[c]
             self.median[c].set_data(t, med)
             if study.samples > 1:
