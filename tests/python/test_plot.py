@@ -51,7 +51,7 @@ def test_xy_path(runs: list[Result]) -> None:
     assert "east" in ax.get_xlabel() and "[m]" in ax.get_xlabel()
     assert "north" in ax.get_ylabel() and "[m]" in ax.get_ylabel()
     assert ax.get_title() == "square"
-    assert len(ax.collections) == 2  # start markers
+    assert len(ax.collections) == 3  # where the desired path and each run start
 
 
 def test_xy_path_single_result_and_labels(runs: list[Result]) -> None:
@@ -111,7 +111,7 @@ def test_control_inputs_marks_a_failure() -> None:
     fig = plot.control_inputs(simulate(failing, PD))
     thrusts = fig.axes[2]
     assert len(thrusts.lines) == 6 + 2 + 1
-    assert any(t.get_text() == "T2 fails" for t in thrusts.texts)
+    assert any(t.get_text() == "T3 fails" for t in thrusts.texts)  # index 2 is the third thruster
 
 
 def test_control_inputs_without_thrusters(no_thrusters: Result) -> None:

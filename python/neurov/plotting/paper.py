@@ -3,6 +3,8 @@
 Built as :class:`matplotlib.figure.Figure` directly (no ``pyplot``), like the
 run plots in :mod:`neurov.plotting.runs`; the line styles follow the paper's:
 the desired path solid black, the controllers dashed, dash-dot and dotted.
+Every axis carries its unit; the X-Y paths show where they start and which
+way they go; thrusters are T1 to Tn (:mod:`neurov.plotting.labels`).
 """
 
 from __future__ import annotations
@@ -12,6 +14,8 @@ from typing import Any
 import numpy as np
 from matplotlib.figure import Figure
 
+from neurov.plotting.labels import thruster_label
+from neurov.plotting.paths import mark_start_and_direction
 from neurov.simulation import Result
 
 __all__ = ["figure_inputs", "figure_xy", "figure_yaw"]
@@ -23,6 +27,7 @@ _STYLES = ({"linestyle": "--", "color": "tab:blue"}, {"linestyle": "-.", "color"
 
 def _xy(ax: Any, runs: list[Result]) -> None:
     ax.plot(runs[0].eta_d[:, 1], runs[0].eta_d[:, 0], label="desired", **_DESIRED)
+    mark_start_and_direction(ax, runs[0].eta_d[:, 1], runs[0].eta_d[:, 0])
     for r, st in zip(runs, _STYLES):
         ax.plot(r.eta[:, 1], r.eta[:, 0], label=r.controller, **st)
     ax.set_xlabel("Y (east) [m]")
@@ -41,28 +46,37 @@ def figure_xy(runs: list[Result], title: str) -> Figure:
 
 
 def figure_inputs(run: Result) -> Figure:
+    """Fig. 4: the demanded forces [N] and moments [N m] on separate axes,
+    then each thruster's thrust [N] when the run used thrusters."""
     has_thrusts = run.thrusts.shape[1] > 0
-    fig = Figure(figsize=(8.0, 6.5 if has_thrusts else 4.0), layout="constrained")
-    axes = fig.subplots(2 if has_thrusts else 1, 1, sharex=True, squeeze=False)[:, 0]
-    names = ("X [N]", "Y [N]", "Z [N]", "K [N m]", "M [N m]", "N [N m]")
-    for i, n in enumerate(names):
-        axes[0].plot(run.t, run.tau_demanded[:, i], label=n, linewidth=1.0)
-    axes[0].set_ylabel("tau demanded")
+    panels = 3 if has_thrusts else 2
+    fig = Figure(figsize=(8.0, 2.3 * panels + 0.6), layout="constrained")
+    axes = fig.subplots(panels, 1, sharex=True, squeeze=False)[:, 0]
+    for ax, dofs, names, what in (
+        (axes[0], range(0, 3), ("X (surge)", "Y (sway)", "Z (heave)"), "force demanded [N]"),
+        (axes[1], range(3, 6), ("K (roll)", "M (pitch)", "N (yaw)"), "moment demanded [N m]"),
+    ):
+        for i, name in zip(dofs, names):
+            ax.plot(run.t, run.tau_demanded[:, i], label=name, linewidth=1.0)
+        ax.set_ylabel(what)
+        ax.legend(ncol=3, fontsize=7, loc="upper right")
+        ax.grid(True, alpha=0.3)
     axes[0].set_title(f"Control inputs: {run.controller} ({run.scenario.name})")
-    axes[0].legend(ncol=6, fontsize=7, loc="upper right")
-    axes[0].grid(True, alpha=0.3)
     if has_thrusts:
         for i in range(run.thrusts.shape[1]):
-            axes[1].plot(run.t, run.thrusts[:, i], label=f"T{i + 1}", linewidth=1.0)
-        axes[1].set_ylabel("thrust [N]")
-        axes[1].legend(ncol=6, fontsize=7, loc="upper right")
-        axes[1].grid(True, alpha=0.3)
+            axes[2].plot(run.t, run.thrusts[:, i], label=thruster_label(i), linewidth=1.0)
+        axes[2].set_ylabel("thrust [N]")
+        axes[2].legend(ncol=6, fontsize=7, loc="upper right")
+        axes[2].grid(True, alpha=0.3)
     axes[-1].set_xlabel("t [s]")
     return fig
 
 
-def figure_yaw(runs: list[Result]) -> Figure:
-    fig = Figure(figsize=(11.0, 4.8), layout="constrained")
+def figure_yaw(runs: list[Result], caption: str | None = None) -> Figure:
+    """Fig. 5: the X-Y paths and the heading under the scenario's yaw
+    disturbance; `caption`, if given, is written under the two panels (which
+    controller has the lower error: :func:`neurov.paper.fig5_caption`)."""
+    fig = Figure(figsize=(11.0, 5.2 if caption else 4.8), layout="constrained")
     ax_xy, ax_yaw = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1, 1.4]})
     _xy(ax_xy, runs)
     ax_xy.set_title("X-Y path")
@@ -75,4 +89,7 @@ def figure_yaw(runs: list[Result]) -> Figure:
     ax_yaw.legend(loc="best", fontsize=8)
     d = runs[0].scenario.disturbances[0]
     ax_yaw.set_title(f"Yaw disturbance {d.amplitude:g} N m at {d.frequency:g} Hz")
+    if caption:
+        # One clause a line: a caption one figure wide would break inside a number.
+        fig.supxlabel(caption.replace("; ", ";\n"), fontsize=9)
     return fig

@@ -12,7 +12,8 @@ Conventions: the desired trajectory is a solid black line and each run gets
 its own colour and a dashed, dash-dot or dotted line, as in the paper's
 Figs. 3 and 5. Positions are in metres; angles are shown in degrees (the
 results hold radians). The horizontal path is drawn as a map: Y (east) to the
-right, X (north) up.
+right, X (north) up, with its start and direction marked. Thrusters are
+T1 to Tn (:func:`neurov.plotting.labels.thruster_label`).
 """
 
 from __future__ import annotations
@@ -26,6 +27,8 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from neurov.decimation import for_plotting
+from neurov.plotting.labels import thruster_label
+from neurov.plotting.paths import mark_start_and_direction
 from neurov.simulation import Result
 
 __all__ = ["adaptive_norm", "control_inputs", "dof_time", "errors", "save", "xy_path"]
@@ -114,7 +117,9 @@ def xy_path(results: Result | Sequence[Result], labels: Sequence[str] | None = N
             title: str | None = None) -> Figure:
     """The horizontal path as a map: desired (solid black) against each run
     (dashed, dash-dot, ...), with Y (east) [m] to the right and X (north) [m]
-    up, equal scales. A circle marks where each run starts.
+    up, equal scales. A filled black circle labelled "start" and arrow heads
+    mark where the desired path starts and which way it goes; a hollow circle
+    marks where each run starts.
 
     One axes; its lines are one desired path (one per run if the runs were
     given different desired paths) and then one path per run."""
@@ -124,10 +129,13 @@ def xy_path(results: Result | Sequence[Result], labels: Sequence[str] | None = N
     ax = fig.add_subplot()
     if _desired_shared(runs):
         ax.plot(runs[0].eta_d[:, 1], runs[0].eta_d[:, 0], label="desired", **_DESIRED)
+        mark_start_and_direction(ax, runs[0].eta_d[:, 1], runs[0].eta_d[:, 0])
     else:
         for i, (r, lab) in enumerate(zip(runs, names)):
+            colour = _COLOURS[i % len(_COLOURS)]
             ax.plot(r.eta_d[:, 1], r.eta_d[:, 0], label=f"desired ({lab})",
-                    **{**_DESIRED, "color": _COLOURS[i % len(_COLOURS)], "alpha": 0.5})
+                    **{**_DESIRED, "color": colour, "alpha": 0.5})
+            mark_start_and_direction(ax, r.eta_d[:, 1], r.eta_d[:, 0], colour, label_start=i == 0)
     for i, (r, lab) in enumerate(zip(runs, names)):
         ax.plot(r.eta[:, 1], r.eta[:, 0], label=lab, **_style(i))
         if len(r.t):
@@ -253,7 +261,7 @@ def control_inputs(result: Result, show_thrusts: bool = True, title: str | None 
         n = result.thrusts.shape[1]
         for i in range(n):
             ax.plot(result.t, result.thrusts[:, i], color=_COLOURS[i % len(_COLOURS)], linewidth=1.0,
-                    label=f"T{i}")
+                    label=thruster_label(i))
         limits = _thrust_limits(result)
         if limits is not None:
             for k, v in enumerate(sorted(set(np.concatenate(limits).tolist()))):
@@ -261,7 +269,7 @@ def control_inputs(result: Result, show_thrusts: bool = True, title: str | None 
         for f in result.scenario.thruster_failures:
             ax.axvline(f.time, color="tab:red", alpha=0.4, linewidth=4, zorder=0)
             what = "fails" if f.efficiency == 0 else f"at {f.efficiency:.0%}"
-            ax.annotate(f"T{f.index} {what}", xy=(f.time, 1.0), xycoords=("data", "axes fraction"),
+            ax.annotate(f"{thruster_label(f.index)} {what}", xy=(f.time, 1.0), xycoords=("data", "axes fraction"),
                         xytext=(3, -3), textcoords="offset points", va="top", fontsize=7, color="tab:red")
         ax.set_ylabel("thrust [N]")
         ax.grid(True, **_GRID)
@@ -288,7 +296,9 @@ def adaptive_norm(results: Result | Sequence[Result], labels: Sequence[str] | No
         what = {"nn": "‖Ŵ‖_F", "linear": "‖θ̂‖", "pd": "none"}.get(_kind(r), "norm")
         ax.plot(r.t, r.adaptive_norm, label=f"{lab}: {what}", **{**_style(i), "linestyle": "-"})
     ax.set_xlabel("t [s]")
-    ax.set_ylabel("norm of the adapted parameters")
+    # The weights (or theta_hat) carry the units of different regressor
+    # columns: their norm has no single unit.
+    ax.set_ylabel("norm of the adapted parameters [mixed units]")
     ax.grid(True, **_GRID)
     ax.legend(loc="best", fontsize=8)
     ax.set_title(title or _default_title(runs, "Adaptive parameters"))

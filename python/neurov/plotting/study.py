@@ -12,51 +12,132 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pandas as pd
+from matplotlib.collections import LineCollection
 from matplotlib.figure import Figure
+from matplotlib.ticker import LogFormatter, NullLocator
 
 if TYPE_CHECKING:
     from neurov.scenario import Scenario
     from neurov.study import Study
 
-__all__ = ["plot_bands", "plot_boxes"]
+from neurov.plotting.labels import metric_label
+
+__all__ = ["FEW_SAMPLES", "BandPlotter", "box_figure", "plot_bands", "plot_boxes"]
+
+
+#: Below this many finite values a box (quartiles, 5th-95th percentile
+#: whiskers) says more than the data can: those runs are drawn as points.
+FEW_SAMPLES = 10
+
+
+def _spread(n: int) -> np.ndarray:
+    """Horizontal offsets that keep `n` points of one box apart; fixed, not
+    random, so that a redrawn figure is the same figure."""
+    return np.zeros(1) if n <= 1 else np.linspace(-0.18, 0.18, n)
 
 
 def plot_boxes(study: Study, table: pd.DataFrame, path: Path) -> Path:
-    """Box plots of the ranking metric per controller, one panel per scenario."""
+    """Draws :func:`box_figure` into `path`."""
+    box_figure(study, table).savefig(path, dpi=110)
+    return path
+
+
+class _PlainLog(LogFormatter):
+    """Log-axis tick labels as plain numbers (0.3, not 3e-01), choosing which
+    ticks to label as matplotlib's own log formatter does."""
+
+    def _num_to_string(self, x: float, vmin: float, vmax: float) -> str:
+        return f"{x:g}"
+
+
+def box_figure(study: Study, table: pd.DataFrame) -> Figure:
+    """The ranking metric per controller, one panel per scenario: a box
+    (quartiles, whiskers 5th-95th percentile) where a controller has at least
+    :data:`FEW_SAMPLES` finite runs, each run as a point (with a median tick
+    when there are two or more) where it has fewer. Every panel puts each
+    controller at the same place, named under the bottom panel of each
+    column."""
     metric = study.ranking_metric
     n = len(study.scenarios)
     cols = min(3, n)
     nrows = math.ceil(n / cols)
-    fig = Figure(figsize=(4.8 * cols, 3.6 * nrows), layout="constrained")
-    axes = fig.subplots(nrows, cols, squeeze=False)
+    # Fixed margins [in], room for the slanted controller names at the bottom:
+    # a layout engine measures every label of every panel, several times.
+    width, height = 4.8 * cols, 2.7 * nrows + 2.4
+    fig = Figure(figsize=(width, height))
+    fig.subplots_adjust(left=0.9 / width, right=1 - 0.2 / width, bottom=1.9 / height,
+                        top=1 - 1.0 / height, wspace=0.3, hspace=0.35)
+    axes = fig.subplots(nrows, cols, squeeze=False, sharex=True)
     groups = {key: g[metric].to_numpy(dtype=np.float64)
               for key, g in table.groupby(["scenario", "controller"], sort=False)}
-    for ax, s in zip(axes.flat, study.scenarios):
-        data, labels, failures = [], [], []
-        for c in study.controllers:
+    label = metric_label(metric)
+    names = [study.label(c) for c in study.controllers]
+    any_box = any_points = any_median = False
+    for k, (ax, s) in enumerate(zip(axes.flat, study.scenarios)):
+        data: dict[int, np.ndarray] = {}
+        failures: dict[int, int] = {}
+        for i, c in enumerate(study.controllers):
             vals = groups.get((s.name, c))
             if vals is None or not len(vals):
                 continue
-            finite = vals[np.isfinite(vals)]
-            data.append(finite if len(finite) else np.array([np.nan]))
-            labels.append(study.label(c))
-            failures.append(len(vals) - len(finite))
-        ax.boxplot(data, whis=(5, 95), showfliers=True)
-        ax.set_xticks(range(1, len(labels) + 1), labels, rotation=40, ha="right", fontsize=8)
-        if all(v > 0 for d in data for v in d if math.isfinite(v)):
+            data[i + 1] = vals[np.isfinite(vals)]
+            failures[i + 1] = len(vals) - len(data[i + 1])
+        boxed = [x for x, d in data.items() if len(d) >= FEW_SAMPLES]
+        if boxed:
+            ax.boxplot([data[x] for x in boxed], positions=boxed, whis=(5, 95), showfliers=True,
+                       manage_ticks=False)
+            any_box = True
+        few = [x for x, d in data.items() if 0 < len(d) < FEW_SAMPLES]
+        if few:
+            ax.scatter(np.concatenate([x + _spread(len(data[x])) for x in few]),
+                       np.concatenate([data[x] for x in few]), s=14, color="C0", alpha=0.8, zorder=3,
+                       gid="samples")
+            ticks = [x for x in few if len(data[x]) > 1]
+            if ticks:
+                ax.hlines([float(np.median(data[x])) for x in ticks], [x - 0.3 for x in ticks],
+                          [x + 0.3 for x in ticks], color="C1", lw=1.5, zorder=4, gid="median")
+                any_median = True
+            any_points = True
+        if data and all(v > 0 for d in data.values() for v in d):
             ax.set_yscale("log")
-        for i, nf in enumerate(failures):
-            if nf:
-                ax.annotate(f"{nf} not finite", (i + 1, 1.0), xycoords=("data", "axes fraction"),
-                            ha="center", va="top", fontsize=7, color="C3")
-        ax.set_title(s.name, fontsize=10)
-        ax.set_ylabel(metric, fontsize=8)
+            # Plain numbers (0.3, not 3 x 10^-1): narrower, so the label beside them fits.
+            ax.yaxis.set_major_formatter(_PlainLog())
+            ax.yaxis.set_minor_formatter(_PlainLog(labelOnlyBase=False, minor_thresholds=(1, 0.4)))
+        # Alternately high and low: neighbours' notes would overlap.
+        for j, x in enumerate(x for x, nf in failures.items() if nf):
+            ax.annotate(f"{failures[x]} not finite", (x, 1.0 - 0.07 * (j % 2)),
+                        xycoords=("data", "axes fraction"), ha="center", va="top", fontsize=7, color="C3")
+        ax.set_title(s.name, fontsize=10, y=1.0)
+        ax.set_ylabel(label, fontsize=8)
+        ax.yaxis.set_label_coords(-0.13, 0.5)
         ax.grid(True, axis="y", alpha=0.3)
+        ax.tick_params(which="both", labelsize=7)
+        # The bottom panel of each column, even above an empty cell of the last row.
+        if k + cols >= n:
+            ax.xaxis.set_tick_params(labelbottom=True)
+    axes[0, 0].set_xlim(0.5, len(names) + 0.5)
+    axes[0, 0].set_xticks(range(1, len(names) + 1), names)
+    for ax in axes.flat:
+        for t in ax.get_xticklabels():
+            t.set(rotation=40, ha="right", fontsize=8)
     for ax in list(axes.flat)[n:]:
         ax.set_visible(False)
-    fig.suptitle(f"{study.name}: {metric} over {study.samples} sample(s); whiskers 5th-95th percentile")
-    fig.savefig(path, dpi=110)
-    return path
+    how = []
+    if any_box:
+        how.append("boxes: quartiles, whiskers 5th-95th percentile")
+    if any_points:
+        how.append(f"points: each run (under {FEW_SAMPLES} per controller)"
+                   + (", bar: median" if any_median else ""))
+    fig.suptitle(f"{study.name}: {label} over {study.samples} sample(s); " + "; ".join(how))
+    return fig
+
+
+def _fixed_positions(ax: Any) -> None:
+    """Axis labels at fixed places beside the axes: placed automatically,
+    each is moved clear of its axis's (and every shared axis's) tick labels
+    at every draw, which costs more than drawing the panel."""
+    ax.xaxis.set_label_coords(0.5, -0.16)
+    ax.yaxis.set_label_coords(-0.2, 0.5)
 
 
 def _colour(i: int) -> str:
@@ -64,12 +145,11 @@ def _colour(i: int) -> str:
     return ("C0", "C1", "C2", "C3", "C4", "C5", "C6", "C8", "C9", "k")[i % 10]
 
 
-def plot_bands(study: Study, records: Mapping[tuple[str, str, int], Mapping[str, Any]],
-               scenario: Scenario, path: Path) -> Path:
-    """Position error over time, one panel per controller: its median over
-    the samples with the 5th-95th percentile band, over the other
-    controllers' medians in grey for comparison."""
-    curves: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+def _curves(study: Study, records: Mapping[tuple[str, str, int], Mapping[str, Any]],
+            scenario: Scenario) -> dict[str, tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]]:
+    """Per controller with runs: time, and the median, 5th and 95th
+    percentile of the position error over the samples."""
+    out = {}
     for c in study.controllers:
         series = [records[(scenario.name, c, k)]["series"] for k in range(study.samples)
                   if (scenario.name, c, k) in records]
@@ -83,44 +163,110 @@ def plot_bands(study: Study, records: Mapping[tuple[str, str, int], Mapping[str,
             e[k, :len(x["position_error"])] = x["position_error"]
         e = np.where(np.isfinite(e), e, np.nan)
         t = series[0]["t0"] + series[0]["dt"] * np.arange(n)
-        curves[c] = (t, e)
-    n = max(1, len(curves))
-    cols = min(5, n)
-    rows = math.ceil(n / cols)
-    fig = Figure(figsize=(3.2 * cols, 2.6 * rows + 0.6), layout="constrained")
-    axes = fig.subplots(rows, cols, squeeze=False, sharex=True, sharey=True)
-    medians = {}
-    with np.errstate(all="ignore"):
-        with warnings.catch_warnings():
-            # All-nan columns (every sample diverged there) warn; they plot as gaps.
-            warnings.simplefilter("ignore", RuntimeWarning)
-            for c, (t, e) in curves.items():
-                medians[c] = (t, np.nanmedian(e, axis=0), np.nanpercentile(e, 5, axis=0),
-                              np.nanpercentile(e, 95, axis=0))
-    positive = np.concatenate([m[1][np.isfinite(m[1]) & (m[1] > 0)] for m in medians.values()] or [np.ones(1)])
-    bottom = max(1e-4, float(np.percentile(positive, 1)) / 3) if positive.size else 1e-4
-    for i, (ax, c) in enumerate(zip(axes.flat, curves)):
-        for other, (t, med, _, _) in medians.items():
-            if other != c:
-                ax.plot(t, med, color="0.8", lw=0.6)
-        t, med, lo, hi = medians[c]
-        color = _colour(study.controllers.index(c))
-        if study.samples > 1:
-            ax.fill_between(t, lo, hi, color=color, alpha=0.25, lw=0)
-        ax.plot(t, med, color=color, lw=1.2)
-        ax.axvline(study.after, color="0.5", lw=0.6, ls=":")
-        ax.set_yscale("log")
-        ax.set_ylim(bottom=bottom)
-        ax.set_title(study.label(c), fontsize=8)
-        ax.grid(True, alpha=0.3)
-        if i % cols == 0:
-            ax.set_ylabel("position error [m]", fontsize=8)
-        if i >= (rows - 1) * cols:
-            ax.set_xlabel("t [s]", fontsize=8)
-        ax.tick_params(labelsize=7)
-    for ax in list(axes.flat)[len(curves):]:
-        ax.set_visible(False)
-    fig.suptitle(f"{scenario.name}: median and 5th-95th percentile over {study.samples} sample(s); "
-                 "grey: the other controllers' medians", fontsize=10)
-    fig.savefig(path, dpi=100)
-    return path
+        if np.isnan(e).any():
+            with np.errstate(all="ignore"), warnings.catch_warnings():
+                # All-nan columns (every sample diverged there) warn; they plot as gaps.
+                warnings.simplefilter("ignore", RuntimeWarning)
+                lo, med, hi = np.nanpercentile(e, [5, 50, 95], axis=0)
+        else:
+            # The same numbers; nanpercentile goes column by column in Python.
+            lo, med, hi = np.percentile(e, [5, 50, 95], axis=0)
+        out[c] = (t, med, lo, hi)
+    return out
+
+
+def _finite_runs(t: np.ndarray, y: np.ndarray) -> list[np.ndarray]:
+    """The stretches of the curve (t, y) between its gaps (nan), as (k, 2)
+    arrays: a collection does not break a line at a nan as a Line2D does."""
+    ok = np.isfinite(y)
+    edges = np.flatnonzero(np.diff(np.concatenate([[False], ok, [False]]).astype(np.int8)))
+    return [np.column_stack([t[a:b], y[a:b]]) for a, b in zip(edges[::2], edges[1::2]) if b - a > 1]
+
+
+class BandPlotter:
+    """A study's error-band figures, one per scenario: position error over
+    time, one panel per controller, its median over the samples with the
+    5th-95th percentile band, over the other controllers' medians in grey.
+
+    Every scenario's figure has the same panels, so one figure object is
+    built (axes, ticks, fixed margins, one line per controller and panel)
+    and each scenario's data swapped into it: building and laying out the
+    panels, not drawing the curves, is what costs time."""
+
+    def __init__(self, study: Study) -> None:
+        self.study = study
+        names = study.controllers
+        cols = min(5, len(names))
+        rows = math.ceil(len(names) / cols)
+        width, height = 3.2 * cols, 2.6 * rows + 0.6
+        self.fig = fig = Figure(figsize=(width, height))
+        # Fixed margins [in] instead of a layout engine: laid out once, not per figure.
+        fig.subplots_adjust(left=0.75 / width, right=1 - 0.2 / width, bottom=0.55 / height,
+                            top=1 - 0.6 / height, wspace=0.12, hspace=0.22)
+        axes = fig.subplots(rows, cols, squeeze=False, sharex=True, sharey=True)
+        self.axes = dict(zip(names, axes.flat))
+        for ax in list(axes.flat)[len(names):]:
+            ax.set_visible(False)
+        self.others: dict[str, LineCollection] = {}
+        self.median: dict[str, Any] = {}
+        self.band: dict[str, Any] = {}
+        for i, (c, ax) in enumerate(self.axes.items()):
+            # One artist for the nine or so grey lines: drawn per artist, not per point.
+            self.others[c] = ax.add_collection(LineCollection([], colors="0.8", linewidths=0.6),
+                                               autolim=False)
+            self.median[c] = ax.plot([], [], color=_colour(i), lw=1.2, gid="median")[0]
+            ax.axvline(study.after, color="0.5", lw=0.6, ls=":")
+            _fixed_positions(ax)
+            ax.set_yscale("log")
+            ax.yaxis.set_minor_locator(NullLocator())
+            ax.set_title(study.label(c), fontsize=8, y=1.0)
+            ax.grid(True, alpha=0.3)
+            if i % cols == 0:
+                ax.set_ylabel("position error [m]", fontsize=8)
+            # The bottom panel of each column, even above an empty cell of the last row.
+            if i + cols >= len(names):
+                ax.set_xlabel("t [s]", fontsize=8)
+                ax.xaxis.set_tick_params(labelbottom=True)
+            ax.tick_params(labelsize=7)
+        self.title = fig.suptitle("", fontsize=10)
+
+    def draw(self, records: Mapping[tuple[str, str, int], Mapping[str, Any]], scenario: Scenario,
+             path: Path, dpi: int = 100) -> Path:
+        """Draws `scenario`'s figure from the runs' `records` into `path`."""
+        study = self.study
+        curves = _curves(study, records, scenario)
+        for c, ax in self.axes.items():
+            if c in self.band:
+                self.band.pop(c).remove()
+            ax.set_visible(c in curves)
+            if c not in curves:
+                continue
+            self.others[c].set_segments([seg for other, m in curves.items() if other != c
+                                         for seg in _finite_runs(m[0], m[1])])
+            t, med, lo, hi = curves[c]
+            self.median[c].set_data(t, med)
+            if study.samples > 1:
+                self.band[c] = ax.fill_between(t, lo, hi, color=self.median[c].get_color(), alpha=0.25,
+                                               lw=0)
+        shown = np.concatenate([m[i] for m in curves.values() for i in (1, 3)] or [np.ones(1)])
+        positive = shown[np.isfinite(shown) & (shown > 0)]
+        medians = np.concatenate([m[1] for m in curves.values()] or [np.ones(1)])
+        medians = medians[np.isfinite(medians) & (medians > 0)]
+        bottom = max(1e-4, float(np.percentile(medians, 1)) / 3) if medians.size else 1e-4
+        top = float(np.max(positive)) * 1.5 if positive.size else 1.0
+        ax = next(iter(self.axes.values()))
+        ax.set_ylim(bottom, max(top, bottom * 10))
+        times = [m[0] for m in curves.values() if len(m[0])]
+        if times:
+            ax.set_xlim(min(float(t[0]) for t in times), max(float(t[-1]) for t in times))
+        self.title.set_text(f"{scenario.name}: median and 5th-95th percentile over {study.samples} "
+                            "sample(s); grey: the other controllers' medians")
+        self.fig.savefig(path, dpi=dpi)
+        return path
+
+
+def plot_bands(study: Study, records: Mapping[tuple[str, str, int], Mapping[str, Any]],
+               scenario: Scenario, path: Path) -> Path:
+    """One scenario's error-band figure (:class:`BandPlotter`); for several,
+    build one :class:`BandPlotter` and call its ``draw`` for each."""
+    return BandPlotter(study).draw(records, scenario, path)
