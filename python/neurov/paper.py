@@ -8,7 +8,7 @@ those files and discussed in docs/paper-reproduction.md.
 
 from __future__ import annotations
 
-import dataclasses
+import copy
 import json
 import time
 from dataclasses import dataclass
@@ -65,7 +65,7 @@ def paper_scenario(name: str) -> Scenario:
 
 
 def _spec(base: ControllerSpec, changes: dict[str, Any] | None, label: str) -> ControllerSpec:
-    return dataclasses.replace(base, label=label, **(changes or {}))
+    return base.replace(label=label, **(changes or {}))
 
 
 def run_experiments() -> dict[str, Result]:
@@ -84,7 +84,8 @@ def run_disturbance_sweep() -> list[dict[str, Any]]:
     rows = []
     for amplitude in SWEEP_AMPLITUDES:
         for frequency in SWEEP_FREQUENCIES:
-            d = dataclasses.replace(base.disturbances[0], amplitude=amplitude, frequency=frequency)
+            d = copy.copy(base.disturbances[0])
+            d.amplitude, d.frequency = amplitude, frequency
             scenario = base.replace(disturbances=[d])
             row: dict[str, Any] = {"amplitude_nm": amplitude, "frequency_hz": frequency}
             for key, spec in specs.items():

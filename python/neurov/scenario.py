@@ -26,7 +26,7 @@ A scenario file (all tables but ``[command]`` and ``[controller]`` optional)::
     side = 10.0             # the generator's arguments (neurov.trajectories)
 
     [controller]
-    type = "nn"             # nn | linear | pd
+    type = "nn"             # nn | linear | pd | pid | smc | computed_torque
     lambda = 0.5
     kd = [200, 200, 200, 50, 50, 50]
 
@@ -52,16 +52,13 @@ A scenario file (all tables but ``[command]`` and ``[controller]`` optional)::
     velocity = [0.0, 0.5, 0.0]
 
 Every error names the file and the field (``controller.kd``) and says what was
-expected.
+expected. The file is read by :mod:`neurov.scenario_file`; this module holds
+what a scenario is.
 """
 
 from __future__ import annotations
 
-import dataclasses
-import difflib
-import math
-import sys
-from collections.abc import Mapping, Sequence
+import copy
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -69,15 +66,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from neurov import centres as centre_placement
-from neurov import trajectories
-from neurov.files import read_text
-from neurov.vehicle_file import VehicleFile, VehicleFileError, preset_path, read_vehicle_file
-
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # pragma: no cover
-    import tomli as tomllib
+from neurov import _core, trajectories
+from neurov.vehicle_file import VehicleFile, preset_path, read_vehicle_file
 
 __all__ = [
     "CommandSpec",
@@ -91,190 +81,96 @@ __all__ = [
     "load_scenario",
 ]
 
-DOF_NAMES = ("surge", "sway", "heave", "roll", "pitch", "yaw")
+# The core's own structs: a scenario holds them as they are.
+Disturbance = _core.SinusoidalDisturbance
+ThrusterFailure = _core.ThrusterFailure
+SensorFault = _core.SensorFault
+CurrentStep = _core.CurrentStep
 
 
 class ScenarioError(ValueError):
     """A scenario that cannot be used: names the file, the field and what was expected."""
 
 
-# --- small checked readers ---------------------------------------------------
-
-
-class _Reader:
-    """Reads one table of a scenario, naming `where.field` in every error."""
-
-    def __init__(self, table: Mapping[str, Any], where: str, origin: str) -> None:
-        if not isinstance(table, Mapping):
-            raise ScenarioError(f"{origin}: {where}: expected a table, got {type(table).__name__}")
-        self.table = table
-        self.where = where
-        self.origin = origin
-        # Every key asked for, present or not: finish() suggests from these.
-        self.used: set[str] = set()
-
-    def _name(self, key: str) -> str:
-        return f"{self.where}.{key}" if self.where else key
-
-    def error(self, key: str, message: str) -> ScenarioError:
-        return ScenarioError(f"{self.origin}: {self._name(key)}: {message}")
-
-    def has(self, key: str) -> bool:
-        self.used.add(key)
-        return key in self.table
-
-    def raw(self, key: str, default: Any = None) -> Any:
-        self.used.add(key)
-        return self.table.get(key, default)
-
-    def number(self, key: str, default: float | None = None, *, minimum: float | None = None,
-               positive: bool = False) -> float:
-        self.used.add(key)
-        if key not in self.table:
-            if default is None:
-                raise self.error(key, "missing (expected a number)")
-            return default
-        v = self.raw(key)
-        if isinstance(v, bool) or not isinstance(v, (int, float)):
-            raise self.error(key, f"expected a number, got {type(v).__name__} {v!r}")
-        v = float(v)
-        if not math.isfinite(v):
-            raise self.error(key, f"expected a finite number, got {v}")
-        if positive and not v > 0:
-            raise self.error(key, f"expected a number > 0, got {v}")
-        if minimum is not None and v < minimum:
-            raise self.error(key, f"expected a number >= {minimum}, got {v}")
-        return v
-
-    def integer(self, key: str, default: int | None = None, *, minimum: int = 0) -> int:
-        self.used.add(key)
-        if key not in self.table:
-            if default is None:
-                raise self.error(key, "missing (expected an integer)")
-            return default
-        v = self.raw(key)
-        if isinstance(v, bool) or not isinstance(v, int):
-            raise self.error(key, f"expected an integer, got {type(v).__name__} {v!r}")
-        if v < minimum:
-            raise self.error(key, f"expected an integer >= {minimum}, got {v}")
-        return v
-
-    def string(self, key: str, default: str | None = None, choices: Sequence[str] | None = None) -> str:
-        self.used.add(key)
-        if key not in self.table:
-            if default is None:
-                raise self.error(key, "missing (expected a string)")
-            return default
-        v = self.raw(key)
-        if not isinstance(v, str):
-            raise self.error(key, f"expected a string, got {type(v).__name__} {v!r}")
-        if choices is not None and v not in choices:
-            raise self.error(key, f"expected one of {list(choices)}, got {v!r}")
-        return v
-
-    def boolean(self, key: str, default: bool) -> bool:
-        self.used.add(key)
-        if key not in self.table:
-            return default
-        v = self.raw(key)
-        if not isinstance(v, bool):
-            raise self.error(key, f"expected true or false, got {type(v).__name__} {v!r}")
-        return v
-
-    def array(self, key: str, length: int | None, default: Any = None, *, non_negative: bool = False,
-              positive: bool = False, broadcast: bool = True) -> NDArray[np.float64]:
-        """A list of `length` numbers (or, with broadcast, one number for all)."""
-        self.used.add(key)
-        if key not in self.table:
-            if default is None:
-                raise self.error(key, f"missing (expected {length} numbers)")
-            return np.array(default, dtype=np.float64)
-        v = self.raw(key)
-        want = f"{length} numbers" + (" or one number" if broadcast else "") if length else "numbers"
-        if broadcast and length and isinstance(v, (int, float)) and not isinstance(v, bool):
-            v = [v] * length
-        if not isinstance(v, list) or any(isinstance(x, bool) or not isinstance(x, (int, float)) for x in v):
-            raise self.error(key, f"expected {want}, got {type(v).__name__} {v!r}")
-        a = np.asarray(v, dtype=np.float64)
-        if length is not None and a.shape != (length,):
-            raise self.error(key, f"expected {want}, got {len(v)}")
-        if not np.all(np.isfinite(a)):
-            raise self.error(key, "expected finite numbers")
-        if non_negative and np.any(a < 0):
-            raise self.error(key, f"expected numbers >= 0, got {v}")
-        if positive and np.any(a <= 0):
-            raise self.error(key, f"expected numbers > 0, got {v}")
-        return a
-
-    def table_of(self, key: str) -> _Reader:
-        v = self.raw(key, {})
-        return _Reader(v, self._name(key), self.origin)
-
-    def finish(self, allowed_extra: Sequence[str] = ()) -> None:
-        """Unknown keys are errors (a misspelt field must not be ignored)."""
-        known = self.used | set(allowed_extra)
-        for key in self.table:
-            if key not in known:
-                close = difflib.get_close_matches(key, sorted(known), n=1)
-                hint = f"; did you mean {close[0]!r}?" if close else ""
-                raise self.error(key, f"unknown field{hint}")
-
-
-def _dof(reader: _Reader, key: str) -> int:
-    v = reader.raw(key)
-    if isinstance(v, str) and v in DOF_NAMES:
-        return DOF_NAMES.index(v)
-    if isinstance(v, int) and not isinstance(v, bool) and 0 <= v <= 5:
-        return v
-    raise reader.error(key, f"expected one of {list(DOF_NAMES)} or 0..5, got {v!r}")
-
-
-# --- the scenario ----------------------------------------------------------------
-
-
-@dataclass
 class ControllerSpec:
-    """A controller and its gains. ``type`` is ``"nn"``, ``"linear"``, ``"pd"``,
-    ``"pid"`` or ``"smc"``.
+    """A controller: its ``type`` (a name in :data:`neurov.controllers.REGISTRY`:
+    ``"nn"``, ``"linear"``, ``"pd"``, ``"pid"``, ``"smc"``, ``"computed_torque"``),
+    a ``label``, its gains as the type's bound C++ config (``config``; the C++
+    defaults and validator) and the type's Python options (the NN's
+    ``width`` and ``centres``; the linear controller's ``theta0`` mode
+    ``"zero"``, ``"true"`` or ``"scaled"`` and ``theta0_scale``).
 
-    nn: ``lambda_``, kd, gamma (0.3), width (sigma, 30), centres: dict
-    ``{"method": "sobol" | "latin_hypercube" | "grid", ...}`` (see
-    :mod:`neurov.centres`), or an explicit (N, 24) array; modification,
-    sigma_m, kappa, w_max, dead_zone.
-    linear: ``lambda_``, kd, gamma (number or 24), theta0: ``"zero"``,
-    ``"true"`` (the plant's own theta) or ``"scaled"`` (true times
-    theta0_scale).
-    pd: kp, kd.
-    pid: kp, ki, kd, integral_limit (largest ``|K_i z|`` per DOF).
-    smc: ``lambda_``, kd, k (switching gain), phi (boundary layer); the nominal
-    model is the vehicle file's theta (regressor_parameters).
+    ``ControllerSpec("pd", kp=..., kd=...)`` sets config fields by keyword;
+    ``spec.kd`` reads them.
     """
 
-    type: str = "nn"
-    label: str = ""
-    lambda_: NDArray[np.float64] = field(default_factory=lambda: np.full(6, 0.5))
-    kd: NDArray[np.float64] = field(default_factory=lambda: np.array([200.0, 200, 200, 50, 50, 50]))
-    kp: NDArray[np.float64] = field(default_factory=lambda: np.zeros(6))
-    gamma: float | NDArray[np.float64] = 0.3
-    width: float = 30.0
-    centres: Any = field(default_factory=lambda: {"method": "sobol", "n": 64})
-    modification: str = "none"
-    sigma_m: float = 0.0
-    kappa: float = 0.0
-    w_max: float = 0.0
-    dead_zone: float = 0.0
-    theta0: str = "zero"
-    theta0_scale: float = 1.0
-    ki: NDArray[np.float64] = field(default_factory=lambda: np.zeros(6))
-    integral_limit: NDArray[np.float64] = field(default_factory=lambda: np.full(6, 50.0))
-    k: NDArray[np.float64] = field(default_factory=lambda: np.zeros(6))
-    phi: NDArray[np.float64] = field(default_factory=lambda: np.full(6, 0.1))
+    def __init__(self, type: str = "nn", label: str = "", config: Any = None, **fields: Any) -> None:
+        from neurov.controllers import REGISTRY
+
+        if type not in REGISTRY:
+            raise ValueError(f"controller type must be one of {sorted(REGISTRY)}, got {type!r}")
+        kind = REGISTRY[type]
+        self.type = type
+        self.label = label
+        self.options = dict(copy.deepcopy(dict(kind.options)))
+        self.config = kind.config() if config is None else config
+        for name, value in fields.items():
+            setattr(self, name, value)
+
+    def __getattr__(self, name: str) -> Any:
+        if name.startswith("__") or name in ("type", "label", "options", "config"):
+            raise AttributeError(name)
+        if name in self.options:
+            return self.options[name]
+        try:
+            return getattr(self.config, "lambda_" if name in ("lambda", "lambda_") else name)
+        except AttributeError:
+            raise AttributeError(f"a {self.type!r} controller has no field {name!r}") from None
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        if name in ("type", "label", "options", "config"):
+            object.__setattr__(self, name, value)
+        elif name in self.options:
+            self.options[name] = value
+        else:
+            field_name = "lambda_" if name in ("lambda", "lambda_") else name
+            if not hasattr(self.config, field_name):
+                raise TypeError(f"a {self.type!r} controller has no field {name!r}")
+            setattr(self.config, field_name, value)
+
+    def replace(self, **changes: Any) -> ControllerSpec:
+        """A copy with some fields or options changed. A new ``type`` starts
+        from that type's defaults and keeps the gains both types have."""
+        from neurov.schema import field_names
+
+        kind = changes.pop("type", self.type)
+        if kind == self.type:
+            out = ControllerSpec(kind, self.label, copy.copy(self.config))
+            out.options = copy.deepcopy(self.options)
+        else:
+            out = ControllerSpec(kind, self.label)
+            shared = set(field_names(out.config)) & set(field_names(self.config))
+            for name in shared:
+                setattr(out.config, name, getattr(self.config, name))
+        for name, value in changes.items():
+            setattr(out, name, value)
+        return out
+
+    def __repr__(self) -> str:
+        return f"ControllerSpec(type={self.type!r}, label={self.label!r}, config={self.config!r}, options={self.options!r})"
+
+    def describe(self) -> dict[str, Any]:
+        """Everything that decides the controller, as plain data."""
+        from neurov.schema import as_dict
+
+        options = {k: (v.tolist() if isinstance(v, np.ndarray) else v) for k, v in self.options.items()}
+        return {"type": self.type, "label": self.label, "config": as_dict(self.config), "options": options}
 
     @property
     def name(self) -> str:
-        names = {"nn": "NN adaptive", "linear": "linear adaptive", "pd": "PD", "pid": "PID",
-                 "smc": "sliding mode"}
-        return self.label or names.get(self.type, self.type)
+        from neurov.controllers import REGISTRY
+
+        return self.label or REGISTRY[self.type].title
 
 
 @dataclass
@@ -294,93 +190,144 @@ class CommandSpec:
         generator = getattr(trajectories, self.type)
         return generator(**self.args)  # type: ignore[no-any-return]
 
-
-@dataclass
-class Disturbance:
-    """amplitude * sin(2 pi frequency (t - start) + phase) in body DOF `dof` (0..5)."""
-
-    dof: int = 5
-    amplitude: float = 0.0
-    frequency: float = 0.0
-    phase: float = 0.0
-    start: float = 0.0
+    def config(self) -> Any:
+        """The command as the core's ``Command``."""
+        if self.interpolation not in ("linear", "hold"):
+            raise ValueError(f"command.interpolation must be 'linear' or 'hold', got {self.interpolation!r}")
+        times, poses = self.timed_poses()
+        return _core.Command(times=times, poses=poses, linear=self.interpolation == "linear")
 
 
-@dataclass
-class ThrusterFailure:
-    index: int = 0
-    efficiency: float = 0.0
-    time: float = 0.0
+# Scenario attribute -> SimulationConfig field: the one list of what a
+# scenario keeps in the core's config (the names differ only where shown).
+SIMULATION_FIELDS: dict[str, str] = {
+    "dt": "dt", "substeps": "substeps", "duration": "duration", "seed": "seed",
+    "eta0": "eta0", "nu0": "nu0", "lambda_d": "lambda_d", "omega": "omega",
+    "disturbances": "disturbances", "current": "current", "current_amplitude": "current_amplitude",
+    "current_period": "current_period", "noise_eta": "noise_eta", "noise_nu": "noise_nu",
+    "sensor_faults": "sensor_faults", "current_steps": "current_steps",
+    "refused_step_policy": "refused_step_policy", "use_thrusters": "use_thrusters",
+    "thruster_failures": "failures",
+}
+_ENUMS = {"refused_step_policy": _core.RefusedStepPolicy, "saturation": _core.Saturation}
 
 
-@dataclass
-class SensorFault:
-    """Over [start, end) the measurement freezes, drops out (NaN) or gets extra
-    noise (noise_burst: noise_eta, noise_nu standard deviations); `eta` and
-    `nu` say which measurement is affected."""
-
-    kind: str = "freeze"
-    start: float = 0.0
-    end: float = 0.0
-    eta: bool = True
-    nu: bool = True
-    noise_eta: NDArray[np.float64] = field(default_factory=lambda: np.zeros(6))
-    noise_nu: NDArray[np.float64] = field(default_factory=lambda: np.zeros(6))
+def _enum(name: str, value: Any) -> Any:
+    """A bound enum from its member or its name (files and users write names)."""
+    enum = _ENUMS.get(name)
+    if enum is not None and isinstance(value, str):
+        if value not in enum.__members__:
+            raise ValueError(f"{name} must be one of {sorted(enum.__members__)}, got {value!r}")
+        return enum.__members__[value]
+    return value
 
 
-@dataclass
-class CurrentStep:
-    """From `time` on the mean current is `velocity` (NED, m/s)."""
-
-    time: float = 0.0
-    velocity: NDArray[np.float64] = field(default_factory=lambda: np.zeros(3))
-
-
-@dataclass
 class Scenario:
-    name: str = "scenario"
-    description: str = ""
-    duration: float = 200.0
-    dt: float = 0.2
-    substeps: int = 10
-    seed: int = 0
-    vehicle: str = "nerov"
-    """A preset name or a path to a vehicle file."""
-    vehicle_parameters: dict[str, Any] | None = None
-    """Overrides of the vehicle's parameters (e.g. for a perturbed plant)."""
-    use_thrusters: bool = False
-    eta0: NDArray[np.float64] = field(default_factory=lambda: np.zeros(6))
-    nu0: NDArray[np.float64] = field(default_factory=lambda: np.zeros(6))
-    lambda_d: NDArray[np.float64] = field(default_factory=lambda: np.full(6, 1.0))
-    omega: NDArray[np.float64] = field(default_factory=lambda: np.full(6, 0.25))
-    command: CommandSpec = field(default_factory=CommandSpec)
-    controller: ControllerSpec = field(default_factory=ControllerSpec)
-    disturbances: list[Disturbance] = field(default_factory=list)
-    current: NDArray[np.float64] = field(default_factory=lambda: np.zeros(3))
-    current_amplitude: NDArray[np.float64] = field(default_factory=lambda: np.zeros(3))
-    current_period: float = 0.0
-    noise_eta: NDArray[np.float64] = field(default_factory=lambda: np.zeros(6))
-    noise_nu: NDArray[np.float64] = field(default_factory=lambda: np.zeros(6))
-    saturation: str = "scale"
-    thruster_time_constant: float | None = None
-    """Thruster lag [s]; None takes the vehicle file's (0, none, if it gives none)."""
-    thruster_failures: list[ThrusterFailure] = field(default_factory=list)
-    sensor_faults: list[SensorFault] = field(default_factory=list)
-    current_steps: list[CurrentStep] = field(default_factory=list)
-    refused_step_policy: str = "zero"
-    """What the loop applies when the controller refuses a step: "zero" (the
-    controller's own tau = 0) or "hold" (its last accepted tau)."""
-    source: str = ""
-    """The file the scenario came from, if any (vehicle paths are relative to it)."""
-    vehicle_file: VehicleFile | None = field(default=None, repr=False, compare=False)
-    """The vehicle file as read when the scenario was loaded (see vehicle_data())."""
+    """Everything one closed-loop run needs. The run's settings live in
+    ``simulation``, the core's own ``SimulationConfig`` (its defaults, its
+    validator), filled in from the command and the vehicle file's thrusters;
+    its fields read and write as attributes (``scenario.dt``, ...). The rest
+    is Python's: the name, the vehicle (a preset or a file, and parameter
+    overrides for a perturbed plant), the command's generator and the
+    controller spec."""
+
+    def __init__(self, name: str = "scenario", description: str = "", *, vehicle: str = "nerov",
+                 vehicle_parameters: dict[str, Any] | None = None, command: CommandSpec | None = None,
+                 controller: ControllerSpec | None = None, source: str = "",
+                 simulation: Any = None, saturation: Any = None,
+                 thruster_time_constant: float | None = None,
+                 vehicle_file: VehicleFile | None = None, **settings: Any) -> None:
+        d = self.__dict__
+        d["name"], d["description"], d["source"] = name, description, source
+        d["vehicle"], d["vehicle_parameters"] = vehicle, vehicle_parameters
+        d["vehicle_file"] = vehicle_file
+        d["command"] = command if command is not None else CommandSpec()
+        d["controller"] = controller if controller is not None else ControllerSpec()
+        d["thruster_time_constant"] = thruster_time_constant
+        """Thruster lag [s]; None takes the vehicle file's."""
+        d["simulation"] = copy.copy(simulation) if simulation is not None else _core.SimulationConfig()
+        for key, value in settings.items():
+            if key not in SIMULATION_FIELDS:
+                raise TypeError(f"Scenario() got an unexpected keyword argument {key!r}")
+            setattr(self.simulation, SIMULATION_FIELDS[key], _enum(key, value))
+        if saturation is not None:
+            self.simulation.thrusters.saturation = _enum("saturation", saturation)
+        self._sync()
+
+    # --- the config's fields as attributes -----------------------------------
+    def __getattr__(self, name: str) -> Any:
+        sim = self.__dict__.get("simulation")
+        if sim is not None and name in SIMULATION_FIELDS:
+            return getattr(sim, SIMULATION_FIELDS[name])
+        raise AttributeError(f"'Scenario' object has no attribute {name!r}")
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        if name in SIMULATION_FIELDS:
+            setattr(self.simulation, SIMULATION_FIELDS[name], _enum(name, value))
+            if name == "use_thrusters":
+                self._sync()
+        elif name == "saturation":
+            self.simulation.thrusters.saturation = _enum(name, value)
+        elif name in self.__dict__:
+            self.__dict__[name] = value
+            if name in ("command", "vehicle", "thruster_time_constant", "source"):
+                self._sync()
+        else:
+            raise AttributeError(f"'Scenario' object has no attribute {name!r}")
+
+    @property
+    def saturation(self) -> Any:
+        """How the thrusters saturate (Saturation.scale keeps the direction)."""
+        return self.simulation.thrusters.saturation
+
+    def _sync(self) -> None:
+        """The config's command from the command spec and its thrusters from
+        the vehicle file, so that the config is the whole run."""
+        sim = self.simulation
+        try:
+            sim.command = self.command.config()
+        except (TypeError, ValueError):
+            pass  # a bad command is named when the scenario is validated or run
+        if sim.use_thrusters:
+            t = self.vehicle_data().thrusters
+            if t is None:
+                raise ValueError(f"scenario {self.name!r}: vehicle file {self.vehicle_path()} has no "
+                                 "[thrusters] table")
+            tc = t["time_constant"] if self.thruster_time_constant is None else self.thruster_time_constant
+            sim.thrusters = _core.ThrusterConfig(
+                matrix=t["matrix"], max_thrust=t["max_thrust"], min_thrust=t["min_thrust"],
+                saturation=sim.thrusters.saturation, time_constant=tc)
+
+    def describe(self) -> dict[str, Any]:
+        """Everything that decides a run, as plain data (for hashing)."""
+        import dataclasses
+
+        from neurov.schema import as_dict
+
+        command = {k: (v.tolist() if isinstance(v, np.ndarray) else v)
+                   for k, v in dataclasses.asdict(self.command).items()}
+        return {"name": self.name, "vehicle": self.vehicle, "vehicle_parameters": self.vehicle_parameters,
+                "thruster_time_constant": self.thruster_time_constant, "command": command,
+                "controller": self.controller.describe(), "simulation": as_dict(self.simulation)}
 
     def replace(self, **changes: Any) -> Scenario:
-        """A copy with some fields changed (``dataclasses.replace``)."""
-        return dataclasses.replace(self, **changes)
+        """A copy with some fields changed; the copy has its own config."""
+        kept = {k: self.__dict__[k] for k in ("name", "description", "vehicle", "vehicle_parameters",
+                                              "command", "controller", "source", "thruster_time_constant",
+                                              "vehicle_file")}
+        return Scenario(**{**kept, "simulation": self.simulation, **changes})
 
     def with_controller(self, controller: ControllerSpec) -> Scenario:
         return self.replace(controller=controller)
+
+    def __repr__(self) -> str:
+        return f"Scenario(name={self.name!r}, vehicle={self.vehicle!r}, controller={self.controller.name!r})"
+
+    def __getstate__(self) -> dict[str, Any]:
+        return dict(self.__dict__)
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        self.__dict__.update(state)
 
     @staticmethod
     def from_file(path: str | Path) -> Scenario:
@@ -391,7 +338,7 @@ class Scenario:
         while it still names the same file, else the file read now (and held)."""
         path = self.vehicle_path()
         if self.vehicle_file is None or self.vehicle_file.path != path:
-            self.vehicle_file = read_vehicle_file(path)
+            self.__dict__["vehicle_file"] = read_vehicle_file(path)
         return self.vehicle_file
 
     def vehicle_path(self) -> Path:
@@ -403,226 +350,16 @@ class Scenario:
         return preset_path(self.vehicle)
 
 
-def _controller(r: _Reader) -> ControllerSpec:
-    kind = r.string("type", choices=("nn", "linear", "pd", "pid", "smc"))
-    spec = ControllerSpec(type=kind, label=r.string("label", ""))
-    if kind in ("nn", "linear", "smc"):
-        spec.lambda_ = r.array("lambda", 6, spec.lambda_, positive=True)
-    spec.kd = r.array("kd", 6, spec.kd, non_negative=True)
-    if kind in ("pd", "pid"):
-        spec.kp = r.array("kp", 6, non_negative=True)
-    if kind == "pid":
-        spec.ki = r.array("ki", 6, non_negative=True)
-        spec.integral_limit = r.array("integral_limit", 6, spec.integral_limit, positive=True)
-    if kind == "smc":
-        spec.k = r.array("k", 6, non_negative=True)
-        spec.phi = r.array("phi", 6, spec.phi, positive=True)
-    if kind == "nn":
-        spec.gamma = r.number("gamma", 0.3, minimum=0.0)
-        spec.width = r.number("width", 30.0, positive=True)
-        spec.modification = r.string(
-            "modification", "none", choices=("none", "sigma", "e_modification", "projection")
-        )
-        spec.sigma_m = r.number("sigma_m", 0.0, minimum=0.0)
-        spec.kappa = r.number("kappa", 0.0, minimum=0.0)
-        spec.w_max = r.number("w_max", 0.0, minimum=0.0)
-        spec.dead_zone = r.number("dead_zone", 0.0, minimum=0.0)
-        c = r.table_of("centres")
-        method = c.string("method", "sobol", choices=("sobol", "latin_hypercube", "grid"))
-        centres: dict[str, Any] = {"method": method}
-        if method == "grid":
-            axes = c.raw("axes", None)
-            if not isinstance(axes, Mapping) or not axes:
-                raise c.error("axes", "expected a table {input = [low, high, count], ...}")
-            centres["axes"] = {}
-            for k, v in axes.items():
-                if not (isinstance(v, list) and len(v) == 3):
-                    raise c.error(f"axes.{k}", "expected [low, high, count]")
-                centres["axes"][k] = (float(v[0]), float(v[1]), int(v[2]))
-        else:
-            centres["n"] = c.integer("n", 64, minimum=1)
-            centres["seed"] = c.integer("seed", 0)
-            centres["low"] = c.array("low", 24, None) if c.has("low") else None
-            centres["high"] = c.array("high", 24, None) if c.has("high") else None
-        c.finish()
-        spec.centres = centres
-    if kind == "linear":
-        g = r.raw("gamma", 1.0)
-        if isinstance(g, list):
-            spec.gamma = r.array("gamma", 24, non_negative=True)
-        else:
-            spec.gamma = r.number("gamma", 1.0, minimum=0.0)
-        spec.theta0 = r.string("theta0", "zero", choices=("zero", "true", "scaled"))
-        spec.theta0_scale = r.number("theta0_scale", 1.0)
-    r.finish()
-    return spec
-
-
-def _command(r: _Reader) -> CommandSpec:
-    kind = r.string("type", choices=("waypoints", "square", "lawnmower", "circle", "helix"))
-    spec = CommandSpec(type=kind, interpolation=r.string("interpolation", "linear", choices=("linear", "hold")))
-    if kind == "waypoints":
-        times = r.raw("times")
-        poses = r.raw("poses")
-        try:
-            spec.times, spec.poses = trajectories.waypoints(times, poses)
-        except (ValueError, TypeError) as e:
-            raise r.error("times/poses", str(e)) from None
-    else:
-        args = {k: v for k, v in r.table.items() if k not in ("type", "interpolation")}
-        generator = getattr(trajectories, kind)
-        try:
-            generator(**args)
-        except TypeError as e:
-            raise r.error("type", f"bad arguments for {kind!r}: {e}") from None
-        except ValueError as e:
-            raise r.error(kind, str(e)) from None
-        spec.args = args
-        r.used |= set(args)
-    r.finish()
-    return spec
-
-
-def scenario_from_mapping(data: Mapping[str, Any], origin: str = "<scenario>") -> Scenario:
-    """Builds a scenario from a parsed TOML table; errors name `origin`."""
-    r = _Reader(data, "", origin)
-    s = Scenario(source=origin if origin != "<scenario>" else "")
-    s.name = r.string("name", Path(origin).stem if origin != "<scenario>" else "scenario")
-    s.description = r.string("description", "")
-    s.duration = r.number("duration", s.duration, positive=True)
-    s.dt = r.number("dt", s.dt, positive=True)
-    s.substeps = r.integer("substeps", s.substeps, minimum=1)
-    s.seed = r.integer("seed", 0)
-    v = r.table_of("vehicle")
-    if v.has("preset") and v.has("file"):
-        raise v.error("file", "give either 'preset' or 'file', not both")
-    s.vehicle = v.string("file") if v.has("file") else v.string("preset", "nerov")
-    s.use_thrusters = v.boolean("thrusters", False)
-    s.saturation = v.string("saturation", "scale", choices=("scale", "clip"))
-    if v.has("thruster_time_constant"):
-        s.thruster_time_constant = v.number("thruster_time_constant", minimum=0.0)
-    if v.has("parameters"):
-        over = v.raw("parameters")
-        if not isinstance(over, Mapping):
-            raise v.error("parameters", "expected a table of vehicle parameters")
-        s.vehicle_parameters = dict(over)
-    v.finish()
-    try:
-        vehicle = s.vehicle_data()
-    except (VehicleFileError, ValueError) as e:
-        raise ScenarioError(f"{origin}: vehicle: {e}") from None
-    thrusters = vehicle.thrusters if s.use_thrusters else None
-    if s.use_thrusters and thrusters is None:
-        raise v.error("thrusters", f"the vehicle file {vehicle.path} has no [thrusters] table")
-    i = r.table_of("initial")
-    s.eta0 = i.array("eta", 6, s.eta0, broadcast=False)
-    s.nu0 = i.array("nu", 6, s.nu0, broadcast=False)
-    i.finish()
-    ref = r.table_of("reference")
-    s.lambda_d = ref.array("lambda_d", 6, s.lambda_d, positive=True)
-    s.omega = ref.array("omega", 6, s.omega, positive=True)
-    ref.finish()
-    if not r.has("command"):
-        raise r.error("command", "missing (expected a table with 'type')")
-    s.command = _command(r.table_of("command"))
-    if not r.has("controller"):
-        raise r.error("controller", "missing (expected a table with 'type')")
-    s.controller = _controller(r.table_of("controller"))
-    dist = r.raw("disturbances", [])
-    if not isinstance(dist, list):
-        raise r.error("disturbances", "expected an array of tables [[disturbances]]")
-    for k, d in enumerate(dist):
-        dr = _Reader(d, f"disturbances[{k}]", origin)
-        s.disturbances.append(
-            Disturbance(
-                dof=_dof(dr, "dof"),
-                amplitude=dr.number("amplitude"),
-                frequency=dr.number("frequency", 0.0, minimum=0.0),
-                phase=dr.number("phase", 0.0),
-                start=dr.number("start", 0.0),
-            )
-        )
-        dr.finish()
-    c = r.table_of("current")
-    s.current = c.array("velocity", 3, s.current, broadcast=False)
-    s.current_amplitude = c.array("amplitude", 3, s.current_amplitude, broadcast=False)
-    s.current_period = c.number("period", 0.0, minimum=0.0)
-    c.finish()
-    n = r.table_of("noise")
-    s.noise_eta = n.array("eta", 6, s.noise_eta, non_negative=True)
-    s.noise_nu = n.array("nu", 6, s.noise_nu, non_negative=True)
-    n.finish()
-    fails = r.raw("thruster_failures", [])
-    if not isinstance(fails, list):
-        raise r.error("thruster_failures", "expected an array of tables [[thruster_failures]]")
-    for k, f in enumerate(fails):
-        fr = _Reader(f, f"thruster_failures[{k}]", origin)
-        eff = fr.number("efficiency", 0.0, minimum=0.0)
-        if eff > 1:
-            raise fr.error("efficiency", f"expected a number in [0, 1], got {eff}")
-        failure = ThrusterFailure(index=fr.integer("index"), efficiency=eff, time=fr.number("time", 0.0))
-        if thrusters is not None and failure.index >= thrusters["matrix"].shape[1]:
-            raise fr.error("index", f"expected a thruster index 0..{thrusters['matrix'].shape[1] - 1}, "
-                                    f"got {failure.index}")
-        s.thruster_failures.append(failure)
-        fr.finish()
-    faults = r.raw("sensor_faults", [])
-    if not isinstance(faults, list):
-        raise r.error("sensor_faults", "expected an array of tables [[sensor_faults]]")
-    for k, f in enumerate(faults):
-        fr = _Reader(f, f"sensor_faults[{k}]", origin)
-        fault = SensorFault(
-            kind=fr.string("kind", choices=("freeze", "dropout", "noise_burst")),
-            start=fr.number("start"),
-            end=fr.number("end"),
-            eta=fr.boolean("eta", True),
-            nu=fr.boolean("nu", True),
-            noise_eta=fr.array("noise_eta", 6, np.zeros(6), non_negative=True),
-            noise_nu=fr.array("noise_nu", 6, np.zeros(6), non_negative=True),
-        )
-        if fault.end < fault.start:
-            raise fr.error("end", f"expected end >= start ({fault.start}), got {fault.end}")
-        s.sensor_faults.append(fault)
-        fr.finish()
-    steps = r.raw("current_steps", [])
-    if not isinstance(steps, list):
-        raise r.error("current_steps", "expected an array of tables [[current_steps]]")
-    for k, cs in enumerate(steps):
-        cr = _Reader(cs, f"current_steps[{k}]", origin)
-        step = CurrentStep(time=cr.number("time"), velocity=cr.array("velocity", 3, broadcast=False))
-        if s.current_steps and step.time <= s.current_steps[-1].time:
-            raise cr.error("time", "expected times in increasing order")
-        s.current_steps.append(step)
-        cr.finish()
-    s.refused_step_policy = r.string("refused_step_policy", "zero", choices=("zero", "hold"))
-    if s.thruster_failures and not s.use_thrusters:
-        raise r.error("thruster_failures", "needs [vehicle] thrusters = true")
-    r.finish()
-    return s
-
-
 def load_scenario(path: str | Path) -> Scenario:
     """Reads a scenario file; raises :class:`ScenarioError` naming the file and field."""
-    path = Path(path)
-    try:
-        data = tomllib.loads(read_text(path, ScenarioError))
-    except FileNotFoundError:
-        raise ScenarioError(f"{path}: no such scenario file") from None
-    except tomllib.TOMLDecodeError as e:
-        raise ScenarioError(f"{path}: not valid TOML: {e}") from None
-    return scenario_from_mapping(data, str(path))
+    from neurov.scenario_file import read_scenario
+
+    return read_scenario(path)
 
 
 def make_centres(spec: ControllerSpec, low: NDArray[np.float64], high: NDArray[np.float64]) -> NDArray[np.float64]:
-    """The (N, 24) centres a controller spec asks for; `low`/`high` is the box
-    used when the spec gives none."""
-    c = spec.centres
-    if isinstance(c, np.ndarray):
-        return np.asarray(c, dtype=np.float64)
-    method = c.get("method", "sobol")
-    if method == "grid":
-        return centre_placement.grid(c["axes"])
-    lo = low if c.get("low") is None else np.asarray(c["low"], dtype=np.float64)
-    hi = high if c.get("high") is None else np.asarray(c["high"], dtype=np.float64)
-    fn = centre_placement.sobol if method == "sobol" else centre_placement.latin_hypercube
-    return fn(int(c.get("n", 64)), lo, hi, seed=int(c.get("seed", 0)))
+    """The (N, 24) centres a controller spec asks for (see
+    :func:`neurov.controllers.make_centres`)."""
+    from neurov.controllers import make_centres as make
+
+    return make(spec, low, high)

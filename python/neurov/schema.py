@@ -8,21 +8,16 @@ the TOML key in front of every message, including the C++ validator's::
 
     square.toml: controller.kd[3] = -1: expected >= 0 and finite
 
-It also makes every bound struct copyable and picklable (a study sends its
-scenarios to worker processes), from the fields themselves.
 """
 
 from __future__ import annotations
 
-import copyreg
 import math
-import re
-from collections.abc import Callable, Mapping
 from typing import Any
 
 import numpy as np
 
-__all__ = ["SchemaError", "assign", "field_names", "register_copy", "validated"]
+__all__ = ["SchemaError", "as_dict", "convert", "field_names"]
 
 
 class SchemaError(ValueError):
@@ -99,57 +94,16 @@ def convert(prototype: Any, value: Any, where: str) -> Any:
     raise SchemaError(f"{where}: cannot be set from a file")
 
 
-def assign(obj: Any, table: Mapping[str, Any], where: str, *, keys: Mapping[str, str] | None = None,
-           skip: tuple[str, ...] = ()) -> set[str]:
-    """Sets obj's fields from `table` (TOML key -> value). `keys` maps a TOML
-    key to a field whose name differs (``lambda`` -> ``lambda_``); keys in
-    `skip` are left to the caller. Returns the TOML keys used."""
-    keys = keys or {}
-    names = set(field_names(obj))
-    used: set[str] = set()
-    for key, value in table.items():
-        if key in skip:
-            continue
-        name = keys.get(key, key)
-        if name not in names:
-            continue
-        setattr(obj, name, convert(getattr(obj, name), value, f"{where}.{key}" if where else key))
-        used.add(key)
-    return used
-
-
-_FIELD = re.compile(r"^(?:[\w -]+: )?([A-Za-z_][\w.]*)(\[\d+\])?")
-
-
-def validated(obj: Any, where: str, *, keys: Mapping[str, str] | None = None) -> Any:
-    """obj after its C++ validator; a refusal is re-raised naming `where` and
-    the TOML key of the field (`keys` maps field -> TOML key)."""
-    try:
-        obj.validate()
-    except ValueError as e:
-        message = str(e)
-        m = _FIELD.match(message)
-        if m is None:
-            raise SchemaError(f"{where}: {message}") from None
-        field = m.group(1)
-        key = (keys or {}).get(field, field)
-        rest = message[m.end(1):]
-        prefix = f"{where}." if where and not where.endswith(": ") else where
-        raise SchemaError(f"{prefix}{key}{rest}") from None
+def as_dict(obj: Any) -> Any:
+    """A bound struct as plain data (fields by name, enums by name, arrays as
+    lists), recursively: for hashing and printing."""
+    if hasattr(type(obj), "__members__"):
+        return obj.name
+    names = field_names(obj) if not isinstance(obj, (int, float, str, bool, type(None))) else []
+    if names:
+        return {n: as_dict(getattr(obj, n)) for n in names}
+    if isinstance(obj, (list, tuple)):
+        return [as_dict(x) for x in obj]
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
     return obj
-
-
-def _rebuild(cls: type, state: dict[str, Any]) -> Any:
-    obj = cls()
-    for name, value in state.items():
-        setattr(obj, name, value)
-    return obj
-
-
-def register_copy(*classes: type) -> None:
-    """copy.copy, copy.deepcopy and pickle for bound structs, through their
-    fields (nested structs and lists of them follow, each registered too)."""
-    for cls in classes:
-        reducer: Callable[[Any], tuple[Any, ...]] = (
-            lambda obj, cls=cls: (_rebuild, (cls, {n: getattr(obj, n) for n in field_names(obj)})))
-        copyreg.pickle(cls, reducer)

@@ -1128,7 +1128,7 @@ TYPED_TEST(ReliabilityTest, SimulationConfigurationNamesTheBadField) {
          f.end = S(1);
          c.sensor_faults.push_back(f);
        },
-       "sensor_faults"},
+       "sensor_faults.end"},
       {"unknown sensor fault kind",
        [](auto& c) {
          SensorFault<S> f;

@@ -80,10 +80,10 @@ def test_every_fault_has_a_scenario_file() -> None:
 def test_scenario_declares_its_fault(name: str) -> None:
     s = neurov.load_scenario(FAULTS / f"{name}.toml")
     bit, (start, end), _ = CASES[name]
-    assert s.use_thrusters and s.controller.type == "nn" and s.controller.modification == "sigma"
+    assert s.use_thrusters and s.controller.type == "nn" and s.controller.modification.name == "sigma"
     if bit in (1, 2, 4):
         kind = {1: "freeze", 2: "dropout", 4: "noise_burst"}[bit]
-        assert [(f.kind, f.start, f.end) for f in s.sensor_faults] == [(kind, start, end)]
+        assert [(f.kind.name, f.start, f.end) for f in s.sensor_faults] == [(kind, start, end)]
     elif bit == 8:
         assert [(f.time, f.efficiency) for f in s.thruster_failures] == [(start, 0.0), (end, 1.0)]
     else:
@@ -127,7 +127,7 @@ def test_the_fault_is_reported_while_it_lasts(name: str) -> None:
 
 def test_dropout_holds_the_last_force_and_freezes_the_weights() -> None:
     r = run("sensor_dropout")
-    assert r.scenario.refused_step_policy == "hold"
+    assert r.scenario.refused_step_policy.name == "hold"
     _, (start, end), _ = CASES["sensor_dropout"]
     k = np.flatnonzero((r.t >= start - 1e-9) & (r.t < end - 1e-9))
     assert len(k) == 10
@@ -191,7 +191,7 @@ def test_sigma_modification_bounds_the_weights_where_the_gradient_law_drifts() -
     permanent = s.replace(thruster_failures=s.thruster_failures[:1], duration=600.0)
     runs = {}
     for mod, extra in (("none", {}), ("sigma", {"sigma_m": 0.05}), ("projection", {"w_max": 10.0})):
-        spec = dataclasses.replace(s.controller, modification=mod, sigma_m=extra.get("sigma_m", 0.0),
+        spec = s.controller.replace(modification=mod, sigma_m=extra.get("sigma_m", 0.0),
                                    w_max=extra.get("w_max", 0.0))
         r = neurov.simulate(permanent, spec)
         assert not r.diverged and np.all(np.isfinite(r.tau_applied))

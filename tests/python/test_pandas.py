@@ -4,6 +4,8 @@ columns that hold exactly the Result's arrays."""
 from __future__ import annotations
 
 import numpy as np
+
+import neurov
 import pandas as pd
 import pytest
 
@@ -15,7 +17,7 @@ SCENARIO = Scenario(
     name="pandas_square", duration=12.0, use_thrusters=True,
     command=CommandSpec(type="square", args={"side": 3.0, "start": 1.0}),
     controller=ControllerSpec(type="linear", theta0="true"),
-    sensor_faults=[SensorFault(kind="freeze", start=4.0, end=6.0)],
+    sensor_faults=[SensorFault(kind=neurov.SensorFaultKind.freeze, start=4.0, end=6.0)],
     thruster_failures=[ThrusterFailure(index=2, efficiency=0.0, time=8.0)],
 )
 

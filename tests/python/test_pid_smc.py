@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 
 import neurov
-from neurov.scenario import ControllerSpec, ScenarioError, scenario_from_mapping
+from neurov.scenario import ControllerSpec, ScenarioError
+from neurov.scenario_file import scenario_from_mapping
 from neurov.simulation import simulate
 
 # Local fixtures, so this file does not depend on a shared conftest.
@@ -250,6 +251,6 @@ def test_bad_pid_field_in_a_scenario_file_is_named() -> None:
     with pytest.raises(ScenarioError, match=r"controller\.integral_limit"):
         scenario_from_mapping(_scenario({"type": "pid", "kp": 1.0, "ki": 1.0, "integral_limit": -1.0}),
                               "x.toml")
-    with pytest.raises(ScenarioError, match=r"controller\.k\b"):
-        scenario_from_mapping(_scenario({"type": "smc", "phi": 0.1}), "x.toml")
+    with pytest.raises(ScenarioError, match=r"x\.toml: controller\.k\[2\] = -1: expected >= 0"):
+        scenario_from_mapping(_scenario({"type": "smc", "phi": 0.1, "k": [0, 0, -1, 0, 0, 0]}), "x.toml")
     assert ControllerSpec(type="smc").name == "sliding mode"

@@ -43,7 +43,7 @@ def runs() -> list[Result]:
 def fig5_runs() -> list[Result]:
     # Long enough for the desired path to have left its start (at 5 s).
     scenario = paper_scenario("paper_fig5").replace(duration=25.0)
-    linear = dataclasses.replace(scenario.controller, type="linear", gamma=1.0, theta0="zero",
+    linear = scenario.controller.replace(type="linear", gamma=1.0, theta0="zero",
                                  label="linear adaptive")
     return [simulate(scenario), simulate(scenario, linear)]
 

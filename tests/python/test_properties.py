@@ -434,10 +434,12 @@ _CHILD = textwrap.dedent(
         s = neurov.load_scenario(case["scenario"])
         s = s.replace(
             noise_eta=np.full(6, case["noise"]), noise_nu=np.full(6, case["noise"]), seed=case["seed"],
-            sensor_faults=[neurov.SensorFault(**f) for f in case["faults"]],
+            sensor_faults=[neurov.SensorFault(**{**f, "kind": neurov.SensorFaultKind.__members__[f["kind"]]})
+                           for f in case["faults"]],
             refused_step_policy=case["policy"])
-        s.controller.type = case["controller"]
-        s.controller.kp = np.full(6, 100.0)
+        s.controller = s.controller.replace(type=case["controller"])
+        if hasattr(s.controller.config, "kp"):
+            s.controller.kp = np.full(6, 100.0)
         vehicle = build_vehicle(s)
         def run(duration):
             c = build_controller(s.controller, s)

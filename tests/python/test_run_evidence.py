@@ -85,7 +85,7 @@ def test_diverged_paper_run_is_written_flagged_and_exits_3(tmp_path: Path, monke
         s = shipped(name)
         # Without its saturating thrusters, K_d = 10^7 at 5 Hz overflows the plant at once.
         return s.replace(duration=4.0, use_thrusters=False,
-                         controller=dataclasses.replace(s.controller, kd=np.full(6, 1e7)))
+                         controller=s.controller.replace(kd=np.full(6, 1e7)))
 
     monkeypatch.setattr(paper, "paper_scenario", short_and_unstable)
     out = tmp_path / "paper"

@@ -50,7 +50,7 @@ def test_example_contents() -> None:
     assert (s.command.type, s.controller.type) == ("lawnmower", "pd")
     assert np.linalg.norm(s.current) == pytest.approx(0.3)
     s = by_name["thrusters_failure"]
-    assert s.use_thrusters and s.saturation == "clip"
+    assert s.use_thrusters and s.saturation.name == "clip"
     assert [(f.index, f.efficiency, f.time) for f in s.thruster_failures] == [(0, 0.0, 60.0)]
     s = by_name["noise_yaw_disturbance"]
     assert np.all(s.noise_eta > 0) and np.all(s.noise_nu > 0)
@@ -87,7 +87,7 @@ def test_minimal_file_and_defaults(tmp_path: Path) -> None:
     np.testing.assert_array_equal(s.controller.kp, np.full(6, 100.0))
     assert s.command.args == {"side": 4.0}
     np.testing.assert_array_equal(s.eta0, 0.0)
-    assert s.disturbances == [] and s.thruster_failures == []
+    assert not s.disturbances and not s.thruster_failures
 
 
 def test_name_defaults_to_the_file_stem(tmp_path: Path) -> None:
@@ -166,7 +166,7 @@ BAD = {
     ),
     "failures without thrusters": (
         MINIMAL + "\n[[thruster_failures]]\nindex = 0\ntime = 5.0\n",
-        ["thruster_failures", "thrusters = true"],
+        ["thruster_failures[0]", "a thruster configuration"],
     ),
     "invalid toml": (
         MINIMAL + "\n[controller\n",

@@ -37,9 +37,9 @@ def busy_scenario() -> neurov.Scenario:
         noise_eta=np.full(6, 0.01),
         noise_nu=np.full(6, 0.005),
         sensor_faults=[
-            SensorFault(kind="freeze", start=10.0, end=11.0, nu=False),
-            SensorFault(kind="dropout", start=25.0, end=26.0, eta=False),
-            SensorFault(kind="noise_burst", start=40.0, end=44.0, noise_eta=np.full(6, 0.05)),
+            SensorFault(kind=neurov.SensorFaultKind.freeze, start=10.0, end=11.0, nu=False),
+            SensorFault(kind=neurov.SensorFaultKind.dropout, start=25.0, end=26.0, eta=False),
+            SensorFault(kind=neurov.SensorFaultKind.noise_burst, start=40.0, end=44.0, noise_eta=np.full(6, 0.05)),
         ],
     )
 

@@ -75,7 +75,7 @@ def hour_config(s: Scenario, eta0: np.ndarray, nu0: np.ndarray, seed: int) -> _c
 @pytest.mark.skipif(not os.path.exists("/proc/self/statm"), reason="needs Linux /proc for the RSS")
 def test_24_hours_nn_sigma_modification() -> None:
     s = soak_scenario()
-    assert s.controller.type == "nn" and s.controller.modification == "sigma"
+    assert s.controller.type == "nn" and s.controller.modification.name == "sigma"
     assert s.use_thrusters
     vehicle = build_vehicle(s)
     controller = build_controller(s.controller, s)

@@ -215,7 +215,7 @@ BAD = [
     ('scenarios = ["short_nerov.toml", "nerov_sqare"]', r"scenarios\[1\]: no scenario 'nerov_sqare'.*did you mean 'nerov_square'"),
     ("[controllers.pd]\ntype = \"pdd\"", r"controllers\.pd\.type: expected one of"),
     ("[controllers.pd]\ntype = \"pd\"\n[controllers.pd.nerov]\nkp = 1.0\nkd = -1.0\n"
-     "[controllers.pd.bluerov2_heavy]\nkp = 1.0", r"controllers\.pd\.nerov\.kd: expected numbers >= 0"),
+     "[controllers.pd.bluerov2_heavy]\nkp = 1.0", r"controllers\.pd\.nerov\.kd\[0\] = -1: expected >= 0"),
     ("[controllers.pd]\ntype = \"pd\"\n[controllers.pd.nerov]\nkp = 1.0\n[controllers.pd.bluerov2]\nkp = 1.0",
      r"controllers\.pd\.bluerov2: no scenario of this study uses a vehicle 'bluerov2'.*did you mean 'bluerov2_heavy'"),
     ("[controllers.pd]\ntype = \"pd\"\n[controllers.pd.nerov]\nkp = 1.0",
@@ -231,10 +231,10 @@ BAD = [
     ("[ranking]\nmetric = \"rmse_positon_m\"", r"ranking\.metric: unknown metric 'rmse_positon_m'; did you mean 'rmse_position_m'"),
     ("[failure]\nrmse_position_m = \"big\"", r"failure\.rmse_position_m: expected a number"),
     ("[ranking]\nalso_show = [\"rmse_yw_rad\"]", r"ranking\.also_show\[0\]: unknown metric 'rmse_yw_rad'"),
-    ("[controllers.pd]\ntype = \"nn\"\nmodification = \"sigma\"", r"controllers\.pd: .*sigma_m"),
+    ("[controllers.pd]\ntype = \"nn\"\nmodification = \"sigma\"", r"controllers\.pd\.sigma_m = 0: expected > 0"),
     ("[controllers.pd]\ntype = \"nn\"\nkd = 1.0\n[controllers.pd.centres]\nmethod = \"sobol\"\nn = 4\n"
      "[controllers.pd.nerov]\nmodification = \"projection\"\n[controllers.pd.bluerov2_heavy]\ngamma = 0.1",
-     r"controllers\.pd\.nerov: .*w_max"),
+     r"controllers\.pd\.w_max = 0: expected > 0"),
     ("samples = 0", r"samples: expected an integer >= 1"),
     ("sampels = 3", r"sampels: unknown field; did you mean 'samples'"),
     ("after = 100.0", r"after: 100.0 s leaves no samples of scenario 'short_nerov'"),

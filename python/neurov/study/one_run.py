@@ -56,13 +56,12 @@ def resolved_spec(study: Study, controller: int, scenario: int) -> ControllerSpe
     key = (controller, scenario)
     spec = study.cache.get(key)
     if spec is None:
-        from neurov.scenario import make_centres
-        from neurov.simulation import default_centre_box
+        from neurov.controllers import default_centre_box, make_centres
 
         sc = study.scenarios[scenario]
         spec = study.spec_for(study.controllers[controller], sc)
         if spec.type == "nn" and not isinstance(spec.centres, np.ndarray):
-            spec = dataclasses.replace(spec, centres=make_centres(spec, *default_centre_box(sc)))
+            spec = spec.replace(centres=make_centres(spec, *default_centre_box(sc)))
         study.cache[key] = spec
     return spec
 

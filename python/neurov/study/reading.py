@@ -12,7 +12,8 @@ from pathlib import Path
 from typing import Any
 
 from neurov.files import read_text
-from neurov.scenario import ControllerSpec, Scenario, ScenarioError, _controller, _Reader, load_scenario
+from neurov.scenario import ControllerSpec, Scenario, ScenarioError, load_scenario
+from neurov.scenario_file import _controller, _Reader
 from neurov.study.one_run import resolved_spec
 from neurov.study.sampling import nominal_parameters, scaled
 from neurov.study.spec import (

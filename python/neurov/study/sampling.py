@@ -4,6 +4,8 @@ noise and disturbances."""
 
 from __future__ import annotations
 
+import copy
+
 import dataclasses
 import math
 from typing import Any
@@ -104,5 +106,12 @@ def sample_plant(study: Study, scenario: Scenario, sample: int) -> tuple[Scenari
         changes["noise_nu"] = scenario.noise_nu * k
     if "disturbance_scale" in draws:
         k = float(draws["disturbance_scale"][0])
-        changes["disturbances"] = [dataclasses.replace(d, amplitude=d.amplitude * k) for d in scenario.disturbances]
+        changes["disturbances"] = [_scaled_amplitude(d, k) for d in scenario.disturbances]
     return scenario.replace(**changes), columns
+
+
+def _scaled_amplitude(d: Any, k: float) -> Any:
+    """A copy of a disturbance with its amplitude times k."""
+    out = copy.copy(d)
+    out.amplitude = d.amplitude * k
+    return out

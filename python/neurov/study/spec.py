@@ -128,8 +128,8 @@ class Study:
             "seed": self.seed,
             "after": self.after,
             "perturbations": [dataclasses.asdict(p) for p in self.perturbations],
-            "scenarios": [_canonical(dataclasses.asdict(s) | {"source": ""}) for s in self.scenarios],
-            "controllers": {f"{c}@{v}": _canonical(dataclasses.asdict(s))
+            "scenarios": [_canonical(s.describe()) for s in self.scenarios],
+            "controllers": {f"{c}@{v}": _canonical(s.describe())
                             for (c, v), s in sorted(self.controller_specs.items())},
         }
         text = json.dumps(payload, sort_keys=True, default=str)

@@ -187,7 +187,7 @@ inline ValidationError validate(const SimulationConfig<Scalar>& c) {
   for (std::size_t i = 0; i < c.sensor_faults.size(); ++i) {
     const auto& f = c.sensor_faults[i];
     if (!(std::isfinite(f.start) && std::isfinite(f.end) && f.end >= f.start))
-      return detail::invalid("sensor_faults", static_cast<int>(i), static_cast<double>(f.end),
+      return detail::invalid("sensor_faults.end", static_cast<int>(i), static_cast<double>(f.end),
                              "finite start <= end");
     if (static_cast<int>(f.kind) > 2)
       return detail::invalid("sensor_faults.kind", static_cast<int>(i),

@@ -1,0 +1,167 @@
+"""The controller registry: type name -> config class, Python options, builder.
+
+One entry per controller, used by the scenario reader, :func:`neurov.simulate`,
+studies and the command line. A controller's gains are its C++ config struct
+(``neurov._core.PDConfig`` ...), with the C++ defaults and validator; an
+entry adds only what the core cannot know: the fields the builder fills from
+the scenario (the control period, the nominal model) and options that are
+Python's work (the NN centres' placement). Adding a controller: its C++
+header, one binding line, one :func:`register` call here, its stub line.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from neurov import _core
+from neurov import centres as centre_placement
+
+if TYPE_CHECKING:
+    from neurov.scenario import ControllerSpec, Scenario
+
+__all__ = ["ControllerType", "REGISTRY", "build_controller", "default_centre_box", "make_centres", "register"]
+
+Array = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class ControllerType:
+    """One kind of controller.
+
+    name: the scenario file's ``type``; title: its name in tables and plots;
+    config: the bound C++ config class; build: (spec, scenario) -> controller;
+    managed: config fields the builder fills from the scenario (not read from
+    files); options: Python-level options and their defaults; keys: TOML key
+    -> config field where the two differ.
+    """
+
+    name: str
+    title: str
+    config: type
+    build: Callable[[ControllerSpec, Scenario], Any]
+    managed: tuple[str, ...] = ()
+    options: Mapping[str, Any] = field(default_factory=dict)
+    keys: Mapping[str, str] = field(default_factory=dict)
+
+    def fields(self) -> list[str]:
+        """The config fields a file may set (TOML names)."""
+        from neurov.schema import field_names
+
+        inverse = {v: k for k, v in self.keys.items()}
+        return [inverse.get(f, f) for f in field_names(self.config()) if f not in self.managed]
+
+
+REGISTRY: dict[str, ControllerType] = {}
+
+
+def register(kind: ControllerType) -> ControllerType:
+    """Adds (or replaces) a controller type."""
+    REGISTRY[kind.name] = kind
+    return kind
+
+
+def build_controller(spec: ControllerSpec, scenario: Scenario) -> Any:
+    """A fresh controller from its spec, for the scenario's control period and
+    nominal vehicle (the vehicle file without the scenario's parameter
+    overrides: a controller is designed for the vehicle as documented, not
+    the plant as perturbed)."""
+    try:
+        kind = REGISTRY[spec.type]
+    except KeyError:
+        raise ValueError(f"controller.type must be one of {sorted(REGISTRY)}, got {spec.type!r}") from None
+    return kind.build(spec, scenario)
+
+
+def default_centre_box(scenario: Scenario) -> tuple[Array, Array]:
+    """The box the NN centres fill when the scenario gives none: the commanded
+    poses' bounding box padded by 2 m and 0.5 rad for eta; +-1 m/s and
+    +-0.5 rad/s for the velocities nu and nu_r; +-0.5 m/s^2 and +-0.5 rad/s^2
+    for nu_r_dot. A written-down choice: the paper says only "uniformly spaced
+    in the state space"."""
+    _, poses = scenario.command.timed_poses()
+    # The box is the first use of eta0 and the poses: a NaN in either would
+    # otherwise be reported as the box's ('low' and 'high' must be finite).
+    eta0 = np.asarray(scenario.eta0, dtype=np.float64)
+    if eta0.shape != (6,) or not np.all(np.isfinite(eta0)):
+        raise ValueError(f"scenario {scenario.name!r}: argument 'eta0' (the initial pose) must be "
+                         f"6 finite numbers, got {eta0.tolist()}")
+    if not np.all(np.isfinite(poses)):
+        raise ValueError(f"scenario {scenario.name!r}: the command's poses must be finite, "
+                         f"got a non-finite value in pose {int(np.argmin(np.all(np.isfinite(poses), axis=1)))}")
+    poses = np.vstack([poses, eta0])
+    pad = np.array([2.0, 2.0, 2.0, 0.5, 0.5, 0.5])
+    vel = np.array([1.0, 1.0, 1.0, 0.5, 0.5, 0.5])
+    acc = np.full(6, 0.5)
+    low = np.concatenate([-acc, -vel, -vel, poses.min(axis=0) - pad])
+    high = np.concatenate([acc, vel, vel, poses.max(axis=0) + pad])
+    return low, high
+
+
+def make_centres(spec: ControllerSpec, low: Array, high: Array) -> Array:
+    """The (N, 24) centres a controller spec asks for; `low`/`high` is the box
+    used when the spec gives none."""
+    c = spec.centres
+    if isinstance(c, np.ndarray):
+        return np.asarray(c, dtype=np.float64)
+    method = c.get("method", "sobol")
+    if method == "grid":
+        return centre_placement.grid(c["axes"])
+    lo = low if c.get("low") is None else np.asarray(c["low"], dtype=np.float64)
+    hi = high if c.get("high") is None else np.asarray(c["high"], dtype=np.float64)
+    fn = centre_placement.sobol if method == "sobol" else centre_placement.latin_hypercube
+    return fn(int(c.get("n", 64)), lo, hi, seed=int(c.get("seed", 0)))
+
+
+def _configured(spec: ControllerSpec, **managed: Any) -> Any:
+    """A copy of the spec's config with the managed fields set."""
+    import copy
+
+    config = copy.copy(spec.config)
+    for name, value in managed.items():
+        setattr(config, name, value)
+    return config
+
+
+def _nominal(scenario: Scenario) -> Any:
+    return scenario.vehicle_data().vehicle()
+
+
+def _build_nn(spec: ControllerSpec, scenario: Scenario) -> Any:
+    network = _core.RbfNetwork(make_centres(spec, *default_centre_box(scenario)), spec.width)
+    return _core.NNAdaptiveController(network, _configured(spec, dt=scenario.dt))
+
+
+def _build_linear(spec: ControllerSpec, scenario: Scenario) -> Any:
+    theta0 = np.zeros(len(_core.THETA_NAMES))
+    if spec.theta0 in ("true", "scaled"):
+        theta0 = _core.regressor_parameters(_nominal(scenario))
+        if spec.theta0 == "scaled":
+            theta0 = theta0 * spec.theta0_scale
+    return _core.LinearAdaptiveController(_configured(spec, dt=scenario.dt, theta0=theta0))
+
+
+register(ControllerType(
+    "nn", "NN adaptive", _core.NNAdaptiveConfig, _build_nn, managed=("dt",),
+    options={"width": 30.0, "centres": {"method": "sobol", "n": 64}}, keys={"lambda": "lambda_"}))
+register(ControllerType(
+    "linear", "linear adaptive", _core.LinearAdaptiveConfig, _build_linear, managed=("dt", "theta0"),
+    options={"theta0": "zero", "theta0_scale": 1.0}, keys={"lambda": "lambda_"}))
+register(ControllerType(
+    "pd", "PD", _core.PDConfig, lambda spec, scenario: _core.PDController(_configured(spec))))
+register(ControllerType(
+    "pid", "PID", _core.PIDConfig,
+    lambda spec, scenario: _core.PIDController(_configured(spec, dt=scenario.dt)), managed=("dt",)))
+register(ControllerType(
+    "smc", "sliding mode", _core.SlidingModeConfig,
+    lambda spec, scenario: _core.SlidingModeController(
+        _configured(spec, theta=_core.regressor_parameters(_nominal(scenario)))),
+    managed=("theta",), keys={"lambda": "lambda_"}))
+register(ControllerType(
+    "computed_torque", "computed torque", _core.ComputedTorqueConfig,
+    lambda spec, scenario: _core.ComputedTorqueController(_configured(spec, vehicle=_nominal(scenario))),
+    managed=("vehicle",), keys={"lambda": "lambda_"}))
