@@ -145,8 +145,9 @@ def simulate(scenario: Scenario, controller: ControllerSpec | Any = None, *,
     following :class:`neurov.Controller` (stepped from Python through
     :class:`neurov.Simulator`; its refused steps are logged and the run goes
     on; its ``reset()``, if any, is called first). A built-in object runs
-    from the state it is in (e.g. warm-started weights). `label` names the controller in the result (default: the spec's
-    name, the class name of an object)."""
+    from the state it is in (e.g. warm-started weights). `label` names the
+    controller in the result (default: the spec's name, the class name of
+    an object)."""
     import time
 
     from neurov.controller import is_built_in, require_controller
