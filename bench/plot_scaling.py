@@ -14,6 +14,7 @@ from __future__ import annotations
 import argparse
 import json
 import re
+import statistics
 from collections import defaultdict
 from pathlib import Path
 
@@ -41,7 +42,7 @@ def load(path: Path) -> dict[str, dict[int, float]]:
         if not have_median and b.get("run_type") == "aggregate":
             continue
         rows[m.group(1)][int(m.group(2))].append(b["cpu_time"] * _TO_NS[b.get("time_unit", "ns")])
-    return {s: {n: sorted(v)[len(v) // 2] for n, v in sorted(d.items())} for s, d in rows.items()}
+    return {s: {n: statistics.median(v) for n, v in sorted(d.items())} for s, d in rows.items()}
 
 
 def main() -> None:

@@ -34,7 +34,6 @@ extensions = [
     "myst_parser",
     "sphinx.ext.autodoc",
     "sphinx.ext.autosummary",
-    "sphinx.ext.napoleon",
     "sphinx.ext.mathjax",
     "breathe",
 ]
@@ -56,8 +55,9 @@ autodoc_default_options = {"members": True, "show-inheritance": True}
 autodoc_member_order = "bysource"
 autodoc_typehints = "description"
 autodoc_typehints_description_target = "documented"
-napoleon_google_docstring = False
-napoleon_numpy_docstring = True
+# No napoleon: the docstrings are prose, not NumPy or Google sections, and
+# napoleon reads a colon in an attribute's first line ("... [s]: the weights")
+# as "type: description".
 
 # C++ API.
 breathe_projects = {"neurov": str(DOXYGEN_XML)}

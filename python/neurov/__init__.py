@@ -55,18 +55,23 @@ from neurov.scenario import (
 )
 from neurov.kernels import check_kernel_request as _check_kernel_request
 from neurov.simulation import Result, simulate, simulate_many
+from neurov.controller import Controller
+from neurov.simulator import Observation, Simulator
 from neurov.vehicle_file import VehicleFileError
 
 __all__ = [
     "THETA_NAMES",
     "CommandSpec",
+    "Controller",
     "ControllerSpec",
     "CurrentStep",
     "Disturbance",
+    "Observation",
     "Result",
     "Scenario",
     "ScenarioError",
     "SensorFault",
+    "Simulator",
     "ThrusterFailure",
     "allocate_thrust",
     "load_scenario",

@@ -35,20 +35,38 @@ def simulation_config(scenario: Scenario) -> _core.SimulationConfig:
     return scenario.simulation
 
 
-def simulate(scenario: Scenario, controller: ControllerSpec | None = None, *,
-             vehicle: _core.Vehicle | None = None) -> Result:
-    """Runs one closed loop (the loop itself is C++; no Python per step)."""
+def simulate(scenario: Scenario, controller: ControllerSpec | Any = None, *,
+             vehicle: _core.Vehicle | None = None, label: str | None = None) -> Result:
+    """Runs one closed loop. `controller` is a :class:`ControllerSpec` (None:
+    the scenario's), a built-in controller object (``neurov.PDController(kp,
+    kd)``, ...: the loop runs in C++, no Python per step), or any object
+    following :class:`neurov.Controller` (stepped from Python through
+    :class:`neurov.Simulator`; its refused steps are logged and the run goes
+    on; its ``reset()``, if any, is called first). A built-in object runs
+    from the state it is in (e.g. warm-started weights). `label` names the
+    controller in the result (default: the spec's name, the class name of
+    an object)."""
     import time
 
-    spec = controller or scenario.controller
+    from neurov.controller import is_built_in, require_controller
+
     plant = vehicle if vehicle is not None else build_vehicle(scenario)
-    ctrl = build_controller(spec, scenario)
+    if controller is None or isinstance(controller, ControllerSpec):
+        spec = controller or scenario.controller
+        ctrl, name = build_controller(spec, scenario), spec.name
+    else:
+        require_controller(controller)
+        ctrl, name = controller, type(controller).__name__
+        if not is_built_in(ctrl):
+            from neurov.simulator import Simulator
+
+            return Simulator(scenario, vehicle=plant, label=label or name).run(ctrl)
     config = simulation_config(scenario)
     start = time.perf_counter()
     raw = _core.run_closed_loop(plant, ctrl, config)
     wall = time.perf_counter() - start
     diverged = bool(raw.pop("diverged"))
-    return Result(scenario=scenario, controller=spec.name, diverged=diverged, wall_time=wall, **raw)
+    return Result(scenario=scenario, controller=label or name, diverged=diverged, wall_time=wall, **raw)
 
 
 def simulate_many(runs: Sequence[tuple[Scenario, ControllerSpec | None]] | Iterable[tuple[Scenario, ControllerSpec | None]],

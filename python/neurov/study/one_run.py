@@ -75,7 +75,12 @@ def run_one(study: Study, key: RunKey) -> dict[str, Any]:
     scenario = study.scenarios[key.scenario]
     controller = study.controllers[key.controller]
     plant, columns = sample_plant(study, scenario, key.sample)
-    result = simulate(plant, resolved_spec(study, key.controller, key.scenario))
+    factory = study.factories.get(controller)
+    if factory is not None:
+        # The factory sees the nominal scenario, as a built-in controller is designed for it.
+        result = simulate(plant, factory.make(scenario), label=controller)
+    else:
+        result = simulate(plant, resolved_spec(study, key.controller, key.scenario))
     # A diverged run's metrics cover what it simulated (all of it if it
     # stopped before `after`); its error metrics are inf here so that it
     # ranks as the failure it is, whatever its errors before it stopped.

@@ -14,6 +14,7 @@ from typing import Any
 from neurov.files import read_text
 from neurov.scenario import ControllerSpec, Scenario, ScenarioError, load_scenario
 from neurov.scenario_file import _controller, _Reader
+from neurov.study.factory import ControllerFactory, FactoryError
 from neurov.study.one_run import resolved_spec
 from neurov.study.sampling import nominal_parameters, scaled
 from neurov.study.spec import (
@@ -154,10 +155,15 @@ def study_from_mapping(data: Mapping[str, Any], origin: str = "<study>") -> Stud
             raise r.error("controllers", "missing (expected tables [controllers.NAME] with a 'type')")
         controllers: list[str] = []
         specs: dict[tuple[str, str], ControllerSpec] = {}
+        factories: dict[str, ControllerFactory] = {}
         for key, table in ctable.items():
             where = f"controllers.{key}"
             if not isinstance(table, Mapping):
                 raise StudyError(f"{origin}: {where}: expected a table")
+            if "factory" in table:
+                factories[key] = _factory(table, where, origin, key)
+                controllers.append(key)
+                continue
             common = {k: v for k, v in table.items() if not (isinstance(v, Mapping) and k != "centres")}
             per_vehicle = {k: v for k, v in table.items() if isinstance(v, Mapping) and k != "centres"}
             for v in per_vehicle:
@@ -211,7 +217,7 @@ def study_from_mapping(data: Mapping[str, Any], origin: str = "<study>") -> Stud
     except ScenarioError as e:
         raise StudyError(str(e)) from None
 
-    study = Study(name=name, scenarios=scenarios, controllers=controllers, controller_specs=specs,
+    study = Study(name=name, scenarios=scenarios, controllers=controllers, controller_specs=specs, factories=factories,
                   perturbations=perturbations, samples=samples, seed=seed, after=after,
                   ranking_metric=ranking, also_show=list(also), failure=failure, head_to_head=pairs,
                   description=description, source=origin)
@@ -221,6 +227,20 @@ def study_from_mapping(data: Mapping[str, Any], origin: str = "<study>") -> Stud
                                                         for n, v in t.items()))
                                        for k, t in ctable.items()})
     return study
+
+
+def _factory(table: Mapping[str, Any], where: str, origin: str, key: str) -> ControllerFactory:
+    """[controllers.KEY] with a factory: only 'factory' and 'label'."""
+    unknown = sorted(set(table) - {"factory", "label"})
+    if unknown:
+        raise StudyError(f"{origin}: {where}.{unknown[0]}: a controller given by a factory takes only "
+                         f"'factory' and 'label' (its gains are the factory's business)")
+    path, label = table["factory"], table.get("label", key)
+    if not isinstance(path, str) or ":" not in path:
+        raise StudyError(f"{origin}: {where}.factory: expected 'module.path:function', got {path!r}")
+    if not isinstance(label, str):
+        raise StudyError(f"{origin}: {where}.label: expected a string, got {label!r}")
+    return ControllerFactory(path, label)
 
 
 def _check_controllers(study: Study, origin: str, per_vehicle: Mapping[str, bool]) -> None:
@@ -233,6 +253,15 @@ def _check_controllers(study: Study, origin: str, per_vehicle: Mapping[str, bool
     for i, s in enumerate(study.scenarios):
         first.setdefault(vehicle_key(s), i)
     for j, key in enumerate(study.controllers):
+        if key in study.factories:
+            # Imported and called on every scenario here, so that a factory that
+            # fails does so before any run starts.
+            for s in study.scenarios:
+                try:
+                    study.factories[key].make(s)
+                except FactoryError as e:
+                    raise StudyError(f"{origin}: controllers.{key}.factory: {e}") from None
+            continue
         for v, i in first.items():
             where = f"controllers.{key}.{v}" if per_vehicle.get(key) else f"controllers.{key}"
             try:

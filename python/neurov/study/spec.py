@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from neurov.scenario import ControllerSpec, Scenario
+from neurov.study.factory import ControllerFactory
 
 __all__ = ["ENVIRONMENT_PARAMETERS", "NORMAL_TRUNCATION", "SCENARIO_DIR", "STUDY_DIR", "VEHICLE_PARAMETERS",
            "METRIC_NAMES", "Perturbation", "Study", "StudyError", "metric_names", "vehicle_key"]
@@ -95,6 +96,8 @@ class Study:
     """Controller keys, in the file's order."""
     controller_specs: dict[tuple[str, str], ControllerSpec]
     """(controller key, vehicle key) -> the spec for that vehicle."""
+    factories: dict[str, ControllerFactory] = field(default_factory=dict)
+    """Controller key -> the user's factory (those keys have no spec)."""
     perturbations: list[Perturbation] = field(default_factory=list)
     samples: int = 1
     seed: int = 0
@@ -111,6 +114,8 @@ class Study:
     of a short run); not part of the study."""
 
     def label(self, controller: str) -> str:
+        if controller in self.factories:
+            return self.factories[controller].label
         specs = [s for (c, _), s in self.controller_specs.items() if c == controller]
         return specs[0].label if specs and specs[0].label else controller
 
@@ -132,6 +137,9 @@ class Study:
             "controllers": {f"{c}@{v}": _canonical(s.describe())
                             for (c, v), s in sorted(self.controller_specs.items())},
         }
+        if self.factories:
+            # The path, not the code: a changed module keeps the fingerprint (docs: start a new folder).
+            payload["factories"] = {c: f.path for c, f in sorted(self.factories.items())}
         text = json.dumps(payload, sort_keys=True, default=str)
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 

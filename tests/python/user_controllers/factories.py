@@ -1,0 +1,44 @@
+"""Factories of the study tests: functions of the scenario returning a controller."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+import neurov
+
+KP = [200.0, 200, 200, 50, 50, 50]
+KD = [200.0, 200, 200, 50, 50, 50]
+
+
+class PythonPD:
+    """The built-in PD law stepped from Python (a controller that is only Python glue)."""
+
+    def __init__(self) -> None:
+        self.inner = neurov.PDController(np.array(KP), np.array(KD))
+
+    def step(self, eta: Any, nu: Any, eta_d: Any, eta_d_dot: Any, eta_d_ddot: Any) -> Any:
+        return self.inner.step(eta, nu, eta_d, eta_d_dot, eta_d_ddot)
+
+    def reset(self) -> None:
+        self.inner.reset()
+
+    @property
+    def s(self) -> Any:
+        return self.inner.s
+
+
+def python_pd(scenario: neurov.Scenario) -> PythonPD:
+    return PythonPD()
+
+
+def not_a_controller(scenario: neurov.Scenario) -> int:
+    return 42
+
+
+def raises(scenario: neurov.Scenario) -> PythonPD:
+    raise RuntimeError(f"no gains for {scenario.name}")
+
+
+NOT_CALLABLE = 3
