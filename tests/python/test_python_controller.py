@@ -28,7 +28,7 @@ SPECS = {
     "nn": ControllerSpec(type="nn", modification="sigma", sigma_m=0.05),
     "linear": ControllerSpec(type="linear", theta0="scaled", theta0_scale=0.8),
     "pd": ControllerSpec(type="pd", kp=np.array([200.0, 200, 200, 50, 50, 50])),
-    "pid": ControllerSpec(type="pid"),
+    "pid": ControllerSpec(type="pid", kp=np.full(6, 100.0), ki=np.full(6, 5.0), kd=np.full(6, 200.0)),
     "smc": ControllerSpec(type="smc"),
 }
 
