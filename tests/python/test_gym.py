@@ -46,7 +46,7 @@ def test_single_dof_limits_match_the_inverse_of_a_square_layout() -> None:
     # With six independent thrusters u = B^-1 tau is the only way to make tau;
     # the first thruster to reach its limit bounds it.
     binv = np.linalg.inv(t["matrix"])
-    expected = np.min(t["max_thrust"][:, None] / np.abs(binv), axis=0)
+    expected = 1.0 / np.max(np.abs(binv) / t["max_thrust"][:, None], axis=0)
     np.testing.assert_allclose(pos, expected, rtol=1e-9)
     np.testing.assert_allclose(neg, expected, rtol=1e-9)
 
@@ -135,9 +135,12 @@ def test_observation_reward_and_info_from_the_documented_formulas() -> None:
     np.testing.assert_allclose(obs[:3], rot.T @ (eta[:3] - eta_d[:3]), rtol=1e-6, atol=1e-6)
     np.testing.assert_allclose(obs[6:12], nu, rtol=1e-6, atol=1e-6)
     np.testing.assert_allclose(obs[12:15], rot.T @ o.eta_d_dot[:3], rtol=1e-6, atol=1e-6)
+    np.testing.assert_allclose(obs[3:6], np.angle(np.exp(1j * (eta[3:] - eta_d[3:]))), rtol=1e-6, atol=1e-6)
     np.testing.assert_allclose(obs[24:26], eta[3:5], rtol=1e-6, atol=1e-6)
     e = info["eta_true"] - eta_d
-    want = -(e[:3] @ e[:3] + 2.0 * e[3:] @ e[3:] + 0.5 * 6 * 0.3**2)
+    angles = np.angle(np.exp(1j * e[3:]))  # wrapped to (-pi, pi]
+    assert np.any(np.abs(e[3:]) > np.pi)  # the wrap is exercised
+    want = -(e[:3] @ e[:3] + 2.0 * angles @ angles + 0.5 * 6 * 0.3**2)
     assert reward == pytest.approx(want, rel=1e-12)
     assert info["action_clips"] == 0
 
