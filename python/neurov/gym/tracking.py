@@ -26,7 +26,6 @@ __all__ = ["TrackingEnv", "resolve_scenario"]
 
 Array = NDArray[np.float64]
 SCENARIO_DIR = Path(__file__).resolve().parent.parent / "scenarios"
-OBS_SIZE = 26
 
 
 def resolve_scenario(scenario: Scenario | str | Path) -> Scenario:
@@ -120,10 +119,9 @@ class TrackingEnv(gymnasium.Env):
         high = np.concatenate([np.full(3, reach), np.full(3, np.pi), np.full(18, velocity_bound),
                                np.full(2, np.pi)]).astype(np.float32)
         self.observation_space = spaces.Box(-high, high, dtype=np.float32)
-        self._obs_high = high.astype(np.float64)
-        self._obs_low = -self._obs_high
+        self._obs_high = high
+        self._obs_low = -high
         self._box = (tuple(self.box_low.tolist()), tuple(self.box_high.tolist()))
-        self._obs = np.zeros(OBS_SIZE)
         self._cols = np.zeros((3, 6))  # eta - eta_d, eta_d_dot, eta_d_ddot
 
         self._episode_over: str | None = "call reset() before step()"
@@ -185,9 +183,10 @@ class TrackingEnv(gymnasium.Env):
 
     def _observe(self) -> tuple[NDArray[np.float32], dict[str, Any]]:
         # Written for speed (a step's budget is ~20 us): few numpy calls on
-        # six-vectors, preallocated buffers, scalars in plain Python.
+        # six-vectors, a preallocated buffer, scalars in plain Python.
         o = self._sim.observation
-        eta, nu, eta_d = o.eta, o.nu, o.eta_d
+        eta_raw, nu_raw, eta_d = o.eta, o.nu, o.eta_d
+        eta, nu = eta_raw, nu_raw
         if self._check_faults:
             eta = np.nan_to_num(eta, nan=0.0, posinf=0.0, neginf=0.0)
             nu = np.nan_to_num(nu, nan=0.0, posinf=0.0, neginf=0.0)
@@ -195,20 +194,16 @@ class TrackingEnv(gymnasium.Env):
         np.subtract(eta, eta_d, out=cols[0])
         cols[1] = o.eta_d_dot
         cols[2] = o.eta_d_ddot
-        body = _core.jacobian_inverse(eta) @ cols.T
-        e_phi, e_theta, e_psi, phi, theta = (*cols[0, 3:].tolist(), *eta[3:5].tolist())
-        obs = self._obs
-        obs[:3] = body[:3, 0]
-        obs[3:6] = (_wrap(e_phi), _wrap(e_theta), _wrap(e_psi))
-        obs[6:12] = nu
-        obs[12:24] = body[:, 1:].T.ravel()
-        obs[24:26] = (phi, theta)
+        body = cols @ _core.jacobian_inverse(eta).T  # rows: J^-1 (eta - eta_d), J^-1 eta_d_dot, J^-1 eta_d_ddot
+        e_phi, e_theta, e_psi = cols[0, 3:].tolist()
+        obs = np.concatenate((body[0, :3], (_wrap(e_phi), _wrap(e_theta), _wrap(e_psi)), nu, body[1], body[2],
+                              eta[3:5]), dtype=np.float32)
         np.minimum(obs, self._obs_high, out=obs)
         np.maximum(obs, self._obs_low, out=obs)
         eta_true, nu_true = self._sim.state
-        info = {"t": o.t, "eta": o.eta, "nu": o.nu, "eta_d": eta_d, "eta_true": eta_true, "nu_true": nu_true,
+        info = {"t": o.t, "eta": eta_raw, "nu": nu_raw, "eta_d": eta_d, "eta_true": eta_true, "nu_true": nu_true,
                 "action_clips": self._clips}
-        return obs.astype(np.float32), info
+        return obs, info
 
     def step(self, action: Any) -> tuple[NDArray[np.float32], float, bool, bool, dict[str, Any]]:
         if self._episode_over is not None:
@@ -217,11 +212,13 @@ class TrackingEnv(gymnasium.Env):
         if a.shape != self._action_shape:
             raise ValueError(f"TrackingEnv.step: argument 'action' must have shape {self._action_shape}, "
                              f"got {a.shape}")
-        largest = float(np.abs(a).max())
-        if not largest <= 1.0:  # also NaN
+        values = a.tolist()
+        # A non-finite entry makes the sum non-finite (so does an overflow, checked below).
+        if not (math.isfinite(sum(values)) and max(values) <= 1.0 and min(values) >= -1.0):
             if not np.isfinite(a).all():
-                raise ValueError(f"TrackingEnv.step: argument 'action' must be finite, got {a.tolist()}")
+                raise ValueError(f"TrackingEnv.step: argument 'action' must be finite, got {values}")
             a = np.clip(a, -1.0, 1.0)
+            values = a.tolist()
             self._clips += 1
         plant = self._sim.step(self._force(a))
         obs, info = self._observe()
@@ -231,7 +228,7 @@ class TrackingEnv(gymnasium.Env):
         wp, wa, wu = self._weights
         reward = -(wp * ((x - xd) ** 2 + (y - yd) ** 2 + (z - zd) ** 2)
                    + wa * (_wrap(phi - phid) ** 2 + _wrap(theta - thetad) ** 2 + _wrap(psi - psid) ** 2)
-                   + wu * float(a @ a))
+                   + wu * sum(v * v for v in values))
         (xl, yl, zl), (xh, yh, zh) = self._box
         outside = not (xl <= x <= xh and yl <= y <= yh and zl <= z <= zh)
         diverged = self._sim.diverged
