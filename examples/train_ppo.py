@@ -35,7 +35,10 @@ def evaluate(env: gymnasium.Env, policy, seed: int) -> tuple[float, float, int, 
 
 
 def main() -> None:
+    import torch
     from stable_baselines3 import PPO
+
+    torch.set_num_threads(1)  # a 64-unit MLP: more threads only contend
 
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--scenario", default="paper_fig3")

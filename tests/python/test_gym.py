@@ -192,11 +192,17 @@ def test_terminated_on_leaving_the_bounding_box() -> None:
     env = TrackingEnv("paper_fig3", box_margin=0.5)
     env.reset(seed=0)
     for k in range(500):
-        _, _, terminated, truncated, info = env.step(-np.eye(6)[0])  # full astern
+        _, reward, terminated, truncated, info = env.step(-np.eye(6)[0])  # full astern
         if terminated:
             break
     assert terminated and not truncated
     assert info["eta_true"][0] < env.box_low[0]
+    e = info["eta_true"] - info["eta_d"]
+    angles = np.angle(np.exp(1j * e[3:]))
+    left = env.unwrapped._sim.planned_steps - (k + 1)  # k + 1 steps have logged rows 0 .. k
+    diagonal = np.linalg.norm(env.box_high - env.box_low)
+    want = -(e[:3] @ e[:3] + angles @ angles + 0.01 + diagonal**2 * left)
+    assert reward == pytest.approx(want, rel=1e-12)
     with pytest.raises(RuntimeError, match="left the bounding box"):
         env.step(np.zeros(6))
 

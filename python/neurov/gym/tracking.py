@@ -72,11 +72,15 @@ class TrackingEnv(gymnasium.Env):
     and pitch (2). Each is clipped to the space's bounds; a sensor dropout's
     NaN reads 0.
 
-    Reward: -(position_weight |p - p_d|^2 + attitude_weight |wrap(Theta -
-    Theta_d)|^2 + effort_weight |a|^2) from the true pose and the action a.
+    Reward: minus the sum of position_weight times the squared distance
+    from the true position p to p_d, attitude_weight times the squared
+    norm of the wrapped attitude error, and effort_weight times the squared
+    norm of the (clipped) action.
     terminated: the plant diverged, or the true position left the commanded
-    path's bounding box grown by `box_margin` metres. truncated: the
-    scenario's duration is simulated.
+    path's bounding box grown by `box_margin` metres; the last reward then
+    also pays position_weight d^2 for each step not simulated (d the box's
+    diagonal), so ending early never pays. truncated: the scenario's
+    duration is simulated.
 
     Actions outside the space are clipped; `info["action_clips"]` counts the
     steps of the episode that needed it. A non-finite action, a wrong shape,
@@ -116,6 +120,7 @@ class TrackingEnv(gymnasium.Env):
         self.box_low = corners.min(axis=0) - box_margin
         self.box_high = corners.max(axis=0) + box_margin
         reach = float(np.linalg.norm(self.box_high - self.box_low))
+        self._termination_cost = float(position_weight) * reach**2
         high = np.concatenate([np.full(3, reach), np.full(3, np.pi), np.full(18, velocity_bound),
                                np.full(2, np.pi)]).astype(np.float32)
         self.observation_space = spaces.Box(-high, high, dtype=np.float32)
@@ -234,6 +239,9 @@ class TrackingEnv(gymnasium.Env):
         diverged = self._sim.diverged
         terminated = diverged or outside
         truncated = not terminated and self._sim.done
+        if terminated:
+            # Ending early must not pay: each step left costs what the box's diagonal would.
+            reward -= self._termination_cost * (self._sim.planned_steps - self._sim.steps)
         if terminated or truncated:
             why = ("the plant diverged" if diverged else
                    "the vehicle left the bounding box" if outside else "the scenario's duration is simulated")
