@@ -8,6 +8,7 @@ in docs/gymnasium.md; the class docstring is the short form."""
 from __future__ import annotations
 
 import math
+import operator
 from pathlib import Path
 from typing import Any
 
@@ -227,13 +228,13 @@ class TrackingEnv(gymnasium.Env):
             self._clips += 1
         plant = self._sim.step(self._force(a))
         obs, info = self._observe()
-        info["plant_status"] = plant.name
+        info["plant_status"] = plant
         x, y, z, phi, theta, psi = info["eta_true"].tolist()
         xd, yd, zd, phid, thetad, psid = info["eta_d"].tolist()
         wp, wa, wu = self._weights
         reward = -(wp * ((x - xd) ** 2 + (y - yd) ** 2 + (z - zd) ** 2)
                    + wa * (_wrap(phi - phid) ** 2 + _wrap(theta - thetad) ** 2 + _wrap(psi - psid) ** 2)
-                   + wu * sum(v * v for v in values))
+                   + wu * sum(map(operator.mul, values, values)))
         (xl, yl, zl), (xh, yh, zh) = self._box
         outside = not (xl <= x <= xh and yl <= y <= yh and zl <= z <= zh)
         diverged = self._sim.diverged
