@@ -212,6 +212,10 @@ class TrackingEnv(gymnasium.Env):
         return obs, info
 
     def step(self, action: Any) -> tuple[NDArray[np.float32], float, bool, bool, dict[str, Any]]:
+        """Applies the action for one control period; returns (observation,
+        reward, terminated, truncated, info). RuntimeError before reset() or
+        after the episode ended; ValueError for a wrong shape or a non-finite
+        action (nothing is simulated then)."""
         if self._episode_over is not None:
             raise RuntimeError(f"TrackingEnv.step: {self._episode_over}")
         a = np.asarray(action, dtype=np.float64)
