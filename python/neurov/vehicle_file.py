@@ -17,6 +17,11 @@ an explicit 6 x n ``matrix``; ``max_thrust`` (a number or n numbers, N);
 optional ``min_thrust`` (default -max_thrust) and ``time_constant`` (s, a
 first-order lag; default 0, none).
 
+An optional ``[limits]`` table states what a vehicle without a thruster
+layout can produce: ``tau_max`` (6 positive numbers, N and N m), the largest
+force or moment each DOF can get alone (the Gymnasium environment scales its
+actions by it).
+
 Every error names the file and the field.
 """
 
@@ -39,6 +44,7 @@ else:  # pragma: no cover - exercised on Python 3.10 only
 __all__ = [
     "VehicleFile",
     "VehicleFileError",
+    "load_limits",
     "load_thrusters",
     "load_vehicle",
     "load_vehicle_parameters",
@@ -64,8 +70,8 @@ _FIELDS: dict[str, tuple[bool, tuple[Any, ...]]] = {
     "name": (False, ("str",)),
     "source": (False, ("str",)),
 }
-# Tables other readers own (the simulation reads [thrusters]).
-_OTHER_TABLES = {"thrusters"}
+# Tables other readers own (the simulation reads [thrusters], neurov.gym [limits]).
+_OTHER_TABLES = {"thrusters", "limits"}
 _CORIOLIS_FORMS = ("velocity_independent", "kirchhoff")
 
 
@@ -215,6 +221,32 @@ def load_vehicle(path: str | Path) -> Any:
     example a negative mass) raises :class:`VehicleFileError` naming the file
     and the field."""
     return read_vehicle_file(path).vehicle()
+
+
+def load_limits(path: str | Path) -> Any:
+    """``tau_max`` of a vehicle file's ``[limits]`` table as a (6,) array, or
+    None if the file has no such table. Errors name the file and the field."""
+    import numpy as np
+
+    path = Path(path)
+    table = tomllib.loads(read_text(path, VehicleFileError)).get("limits")
+    if table is None:
+        return None
+    where = f"{path}: limits"
+    if not isinstance(table, dict):
+        raise VehicleFileError(f"{where}: expected a table")
+    for key in table:
+        if key != "tau_max":
+            raise VehicleFileError(f"{where}.{key}: unknown field (the table holds 'tau_max')")
+    if "tau_max" not in table:
+        raise VehicleFileError(f"{where}: missing field 'tau_max' (6 positive numbers)")
+    v = table["tau_max"]
+    if _shape_of(v) != (6,):
+        raise VehicleFileError(f"{where}.tau_max: expected 6 numbers, got {_describe(v)}")
+    a = np.asarray(v, dtype=np.float64)
+    if not np.all(np.isfinite(a) & (a > 0)):
+        raise VehicleFileError(f"{where}.tau_max: expected 6 finite numbers > 0, got {a.tolist()}")
+    return a
 
 
 def load_thrusters(path: str | Path) -> dict[str, Any] | None:
