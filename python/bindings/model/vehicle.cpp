@@ -134,6 +134,9 @@ void bind_vehicle(py::module_& m) {
           py::arg("name"),
           "A vehicle shipped with neurov by name: 'nerov' or 'bluerov2_heavy' "
           "(neurov.vehicle_file.preset_names() lists them).")
+      .def("__copy__", [](const Vehicle<double>& v) { return Vehicle<double>(v); })
+      .def("__deepcopy__", [](const Vehicle<double>& v, const py::dict&) { return Vehicle<double>(v); },
+           py::arg("memo"))
       .def(py::pickle(
           [](const Vehicle<double>& v) { return parameters_dict(v.parameters()); },
           [](const py::dict& d) {
