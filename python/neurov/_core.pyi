@@ -739,6 +739,19 @@ class NNAdaptiveController(_Controller):
     def centres(self) -> _Array:
         """Centres, shape (N, 24)."""
     @property
+    def widths(self) -> _Array:
+        """Widths sigma_j, shape (N,)."""
+    @property
+    def input_offset(self) -> _Array:
+        """Input offset of the network's normalisation, shape (24,)."""
+    @property
+    def input_scale(self) -> _Array:
+        """Input scale of the network's normalisation, shape (24,)."""
+    def save(self, path: str | os.PathLike[str]) -> None:
+        """Writes W and its network to a .npz file (format: neurov.weights)."""
+    def load(self, path: str | os.PathLike[str]) -> None:
+        """Sets W from a file written by save(); WeightsFileError names a misfit."""
+    @property
     def modification(self) -> _Modification:
         """The robust modification in use."""
 

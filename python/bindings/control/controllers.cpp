@@ -19,6 +19,7 @@
 #include "neurov/model/regressor.hpp"
 #include "neurov/model/vehicle.hpp"
 #include "numpy_args.hpp"
+#include "snapshot.hpp"
 
 namespace neurov::bindings {
 
@@ -56,6 +57,56 @@ NNController make_nn(const Network& network, const NNAdaptiveConfig<double>& cfg
       throw py::value_error("argument 'learning_rates' must be >= 0");
     c.set_learning_rates(rates);
   }
+  return c;
+}
+
+/// The NN controller's snapshot: its network (centres, widths, input
+/// normalisation, W(0)), per-centre rates and everything it learnt.
+py::dict nn_state(const NNController& c) {
+  py::dict d = controller_state(c);
+  const NNController::Network& n = c.network();
+  d["centres"] = Eigen::MatrixXd(n.centres());
+  d["widths"] = Eigen::VectorXd(n.widths());
+  d["input_offset"] = Eigen::VectorXd(n.input_offset());
+  d["input_scale"] = Eigen::VectorXd(n.input_scale());
+  d["initial_weights"] = Eigen::MatrixXd(c.initial_weights());
+  d["learning_rates"] = Eigen::VectorXd(c.learning_rates());
+  d["weights"] = Eigen::MatrixXd(c.weights());
+  d["weight_norm"] = c.weight_norm();
+  d["basis"] = Eigen::VectorXd(c.basis());
+  d["network_output"] = Vec6(c.network_output());
+  d["adapted"] = c.adapted();
+  return d;
+}
+
+NNController nn_from_state(const py::dict& d) {
+  const Eigen::MatrixXd centres = py_args::dynamic_matrix(snapshot_field(d, "centres"), "centres", -1, kNNInputs);
+  const Eigen::Index n = centres.rows();
+  NNController::Network network;
+  py_args::raise_if_invalid(
+      NNController::Network::create(
+          centres, py_args::dynamic_vector(snapshot_field(d, "widths"), "widths", n),
+          py_args::dynamic_vector(snapshot_field(d, "input_offset"), "input_offset", kNNInputs),
+          py_args::dynamic_vector(snapshot_field(d, "input_scale"), "input_scale", kNNInputs),
+          network),
+      "network");
+  if (!network.set_weights(py_args::dynamic_matrix(snapshot_field(d, "initial_weights"),
+                                                   "initial_weights", 6, n)))
+    throw py::value_error("snapshot: 'initial_weights' must be finite");
+  NNController c;
+  py_args::raise_if_invalid(
+      NNController::create(network, snapshot_field(d, "config").cast<NNAdaptiveConfig<double>>(), c),
+      "NN controller");
+  raise_unless_restored(
+      c.set_learning_rates(
+          py_args::dynamic_vector(snapshot_field(d, "learning_rates"), "learning_rates", n)) &&
+          c.restore(tracking_from_dict(d), status_from_dict(d),
+                    py_args::dynamic_matrix(snapshot_field(d, "weights"), "weights", 6, n),
+                    py_args::scalar(snapshot_field(d, "weight_norm"), "weight_norm"),
+                    py_args::dynamic_vector(snapshot_field(d, "basis"), "basis", n),
+                    py_args::vector<6>(snapshot_field(d, "network_output"), "network_output"),
+                    snapshot_field(d, "adapted").cast<bool>()),
+      "NN controller");
   return c;
 }
 
@@ -98,6 +149,8 @@ void bind_controllers(py::module_& m) {
          "'e_modification' (kappa > 0) or 'projection' (||W||_F <= w_max); dead_zone: no "
          "adaptation while ||s|| < dead_zone. learning_rates (N,): per-centre Gamma_w.");
   def_common<NNController>(nn);
+  def_copy<NNController>(nn);
+  nn.def(py::pickle(&nn_state, &nn_from_state));
   nn.def_property(
         "weights", [](const NNController& c) { return Eigen::MatrixXd(c.weights()); },
         [](NNController& c, py::handle w) {
@@ -120,6 +173,33 @@ void bind_controllers(py::module_& m) {
       .def_property_readonly(
           "centres", [](const NNController& c) { return Eigen::MatrixXd(c.network().centres()); },
           "Centres, shape (N, 24).")
+      .def_property_readonly(
+          "widths", [](const NNController& c) { return Eigen::VectorXd(c.network().widths()); },
+          "Widths sigma_j, shape (N,).")
+      .def_property_readonly(
+          "input_offset",
+          [](const NNController& c) { return Eigen::VectorXd(c.network().input_offset()); },
+          "Input offset of the network's normalisation, shape (24,).")
+      .def_property_readonly(
+          "input_scale",
+          [](const NNController& c) { return Eigen::VectorXd(c.network().input_scale()); },
+          "Input scale of the network's normalisation, shape (24,).")
+      .def(
+          "save",
+          [](const NNController& c, py::handle path) {
+            py::module_::import("neurov.weights").attr("save_weights")(py::cast(c), path);
+          },
+          py::arg("path"),
+          "Writes the current weights W and the network they belong to to a .npz file "
+          "(format: neurov.weights).")
+      .def(
+          "load",
+          [](py::object self, py::handle path) {
+            py::module_::import("neurov.weights").attr("load_weights")(self, path);
+          },
+          py::arg("path"),
+          "Sets the current weights W from a file written by save(); "
+          "neurov.weights.WeightsFileError names a file of the wrong shape or network.")
       .def_property_readonly(
           "modification",
           [](const NNController& c) { return std::string(to_string(c.config().modification)); },
@@ -152,6 +232,17 @@ void bind_controllers(py::module_& m) {
           "diagonal, a number or (24,), >= 0; dt: control period [s]; theta0: theta_hat(0) "
           "(24,), default zero (regressor_parameters(vehicle) gives the true one).");
   def_common<LinController>(lin);
+  def_controller_snapshot<LinController>(
+      lin, "linear adaptive controller",
+      [](const LinController& c, py::dict& d) {
+        d["theta"] = ParameterVector<double>(c.theta());
+        d["model_output"] = Vec6(c.model_output());
+      },
+      [](LinController& c, const py::dict& d, const TrackingError<double>& e, Status s) {
+        return c.restore(
+            e, s, py_args::vector<kRegressorParameters>(snapshot_field(d, "theta"), "theta"),
+            py_args::vector<6>(snapshot_field(d, "model_output"), "model_output"));
+      });
   lin.def_property(
          "theta", [](const LinController& c) { return ParameterVector<double>(c.theta()); },
          [](LinController& c, py::handle t) {
@@ -174,6 +265,11 @@ void bind_controllers(py::module_& m) {
          }),
          py::arg("kp"), py::arg("kd"), "kp, kd: diagonal gains (6,), >= 0.");
   def_common<PD>(pd);
+  def_controller_snapshot<PD>(
+      pd, "PD controller", [](const PD&, py::dict&) {},
+      [](PD& c, const py::dict&, const TrackingError<double>& e, Status s) {
+        return c.restore(e, s);
+      });
 
   // --- PID ------------------------------------------------------------------
   py::class_<PID> pid(
@@ -197,6 +293,12 @@ void bind_controllers(py::module_& m) {
           "kp, ki, kd: diagonal gains (6,), >= 0; integral_limit: largest |K_i z| per DOF (6,), "
           "> 0 [N, N m]; dt: control period [s].");
   def_common<PID>(pid);
+  def_controller_snapshot<PID>(
+      pid, "PID controller",
+      [](const PID& c, py::dict& d) { d["integral"] = Vec6(c.integral()); },
+      [](PID& c, const py::dict& d, const TrackingError<double>& e, Status s) {
+        return c.restore(e, s, py_args::vector<6>(snapshot_field(d, "integral"), "integral"));
+      });
   pid.def_property_readonly(
       "integral", [](const PID& c) { return Vec6(c.integral()); },
       "The integrator state z (6,), the limited time integral of eta_tilde.");
@@ -222,6 +324,12 @@ void bind_controllers(py::module_& m) {
           "boundary-layer width (6,), > 0; theta: the nominal model (24,), e.g. "
           "regressor_parameters(vehicle).");
   def_common<SMC>(smc);
+  def_controller_snapshot<SMC>(
+      smc, "sliding-mode controller",
+      [](const SMC& c, py::dict& d) { d["model_output"] = Vec6(c.model_output()); },
+      [](SMC& c, const py::dict& d, const TrackingError<double>& e, Status s) {
+        return c.restore(e, s, py_args::vector<6>(snapshot_field(d, "model_output"), "model_output"));
+      });
   smc.def_property_readonly(
       "model_output", [](const SMC& c) { return Vec6(c.model_output()); },
       "The nominal model's f of the last step, shape (6,).");
@@ -243,6 +351,12 @@ void bind_controllers(py::module_& m) {
          "vehicle: the nominal model (its parameters are copied); lambda_: Lambda (6,), > 0; "
          "kd: K_d (6,), >= 0.");
   def_common<CT>(ct);
+  def_controller_snapshot<CT>(
+      ct, "computed-torque controller",
+      [](const CT& c, py::dict& d) { d["model_output"] = Vec6(c.model_output()); },
+      [](CT& c, const py::dict& d, const TrackingError<double>& e, Status s) {
+        return c.restore(e, s, py_args::vector<6>(snapshot_field(d, "model_output"), "model_output"));
+      });
   ct.def_property_readonly(
       "model_output", [](const CT& c) { return Vec6(c.model_output()); },
       "M nu_r_dot + C(nu) nu_r + D(nu) nu_r + g(eta) of the last step, shape (6,).");

@@ -6,6 +6,7 @@
 #include "bindings.hpp"
 #include "neurov/control/rbf_network.hpp"
 #include "numpy_args.hpp"
+#include "snapshot.hpp"
 
 namespace neurov::bindings {
 
@@ -24,10 +25,11 @@ Eigen::VectorXd widths_arg(py::handle width, Eigen::Index n) {
 }  // namespace
 
 void bind_rbf_network(py::module_& m) {
-  py::class_<Network>(m, "RbfNetwork",
+  py::class_<Network> network(m, "RbfNetwork",
                       "Radial-basis-function network (eq. 30): g_j(x) = exp(-||x_hat - xi_j||^2 / "
                       "(2 sigma_j^2)), output W g(x) with W (6, N); x_hat = (x - input_offset) * "
-                      "input_scale.")
+                      "input_scale.");
+  network
       .def(py::init([](py::handle centres, py::handle width, py::handle input_offset,
                        py::handle input_scale) {
              // One centre per row: a 1-D array is a common slip, named as such.
@@ -95,6 +97,31 @@ void bind_rbf_network(py::module_& m) {
                              "Input scale, shape (n_in,).")
       .def_property_readonly("n_inputs", &Network::inputs, "Number of inputs n_in.")
       .def_property_readonly("n_centres", &Network::centres_count, "Number of centres N.");
+  def_copy<Network>(network);
+  network.def(py::pickle(
+      [](const Network& n) {
+        py::dict d;
+        d["centres"] = Eigen::MatrixXd(n.centres());
+        d["widths"] = Eigen::VectorXd(n.widths());
+        d["input_offset"] = Eigen::VectorXd(n.input_offset());
+        d["input_scale"] = Eigen::VectorXd(n.input_scale());
+        d["weights"] = Eigen::MatrixXd(n.weights());
+        return d;
+      },
+      [](const py::dict& d) {
+        const Eigen::MatrixXd c = py_args::dynamic_matrix(snapshot_field(d, "centres"), "centres", -1, -1);
+        Network n;
+        py_args::raise_if_invalid(
+            Network::create(c, py_args::dynamic_vector(snapshot_field(d, "widths"), "widths", c.rows()),
+                            py_args::dynamic_vector(snapshot_field(d, "input_offset"), "input_offset", c.cols()),
+                            py_args::dynamic_vector(snapshot_field(d, "input_scale"), "input_scale", c.cols()),
+                            n),
+            "RBF network");
+        raise_unless_restored(
+            n.set_weights(py_args::dynamic_matrix(snapshot_field(d, "weights"), "weights", 6, c.rows())),
+            "RBF network");
+        return n;
+      }));
   // Private: neurov.kernels.kernel_path() is the public face (NEUROV_KERNEL pins it).
   m.def("_kernel_isa", [] { return std::string(detail::kernel_isa_name()); },
         "Which copy of the RBF loops runs on this CPU (avx512, avx2, generic).");

@@ -7,6 +7,7 @@
 #include "controller_bindings.hpp"
 #include "neurov/control/reference_model.hpp"
 #include "numpy_args.hpp"
+#include "snapshot.hpp"
 
 namespace neurov::bindings {
 
@@ -14,10 +15,12 @@ namespace py = pybind11;
 using Vec6 = Vector6<double>;
 
 void bind_reference_model(py::module_& m) {
-  py::class_<ReferenceModel<double>>(
+  using Reference = ReferenceModel<double>;
+  py::class_<Reference> reference(
       m, "ReferenceModel",
       "Reference model of eq. 12-13: nu_d_dot = -Lambda_d nu_d + J^T(eta_d) Omega (r - eta_d), "
-      "eta_d_dot = J(eta_d) nu_d. Turns a commanded pose r into a smooth desired trajectory.")
+      "eta_d_dot = J(eta_d) nu_d. Turns a commanded pose r into a smooth desired trajectory.");
+  reference
       .def(py::init([](py::handle lambda_d, py::handle omega, py::handle eta0) {
              const Vec6 ld = py_args::vector<6>(lambda_d, "lambda_d");
              const Vec6 om = py_args::vector<6>(omega, "omega");
@@ -63,6 +66,40 @@ void bind_reference_model(py::module_& m) {
           "True when the last accepted step limited the pitch to +-(pi/2 - 0.2) rad: the "
           "command's (clamped) or the reference's own (held at the limit). Such a step is taken "
           "and returns normally. False after construction and reset().");
+  def_copy<Reference>(reference);
+  reference.def(py::pickle(
+      [](const Reference& r) {
+        py::dict d;
+        d["lambda_d"] = Vec6(r.lambda_d());
+        d["omega"] = Vec6(r.omega());
+        d["eta_d"] = Vec6(r.eta_d());
+        d["nu_d"] = Vec6(r.nu_d());
+        d["desired_eta_d"] = Vec6(r.desired().eta_d);
+        d["desired_eta_d_dot"] = Vec6(r.desired().eta_d_dot);
+        d["desired_eta_d_ddot"] = Vec6(r.desired().eta_d_ddot);
+        d["pitch_limited"] = r.pitch_limited();
+        return d;
+      },
+      [](const py::dict& d) {
+        const Vec6 eta_d = py_args::vector<6>(snapshot_field(d, "eta_d"), "eta_d");
+        Reference r;
+        // create() checks the gains (and puts eta_d in the singular band out).
+        py_args::raise_if_invalid(
+            Reference::create(py_args::vector<6>(snapshot_field(d, "lambda_d"), "lambda_d"),
+                              py_args::vector<6>(snapshot_field(d, "omega"), "omega"), eta_d, r),
+            "reference model");
+        DesiredState<double> desired;
+        desired.eta_d = py_args::vector<6>(snapshot_field(d, "desired_eta_d"), "desired_eta_d");
+        desired.eta_d_dot =
+            py_args::vector<6>(snapshot_field(d, "desired_eta_d_dot"), "desired_eta_d_dot");
+        desired.eta_d_ddot =
+            py_args::vector<6>(snapshot_field(d, "desired_eta_d_ddot"), "desired_eta_d_ddot");
+        raise_unless_restored(
+            r.restore(eta_d, py_args::vector<6>(snapshot_field(d, "nu_d"), "nu_d"), desired,
+                      snapshot_field(d, "pitch_limited").cast<bool>()),
+            "reference model");
+        return r;
+      }));
 }
 
 }  // namespace neurov::bindings

@@ -117,6 +117,9 @@ void bind_vehicle(py::module_& m) {
       .def_static(
           "nerov", [] { return make_vehicle(nerov_parameters<double>()); },
           "NEROV, the paper's vehicle, with the numbers of its section 5.")
+      .def("__copy__", [](const Vehicle<double>& v) { return Vehicle<double>(v); })
+      .def("__deepcopy__", [](const Vehicle<double>& v, const py::dict&) { return Vehicle<double>(v); },
+           py::arg("memo"))
       .def(py::pickle(
           [](const Vehicle<double>& v) { return parameters_dict(v.parameters()); },
           [](const py::dict& d) {

@@ -2,6 +2,8 @@
 // in one call, the GIL released.
 #include <pybind11/pybind11.h>
 
+#include <utility>
+
 #include "bindings.hpp"
 #include "numpy_args.hpp"
 #include "neurov/control/computed_torque_controller.hpp"
@@ -30,7 +32,7 @@ py::dict run(const Vehicle<double>& vehicle, Controller& controller,
     e = simulate(vehicle, controller, config, result);
   }
   py_args::raise_if_invalid(e, "SimulationConfig");
-  return result_dict(result);
+  return result_dict(std::move(result));
 }
 
 constexpr const char* kDoc =

@@ -8,6 +8,9 @@
 
 namespace neurov::bindings {
 
+/// Copies `r` (a Simulator keeps its result).
 pybind11::dict result_dict(const SimulationResult<double>& r);
+/// Takes the arrays out of `r` without copying them (numpy views them).
+pybind11::dict result_dict(SimulationResult<double>&& r);
 
 }  // namespace neurov::bindings

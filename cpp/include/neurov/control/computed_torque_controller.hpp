@@ -88,6 +88,14 @@ class ComputedTorqueController
     this->reset_common();
   }
 
+  /// A snapshot's state put back (ControllerBase::restore) with the last
+  /// model output; false, and nothing changed, for a non-finite one.
+  bool restore(const TrackingError<Scalar>& e, Status s, const Vec6& model_output) noexcept {
+    if (!this->restorable(e, s) || !model_output.allFinite()) return false;
+    f_ = model_output;
+    return Base::restore(e, s);
+  }
+
   /// The nominal vehicle the law inverts.
   const Vehicle<Scalar>& model() const noexcept { return model_; }
   /// M nu_r_dot + C(nu) nu_r + D(nu) nu_r + g(eta) of the last step, shape (6,).

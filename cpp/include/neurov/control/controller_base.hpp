@@ -60,6 +60,17 @@ class ControllerBase {
   /// Back to the initial state and a zero history.
   void reset() noexcept { reset_common(); }
 
+  /// Puts back the tracking error and last status a snapshot recorded (a
+  /// copy made elsewhere, e.g. by Python's pickle): false, and nothing
+  /// changed, for an unconfigured controller, a non-finite error or an
+  /// unknown status.
+  bool restore(const TrackingError<Scalar>& e, Status s) noexcept {
+    if (!restorable(e, s)) return false;
+    tracking_ = e;
+    status_ = s;
+    return true;
+  }
+
   bool configured() const noexcept { return configured_; }
   const Config& config() const noexcept { return config_; }
   /// Tracking error and virtual reference of the last accepted step.
@@ -83,6 +94,13 @@ class ControllerBase {
     out.configured_ = true;
     out.reset();
     return {};
+  }
+
+  /// The check of restore(), for the derived controllers' restore().
+  bool restorable(const TrackingError<Scalar>& e, Status s) const noexcept {
+    return configured_ && static_cast<int>(s) <= static_cast<int>(Status::non_finite_output) &&
+           detail::all_finite(e.eta_tilde, e.eta_tilde_dot, e.s, e.eta_r_dot, e.eta_r_ddot,
+                              e.nu_r, e.nu_r_dot);
   }
 
   /// The first part of every step: refuses an unconfigured controller and

@@ -102,6 +102,16 @@ class LinearAdaptiveController
     return true;
   }
 
+  /// A snapshot's state put back (ControllerBase::restore) with theta_hat
+  /// and the last model output; false, and nothing changed, for non-finite ones.
+  bool restore(const TrackingError<Scalar>& e, Status s, const ParameterVector<Scalar>& theta,
+               const Vec6& model_output) noexcept {
+    if (!this->restorable(e, s) || !theta.allFinite() || !model_output.allFinite()) return false;
+    theta_hat_ = theta;
+    f_hat_ = model_output;
+    return Base::restore(e, s);
+  }
+
   const ParameterVector<Scalar>& theta() const noexcept { return theta_hat_; }
   /// Phi theta_hat of the last accepted step: the model's estimate of f.
   const Vec6& model_output() const noexcept { return f_hat_; }

@@ -244,7 +244,30 @@ class NNAdaptiveController
     this->reset_common();
   }
 
+  /// A snapshot's state put back (ControllerBase::restore) with the learnt
+  /// weights W and their norm as the updates accumulated it (it may differ
+  /// from weights.norm() in the last bit, and the step's overflow test reads
+  /// it), the last g(x) and W g(x) and whether that step adapted; false, and
+  /// nothing changed, for a wrong size or a non-finite or negative value.
+  bool restore(const TrackingError<Scalar>& e, Status s, const WeightMatrix& weights,
+               Scalar weight_norm, const BasisVector& basis, const Vec6& network_output,
+               bool adapted) noexcept {
+    if (!this->restorable(e, s) || basis.size() != basis_.size() || !basis.allFinite() ||
+        !network_output.allFinite() || weights.cols() != network_.weights().cols() ||
+        !std::isfinite(weights.norm()) || !(weight_norm >= Scalar(0)) ||
+        !std::isfinite(weight_norm))
+      return false;
+    if (!set_weights(weights)) return false;
+    weight_norm_ = weight_norm;
+    basis_ = basis;
+    f_hat_ = network_output;
+    adapted_ = adapted;
+    return Base::restore(e, s);
+  }
+
   const Network& network() const noexcept { return network_; }
+  /// W(0), the weights reset() goes back to.
+  const WeightMatrix& initial_weights() const noexcept { return initial_weights_; }
   const WeightMatrix& weights() const noexcept { return network_.weights(); }
   const BasisVector& learning_rates() const noexcept { return learning_rates_; }
   /// Quantities of the last accepted step, for plots and logs.

@@ -95,6 +95,14 @@ class PIDController
     this->reset_common();
   }
 
+  /// A snapshot's state put back (ControllerBase::restore) with the
+  /// integrator z; false, and nothing changed, for a non-finite one.
+  bool restore(const TrackingError<Scalar>& e, Status s, const Vec6& integral) noexcept {
+    if (!this->restorable(e, s) || !integral.allFinite()) return false;
+    integral_ = integral;
+    return Base::restore(e, s);
+  }
+
   /// The integrator state z (the time integral of eta_tilde, limited).
   const Vec6& integral() const noexcept { return integral_; }
   /// The integrator is the PID's only memory: ||z||.

@@ -169,6 +169,21 @@ class ReferenceModel {
     return s;
   }
 
+  /// Puts back the state a snapshot recorded (the model's eta_d, nu_d, the
+  /// desired state last written and whether it was pitch-limited): false,
+  /// and nothing changed, when unconfigured or for a non-finite value.
+  bool restore(const Vec6& eta_d, const Vec6& nu_d, const DesiredState<Scalar>& desired,
+               bool pitch_limited) noexcept {
+    if (!configured_ ||
+        !detail::all_finite(eta_d, nu_d, desired.eta_d, desired.eta_d_dot, desired.eta_d_ddot))
+      return false;
+    eta_d_ = eta_d;
+    nu_d_ = nu_d;
+    desired_ = desired;
+    pitch_limited_ = pitch_limited;
+    return true;
+  }
+
   const Vec6& eta_d() const noexcept { return eta_d_; }
   const Vec6& nu_d() const noexcept { return nu_d_; }
   const DesiredState<Scalar>& desired() const noexcept { return desired_; }

@@ -89,6 +89,14 @@ class SlidingModeController
     this->reset_common();
   }
 
+  /// A snapshot's state put back (ControllerBase::restore) with the last
+  /// model output; false, and nothing changed, for a non-finite one.
+  bool restore(const TrackingError<Scalar>& e, Status s, const Vec6& model_output) noexcept {
+    if (!this->restorable(e, s) || !model_output.allFinite()) return false;
+    f_hat_ = model_output;
+    return Base::restore(e, s);
+  }
+
   /// The nominal model's f of the last step, shape (6,).
   const Vec6& model_output() const noexcept { return f_hat_; }
 
