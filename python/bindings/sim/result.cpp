@@ -21,6 +21,10 @@ pybind11::dict result_dict(const SimulationResult<double>& r) {
   d["controller_status"] = r.controller_status;
   d["plant_status"] = r.plant_status;
   d["faults"] = r.faults;
+  d["current"] = r.current;
+  d["wave_velocity"] = r.wave_velocity;
+  d["wave_elevation"] = r.wave_elevation;
+  d["payload_mass"] = r.payload_mass;
   d["diverged"] = r.diverged;
   return d;
 }
