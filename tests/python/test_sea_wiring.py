@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import copy
 import pickle
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -13,6 +14,7 @@ import pytest
 from neurov import _core
 
 G = 9.81
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def still(duration: float, depth: float, dt: float = 0.2, substeps: int = 10) -> _core.SimulationConfig:
@@ -87,12 +89,14 @@ def test_neutrally_buoyant_vehicle_moves_with_the_orbital_flow() -> None:
     c = still(600.0, 12.0)
     c.waves = _core.WaveConfig(hs=2.5, tp=9.0, direction=30.0)
     c.seed = 21
-    # Start at rest: the relative velocity then decays under damping and
+    # Start at rest: the relative velocity then decays under damping (the
+    # Munk moment may turn the body meanwhile, nothing turns it back) and
     # stays near zero while the water carries the body.
     r = uncontrolled(neutral_nerov(), c)
     assert not r["diverged"]
     flow = np.linalg.norm(r["wave_velocity"], axis=1)
-    relative = np.linalg.norm(r["nu"][:, :3] - r["wave_velocity"], axis=1)
+    ned = np.array([_core.rotation(*e[3:]) @ n[:3] for e, n in zip(r["eta"], r["nu"])])
+    relative = np.linalg.norm(ned - r["wave_velocity"], axis=1)
     late = r["t"] > 60.0
     assert flow.max() > 0.3
     assert relative[late].max() < 1e-3 * flow.max()
@@ -174,3 +178,27 @@ def test_waves_and_current_leave_the_measurement_noise_as_it_was() -> None:
     c.waves = _core.WaveConfig()
     c.current_model = _core.CurrentModel.gauss_markov
     np.testing.assert_allclose(noise(c), calm, rtol=0, atol=1e-12)
+
+
+def test_result_exports_the_sea_series(tmp_path) -> None:
+    import neurov
+    from neurov.simulation import Result
+
+    c = still(20.0, 1.0)  # above 1.2 Hs: the shallow bit
+    c.waves = _core.WaveConfig()
+    c.current_model = _core.CurrentModel.gauss_markov
+    c.payload = [_core.PayloadEvent(time=10.0, mass=5.0)]
+    raw = _core.run_closed_loop(_core.Vehicle.nerov(), _core.PDController(_core.PDConfig()), c)
+    diverged = bool(raw.pop("diverged"))
+    scenario = neurov.load_scenario(ROOT / "examples" / "scenarios" / "square_nn.toml")
+    run = Result(scenario=scenario, controller="pd", diverged=diverged, **raw)
+    cols = run.columns()
+    np.testing.assert_array_equal(cols["current_E"], raw["current"][:, 1])
+    np.testing.assert_array_equal(cols["wave_velocity_D"], raw["wave_velocity"][:, 2])
+    np.testing.assert_array_equal(cols["payload_mass"], np.where(raw["t"] >= 10.0, 5.0, 0.0))
+    df = run.to_pandas()
+    np.testing.assert_array_equal(df["wave_elevation"].to_numpy(), raw["wave_elevation"])
+    assert df["shallow"].iloc[0]
+    np.testing.assert_array_equal(df["shallow"].to_numpy(), (raw["faults"] & 32) != 0)
+    with np.load(run.to_npz(tmp_path / "r.npz")) as data:
+        np.testing.assert_array_equal(data["wave_velocity"], raw["wave_velocity"])
