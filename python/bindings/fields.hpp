@@ -18,6 +18,7 @@
 
 #include <Eigen/Core>
 #include <memory>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <typeinfo>
@@ -117,6 +118,34 @@ class Fields {
   }
 
   /// The keyword constructor, repr, copy and pickle; call after the fields.
+  /// An optional bound struct or fixed-size vector: None when empty. The
+  /// getter gives the held value itself (changing its fields changes this
+  /// object's); assigning None empties it.
+  template <typename D>
+  Fields& optional(const char* name, std::optional<D> T::*member, const char* doc) {
+    const std::string qualified = type_ + "." + name;
+    cls_.def_property(
+        name,
+        [member](py::object self) -> py::object {
+          auto& o = self.cast<T&>().*member;
+          if (!o) return py::none();
+          return py::cast(&*o, py::return_value_policy::reference_internal, self);
+        },
+        [member, qualified](T& self, const py::object& v) {
+          if (v.is_none()) {
+            (self.*member).reset();
+          } else if constexpr (std::is_base_of_v<Eigen::MatrixBase<D>, D>) {
+            auto a = shaped(v, qualified, 1, D::RowsAtCompileTime, -1);
+            self.*member = D(Eigen::Map<const D>(a.data()));
+          } else {
+            self.*member = checked<D>(v, qualified);
+          }
+        },
+        doc);
+    names_->push_back(name);
+    return *this;
+  }
+
   void finish() {
     auto names = names_;
     const std::string type = type_;

@@ -944,6 +944,56 @@ class RefusedStepPolicy:
     def value(self) -> int:
         """The member's integer value."""
 
+class CurrentModel:
+    """The model of the current a run uses."""
+
+    constant: ClassVar[CurrentModel]
+    """Mean + sinusoid + steps (current, current_amplitude, current_period, current_steps)."""
+    gauss_markov: ClassVar[CurrentModel]
+    """First-order Gauss-Markov speed and direction (gauss_markov_current)."""
+    __members__: ClassVar[dict[str, CurrentModel]]
+
+    def __init__(self, value: SupportsInt | SupportsIndex) -> None:
+        """The member with this integer value."""
+    def __eq__(self, other: object) -> bool: ...
+    def __ne__(self, other: object) -> bool: ...
+    def __hash__(self) -> int: ...
+    def __index__(self) -> int: ...
+    def __int__(self) -> int: ...
+    def __getstate__(self) -> int: ...
+    def __setstate__(self, state: SupportsInt | SupportsIndex) -> None: ...
+    @property
+    def name(self) -> str:
+        """The member's name."""
+    @property
+    def value(self) -> int:
+        """The member's integer value."""
+
+class WaveSpectrum:
+    """The spectrum the waves realise."""
+
+    jonswap: ClassVar[WaveSpectrum]
+    """JONSWAP (hs, tp, gamma)."""
+    pierson_moskowitz: ClassVar[WaveSpectrum]
+    """Two-parameter Pierson-Moskowitz (Bretschneider/ITTC: hs, tp)."""
+    __members__: ClassVar[dict[str, WaveSpectrum]]
+
+    def __init__(self, value: SupportsInt | SupportsIndex) -> None:
+        """The member with this integer value."""
+    def __eq__(self, other: object) -> bool: ...
+    def __ne__(self, other: object) -> bool: ...
+    def __hash__(self) -> int: ...
+    def __index__(self) -> int: ...
+    def __int__(self) -> int: ...
+    def __getstate__(self) -> int: ...
+    def __setstate__(self, state: SupportsInt | SupportsIndex) -> None: ...
+    @property
+    def name(self) -> str:
+        """The member's name."""
+    @property
+    def value(self) -> int:
+        """The member's integer value."""
+
 class Saturation:
     """How thrusts beyond their limits are brought back."""
 
@@ -1074,6 +1124,154 @@ class SensorFault:
     def noise_nu(self, value: _ArrayLike) -> None: ...
     def __copy__(self) -> SensorFault: ...
     def __deepcopy__(self, memo: dict[int, Any]) -> SensorFault: ...
+    def __getstate__(self) -> dict[str, Any]: ...
+    def __setstate__(self, state: dict[str, Any]) -> None: ...
+
+@final
+class GaussMarkovCurrentConfig:
+    """A current whose speed, direction and vertical angle wander about their means as first-order Gauss-Markov processes (Fossen 2011, 8.3)."""
+
+    def __init__(self, **kwargs: Any) -> None:
+        """Every field is a keyword argument (an unknown one is a TypeError)."""
+    @property
+    def speed(self) -> float:
+        """Mean speed [m/s], within [speed_min, speed_max]."""
+    @speed.setter
+    def speed(self, value: SupportsFloat) -> None: ...
+    @property
+    def speed_std(self) -> float:
+        """Stationary standard deviation [m/s], >= 0."""
+    @speed_std.setter
+    def speed_std(self, value: SupportsFloat) -> None: ...
+    @property
+    def time_constant(self) -> float:
+        """Of all three processes [s], > 0."""
+    @time_constant.setter
+    def time_constant(self, value: SupportsFloat) -> None: ...
+    @property
+    def speed_min(self) -> float:
+        """Lower bound of the speed given out [m/s], >= 0."""
+    @speed_min.setter
+    def speed_min(self, value: SupportsFloat) -> None: ...
+    @property
+    def speed_max(self) -> float:
+        """Upper bound of the speed given out [m/s]."""
+    @speed_max.setter
+    def speed_max(self, value: SupportsFloat) -> None: ...
+    @property
+    def direction(self) -> float:
+        """Mean direction the current flows toward [deg from north]."""
+    @direction.setter
+    def direction(self, value: SupportsFloat) -> None: ...
+    @property
+    def direction_std(self) -> float:
+        """[deg], >= 0."""
+    @direction_std.setter
+    def direction_std(self, value: SupportsFloat) -> None: ...
+    @property
+    def vertical_angle(self) -> float:
+        """Mean angle below the horizontal plane [deg], positive flowing down."""
+    @vertical_angle.setter
+    def vertical_angle(self, value: SupportsFloat) -> None: ...
+    @property
+    def vertical_angle_std(self) -> float:
+        """[deg], >= 0."""
+    @vertical_angle_std.setter
+    def vertical_angle_std(self, value: SupportsFloat) -> None: ...
+    def __copy__(self) -> GaussMarkovCurrentConfig: ...
+    def __deepcopy__(self, memo: dict[int, Any]) -> GaussMarkovCurrentConfig: ...
+    def __getstate__(self) -> dict[str, Any]: ...
+    def __setstate__(self, state: dict[str, Any]) -> None: ...
+
+@final
+class WaveConfig:
+    """Linear deep-water waves realised from a spectrum as a sum of seeded components."""
+
+    def __init__(self, **kwargs: Any) -> None:
+        """Every field is a keyword argument (an unknown one is a TypeError)."""
+    @property
+    def spectrum(self) -> WaveSpectrum:
+        """A WaveSpectrum."""
+    @spectrum.setter
+    def spectrum(self, value: WaveSpectrum) -> None: ...
+    @property
+    def hs(self) -> float:
+        """Significant wave height [m], > 0."""
+    @hs.setter
+    def hs(self, value: SupportsFloat) -> None: ...
+    @property
+    def tp(self) -> float:
+        """Peak period [s], > 0."""
+    @tp.setter
+    def tp(self, value: SupportsFloat) -> None: ...
+    @property
+    def gamma(self) -> float:
+        """JONSWAP peak enhancement, >= 1."""
+    @gamma.setter
+    def gamma(self, value: SupportsFloat) -> None: ...
+    @property
+    def direction(self) -> float:
+        """Direction the waves travel toward [deg from north]."""
+    @direction.setter
+    def direction(self, value: SupportsFloat) -> None: ...
+    @property
+    def spreading(self) -> float:
+        """n of the cos^n directional spreading; 0: long-crested."""
+    @spreading.setter
+    def spreading(self, value: SupportsFloat) -> None: ...
+    @property
+    def components(self) -> int:
+        """Number of components, 1 to 512."""
+    @components.setter
+    def components(self, value: SupportsIndex) -> None: ...
+    def __copy__(self) -> WaveConfig: ...
+    def __deepcopy__(self, memo: dict[int, Any]) -> WaveConfig: ...
+    def __getstate__(self) -> dict[str, Any]: ...
+    def __setstate__(self, state: dict[str, Any]) -> None: ...
+
+@final
+class PayloadEvent:
+    """A change of the vehicle at ``time`` that the controller is not told about: mass, buoyancy, damping and added mass."""
+
+    def __init__(self, **kwargs: Any) -> None:
+        """Every field is a keyword argument (an unknown one is a TypeError)."""
+    @property
+    def time(self) -> float:
+        """When it happens [s], >= 0."""
+    @time.setter
+    def time(self, value: SupportsFloat) -> None: ...
+    @property
+    def mass(self) -> float:
+        """Mass added [kg] (negative: dropped); weight mass * 9.81."""
+    @mass.setter
+    def mass(self, value: SupportsFloat) -> None: ...
+    @property
+    def mass_position(self) -> _Array | None:
+        """Where the mass sits, body axes [m] (3,); None: the centre of gravity."""
+    @mass_position.setter
+    def mass_position(self, value: _ArrayLike | None) -> None: ...
+    @property
+    def buoyancy(self) -> float:
+        """Buoyancy added [N] (negative: lost)."""
+    @buoyancy.setter
+    def buoyancy(self, value: SupportsFloat) -> None: ...
+    @property
+    def buoyancy_position(self) -> _Array | None:
+        """Where it acts, body axes [m] (3,); None: the centre of buoyancy."""
+    @buoyancy_position.setter
+    def buoyancy_position(self, value: _ArrayLike | None) -> None: ...
+    @property
+    def damping_scale(self) -> _Array:
+        """Factors on the linear and quadratic damping per DOF (6,)."""
+    @damping_scale.setter
+    def damping_scale(self, value: _ArrayLike) -> None: ...
+    @property
+    def added_mass_scale(self) -> float:
+        """Factor on the added-mass matrix."""
+    @added_mass_scale.setter
+    def added_mass_scale(self, value: SupportsFloat) -> None: ...
+    def __copy__(self) -> PayloadEvent: ...
+    def __deepcopy__(self, memo: dict[int, Any]) -> PayloadEvent: ...
     def __getstate__(self) -> dict[str, Any]: ...
     def __setstate__(self, state: dict[str, Any]) -> None: ...
 
@@ -1251,7 +1449,7 @@ class SimulationConfig:
     def noise_nu(self, value: _ArrayLike) -> None: ...
     @property
     def seed(self) -> int:
-        """Seed of the measurement noise."""
+        """Seed of the measurement noise; the current's and the waves' streams are derived from it."""
     @seed.setter
     def seed(self, value: SupportsIndex) -> None: ...
     @property
@@ -1284,6 +1482,26 @@ class SimulationConfig:
         """The force applied on a refused step."""
     @refused_step_policy.setter
     def refused_step_policy(self, value: RefusedStepPolicy) -> None: ...
+    @property
+    def current_model(self) -> CurrentModel:
+        """A CurrentModel."""
+    @current_model.setter
+    def current_model(self, value: CurrentModel) -> None: ...
+    @property
+    def gauss_markov_current(self) -> GaussMarkovCurrentConfig:
+        """The Gauss-Markov current, used with current_model gauss_markov."""
+    @gauss_markov_current.setter
+    def gauss_markov_current(self, value: GaussMarkovCurrentConfig) -> None: ...
+    @property
+    def waves(self) -> WaveConfig | None:
+        """A WaveConfig, or None for a calm sea."""
+    @waves.setter
+    def waves(self, value: WaveConfig | None) -> None: ...
+    @property
+    def payload(self) -> tuple[PayloadEvent, ...]:
+        """Payload events in non-decreasing time (a tuple of copies; assign a list)."""
+    @payload.setter
+    def payload(self, value: Iterable[PayloadEvent]) -> None: ...
     def __copy__(self) -> SimulationConfig: ...
     def __deepcopy__(self, memo: dict[int, Any]) -> SimulationConfig: ...
     def __getstate__(self) -> dict[str, Any]: ...
@@ -1311,7 +1529,16 @@ class _SimulationResult(TypedDict):
     plant_status: numpy.typing.NDArray[numpy.uint8]
     faults: numpy.typing.NDArray[numpy.uint8]
     """Per step: bit 1 freeze, 2 dropout, 4 noise burst, 8 a thruster below full efficiency,
-    16 the row's eta_d came from a pitch-limited reference step."""
+    16 the row's eta_d came from a pitch-limited reference step, 32 the vehicle above the
+    wave model's minimum depth."""
+    current: _Array
+    """(N, 3) NED current at the vehicle [m/s]."""
+    wave_velocity: _Array
+    """(N, 3) NED orbital velocity at the vehicle [m/s] (zeros in a calm sea)."""
+    wave_elevation: _Array
+    """(N,) surface elevation above the vehicle [m]."""
+    payload_mass: _Array
+    """(N,) payload mass in effect [kg]."""
     diverged: bool
 
 @overload
@@ -1320,7 +1547,8 @@ def run_closed_loop(vehicle: Vehicle, controller: NNAdaptiveController, config: 
 
     Keys: t, eta, nu, eta_d, eta_d_dot, tau_demanded, tau_applied,
     disturbance, s, thrusts, theta, adaptive_norm, controller_status,
-    plant_status, faults, and diverged (bool). The controller is used as given and
+    plant_status, faults, current, wave_velocity, wave_elevation, payload_mass,
+    and diverged (bool). The controller is used as given and
     left in its final state; the GIL is released meanwhile. A bad configuration
     raises ValueError naming the field. ``neurov.simulate(scenario)`` is the
     friendly front end.

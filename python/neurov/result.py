@@ -49,6 +49,7 @@ def _finite_or_inf(x: Any) -> float:
 SERIES = (
     "t", "eta", "nu", "eta_d", "eta_d_dot", "tau_demanded", "tau_applied", "disturbance", "s",
     "thrusts", "theta", "adaptive_norm", "controller_status", "plant_status", "faults",
+    "current", "wave_velocity", "wave_elevation", "payload_mass",
 )
 
 
@@ -74,6 +75,10 @@ class Result:
     controller_status: NDArray[np.uint8]
     plant_status: NDArray[np.uint8]
     faults: NDArray[np.uint8]
+    current: Array  #: (N, 3) NED current at the vehicle [m/s]
+    wave_velocity: Array  #: (N, 3) NED orbital velocity at the vehicle [m/s]
+    wave_elevation: Array  #: (N,) surface elevation above the vehicle [m]
+    payload_mass: Array  #: (N,) payload mass in effect [kg]
     diverged: bool
     wall_time: float = 0.0
     extra: dict[str, Any] = field(default_factory=dict)
@@ -166,6 +171,10 @@ class Result:
         cols["controller_status"] = self.controller_status.astype(np.float64)
         cols["plant_status"] = self.plant_status.astype(np.float64)
         cols["faults"] = self.faults.astype(np.float64)
+        for name, arr in (("current", self.current), ("wave_velocity", self.wave_velocity)):
+            cols.update((f"{name}_{n}", arr[:, i]) for i, n in enumerate("NED"))
+        cols["wave_elevation"] = self.wave_elevation
+        cols["payload_mass"] = self.payload_mass
         return cols
 
     def to_pandas(self) -> Any:
@@ -180,7 +189,10 @@ class Result:
         ``adaptive_norm``; ``controller_status`` and ``plant_status`` as
         :class:`neurov.Status` names; and the fault flags ``fault_freeze``,
         ``fault_dropout``, ``fault_noise_burst``, ``fault_thruster`` and
-        ``pitch_limited`` (bits 1, 2, 4, 8, 16 of :attr:`faults`)."""
+        ``pitch_limited`` and ``shallow`` (bits 1, 2, 4, 8, 16, 32 of :attr:`faults`);
+        the sea at the vehicle ``current_N, current_E, current_D``,
+        ``wave_velocity_N`` ... [m/s], ``wave_elevation`` [m] and the
+        ``payload_mass`` in effect [kg]."""
         import pandas as pd
 
         pose, body = ("x", "y", "z", "phi", "theta", "psi"), ("u", "v", "w", "p", "q", "r")
@@ -202,8 +214,12 @@ class Result:
             codes = getattr(self, name).astype(np.int64)
             cols[name] = pd.Categorical.from_codes(codes, categories=statuses)
         for bit, name in enumerate(("fault_freeze", "fault_dropout", "fault_noise_burst", "fault_thruster",
-                                    "pitch_limited")):
+                                    "pitch_limited", "shallow")):
             cols[name] = (self.faults & (1 << bit)) != 0
+        for name, arr in (("current", self.current), ("wave_velocity", self.wave_velocity)):
+            cols.update((f"{name}_{n}", arr[:, i]) for i, n in enumerate("NED"))
+        cols["wave_elevation"] = self.wave_elevation
+        cols["payload_mass"] = self.payload_mass
         return pd.DataFrame(cols, index=pd.Index(self.t, name="t"))
 
     def to_csv(self, path: str | Path, quiet: bool = True) -> Path:

@@ -18,6 +18,7 @@
 #include "neurov/core/status.hpp"
 #include "neurov/core/types.hpp"
 #include "neurov/core/validation.hpp"
+#include "neurov/model/flow.hpp"
 #include "neurov/model/integrator.hpp"
 #include "neurov/model/kinematics.hpp"
 #include "neurov/model/linearization.hpp"

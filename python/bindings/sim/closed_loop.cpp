@@ -39,10 +39,12 @@ constexpr const char* kDoc =
     "Runs a closed loop in C++ with the configuration `config` (a SimulationConfig) and "
     "returns a dict of arrays (rows at t_k = k dt): t, eta, nu, eta_d, eta_d_dot, "
     "tau_demanded, tau_applied, disturbance, s, thrusts, theta, adaptive_norm, "
-    "controller_status, plant_status, faults, and diverged (bool). The controller is used as "
+    "controller_status, plant_status, faults, current, wave_velocity, wave_elevation, "
+    "payload_mass, and diverged (bool). The controller is used as "
     "given and left in its final state. The faults column has bits 1 freeze, 2 dropout, 4 "
     "noise burst, 8 a thruster below full efficiency, 16 the row's eta_d came from a "
-    "pitch-limited reference step (command or reference held at +-(pi/2 - 0.2) rad). A bad "
+    "pitch-limited reference step (command or reference held at +-(pi/2 - 0.2) rad), 32 the "
+    "vehicle above the wave model's minimum depth. A bad "
     "configuration raises ValueError naming the field. neurov.simulate(scenario) is the "
     "friendly front end.";
 

@@ -21,6 +21,70 @@ void bind_sim_config(py::module_& m) {
                                "The force applied when the controller refuses a step.")
       .value("zero", RefusedStepPolicy::zero, "No force.")
       .value("hold", RefusedStepPolicy::hold, "The last force the controller accepted.");
+  py::enum_<CurrentModel>(m, "CurrentModel", "The model of the current a run uses.")
+      .value("constant", CurrentModel::constant,
+             "Mean + sinusoid + steps (current, current_amplitude, current_period, "
+             "current_steps).")
+      .value("gauss_markov", CurrentModel::gauss_markov,
+             "First-order Gauss-Markov speed and direction (gauss_markov_current).");
+  py::enum_<WaveSpectrum>(m, "WaveSpectrum", "The spectrum the waves realise.")
+      .value("jonswap", WaveSpectrum::jonswap, "JONSWAP (hs, tp, gamma).")
+      .value("pierson_moskowitz", WaveSpectrum::pierson_moskowitz,
+             "Two-parameter Pierson-Moskowitz (Bretschneider/ITTC: hs, tp).");
+
+  {
+    using T = GaussMarkovCurrentConfig<double>;
+    py::class_<T> cls(m, "GaussMarkovCurrentConfig",
+                      "A current whose speed, direction and vertical angle wander about their "
+                      "means as first-order Gauss-Markov processes (Fossen 2011, 8.3).");
+    Fields<T>(cls, "GaussMarkovCurrentConfig")
+        .value("speed", &T::speed, "Mean speed [m/s], within [speed_min, speed_max].")
+        .value("speed_std", &T::speed_std, "Stationary standard deviation [m/s], >= 0.")
+        .value("time_constant", &T::time_constant, "Of all three processes [s], > 0.")
+        .value("speed_min", &T::speed_min, "Lower bound of the speed given out [m/s], >= 0.")
+        .value("speed_max", &T::speed_max, "Upper bound of the speed given out [m/s].")
+        .value("direction", &T::direction,
+               "Mean direction the current flows toward [deg from north].")
+        .value("direction_std", &T::direction_std, "[deg], >= 0.")
+        .value("vertical_angle", &T::vertical_angle,
+               "Mean angle below the horizontal plane [deg], positive flowing down.")
+        .value("vertical_angle_std", &T::vertical_angle_std, "[deg], >= 0.")
+        .finish();
+  }
+  {
+    using T = WaveConfig<double>;
+    py::class_<T> cls(m, "WaveConfig",
+                      "Linear deep-water waves realised from a spectrum as a sum of seeded "
+                      "components.");
+    Fields<T>(cls, "WaveConfig")
+        .value("spectrum", &T::spectrum, "A WaveSpectrum.")
+        .value("hs", &T::hs, "Significant wave height [m], > 0.")
+        .value("tp", &T::tp, "Peak period [s], > 0.")
+        .value("gamma", &T::gamma, "JONSWAP peak enhancement, >= 1.")
+        .value("direction", &T::direction,
+               "Direction the waves travel toward [deg from north].")
+        .value("spreading", &T::spreading, "n of the cos^n directional spreading; 0: long-crested.")
+        .value("components", &T::components, "Number of components, 1 to 512.")
+        .finish();
+  }
+  {
+    using T = PayloadEvent<double>;
+    py::class_<T> cls(m, "PayloadEvent",
+                      "A change of the vehicle at `time` that the controller is not told "
+                      "about: mass, buoyancy, damping and added mass.");
+    Fields<T>(cls, "PayloadEvent")
+        .value("time", &T::time, "When it happens [s], >= 0.")
+        .value("mass", &T::mass, "Mass added [kg] (negative: dropped); weight mass * 9.81.")
+        .optional("mass_position", &T::mass_position,
+                  "Where the mass sits, body axes [m] (3,); None: the centre of gravity.")
+        .value("buoyancy", &T::buoyancy, "Buoyancy added [N] (negative: lost).")
+        .optional("buoyancy_position", &T::buoyancy_position,
+                  "Where it acts, body axes [m] (3,); None: the centre of buoyancy.")
+        .vector("damping_scale", &T::damping_scale,
+                "Factors on the linear and quadratic damping per DOF (6,).")
+        .value("added_mass_scale", &T::added_mass_scale, "Factor on the added-mass matrix.")
+        .finish();
+  }
 
   {
     using T = SinusoidalDisturbance<double>;
@@ -103,7 +167,9 @@ void bind_sim_config(py::module_& m) {
         .value("current_period", &T::current_period, "[s]; 0 means a constant current.")
         .vector("noise_eta", &T::noise_eta, "Standard deviations of the pose noise (6,).")
         .vector("noise_nu", &T::noise_nu, "Standard deviations of the velocity noise (6,).")
-        .value("seed", &T::seed, "Seed of the measurement noise.")
+        .value("seed", &T::seed,
+               "Seed of the measurement noise; the current's and the waves' streams are "
+               "derived from it.")
         .value("use_thrusters", &T::use_thrusters,
                "Allocate the force to `thrusters`; False: the force acts directly.")
         .value("thrusters", &T::thrusters, "The thruster layout (a ThrusterConfig).")
@@ -115,6 +181,13 @@ void bind_sim_config(py::module_& m) {
               "Steps of the mean current, in increasing time (a tuple; assign a list).")
         .value("refused_step_policy", &T::refused_step_policy,
                "The force applied on a refused step (a RefusedStepPolicy).")
+        .value("current_model", &T::current_model, "A CurrentModel.")
+        .value("gauss_markov_current", &T::gauss_markov_current,
+               "The Gauss-Markov current (a GaussMarkovCurrentConfig), used with "
+               "current_model gauss_markov.")
+        .optional("waves", &T::waves, "A WaveConfig, or None for a calm sea.")
+        .list("payload", &T::payload, "PayloadEvent",
+              "Payload events in non-decreasing time (a tuple; assign a list).")
         .finish();
     cls.def(
         "validate",

@@ -54,6 +54,10 @@ py::dict result_dict(SimulationResult<double>&& r) {
   d["controller_status"] = hand_over(std::move(r.controller_status));
   d["plant_status"] = hand_over(std::move(r.plant_status));
   d["faults"] = hand_over(std::move(r.faults));
+  d["current"] = hand_over(std::move(r.current));
+  d["wave_velocity"] = hand_over(std::move(r.wave_velocity));
+  d["wave_elevation"] = hand_over(std::move(r.wave_elevation));
+  d["payload_mass"] = hand_over(std::move(r.payload_mass));
   d["diverged"] = r.diverged;
   return d;
 }

@@ -6,12 +6,18 @@
 #include <Eigen/Core>
 #include <cmath>
 #include <cstdint>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "neurov/control/reference_model.hpp"
 #include "neurov/core/types.hpp"
 #include "neurov/core/validation.hpp"
 #include "neurov/model/thrusters.hpp"
+#include "neurov/sim/gauss_markov_current.hpp"
+#include "neurov/sim/payload.hpp"
+#include "neurov/sim/wave_spectrum.hpp"
+#include "neurov/sim/waves.hpp"
 
 namespace neurov {
 
@@ -72,7 +78,16 @@ constexpr std::uint8_t thruster = 8;  ///< some thruster below full efficiency
 /// (ReferenceModel::pitch_limited(): the command's pitch clamped, or the
 /// reference's own held at the limit).
 constexpr std::uint8_t pitch_limited = 16;
+/// The vehicle was above the wave model's minimum depth (Waves::minimum_depth,
+/// 1.2 Hs) at the start of some substep of the row's interval, where the
+/// linear deep-water kinematics do not hold.
+constexpr std::uint8_t shallow = 32;
 }  // namespace fault_bits
+
+/// The current's model: `constant` is the mean + sinusoid + steps of the
+/// fields current, current_amplitude, current_period and current_steps;
+/// `gauss_markov` is SimulationConfig::gauss_markov_current alone.
+enum class CurrentModel : std::uint8_t { constant = 0, gauss_markov = 1 };
 
 /// Commanded poses r(t) at increasing times; held before the first and after
 /// the last; between them linear or held (piecewise constant).
@@ -123,6 +138,16 @@ struct SimulationConfig {
   std::vector<SensorFault<Scalar>> sensor_faults;
   std::vector<CurrentStep<Scalar>> current_steps;  ///< in increasing time
   RefusedStepPolicy refused_step_policy = RefusedStepPolicy::zero;
+  CurrentModel current_model = CurrentModel::constant;
+  /// Used when current_model is gauss_markov; advanced once per control
+  /// period on its own random stream (RandomStream::current).
+  GaussMarkovCurrentConfig<Scalar> gauss_markov_current;
+  /// Linear deep-water waves (RandomStream::waves); empty: a calm sea.
+  std::optional<WaveConfig<Scalar>> waves;
+  /// Changes of the vehicle the controller is not told about, in
+  /// non-decreasing time; each is checked against the vehicle it changes by
+  /// Simulator::create (validate_payload).
+  std::vector<PayloadEvent<Scalar>> payload;
 };
 
 /// Checks every field a run needs (allocates: the thrusters' pseudo-inverse is
@@ -204,6 +229,27 @@ inline ValidationError validate(const SimulationConfig<Scalar>& c) {
     if (auto e = detail::check_finite("current_steps.velocity", c.current_steps[i].velocity))
       return e;
   }
+  if (c.current_model != CurrentModel::constant && c.current_model != CurrentModel::gauss_markov)
+    return detail::invalid("current_model", -1, static_cast<double>(c.current_model),
+                           "constant or gauss_markov");
+  if (c.current_model == CurrentModel::gauss_markov) {
+    // One current model at a time: the constant model's fields stay zero.
+    if (!(c.current.isZero(Scalar(0)) && c.current_amplitude.isZero(Scalar(0)) &&
+          c.current_steps.empty()))
+      return detail::invalid("current_model", -1, static_cast<double>(c.current_model),
+                             "zero current, current_amplitude and no current_steps with "
+                             "gauss_markov");
+    if (auto e = validate(c.gauss_markov_current)) return e;
+  }
+  if (c.waves) {
+    if (auto e = validate(*c.waves, Waves<Scalar>::capacity)) return e;
+  }
+  for (std::size_t i = 0; i < c.payload.size(); ++i) {
+    const Scalar t = c.payload[i].time;
+    if (!(std::isfinite(t) && t >= Scalar(0) && (i == 0 || t >= c.payload[i - 1].time)))
+      return detail::invalid("payload.time", static_cast<int>(i), static_cast<double>(t),
+                             ">= 0, finite and non-decreasing");
+  }
   // The reference model's and the thrusters' own rules, so that a
   // configuration that passes here is one a Simulator can be created from.
   ReferenceModel<Scalar> reference;
@@ -211,6 +257,38 @@ inline ValidationError validate(const SimulationConfig<Scalar>& c) {
   if (c.use_thrusters) {
     Thrusters<Scalar> thrusters;
     if (auto e = Thrusters<Scalar>::create(c.thrusters, thrusters)) return e;
+  }
+  return {};
+}
+
+/// Checks the payload events in their order against the vehicle each one
+/// changes (the first against `vehicle`); the error names "payload.<field>"
+/// and the event's index.
+template <typename Scalar>
+inline ValidationError validate_payload(const std::vector<PayloadEvent<Scalar>>& events,
+                                        const Vehicle<Scalar>& vehicle) noexcept {
+  Vehicle<Scalar> v = vehicle;
+  for (std::size_t i = 0; i < events.size(); ++i) {
+    Vehicle<Scalar> next;
+    ValidationError e = apply_payload(events[i], v, next);
+    if (e) {
+      // The event's own fields get the prefix; the changed vehicle's keep
+      // their names (inertia, mass_matrix) with "payload" as the field.
+      static constexpr const char* own[][2] = {
+          {"time", "payload.time"},
+          {"mass", "payload.mass"},
+          {"mass_position", "payload.mass_position"},
+          {"buoyancy", "payload.buoyancy"},
+          {"buoyancy_position", "payload.buoyancy_position"},
+          {"damping_scale", "payload.damping_scale"},
+          {"added_mass_scale", "payload.added_mass_scale"}};
+      const char* field = "payload";
+      for (const auto& n : own)
+        if (std::char_traits<char>::compare(e.field, n[0], std::char_traits<char>::length(n[0]) + 1) == 0)
+          field = n[1];
+      return detail::invalid(field, static_cast<int>(i), e.value, e.expected);
+    }
+    v = next;
   }
   return {};
 }

@@ -10,6 +10,7 @@ namespace neurov {
 template <typename Scalar>
 struct SimulationResult {
   using Rows6 = Eigen::Matrix<Scalar, Eigen::Dynamic, 6, Eigen::RowMajor>;
+  using Rows3 = Eigen::Matrix<Scalar, Eigen::Dynamic, 3, Eigen::RowMajor>;
   using RowsX = Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   Eigen::Matrix<Scalar, Eigen::Dynamic, 1> t;
   Rows6 eta, nu, eta_d, eta_d_dot, tau_demanded, tau_applied, disturbance, s;
@@ -22,6 +23,14 @@ struct SimulationResult {
   Eigen::Matrix<std::uint8_t, Eigen::Dynamic, 1> plant_status;
   /// fault_bits active in each step.
   Eigen::Matrix<std::uint8_t, Eigen::Dynamic, 1> faults;
+  /// The sea at the vehicle at t_k: the current's NED velocity (the one
+  /// acting over [t_k, t_k+1) for the Gauss-Markov model), the waves'
+  /// orbital velocity (NED) and the surface elevation above the vehicle
+  /// (zeros in a calm sea).
+  Rows3 current, wave_velocity;
+  Eigen::Matrix<Scalar, Eigen::Dynamic, 1> wave_elevation;
+  /// The payload mass in effect at t_k: the sum of the events' `mass` so far [kg].
+  Eigen::Matrix<Scalar, Eigen::Dynamic, 1> payload_mass;
   /// Rows actually simulated: fewer than planned if the plant diverged.
   Eigen::Index steps = 0;
   bool diverged = false;
@@ -37,6 +46,10 @@ struct SimulationResult {
     controller_status.setZero(rows);
     plant_status.setZero(rows);
     faults.setZero(rows);
+    current.setZero(rows, 3);
+    wave_velocity.setZero(rows, 3);
+    wave_elevation.setZero(rows);
+    payload_mass.setZero(rows);
     steps = 0;
     diverged = false;
   }
@@ -52,6 +65,10 @@ struct SimulationResult {
     controller_status.setZero();
     plant_status.setZero();
     faults.setZero();
+    current.setZero();
+    wave_velocity.setZero();
+    wave_elevation.setZero();
+    payload_mass.setZero();
     steps = 0;
     diverged = false;
   }
@@ -67,6 +84,10 @@ struct SimulationResult {
     controller_status.conservativeResize(rows);
     plant_status.conservativeResize(rows);
     faults.conservativeResize(rows);
+    current.conservativeResize(rows, 3);
+    wave_velocity.conservativeResize(rows, 3);
+    wave_elevation.conservativeResize(rows);
+    payload_mass.conservativeResize(rows);
   }
 };
 

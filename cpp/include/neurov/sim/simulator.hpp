@@ -5,6 +5,14 @@
 // C++ loop in closed_loop.hpp, a Python controller, a learning agent - sees the
 // same observations and gets the same rows for the same forces.
 //
+// The sea: the current (constant model, or Gauss-Markov advanced once per
+// control period on its own random stream, so its realisation does not
+// depend on substeps), the waves (their kinematics followed at the vehicle
+// once per substep, interpolated through the RK4 stages, see
+// rk4_step_in_flow) and the payload events (the plant's Vehicle rebuilt
+// in place at the first substep at or after their time; the controller is
+// not told). Without waves the plant step is rk4_step, as before they existed.
+//
 // Timing: control at dt with the force held over each control interval
 // (zero-order hold); the plant integrated by RK4 at dt / substeps, thrusters
 // advanced per substep; the reference model advanced at the control rate. Row
@@ -27,11 +35,16 @@
 #include "neurov/core/status.hpp"
 #include "neurov/core/types.hpp"
 #include "neurov/core/validation.hpp"
+#include "neurov/model/flow.hpp"
 #include "neurov/model/integrator.hpp"
 #include "neurov/model/thrusters.hpp"
 #include "neurov/model/vehicle.hpp"
 #include "neurov/sim/config.hpp"
+#include "neurov/sim/gauss_markov_current.hpp"
+#include "neurov/sim/payload.hpp"
 #include "neurov/sim/result.hpp"
+#include "neurov/sim/sea_constants.hpp"
+#include "neurov/sim/waves.hpp"
 
 namespace neurov {
 
@@ -79,6 +92,7 @@ class Simulator {
                                 int logged_parameters = 0) {
     if (!vehicle.valid()) return detail::invalid("vehicle", -1, std::nan(""), "a valid vehicle");
     if (auto e = validate(config)) return e;
+    if (auto e = validate_payload(config.payload, vehicle)) return e;
     if (logged_parameters < 0)
       return detail::invalid("logged_parameters", -1, static_cast<double>(logged_parameters),
                              ">= 0");
@@ -89,6 +103,8 @@ class Simulator {
     if (config.use_thrusters) Thrusters<Scalar>::create(config.thrusters, thrusters);
     Simulator s;
     s.vehicle_ = vehicle;
+    s.vehicle0_ = vehicle;
+    s.payload_applied_.assign(config.payload.size(), false);
     s.config_ = config;
     s.reference_ = std::move(reference);
     s.thrusters_ = std::move(thrusters);
@@ -119,6 +135,17 @@ class Simulator {
     std::fill(failure_applied_.begin(), failure_applied_.end(), false);
     eta_ = config_.eta0;
     nu_ = config_.nu0;
+    // The sea: each source on its own stream of `seed`; validate() has
+    // checked the configurations, so the creates succeed.
+    vehicle_ = vehicle0_;
+    std::fill(payload_applied_.begin(), payload_applied_.end(), false);
+    payload_mass_ = Scalar(0);
+    if (config_.current_model == CurrentModel::gauss_markov)
+      GaussMarkovCurrent<Scalar>::create(config_.gauss_markov_current, seed, current_);
+    if (config_.waves) {
+      Waves<Scalar>::create(*config_.waves, seed, waves_);
+      waves_.start(0.0, eta_.template head<3>(), h_);
+    }
     observation_.desired = reference_.desired();
     held_eta_ = eta_;
     held_nu_ = nu_;
@@ -175,6 +202,13 @@ class Simulator {
           Eigen::Map<const Eigen::Matrix<Scalar, 1, Eigen::Dynamic>>(report.parameters,
                                                                      parameter_count_);
     r.disturbance.row(k) = disturbance_at(t).transpose();
+    apply_payload_events(t);
+    r.current.row(k) = current_velocity(t).transpose();
+    if (config_.waves) {
+      r.wave_velocity.row(k) = waves_.kinematics().velocity.transpose();
+      r.wave_elevation(k) = waves_.kinematics().elevation;
+    }
+    r.payload_mass(k) = payload_mass_;
 
     std::uint8_t faults = faults_;
     if (config_.use_thrusters) thrusters_.command(applied_tau);
@@ -182,6 +216,7 @@ class Simulator {
     Vec6 applied_sum = Vec6::Zero();
     for (int j = 0; j < config_.substeps; ++j) {
       const Scalar ts = t + static_cast<Scalar>(j) * h_;
+      apply_payload_events(ts);
       Vec6 applied = applied_tau;
       if (config_.use_thrusters) {
         for (std::size_t f = 0; f < config_.failures.size(); ++f) {
@@ -201,10 +236,31 @@ class Simulator {
               static_cast<Scalar>(config_.substeps);
       }
       applied_sum += applied;
-      ps = worst(ps, rk4_step(vehicle_, eta_, nu_, (applied + disturbance_at(ts)).eval(), h_,
-                              current_at(ts)));
+      const Vec6 tau_s = applied + disturbance_at(ts);
+      if (config_.waves) {
+        if (eta_(2) < waves_.minimum_depth()) faults |= fault_bits::shallow;
+        // The flow at the substep's start, then the waves followed on to
+        // its end at the position predicted from the present velocity (the
+        // kinematics change over a wavelength; the prediction is off by
+        // O(h^2)): the stages interpolate between the two.
+        FluidFlow<Scalar> start, end;
+        start.velocity = current_velocity(ts) + waves_.kinematics().velocity;
+        start.acceleration = waves_.kinematics().acceleration;
+        start.displaced_mass =
+            vehicle_.parameters().buoyancy / static_cast<Scalar>(standard_gravity);
+        const Vec3 p_end = eta_.template head<3>() +
+                           h_ * (rotation(EulerTrig<Scalar>::from_pose(eta_)) *
+                                 nu_.template head<3>());
+        waves_.advance(p_end);
+        end.velocity = current_velocity(ts) + waves_.kinematics().velocity;
+        end.acceleration = waves_.kinematics().acceleration;
+        ps = worst(ps, rk4_step_in_flow(vehicle_, eta_, nu_, tau_s, h_, start, end));
+      } else {
+        ps = worst(ps, rk4_step(vehicle_, eta_, nu_, tau_s, h_, current_velocity(ts)));
+      }
       if (ps != Status::ok && ps != Status::near_singularity) break;
     }
+    if (config_.current_model == CurrentModel::gauss_markov) current_.advance(config_.dt);
     r.tau_applied.row(k) = (applied_sum / static_cast<Scalar>(config_.substeps)).transpose();
     r.plant_status(k) = static_cast<std::uint8_t>(ps);
     r.faults(k) = faults;
@@ -308,6 +364,23 @@ class Simulator {
     return d;
   }
 
+  /// The payload events due by t applied to the plant's vehicle, in order
+  /// (Simulator::create checked that each gives a valid vehicle).
+  void apply_payload_events(Scalar t) noexcept {
+    for (std::size_t i = 0; i < config_.payload.size(); ++i) {
+      if (payload_applied_[i] || !(t >= config_.payload[i].time)) continue;
+      apply_payload(config_.payload[i], vehicle_, vehicle_);
+      payload_mass_ += config_.payload[i].mass;
+      payload_applied_[i] = true;
+    }
+  }
+
+  /// The current at the vehicle over the substep starting at t.
+  Vec3 current_velocity(Scalar t) const noexcept {
+    return config_.current_model == CurrentModel::gauss_markov ? current_.velocity()
+                                                               : current_at(t);
+  }
+
   Vec3 current_at(Scalar t) const noexcept {
     Vec3 c = config_.current;
     for (const auto& step : config_.current_steps)
@@ -319,7 +392,12 @@ class Simulator {
 
   static constexpr Scalar kTwoPi = Scalar(6.283185307179586);
 
-  Vehicle<Scalar> vehicle_;
+  Vehicle<Scalar> vehicle_;   ///< the plant, changed by the payload events
+  Vehicle<Scalar> vehicle0_;  ///< the plant at t = 0
+  std::vector<bool> payload_applied_;
+  Scalar payload_mass_ = Scalar(0);
+  GaussMarkovCurrent<Scalar> current_;
+  Waves<Scalar> waves_;
   SimulationConfig<Scalar> config_;
   ReferenceModel<Scalar> reference_;
   Thrusters<Scalar> thrusters_;
