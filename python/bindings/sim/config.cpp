@@ -115,11 +115,8 @@ void bind_sim_config(py::module_& m) {
               "Steps of the mean current, in increasing time (a tuple; assign a list).")
         .value("refused_step_policy", &T::refused_step_policy,
                "The force applied on a refused step (a RefusedStepPolicy).")
+        .validator("SimulationConfig")
         .finish();
-    cls.def(
-        "validate",
-        [](const T& c) { py_args::raise_if_invalid(validate(c), "SimulationConfig"); },
-        "Raises ValueError naming the first field that is wrong and what it expected.");
   }
 }
 
