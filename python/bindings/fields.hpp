@@ -1,15 +1,18 @@
 // Binds a plain C++ configuration struct to Python field by field, so that
 // Python holds the very C++ object and the C++ validator is the one that
-// judges it:
-//  * numbers, bools and enums: def_readwrite;
+// judges it (the simulation's configs and every controller's). Every setter
+// checks the value's type and shape and names `Type.field` when it is wrong:
+//  * numbers, bools and enums: by value;
 //  * fixed-size vectors: writable numpy views into the struct (the storage is
-//    inside it, so a view lives as long as the struct);
+//    inside it, so a view lives as long as the struct), optionally also set
+//    from one number for every entry;
 //  * dynamic arrays: read-only copies, assigned whole (a view could outlive a
 //    buffer that a later assignment frees);
 //  * lists of structs: tuples of copies, assigned whole from any sequence;
 //  * nested structs: references into the parent.
+//  * anything else: a getter and a setter of its own (`field`).
 // Every struct also gets a keyword constructor that refuses unknown names, a
-// repr, copy and pickle support.
+// repr, copy and pickle support, and validate() runs the C++ validator.
 #pragma once
 
 #include <pybind11/eigen.h>
@@ -67,6 +70,53 @@ class Fields {
         doc);
     names_->push_back(name);
     return *this;
+  }
+
+  /// A fixed-size vector that also takes one number, which fills every entry.
+  template <int N>
+  Fields& vector_or_number(const char* name, Eigen::Matrix<double, N, 1> T::*member,
+                           const char* doc) {
+    return field(
+        name, [member](T& self) -> Eigen::Matrix<double, N, 1>& { return self.*member; },
+        [member](T& self, const py::handle& v, const std::string& qualified) {
+          if (py::isinstance<py::float_>(v) || py::isinstance<py::int_>(v))
+            (self.*member).setConstant(checked<double>(py::reinterpret_borrow<py::object>(v),
+                                                       qualified));
+          else
+            self.*member = Eigen::Map<const Eigen::Matrix<double, N, 1>>(
+                shaped(v, qualified, 1, N, -1).data());
+        },
+        doc);
+  }
+
+  /// A field with a conversion of its own: `get(self)` returns it (a
+  /// reference is a view into the struct), `set(self, value, "Type.field")`
+  /// stores it and names that field in its errors.
+  template <typename Get, typename Set>
+  Fields& field(const char* name, Get get, Set set, const char* doc) {
+    const std::string qualified = type_ + "." + name;
+    cls_.def_property(
+        name, get, [set, qualified](T& self, const py::handle& v) { set(self, v, qualified); },
+        doc);
+    names_->push_back(name);
+    return *this;
+  }
+
+  /// validate(): ValueError "`what`: <the C++ validator's message>", None
+  /// when valid. `check(config)` returns a ValidationError; by default the
+  /// struct's own validate(config).
+  template <typename Check>
+  Fields& validator(const char* what, Check check) {
+    const std::string prefix = what;
+    cls_.def(
+        "validate",
+        [prefix, check](const T& self) { py_args::raise_if_invalid(check(self), prefix.c_str()); },
+        "Runs the C++ validator: ValueError naming the first bad field and what it must be, "
+        "None when the configuration is valid.");
+    return *this;
+  }
+  Fields& validator(const char* what) {
+    return validator(what, [](const T& self) { return validate(self); });
   }
 
   /// A dynamic vector: a read-only copy; assigned whole.
@@ -173,7 +223,11 @@ class Fields {
         },
         [names, type](const py::dict& state) {
           T obj;
-          assign(obj, state, *names, type);
+          // None stands for a field left at its default (a vehicle not yet set).
+          py::dict given;
+          for (const auto& item : state)
+            if (!item.second.is_none()) given[item.first] = item.second;
+          assign(obj, given, *names, type);
           return obj;
         }));
   }

@@ -5,7 +5,7 @@
 // left, the DesiredState overload is the 5-vector step, an unconfigured
 // controller refuses, and the diagnostics hook reports the controller's own
 // memory. A new controller joins by one line in Controllers and a factory.
-// (test_reliability.cpp sweeps every hostile value through every entry.)
+// (test_reliability_*.cpp sweep every hostile value through every entry.)
 #include <cmath>
 #include <cstring>
 #include <limits>

@@ -16,23 +16,9 @@
 namespace {
 
 using namespace neurov;
-using neurov_test::all_near;
-using neurov_test::eps;
-using neurov_test::kPoints;
-using neurov_test::max_abs;
-using neurov_test::Rng;
+using namespace neurov_test;
 
-template <typename S>
-class IntegratorTest : public ::testing::Test {};
-TYPED_TEST_SUITE(IntegratorTest, neurov_test::Scalars, neurov_test::ScalarName);
-
-template <typename S>
-Vehicle<S> make(const VehicleParameters<S>& p) {
-  Vehicle<S> v;
-  const ValidationError e = Vehicle<S>::create(p, v);
-  EXPECT_TRUE(e.ok()) << (e.field ? e.field : "");
-  return v;
-}
+NEUROV_SCALAR_SUITE(IntegratorTest);
 
 /// Energies are summed in double so the float runs measure the integrator,
 /// not the rounding of the energy itself.
@@ -93,7 +79,7 @@ TYPED_TEST(IntegratorTest, KineticEnergyIsConservedWithoutDampingOrRestoring) {
     auto& p = cases[c];
     p.linear_damping.setZero();
     p.quadratic_damping.setZero();
-    const Vehicle<S> v = make(p);
+    const Vehicle<S> v = make_vehicle(p);
     Vector6<S> eta = initial_pose<S>(), nu = initial_velocity<S>();
     const double e0 = kinetic_energy(v, nu);
     double worst = 0.0;
@@ -108,7 +94,7 @@ TYPED_TEST(IntegratorTest, KineticEnergyIsConservedWithoutDampingOrRestoring) {
 
 TYPED_TEST(IntegratorTest, KineticEnergyDecaysMonotonicallyWithNerovDamping) {
   using S = TypeParam;
-  const Vehicle<S> v = make(neurov_test::nerov_without_restoring<S>());
+  const Vehicle<S> v = make_vehicle(neurov_test::nerov_without_restoring<S>());
   Vector6<S> eta = initial_pose<S>(), nu = initial_velocity<S>();
   double previous = kinetic_energy(v, nu);
   for (int step = 0; step < 1000; ++step) {
@@ -123,7 +109,7 @@ TYPED_TEST(IntegratorTest, KineticEnergyDecaysMonotonicallyWithNerovDamping) {
 // so it is their sum that the damping must drain.
 TYPED_TEST(IntegratorTest, MechanicalEnergyDecaysMonotonicallyForFullNerov) {
   using S = TypeParam;
-  const Vehicle<S> v = make(nerov_parameters<S>());
+  const Vehicle<S> v = make_vehicle(nerov_parameters<S>());
   Vector6<S> eta = initial_pose<S>(), nu = initial_velocity<S>();
   eta(3) = S(0.6);
   eta(4) = S(-0.5);
@@ -151,7 +137,7 @@ TEST(IntegratorOrder, Rk4ConvergesAtFourthOrder) {
   for (std::size_t c = 0; c < cases.size(); ++c) {
     auto& p = cases[c];
     p.quadratic_damping.setZero();
-    const Vehicle<double> v = make(p);
+    const Vehicle<double> v = make_vehicle(p);
     auto run = [&](int steps, Vector6<double>& eta, Vector6<double>& nu) {
       eta = initial_pose<double>();
       nu = initial_velocity<double>();
@@ -178,7 +164,7 @@ TYPED_TEST(IntegratorTest, StepMatchesClassicalRk4FromDerivative) {
   using S = TypeParam;
   Rng rng(43);
   const Vehicle<S> v =
-      make(neurov_test::random_vehicle_parameters<S>(rng, CoriolisForm::velocity_independent));
+      make_vehicle(neurov_test::random_vehicle_parameters<S>(rng, CoriolisForm::velocity_independent));
   for (int i = 0; i < kPoints; ++i) {
     const Vector6<S> eta0 = rng.pose<S>(1.2), nu0 = rng.velocity<S>(), tau = rng.vec6<S>(-100, 100);
     const Vector3<S> current = i % 2 ? rng.vec3<S>(-1, 1) : Vector3<S>::Zero();
@@ -207,7 +193,7 @@ TYPED_TEST(IntegratorTest, StepMatchesClassicalRk4FromDerivative) {
 
 TYPED_TEST(IntegratorTest, BadTimeStepIsRejectedAndStateUntouched) {
   using S = TypeParam;
-  const Vehicle<S> v = make(nerov_parameters<S>());
+  const Vehicle<S> v = make_vehicle(nerov_parameters<S>());
   const S bad_dts[] = {S(0),
                        S(-0.0),
                        S(-0.01),
@@ -225,7 +211,7 @@ TYPED_TEST(IntegratorTest, BadTimeStepIsRejectedAndStateUntouched) {
 
 TYPED_TEST(IntegratorTest, NonFiniteInputsAreRejectedAndStateUntouched) {
   using S = TypeParam;
-  const Vehicle<S> v = make(nerov_parameters<S>());
+  const Vehicle<S> v = make_vehicle(nerov_parameters<S>());
   const S nan = std::numeric_limits<S>::quiet_NaN(), inf = std::numeric_limits<S>::infinity();
   for (const S bad : {nan, inf, -inf}) {
     for (int k = 0; k < 6; ++k) {
@@ -252,7 +238,7 @@ TYPED_TEST(IntegratorTest, NonFiniteInputsAreRejectedAndStateUntouched) {
 
 TYPED_TEST(IntegratorTest, OverflowIsRejectedAndStateUntouched) {
   using S = TypeParam;
-  const Vehicle<S> v = make(nerov_parameters<S>());
+  const Vehicle<S> v = make_vehicle(nerov_parameters<S>());
   // Overflow in the first stage (a huge velocity) ...
   Vector6<S> eta = initial_pose<S>();
   const Vector6<S> huge = Vector6<S>::Constant(std::sqrt(std::numeric_limits<S>::max()));
@@ -279,7 +265,7 @@ TYPED_TEST(IntegratorTest, OverflowInTheFinalCombinationLeavesStateUntouched) {
   VehicleParameters<S> p;
   p.mass = S(1);
   p.inertia = Matrix3<S>::Identity();
-  const Vehicle<S> v = make(p);
+  const Vehicle<S> v = make_vehicle(p);
   const Vector6<S> eta0 = Vector6<S>::Zero();
   Vector6<S> nu0 = Vector6<S>::Zero();
   nu0(0) = std::numeric_limits<S>::max() / 3;
@@ -302,7 +288,7 @@ TYPED_TEST(IntegratorTest, EmptyVehicleIsRejectedAndStateUntouched) {
 
 TYPED_TEST(IntegratorTest, PitchAtNinetyDegreesIsFlaggedButFinite) {
   using S = TypeParam;
-  const Vehicle<S> v = make(nerov_parameters<S>());
+  const Vehicle<S> v = make_vehicle(nerov_parameters<S>());
   Vector6<S> eta = initial_pose<S>(), nu = initial_velocity<S>();
   eta(4) = S(neurov_test::kPi / 2);
   EXPECT_EQ(rk4_step(v, eta, nu, Vector6<S>::Zero(), S(0.01)), Status::near_singularity);
@@ -312,7 +298,7 @@ TYPED_TEST(IntegratorTest, PitchAtNinetyDegreesIsFlaggedButFinite) {
 
 TYPED_TEST(IntegratorTest, ZeroCurrentIsTheDefault) {
   using S = TypeParam;
-  const Vehicle<S> v = make(nerov_parameters<S>());
+  const Vehicle<S> v = make_vehicle(nerov_parameters<S>());
   Vector6<S> eta1 = initial_pose<S>(), nu1 = initial_velocity<S>(), eta2 = eta1, nu2 = nu1;
   const Vector6<S> tau = Vector6<S>::Constant(S(3));
   ASSERT_EQ(rk4_step(v, eta1, nu1, tau, S(0.05)), Status::ok);
@@ -325,7 +311,7 @@ TYPED_TEST(IntegratorTest, ZeroCurrentIsTheDefault) {
 // monotonically and the vehicle ends up drifting at the current's velocity.
 TYPED_TEST(IntegratorTest, VehicleDriftsWithAnEarthFrameCurrent) {
   using S = TypeParam;
-  const Vehicle<S> v = make(neurov_test::nerov_without_restoring<S>());
+  const Vehicle<S> v = make_vehicle(neurov_test::nerov_without_restoring<S>());
   const Vector3<S> current(S(0.4), S(-0.3), S(0.1));
   Vector6<S> eta = initial_pose<S>(), nu = Vector6<S>::Zero();
   auto relative_energy = [&] {

@@ -11,16 +11,15 @@
 #include <gtest/gtest.h>
 
 #include "neurov/neurov.hpp"
+#include "controller_state.hpp"
 #include "test_support.hpp"
 
 namespace {
 
 using namespace neurov;
-using neurov_test::Rng;
+using namespace neurov_test;
 
-template <typename S>
-class SimulatorTest : public ::testing::Test {};
-TYPED_TEST_SUITE(SimulatorTest, neurov_test::Scalars, neurov_test::ScalarName);
+NEUROV_SCALAR_SUITE(SimulatorTest);
 
 /// A square in the horizontal plane with a turn in yaw, 40 s.
 template <typename S>
@@ -37,19 +36,10 @@ SimulationConfig<S> square() {
   return c;
 }
 
+/// NEROV's layout, weaker thrusters with a lag.
 template <typename S>
 ThrusterConfig<S> six_thrusters() {
-  const double pos[6][3] = {{-0.5, 0.3, 0}, {-0.5, -0.3, 0}, {0.4, 0, 0},
-                            {0.4, 0, 0},    {-0.4, 0.3, 0},  {-0.4, -0.3, 0}};
-  const double dir[6][3] = {{1, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
-  ThrusterConfig<S> c;
-  c.matrix.resize(6, 6);
-  for (int j = 0; j < 6; ++j) {
-    const Eigen::Vector3d r(pos[j][0], pos[j][1], pos[j][2]), d(dir[j][0], dir[j][1], dir[j][2]);
-    c.matrix.col(j) << d.cast<S>(), r.cross(d).cast<S>();
-  }
-  c.max_thrust = ThrusterConfig<S>::Vector::Constant(6, S(60));
-  c.min_thrust = -c.max_thrust;
+  ThrusterConfig<S> c = neurov_test::nerov_thrusters<S>(S(60));
   c.time_constant = S(0.15);
   return c;
 }

@@ -21,6 +21,10 @@ namespace neurov_test {
 
 using Scalars = ::testing::Types<float, double>;
 
+/// The fixture of every test typed on the scalar (NEUROV_SCALAR_SUITE).
+template <typename S>
+class ScalarTest : public ::testing::Test {};
+
 /// Readable test names in ctest ("KinematicsTest/float.Foo" rather than "/0").
 struct ScalarName {
   template <typename T>
@@ -164,4 +168,20 @@ double max_abs(const Eigen::MatrixBase<A>& a) {
   return a.template cast<double>().cwiseAbs().maxCoeff();
 }
 
+/// A vehicle from valid parameters (a failure names the field).
+template <typename S>
+neurov::Vehicle<S> make_vehicle(const neurov::VehicleParameters<S>& p) {
+  neurov::Vehicle<S> v;
+  const neurov::ValidationError e = neurov::Vehicle<S>::create(p, v);
+  EXPECT_TRUE(e.ok()) << (e.field ? e.field : "");
+  return v;
+}
+
 }  // namespace neurov_test
+
+/// Declares the test suite `Name`, typed on float and double, with readable
+/// names ("Name/float.Test").
+#define NEUROV_SCALAR_SUITE(Name)            \
+  template <typename S>                      \
+  using Name = ::neurov_test::ScalarTest<S>; \
+  TYPED_TEST_SUITE(Name, ::neurov_test::Scalars, ::neurov_test::ScalarName)

@@ -20,28 +20,14 @@
 namespace {
 
 using namespace neurov;
-using neurov_test::all_near;
-using neurov_test::eps;
-using neurov_test::kPoints;
-using neurov_test::max_abs;
-using neurov_test::Rng;
+using namespace neurov_test;
 
-template <typename S>
-class VehicleTest : public ::testing::Test {};
-TYPED_TEST_SUITE(VehicleTest, neurov_test::Scalars, neurov_test::ScalarName);
+NEUROV_SCALAR_SUITE(VehicleTest);
 
 constexpr CoriolisForm kForms[] = {CoriolisForm::velocity_independent, CoriolisForm::kirchhoff};
 
 const char* form_name(CoriolisForm f) {
   return f == CoriolisForm::kirchhoff ? "kirchhoff" : "velocity_independent";
-}
-
-template <typename S>
-Vehicle<S> make(const VehicleParameters<S>& p) {
-  Vehicle<S> v;
-  const ValidationError e = Vehicle<S>::create(p, v);
-  EXPECT_TRUE(e.ok()) << (e.field ? e.field : "");
-  return v;
 }
 
 /// Fossen's g(eta) (2011, eq. 4.6), written out here rather than taken from
@@ -77,7 +63,7 @@ Eigen::Matrix<double, 6, 6> mass_matrix_of(const VehicleParameters<S>& p) {
 
 TYPED_TEST(VehicleTest, NerovMassMatrixIsThePapersDiagonal) {
   using S = TypeParam;
-  const Vehicle<S> v = make(nerov_parameters<S>());
+  const Vehicle<S> v = make_vehicle(nerov_parameters<S>());
   Vector6<S> diag;
   diag << 215, 265, 265, 40, 80, 80;
   EXPECT_TRUE(all_near(v.mass_matrix(), Matrix6<S>(diag.asDiagonal()), 0.0));
@@ -91,7 +77,7 @@ TYPED_TEST(VehicleTest, MassMatrixIsSymmetricPositiveDefiniteForRandomVehicles) 
   Rng rng(21);
   for (int i = 0; i < 50; ++i) {
     const auto p = neurov_test::random_vehicle_parameters<S>(rng, CoriolisForm::kirchhoff);
-    const Vehicle<S> v = make(p);
+    const Vehicle<S> v = make_vehicle(p);
     const Matrix6<S>& m = v.mass_matrix();
     EXPECT_TRUE(all_near(m, m.transpose(), 0.0));
     EXPECT_EQ(Eigen::LLT<Matrix6<S>>(m).info(), Eigen::Success);
@@ -103,30 +89,34 @@ TYPED_TEST(VehicleTest, MassMatrixIsSymmetricPositiveDefiniteForRandomVehicles) 
 
 // ------------------------------------------------------------------- Coriolis
 
-TYPED_TEST(VehicleTest, CoriolisIsSkewSymmetricInBothForms) {
-  using S = TypeParam;
-  Rng rng(22);
+/// NEROV and a random vehicle in each Coriolis form, each at kPoints random
+/// body velocities: check(vehicle, nu, i).
+template <typename S, typename Check>
+void at_random_velocities_in_both_forms(Rng& rng, Check check) {
   for (const CoriolisForm form : kForms) {
     SCOPED_TRACE(form_name(form));
     auto nerov = nerov_parameters<S>();
     nerov.coriolis_form = form;
-    const Vehicle<S> vehicles[] = {make(nerov),
-                                   make(neurov_test::random_vehicle_parameters<S>(rng, form))};
-    for (const Vehicle<S>& v : vehicles) {
-      for (int i = 0; i < kPoints; ++i) {
-        const Vector6<S> nu = rng.velocity<S>();
-        const Matrix6<S> c = v.coriolis(nu);
-        const double scale = max_abs(c);
-        EXPECT_TRUE(all_near(c, Matrix6<S>(-c.transpose()), 8 * eps<S>() * scale))
-            << "at point " << i;
-        // Skew-symmetry is what makes C do no work: nu^T C nu = 0.
-        EXPECT_NEAR(double(nu.dot(c * nu)), 0.0, 64 * eps<S>() * scale * nu.squaredNorm())
-            << "at point " << i;
-        EXPECT_TRUE(all_near(c, Matrix6<S>(v.coriolis_rigid_body(nu) + v.coriolis_added_mass(nu)),
-                             0.0));
-      }
-    }
+    const Vehicle<S> vehicles[] = {make_vehicle(nerov),
+                                   make_vehicle(random_vehicle_parameters<S>(rng, form))};
+    for (const Vehicle<S>& v : vehicles)
+      for (int i = 0; i < kPoints; ++i) check(v, rng.velocity<S>(), i);
   }
+}
+
+TYPED_TEST(VehicleTest, CoriolisIsSkewSymmetricInBothForms) {
+  using S = TypeParam;
+  Rng rng(22);
+  at_random_velocities_in_both_forms<S>(rng, [](const Vehicle<S>& v, const Vector6<S>& nu, int i) {
+    const Matrix6<S> c = v.coriolis(nu);
+    const double scale = max_abs(c);
+    EXPECT_TRUE(all_near(c, Matrix6<S>(-c.transpose()), 8 * eps<S>() * scale)) << "at point " << i;
+    // Skew-symmetry is what makes C do no work: nu^T C nu = 0.
+    EXPECT_NEAR(double(nu.dot(c * nu)), 0.0, 64 * eps<S>() * scale * nu.squaredNorm())
+        << "at point " << i;
+    EXPECT_TRUE(
+        all_near(c, Matrix6<S>(v.coriolis_rigid_body(nu) + v.coriolis_added_mass(nu)), 0.0));
+  });
 }
 
 TYPED_TEST(VehicleTest, BothCoriolisFormsGiveTheSameForce) {
@@ -136,7 +126,7 @@ TYPED_TEST(VehicleTest, BothCoriolisFormsGiveTheSameForce) {
     const auto p = neurov_test::random_vehicle_parameters<S>(rng, CoriolisForm::kirchhoff);
     auto q = p;
     q.coriolis_form = CoriolisForm::velocity_independent;
-    const Vehicle<S> kirchhoff = make(p), independent = make(q);
+    const Vehicle<S> kirchhoff = make_vehicle(p), independent = make_vehicle(q);
     for (int i = 0; i < kPoints / 5; ++i) {
       const Vector6<S> nu = rng.velocity<S>();
       const Matrix6<S> ck = kirchhoff.coriolis(nu), ci = independent.coriolis(nu);
@@ -151,21 +141,11 @@ TYPED_TEST(VehicleTest, BothCoriolisFormsGiveTheSameForce) {
 TYPED_TEST(VehicleTest, CoriolisForceEqualsCoriolisMatrixTimesVelocity) {
   using S = TypeParam;
   Rng rng(24);
-  for (const CoriolisForm form : kForms) {
-    SCOPED_TRACE(form_name(form));
-    auto nerov = nerov_parameters<S>();
-    nerov.coriolis_form = form;
-    const Vehicle<S> vehicles[] = {make(nerov),
-                                   make(neurov_test::random_vehicle_parameters<S>(rng, form))};
-    for (const Vehicle<S>& v : vehicles) {
-      for (int i = 0; i < kPoints; ++i) {
-        const Vector6<S> nu = rng.velocity<S>();
-        const Matrix6<S> c = v.coriolis(nu);
-        EXPECT_TRUE(all_near(v.coriolis_force(nu), c * nu, 64 * eps<S>() * max_abs(c)))
-            << "at point " << i;
-      }
-    }
-  }
+  at_random_velocities_in_both_forms<S>(rng, [](const Vehicle<S>& v, const Vector6<S>& nu, int i) {
+    const Matrix6<S> c = v.coriolis(nu);
+    EXPECT_TRUE(all_near(v.coriolis_force(nu), c * nu, 64 * eps<S>() * max_abs(c)))
+        << "at point " << i;
+  });
 }
 
 // The paper's eq. 39 typed in from docs/model.md with the hydrodynamic derivatives
@@ -174,10 +154,10 @@ TYPED_TEST(VehicleTest, NerovCoriolisIsThePapersEquation39) {
   using S = TypeParam;
   const double m = 185, Ix = 25, Iy = 50, Iz = 50;
   const double Xu = -30, Yv = -80, Zw = -80, Kp = -15, Mq = -30, Nr = -30;
-  const Vehicle<S> v = make(nerov_parameters<S>());
+  const Vehicle<S> v = make_vehicle(nerov_parameters<S>());
   auto pk = nerov_parameters<S>();
   pk.coriolis_form = CoriolisForm::kirchhoff;
-  const Vehicle<S> vk = make(pk);
+  const Vehicle<S> vk = make_vehicle(pk);
   Rng rng(25);
   for (int i = 0; i < kPoints; ++i) {
     const Vector6<S> nu = rng.velocity<S>();
@@ -201,7 +181,7 @@ TYPED_TEST(VehicleTest, NerovCoriolisIsThePapersEquation39) {
 
 TYPED_TEST(VehicleTest, NerovDampingIsThePapersDiagonal) {
   using S = TypeParam;
-  const Vehicle<S> v = make(nerov_parameters<S>());
+  const Vehicle<S> v = make_vehicle(nerov_parameters<S>());
   Rng rng(26);
   for (int i = 0; i < kPoints; ++i) {
     const Vector6<S> nu = rng.vec6<S>(-2, 2);
@@ -218,7 +198,7 @@ TYPED_TEST(VehicleTest, NerovDampingIsThePapersDiagonal) {
 
 TYPED_TEST(VehicleTest, NerovRestoringIsThePapersPendulum) {
   using S = TypeParam;
-  const Vehicle<S> v = make(nerov_parameters<S>());
+  const Vehicle<S> v = make_vehicle(nerov_parameters<S>());
   Rng rng(27);
   for (int i = 0; i < kPoints; ++i) {
     const Vector6<S> eta = rng.pose<S>(neurov_test::kPi / 2);
@@ -237,7 +217,7 @@ TYPED_TEST(VehicleTest, RestoringMatchesFossensGeneralFormula) {
     ASSERT_NE(p.weight, p.buoyancy);
     ASSERT_FALSE(p.centre_of_gravity.isZero(S(0)));
     ASSERT_FALSE(p.centre_of_buoyancy.isZero(S(0)));
-    const Vehicle<S> v = make(p);
+    const Vehicle<S> v = make_vehicle(p);
     const double scale = double(std::max(p.weight, p.buoyancy));
     for (int i = 0; i < kPoints / 10; ++i) {
       const Vector6<S> eta = rng.pose<S>(neurov_test::kPi / 2);
@@ -250,6 +230,26 @@ TYPED_TEST(VehicleTest, RestoringMatchesFossensGeneralFormula) {
 
 // ---------------------------------------------------------------- acceleration
 
+
+/// tau - C(nu) nu - D(nu) nu - g(eta) in double: M nu_dot by the model's
+/// formulas (C from the vehicle, tested above). `nu_double` is nu in double
+/// when it was formed in double (a relative velocity).
+template <typename S>
+Eigen::Matrix<double, 6, 1> force_balance(const VehicleParameters<S>& p, const Vehicle<S>& v,
+                                          const Vector6<S>& eta, const Vector6<S>& nu,
+                                          const Vector6<S>& tau,
+                                          const Eigen::Matrix<double, 6, 1>* nu_double = nullptr) {
+  const Eigen::Matrix<double, 6, 1> nud =
+      nu_double ? *nu_double : Eigen::Matrix<double, 6, 1>(nu.template cast<double>());
+  const Eigen::Matrix<double, 6, 1> d =
+      p.linear_damping.template cast<double>() +
+      p.quadratic_damping.template cast<double>().cwiseProduct(nud.cwiseAbs());
+  return tau.template cast<double>() - v.coriolis(nu).template cast<double>() * nud -
+         d.cwiseProduct(nud) -
+         fossen_restoring(p.weight, p.buoyancy, p.centre_of_gravity.template cast<double>(),
+                          p.centre_of_buoyancy.template cast<double>(), eta(3), eta(4));
+}
+
 TYPED_TEST(VehicleTest, AccelerationSolvesTheEquationOfMotion) {
   using S = TypeParam;
   Rng rng(29);
@@ -257,20 +257,12 @@ TYPED_TEST(VehicleTest, AccelerationSolvesTheEquationOfMotion) {
   for (const CoriolisForm form : kForms)
     for (int k = 0; k < 2; ++k) params.push_back(neurov_test::random_vehicle_parameters<S>(rng, form));
   for (const auto& p : params) {
-    const Vehicle<S> v = make(p);
+    const Vehicle<S> v = make_vehicle(p);
     // A general (pivoted QR) solve, so nothing relies on M being SPD or on M^-1.
     const auto qr = mass_matrix_of(p).colPivHouseholderQr();
     for (int i = 0; i < kPoints / 5; ++i) {
       const Vector6<S> eta = rng.pose<S>(1.3), nu = rng.velocity<S>(), tau = rng.vec6<S>(-200, 200);
-      const Eigen::Matrix<double, 6, 1> nud = nu.template cast<double>();
-      Eigen::Matrix<double, 6, 1> d =
-          p.linear_damping.template cast<double>() +
-          p.quadratic_damping.template cast<double>().cwiseProduct(nud.cwiseAbs());
-      const Eigen::Matrix<double, 6, 1> rhs =
-          tau.template cast<double>() - v.coriolis(nu).template cast<double>() * nud -
-          d.cwiseProduct(nud) -
-          fossen_restoring(p.weight, p.buoyancy, p.centre_of_gravity.template cast<double>(),
-                           p.centre_of_buoyancy.template cast<double>(), eta(3), eta(4));
+      const Eigen::Matrix<double, 6, 1> rhs = force_balance(p, v, eta, nu, tau);
       const Eigen::Matrix<double, 6, 1> expected = qr.solve(rhs);
       Vector6<S> nu_dot;
       ASSERT_EQ(v.acceleration(eta, nu, tau, nu_dot), Status::ok);
@@ -296,7 +288,7 @@ TYPED_TEST(VehicleTest, AccelerationInCurrentUsesRelativeVelocity) {
   Rng rng(30);
   for (const CoriolisForm form : kForms) {
     const auto p = neurov_test::random_vehicle_parameters<S>(rng, form);
-    const Vehicle<S> v = make(p);
+    const Vehicle<S> v = make_vehicle(p);
     const auto qr = mass_matrix_of(p).colPivHouseholderQr();
     for (int i = 0; i < kPoints / 2; ++i) {
       Vector6<S> eta = rng.pose<S>(1.3);
@@ -310,14 +302,7 @@ TYPED_TEST(VehicleTest, AccelerationInCurrentUsesRelativeVelocity) {
       Eigen::Matrix<double, 6, 1> nu_r = nu.template cast<double>();
       nu_r.head<3>() -= vc;
       const Vector6<S> nu_r_s = nu_r.cast<S>();
-      const Eigen::Matrix<double, 6, 1> d =
-          p.linear_damping.template cast<double>() +
-          p.quadratic_damping.template cast<double>().cwiseProduct(nu_r.cwiseAbs());
-      const Eigen::Matrix<double, 6, 1> rhs =
-          tau.template cast<double>() - v.coriolis(nu_r_s).template cast<double>() * nu_r -
-          d.cwiseProduct(nu_r) -
-          fossen_restoring(p.weight, p.buoyancy, p.centre_of_gravity.template cast<double>(),
-                           p.centre_of_buoyancy.template cast<double>(), eta(3), eta(4));
+      const Eigen::Matrix<double, 6, 1> rhs = force_balance(p, v, eta, nu_r_s, tau, &nu_r);
       Eigen::Matrix<double, 6, 1> expected = qr.solve(rhs);
       const Eigen::Vector3d w = nu.template tail<3>().template cast<double>();
       expected.head<3>() -= w.cross(vc);
@@ -332,7 +317,7 @@ TYPED_TEST(VehicleTest, AccelerationInCurrentUsesRelativeVelocity) {
 TYPED_TEST(VehicleTest, VehicleAtRestIsPushedTowardTheCurrent) {
   using S = TypeParam;
   const auto p = neurov_test::nerov_without_restoring<S>();
-  const Vehicle<S> v = make(p);
+  const Vehicle<S> v = make_vehicle(p);
   Rng rng(31);
   for (int i = 0; i < kPoints; ++i) {
     const Vector6<S> eta = rng.pose<S>(1.3);
@@ -369,7 +354,7 @@ TYPED_TEST(VehicleTest, VehicleAtRestIsPushedTowardTheCurrent) {
 // 36 * threshold / 40, 1.5e-4 rad/s^2 in float.)
 TYPED_TEST(VehicleTest, AccelerationAtNinetyDegreesPitchIgnoresTheClamp) {
   using S = TypeParam;
-  const Vehicle<S> v = make(nerov_parameters<S>());
+  const Vehicle<S> v = make_vehicle(nerov_parameters<S>());
   Vector6<S> nu, tau;
   nu << S(0.3), S(-0.2), S(0.1), S(0.2), S(0.1), S(-0.3);
   tau << S(10), S(-5), S(3), S(1), S(-2), S(0.5);
@@ -495,7 +480,7 @@ TYPED_TEST(VehicleTest, MatrixEntryIndexIsRowMajorInEveryCheck) {
 
 TYPED_TEST(VehicleTest, CreateLeavesOutUntouchedOnFailure) {
   using S = TypeParam;
-  Vehicle<S> v = make(nerov_parameters<S>());
+  Vehicle<S> v = make_vehicle(nerov_parameters<S>());
   const Matrix6<S> m_before = v.mass_matrix(), m_inv_before = v.mass_matrix_inverse();
   Vector6<S> eta, nu, tau;
   eta << 1, 2, 3, S(0.1), S(0.2), S(0.3);
@@ -546,7 +531,7 @@ TYPED_TEST(VehicleTest, ThrowingConstructorNamesTheField) {
 
 TYPED_TEST(VehicleTest, NonFiniteInputsGiveNonFiniteInputAndZeroAcceleration) {
   using S = TypeParam;
-  const Vehicle<S> v = make(nerov_parameters<S>());
+  const Vehicle<S> v = make_vehicle(nerov_parameters<S>());
   const S bad_values[] = {std::numeric_limits<S>::quiet_NaN(), std::numeric_limits<S>::infinity(),
                           -std::numeric_limits<S>::infinity()};
   for (int which = 0; which < 3; ++which) {
@@ -596,7 +581,7 @@ TYPED_TEST(VehicleTest, EmptyVehicleReturnsInvalidArgument) {
 
 TYPED_TEST(VehicleTest, OverflowGivesNonFiniteOutputAndZeroAcceleration) {
   using S = TypeParam;
-  const Vehicle<S> v = make(nerov_parameters<S>());
+  const Vehicle<S> v = make_vehicle(nerov_parameters<S>());
   // Finite, but C(nu) nu ~ m |nu|^2 overflows the scalar.
   const Vector6<S> huge = Vector6<S>::Constant(std::sqrt(std::numeric_limits<S>::max()));
   Vector6<S> nu_dot = Vector6<S>::Constant(S(42));

@@ -12,11 +12,16 @@
 #include <limits>
 #include <vector>
 
+#include "../cpp/controller_state.hpp"
 #include "neurov/neurov.hpp"
 
 namespace neurov_fuzz {
 
 using namespace neurov;
+using neurov_test::Bytes;
+using neurov_test::nerov_thrusters;
+using neurov_test::state_finite;
+using neurov_test::state_of;
 
 /// What is being fuzzed, for the crash report.
 inline const char* g_target = "";
@@ -85,85 +90,6 @@ Vector6<S> gains6(FuzzedDataProvider& p) {
   return v;
 }
 
-// ----------------------------------------------------------------- snapshots
-
-class Bytes {
- public:
-  template <typename Derived>
-  Bytes& add(const Eigen::MatrixBase<Derived>& m) {
-    const auto e = m.eval();
-    const auto* q = reinterpret_cast<const unsigned char*>(e.data());
-    b_.insert(b_.end(), q, q + sizeof(typename Derived::Scalar) * static_cast<std::size_t>(e.size()));
-    return *this;
-  }
-  template <typename T>
-  Bytes& value(const T& v) {
-    const auto* q = reinterpret_cast<const unsigned char*>(&v);
-    b_.insert(b_.end(), q, q + sizeof v);
-    return *this;
-  }
-  bool operator==(const Bytes& o) const { return b_ == o.b_; }
-
- private:
-  std::vector<unsigned char> b_;
-};
-
-template <typename S>
-Bytes& add_tracking(Bytes& b, const TrackingError<S>& e) {
-  return b.add(e.eta_tilde).add(e.eta_tilde_dot).add(e.s).add(e.eta_r_dot).add(e.eta_r_ddot)
-      .add(e.nu_r).add(e.nu_r_dot);
-}
-
-// basis() is left out: a step refused after the network ran leaves the
-// refused input's g in it (docs/reliability.md, "known issues").
-template <typename S, int N>
-Bytes state_of(const NNAdaptiveController<S, N>& c) {
-  Bytes b;
-  b.add(c.weights()).value(c.weight_norm()).add(c.network_output()).add(c.learning_rates())
-      .value(c.adapted());
-  return add_tracking(b, c.tracking());
-}
-template <typename S>
-Bytes state_of(const LinearAdaptiveController<S>& c) {
-  Bytes b;
-  b.add(c.theta()).add(c.model_output());
-  return add_tracking(b, c.tracking());
-}
-template <typename S>
-Bytes state_of(const PDController<S>& c) {
-  Bytes b;
-  return add_tracking(b, c.tracking());
-}
-template <typename S>
-Bytes state_of(const PIDController<S>& c) {
-  Bytes b;
-  b.add(c.integral());
-  return add_tracking(b, c.tracking());
-}
-template <typename S>
-Bytes state_of(const SlidingModeController<S>& c) {
-  Bytes b;
-  b.add(c.model_output());
-  return add_tracking(b, c.tracking());
-}
-
-template <typename S>
-bool finite_state(const LinearAdaptiveController<S>& c) {
-  return c.theta().allFinite();
-}
-template <typename S, int N>
-bool finite_state(const NNAdaptiveController<S, N>& c) {
-  return c.weights().allFinite() && std::isfinite(c.weight_norm());
-}
-template <typename S>
-bool finite_state(const PIDController<S>& c) {
-  return c.integral().allFinite();
-}
-template <typename C>
-bool finite_state(const C& c) {
-  return c.tracking().s.allFinite();
-}
-
 // --------------------------------------------------------------- controllers
 
 /// Steps a configured (or deliberately unconfigured) controller with fuzzed
@@ -187,7 +113,7 @@ void drive(Ctl& c, FuzzedDataProvider& p) {
       FUZZ_CHECK(state_of(c) == before);
     } else {
       FUZZ_CHECK(c.configured());
-      FUZZ_CHECK(finite_state(c));
+      FUZZ_CHECK(state_finite(c));
     }
   }
 }
@@ -281,12 +207,6 @@ void fuzz_pd_pid_smc(FuzzedDataProvider& p, int which) {
 
 // ---------------------------------------------------------- reference model
 
-template <typename S>
-Bytes state_of(const ReferenceModel<S>& r) {
-  Bytes b;
-  return b.add(r.eta_d()).add(r.nu_d()).add(r.desired().eta_d).add(r.desired().eta_d_dot)
-      .add(r.desired().eta_d_ddot);
-}
 
 template <typename S>
 void fuzz_reference(FuzzedDataProvider& p) {
@@ -362,21 +282,6 @@ void fuzz_dynamics(FuzzedDataProvider& p) {
 
 // ----------------------------------------------------------------- thrusters
 
-template <typename S>
-ThrusterConfig<S> nerov_thrusters() {
-  const double pos[6][3] = {{-0.5, 0.3, 0}, {-0.5, -0.3, 0}, {0.4, 0, 0},
-                            {0.4, 0, 0},    {-0.4, 0.3, 0},  {-0.4, -0.3, 0}};
-  const double dir[6][3] = {{1, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
-  ThrusterConfig<S> c;
-  c.matrix.resize(6, 6);
-  for (int j = 0; j < 6; ++j) {
-    const Eigen::Vector3d r(pos[j][0], pos[j][1], pos[j][2]), d(dir[j][0], dir[j][1], dir[j][2]);
-    c.matrix.col(j) << d.cast<S>(), r.cross(d).cast<S>();
-  }
-  c.max_thrust = ThrusterConfig<S>::Vector::Constant(6, S(250));
-  c.min_thrust = -c.max_thrust;
-  return c;
-}
 
 template <typename S>
 void fuzz_thrusters(FuzzedDataProvider& p) {

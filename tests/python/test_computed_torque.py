@@ -115,9 +115,9 @@ def test_bad_arguments_are_named(nerov: neurov.Vehicle) -> None:
         neurov.ComputedTorqueController(nerov, lamda=good, kd=good)  # type: ignore[call-overload]
     with pytest.raises(TypeError, match="unexpected keyword argument 'lamda'.*lambda_, kd, vehicle"):
         neurov.ComputedTorqueConfig(lamda=good)
-    with pytest.raises(TypeError, match="'vehicle' must be a Vehicle"):
+    with pytest.raises(TypeError, match="ComputedTorqueConfig.vehicle must be a Vehicle"):
         neurov.ComputedTorqueConfig(vehicle=nerov.parameters())
-    with pytest.raises(ValueError, match="'kd' must have shape"):
+    with pytest.raises(ValueError, match=r"ComputedTorqueConfig.kd must have shape \(6,\), got \(7,\)"):
         neurov.ComputedTorqueConfig(kd=np.ones(7))
     # Without a vehicle the validator names the first bad vehicle field.
     with pytest.raises(ValueError, match="computed-torque controller: mass = 0"):

@@ -24,33 +24,38 @@ LOADERS = [
 posix_only = pytest.mark.skipif(sys.platform == "win32", reason="device files and FIFOs are POSIX")
 
 
-@pytest.mark.parametrize(("load", "error"), LOADERS)
-def test_directory_is_named_as_such(tmp_path: Path, load, error) -> None:
+def a_directory(tmp_path: Path) -> Path:
     folder = tmp_path / "a_folder.toml"
     folder.mkdir()
-    with pytest.raises(error, match="is a directory") as err:
-        load(folder)
-    assert str(folder) in str(err.value)
+    return folder
 
 
-@posix_only
-@pytest.mark.parametrize(("load", "error"), LOADERS)
-def test_fifo_is_refused_without_blocking(tmp_path: Path, load, error) -> None:
+def a_fifo(tmp_path: Path) -> Path:
     fifo = tmp_path / "pipe.toml"
     os.mkfifo(fifo)  # no writer: a plain open() would block for ever
-    with pytest.raises(error, match="FIFO") as err:
-        load(fifo)
-    assert str(fifo) in str(err.value)
+    return fifo
 
 
-@posix_only
-@pytest.mark.parametrize(("load", "error"), LOADERS)
-def test_endless_device_is_refused_without_reading(tmp_path: Path, load, error) -> None:
+def an_endless_device(tmp_path: Path) -> Path:
     device = tmp_path / "device.toml"  # a .toml name, so a study is not looked up by name
     device.symlink_to("/dev/zero")
-    with pytest.raises(error, match="character device") as err:
-        load(device)
-    assert str(device) in str(err.value)
+    return device
+
+
+@pytest.mark.parametrize(
+    ("make", "match"),
+    [
+        pytest.param(a_directory, "is a directory", id="directory"),
+        pytest.param(a_fifo, "FIFO", id="fifo-without-blocking", marks=posix_only),
+        pytest.param(an_endless_device, "character device", id="device-without-reading", marks=posix_only),
+    ],
+)
+@pytest.mark.parametrize(("load", "error"), LOADERS)
+def test_a_path_that_is_not_a_regular_file_is_named_as_such(tmp_path: Path, load, error, make, match: str) -> None:
+    path = make(tmp_path)
+    with pytest.raises(error, match=match) as err:
+        load(path)
+    assert str(path) in str(err.value)
 
 
 @pytest.mark.parametrize(("load", "error"), LOADERS)

@@ -17,17 +17,13 @@ from neurov.scenario import ControllerSpec, ScenarioError
 from neurov.scenario_file import scenario_from_mapping
 from neurov.simulation import simulate
 
-# Local fixtures, so this file does not depend on a shared conftest.
+# This file's own seed (the points its tolerances were set on); `nerov` is
+# conftest's.
 
 
 @pytest.fixture
 def rng() -> np.random.Generator:
     return np.random.default_rng(20260507)
-
-
-@pytest.fixture
-def nerov() -> neurov.Vehicle:
-    return neurov.Vehicle.nerov()
 
 
 # --- docs/model.md in numpy --------------------------------------------------

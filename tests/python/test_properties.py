@@ -2,7 +2,7 @@
 the skew-symmetry of C(nu), the bad-input guarantees of the controllers and
 the reference model, and that the closed loop allocates nothing per step,
 all under generated inputs. Generated cases are few and small (the whole file
-runs in seconds); the exhaustive sweeps are in tests/cpp/test_reliability.cpp.
+runs in seconds); the exhaustive sweeps are in tests/cpp/test_reliability_*.cpp.
 """
 
 from __future__ import annotations
@@ -210,17 +210,25 @@ def step_args(draw: st.DrawFn) -> dict[str, np.ndarray]:
     }
 
 
+def after_one_step(
+    kind: str, args: dict[str, np.ndarray], arg: str, index: int, value: float
+) -> tuple[Any, list[np.ndarray], dict[str, np.ndarray]]:
+    """A controller after one step on `args`, its state, and a copy of `args`
+    with args[arg][index] = value."""
+    c = make(kind)
+    c.step(**args)
+    changed = {k: v.copy() for k, v in args.items()}
+    changed[arg][index] = value
+    return c, state(c), changed
+
+
 @SETTINGS
 @given(st.sampled_from(KINDS), step_args(), st.sampled_from(ARGS), st.integers(0, 5),
        st.sampled_from([np.nan, np.inf, -np.inf]))
 def test_non_finite_input_is_refused_naming_it_and_changes_nothing(
     kind: str, args: dict[str, np.ndarray], arg: str, index: int, bad: float
 ) -> None:
-    c = make(kind)
-    c.step(**args)
-    before = state(c)
-    broken = {k: v.copy() for k, v in args.items()}
-    broken[arg][index] = bad
+    c, before, broken = after_one_step(kind, args, arg, index, bad)
     with pytest.raises(ValueError, match=f"'{arg}'.*finite"):
         c.step(**broken)
     assert same(state(c), before)
@@ -232,11 +240,7 @@ def test_non_finite_input_is_refused_naming_it_and_changes_nothing(
 def test_extreme_finite_input_gives_finite_tau_or_a_refusal_that_changes_nothing(
     kind: str, args: dict[str, np.ndarray], arg: str, index: int, value: float
 ) -> None:
-    c = make(kind)
-    c.step(**args)
-    before = state(c)
-    args = {k: v.copy() for k, v in args.items()}
-    args[arg][index] = value
+    c, before, args = after_one_step(kind, args, arg, index, value)
     try:
         tau = c.step(**args)
     except ValueError as e:

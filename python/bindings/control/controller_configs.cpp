@@ -7,7 +7,7 @@
 #include <string>
 
 #include "bindings.hpp"
-#include "config_class.hpp"
+#include "fields.hpp"
 #include "neurov/control/computed_torque_controller.hpp"
 #include "neurov/control/linear_adaptive_controller.hpp"
 #include "neurov/control/nn_controller.hpp"
@@ -28,20 +28,18 @@ constexpr const char* kLambdaDoc = "Lambda in s = eta_tilde_dot + Lambda eta_til
 constexpr const char* kKdDoc = "K_d, diagonal (6,), >= 0.";
 constexpr const char* kDtDoc = "Control period [s], > 0.";
 
-/// A (24,) field that also takes one number for every entry.
+/// The Python class of a controller's configuration.
 template <typename Config>
-void parameter_vector(ConfigClass<Config>& cls, const char* name,
-                      ParameterVector<double> Config::*member, bool number_fills,
-                      const char* doc) {
-  cls.field(
-      name, [member](const Config& c) { return py::cast(ParameterVector<double>(c.*member)); },
-      [member, name, number_fills](Config& c, py::handle v) {
-        if (number_fills && (py::isinstance<py::float_>(v) || py::isinstance<py::int_>(v)))
-          (c.*member).setConstant(py_args::scalar(v, name));
-        else
-          c.*member = py_args::vector<kRegressorParameters>(v, name);
-      },
-      doc);
+py::class_<Config> config_class(py::module_& m, const char* name, const char* controller) {
+  return py::class_<Config>(m, name, (std::string("Configuration of ") + controller + ".").c_str());
+}
+
+/// The fields of a controller on the sliding variable s: Lambda and K_d first.
+template <typename T>
+Fields<T> sliding_fields(py::class_<T>& cls, const char* name, const char* kd_doc = kKdDoc) {
+  Fields<T> f(cls, name);
+  f.vector("lambda_", &T::lambda, kLambdaDoc).vector("kd", &T::kd, kd_doc);
+  return f;
 }
 
 }  // namespace
@@ -66,64 +64,70 @@ void bind_controller_configs(py::module_& m) {
       .value("projection", RobustModification::projection,
              "After each update, W scaled back onto ||W||_F <= w_max.");
 
-  ConfigClass<PDConfig<double>> pd(m, "PDConfig", "Configuration of PDController.");
-  pd.vector<6>("kp", &PDConfig<double>::kp, "K_p, diagonal (6,), >= 0.")
-      .vector<6>("kd", &PDConfig<double>::kd, kKdDoc)
-      .finish("PD controller");
+  using PD = PDConfig<double>;
+  auto pd = config_class<PD>(m, "PDConfig", "PDController");
+  Fields<PD>(pd, "PDConfig")
+      .vector("kp", &PD::kp, "K_p, diagonal (6,), >= 0.")
+      .vector("kd", &PD::kd, kKdDoc)
+      .validator("PD controller")
+      .finish();
 
   using PID = PIDConfig<double>;
-  ConfigClass<PID> pid(m, "PIDConfig", "Configuration of PIDController.");
-  pid.vector<6>("kp", &PID::kp, "K_p, diagonal (6,), >= 0.")
-      .vector<6>("ki", &PID::ki, "K_i, diagonal (6,), >= 0.")
-      .vector<6>("kd", &PID::kd, kKdDoc)
-      .vector<6>("integral_limit", &PID::integral_limit,
-                 "Largest |K_i z| per DOF (6,), > 0 [N, N m].")
-      .scalar("dt", &PID::dt, kDtDoc)
-      .finish("PID controller");
+  auto pid = config_class<PID>(m, "PIDConfig", "PIDController");
+  Fields<PID>(pid, "PIDConfig")
+      .vector("kp", &PID::kp, "K_p, diagonal (6,), >= 0.")
+      .vector("ki", &PID::ki, "K_i, diagonal (6,), >= 0.")
+      .vector("kd", &PID::kd, kKdDoc)
+      .vector("integral_limit", &PID::integral_limit, "Largest |K_i z| per DOF (6,), > 0 [N, N m].")
+      .value("dt", &PID::dt, kDtDoc)
+      .validator("PID controller")
+      .finish();
 
   using SMC = SlidingModeConfig<double>;
-  ConfigClass<SMC> smc(m, "SlidingModeConfig", "Configuration of SlidingModeController.");
-  smc.vector<6>("lambda_", &SMC::lambda, kLambdaDoc)
-      .vector<6>("kd", &SMC::kd, kKdDoc)
-      .vector<6>("k", &SMC::k, "Switching gain K (6,), >= 0 [N, N m].")
-      .vector<6>("phi", &SMC::phi, "Boundary-layer width (6,), > 0, in units of s.");
-  parameter_vector(smc, "theta", &SMC::theta, false,
-                   "The nominal model's theta (24,), e.g. regressor_parameters(vehicle).");
-  smc.finish("sliding-mode controller");
+  auto smc = config_class<SMC>(m, "SlidingModeConfig", "SlidingModeController");
+  sliding_fields(smc, "SlidingModeConfig")
+      .vector("k", &SMC::k, "Switching gain K (6,), >= 0 [N, N m].")
+      .vector("phi", &SMC::phi, "Boundary-layer width (6,), > 0, in units of s.")
+      .vector("theta", &SMC::theta,
+              "The nominal model's theta (24,), e.g. regressor_parameters(vehicle).")
+      .validator("sliding-mode controller")
+      .finish();
 
   using Lin = LinearAdaptiveConfig<double>;
-  ConfigClass<Lin> lin(m, "LinearAdaptiveConfig", "Configuration of LinearAdaptiveController.");
-  lin.vector<6>("lambda_", &Lin::lambda, kLambdaDoc).vector<6>("kd", &Lin::kd, kKdDoc);
-  parameter_vector(lin, "gamma", &Lin::gamma, true,
-                   "Diagonal of Gamma (24,), >= 0 (0 freezes that parameter); a number sets "
-                   "every entry.");
-  lin.scalar("dt", &Lin::dt, kDtDoc);
-  parameter_vector(lin, "theta0", &Lin::theta0, false,
-                   "theta_hat(0) (24,): zero, or a nominal guess such as "
-                   "regressor_parameters(vehicle).");
-  lin.finish("linear adaptive controller");
+  auto lin = config_class<Lin>(m, "LinearAdaptiveConfig", "LinearAdaptiveController");
+  sliding_fields(lin, "LinearAdaptiveConfig")
+      .vector_or_number("gamma", &Lin::gamma,
+                        "Diagonal of Gamma (24,), >= 0 (0 freezes that parameter); a number "
+                        "sets every entry.")
+      .value("dt", &Lin::dt, kDtDoc)
+      .vector("theta0", &Lin::theta0,
+              "theta_hat(0) (24,): zero, or a nominal guess such as "
+              "regressor_parameters(vehicle).")
+      .validator("linear adaptive controller")
+      .finish();
 
   using NN = NNAdaptiveConfig<double>;
-  ConfigClass<NN> nn(m, "NNAdaptiveConfig", "Configuration of NNAdaptiveController.");
-  nn.vector<6>("lambda_", &NN::lambda, kLambdaDoc)
-      .vector<6>("kd", &NN::kd, "K_d, diagonal (6,), >= 0 (0 leaves the network alone).")
-      .scalar("gamma", &NN::gamma, "Gamma_w = gamma I, >= 0 (the paper: 0.3).")
-      .scalar("dt", &NN::dt, "Control period [s], > 0 (the paper: 0.2).")
+  auto nn = config_class<NN>(m, "NNAdaptiveConfig", "NNAdaptiveController");
+  sliding_fields(nn, "NNAdaptiveConfig", "K_d, diagonal (6,), >= 0 (0 leaves the network alone).")
+      .value("gamma", &NN::gamma, "Gamma_w = gamma I, >= 0 (the paper: 0.3).")
+      .value("dt", &NN::dt, "Control period [s], > 0 (the paper: 0.2).")
       .field(
-          "modification", [](const NN& c) { return py::cast(c.modification); },
-          [](NN& c, py::handle v) { c.modification = parse_modification(v); },
+          "modification", [](const NN& c) { return c.modification; },
+          [](NN& c, const py::handle& v, const std::string&) {
+            c.modification = parse_modification(v);
+          },
           "The robust modification: a RobustModification or its name.")
-      .scalar("sigma_m", &NN::sigma_m, "Leakage of the sigma-modification (> 0 when used).")
-      .scalar("kappa", &NN::kappa, "Gain of the e-modification (> 0 when used).")
-      .scalar("w_max", &NN::w_max, "Frobenius bound of the projection (> 0 when used).")
-      .scalar("dead_zone", &NN::dead_zone,
-              "No adaptation while ||s|| < dead_zone (0 disables), >= 0.")
-      .finish("NN controller");
+      .value("sigma_m", &NN::sigma_m, "Leakage of the sigma-modification (> 0 when used).")
+      .value("kappa", &NN::kappa, "Gain of the e-modification (> 0 when used).")
+      .value("w_max", &NN::w_max, "Frobenius bound of the projection (> 0 when used).")
+      .value("dead_zone", &NN::dead_zone,
+             "No adaptation while ||s|| < dead_zone (0 disables), >= 0.")
+      .validator("NN controller")
+      .finish();
 
   using CT = ComputedTorqueConfig<double>;
-  ConfigClass<CT> ct(m, "ComputedTorqueConfig", "Configuration of ComputedTorqueController.");
-  ct.vector<6>("lambda_", &CT::lambda, kLambdaDoc)
-      .vector<6>("kd", &CT::kd, kKdDoc)
+  auto ct = config_class<CT>(m, "ComputedTorqueConfig", "ComputedTorqueController");
+  sliding_fields(ct, "ComputedTorqueConfig")
       .field(
           "vehicle",
           [](const CT& c) -> py::object {
@@ -131,14 +135,15 @@ void bind_controller_configs(py::module_& m) {
             if (Vehicle<double>::create(c.vehicle, v)) return py::none();
             return py::cast(v);
           },
-          [](CT& c, py::handle v) {
+          [](CT& c, const py::handle& v, const std::string& name) {
             if (!py::isinstance<Vehicle<double>>(v))
-              throw py::type_error("argument 'vehicle' must be a Vehicle, got " +
+              throw py::type_error(name + " must be a Vehicle, got " +
                                    std::string(py::str(py::type::handle_of(v))));
             c.vehicle = v.cast<const Vehicle<double>&>().parameters();
           },
           "The nominal model, a Vehicle (None until set).")
-      .finish("computed-torque controller");
+      .validator("computed-torque controller")
+      .finish();
 }
 
 }  // namespace neurov::bindings

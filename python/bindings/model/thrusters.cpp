@@ -32,14 +32,12 @@ void bind_thrusters(py::module_& m) {
                "Allocation weights (n,), > 0; empty means all 1.")
         .value("saturation", &T::saturation, "A Saturation.")
         .value("time_constant", &T::time_constant, "First-order lag [s]; 0 means none.")
+        .validator("ThrusterConfig",
+                   [](const T& c) {
+                     Thrusters<double> t;
+                     return Thrusters<double>::create(c, t);
+                   })
         .finish();
-    cls.def(
-        "validate",
-        [](const T& c) {
-          Thrusters<double> t;
-          py_args::raise_if_invalid(Thrusters<double>::create(c, t), "ThrusterConfig");
-        },
-        "Raises ValueError naming the first field that is wrong and what it expected.");
   }
 
   m.def(

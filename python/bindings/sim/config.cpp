@@ -188,11 +188,8 @@ void bind_sim_config(py::module_& m) {
         .optional("waves", &T::waves, "A WaveConfig, or None for a calm sea.")
         .list("payload", &T::payload, "PayloadEvent",
               "Payload events in non-decreasing time (a tuple; assign a list).")
+        .validator("SimulationConfig")
         .finish();
-    cls.def(
-        "validate",
-        [](const T& c) { py_args::raise_if_invalid(validate(c), "SimulationConfig"); },
-        "Raises ValueError naming the first field that is wrong and what it expected.");
   }
 }
 

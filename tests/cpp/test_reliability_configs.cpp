@@ -1,0 +1,370 @@
+// The exhaustive hostile-input sweep (see test_reliability_controllers.cpp)
+// of the configurations (every validator names the bad field), the
+// thrusters and the closed loop.
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <functional>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "neurov/neurov.hpp"
+#include "controller_state.hpp"
+#include "reliability_fixtures.hpp"
+#include "test_support.hpp"
+
+namespace {
+
+using namespace neurov;
+using namespace neurov_test;
+
+NEUROV_SCALAR_SUITE(ReliabilityTest);
+
+
+// Zero or negative gains and time steps, for every controller's config.
+TYPED_TEST(ReliabilityTest, ControllerConfigurationsRefuseZeroOrNegativeGainsAndDt) {
+  using S = TypeParam;
+  const S nan = std::numeric_limits<S>::quiet_NaN();
+  auto expect_field = [](const ValidationError& e, const char* field, const char* what) {
+    ASSERT_FALSE(e.ok()) << what;
+    EXPECT_STREQ(e.field, field) << what;
+  };
+  for (const S bad : {S(0), S(-1), nan}) {
+    NNAdaptiveConfig<S> n;
+    n.dt = bad;
+    expect_field(validate(n), "dt", "NN dt");
+    n = {};
+    n.lambda(1) = bad;
+    expect_field(validate(n), "lambda", "NN lambda");
+    LinearAdaptiveConfig<S> l;
+    l.dt = bad;
+    expect_field(validate(l), "dt", "linear dt");
+    l = {};
+    l.lambda(5) = bad;
+    expect_field(validate(l), "lambda", "linear lambda");
+    PIDConfig<S> p;
+    p.dt = bad;
+    expect_field(validate(p), "dt", "PID dt");
+    p = {};
+    p.integral_limit(0) = bad;
+    expect_field(validate(p), "integral_limit", "PID integral_limit");
+    SlidingModeConfig<S> s;
+    s.phi(2) = bad;
+    expect_field(validate(s), "phi", "SMC phi");
+    s = {};
+    s.lambda(0) = bad;
+    expect_field(validate(s), "lambda", "SMC lambda");
+  }
+  for (const S bad : {S(-1), nan, -std::numeric_limits<S>::infinity()}) {
+    NNAdaptiveConfig<S> n;
+    n.kd(4) = bad;
+    expect_field(validate(n), "kd", "NN kd");
+    n = {};
+    n.gamma = bad;
+    expect_field(validate(n), "gamma", "NN gamma");
+    LinearAdaptiveConfig<S> l;
+    l.gamma(7) = bad;
+    expect_field(validate(l), "gamma", "linear gamma");
+    PDConfig<S> d;
+    d.kp(0) = bad;
+    expect_field(validate(d), "kp", "PD kp");
+    d = {};
+    d.kd(5) = bad;
+    expect_field(validate(d), "kd", "PD kd");
+    PIDConfig<S> p;
+    p.ki(2) = bad;
+    expect_field(validate(p), "ki", "PID ki");
+    SlidingModeConfig<S> s;
+    s.k(1) = bad;
+    expect_field(validate(s), "k", "SMC k");
+  }
+  ReferenceModel<S> r;
+  EXPECT_STREQ(ReferenceModel<S>::create(Vector6<S>::Zero(), Vector6<S>::Ones(),
+                                         Vector6<S>::Zero(), r)
+                   .field,
+               "lambda_d");
+  EXPECT_STREQ(ReferenceModel<S>::create(Vector6<S>::Ones(), -Vector6<S>::Ones(),
+                                         Vector6<S>::Zero(), r)
+                   .field,
+               "omega");
+}
+
+// Non-symmetric or indefinite mass matrices, in every way they can come about.
+// An indefinite part may be named itself or as the sum M it spoils
+// ("mass_matrix"); either names what is wrong.
+TYPED_TEST(ReliabilityTest, VehicleRefusesNonSymmetricOrIndefiniteMassMatrices) {
+  using S = TypeParam;
+  struct Case {
+    const char* what;
+    void (*mutate)(VehicleParameters<S>&);
+    const char* field;
+    const char* or_field = nullptr;
+  };
+  const Case cases[] = {
+      {"non-symmetric inertia", [](auto& p) { p.inertia(0, 2) = S(3); }, "inertia"},
+      {"non-symmetric added mass", [](auto& p) { p.added_mass(5, 1) = S(-4); }, "added_mass"},
+      {"negative definite added mass", [](auto& p) { p.added_mass *= S(-10); }, "added_mass",
+       "mass_matrix"},
+      {"indefinite inertia", [](auto& p) { p.inertia(1, 1) = S(-200); }, "inertia", "mass_matrix"},
+      {"symmetric but indefinite coupling",
+       [](auto& p) {
+         p.added_mass(0, 1) = p.added_mass(1, 0) = S(1000);
+       },
+       "added_mass", "mass_matrix"},
+      {"every part definite, M_RB + M_A not (r_g 1 m off)",
+       [](auto& p) { p.centre_of_gravity.z() = S(1); }, "mass_matrix"},
+      {"zero mass", [](auto& p) { p.mass = S(0); }, "mass"},
+      {"negative mass", [](auto& p) { p.mass = S(-185); }, "mass"},
+      {"NaN inertia", [](auto& p) { p.inertia(2, 2) = std::numeric_limits<S>::quiet_NaN(); },
+       "inertia"},
+      {"infinite added mass",
+       [](auto& p) { p.added_mass(3, 3) = std::numeric_limits<S>::infinity(); }, "added_mass"},
+  };
+  for (const Case& c : cases) {
+    VehicleParameters<S> p = nerov_parameters<S>();
+    c.mutate(p);
+    Vehicle<S> v;
+    const ValidationError e = Vehicle<S>::create(p, v);
+    ASSERT_FALSE(e.ok()) << c.what;
+    const std::string field = e.field;
+    EXPECT_TRUE(field == c.field || (c.or_field && field == c.or_field)) << c.what << ": " << field;
+    EXPECT_FALSE(v.valid()) << c.what;
+  }
+}
+
+// ----------------------------------------------------------------- thrusters
+
+
+// A finite but enormous demanded wrench (a controller fed a glitching sensor)
+// must still give thrusts within their limits: never NaN, never beyond.
+TYPED_TEST(ReliabilityTest, ThrusterCommandsStayWithinLimitsForHugeFiniteWrenches) {
+  using S = TypeParam;
+  for (const Saturation sat : {Saturation::scale, Saturation::clip}) {
+    ThrusterConfig<S> cfg = nerov_thrusters<S>();
+    cfg.saturation = sat;
+    Thrusters<S> t;
+    ASSERT_TRUE(Thrusters<S>::create(cfg, t).ok());
+    for (int i = 0; i < 6; ++i)
+      for (const S v : hostile_values<S>()) {
+        if (!std::isfinite(v)) continue;
+        for (const S other : {S(0), S(100), -std::numeric_limits<S>::max()}) {
+          Vector6<S> tau = Vector6<S>::Constant(other);
+          tau(i) = v;
+          t.command(tau);
+          t.advance(S(0.02));
+          const std::string what = std::string(sat == Saturation::scale ? "scale" : "clip") +
+                                   ", tau[" + std::to_string(i) + "] = " + show(v) +
+                                   ", others " + show(other);
+          EXPECT_TRUE(t.commanded().allFinite()) << what << ": " << t.commanded().transpose();
+          EXPECT_TRUE((t.commanded().array() <= cfg.max_thrust.array()).all() &&
+                      (t.commanded().array() >= cfg.min_thrust.array()).all())
+              << what << ": " << t.commanded().transpose();
+          EXPECT_TRUE(t.wrench().allFinite()) << what;
+        }
+      }
+  }
+}
+
+TYPED_TEST(ReliabilityTest, ThrusterConfigurationNamesTheBadField) {
+  using S = TypeParam;
+  struct Case {
+    const char* what;
+    void (*mutate)(ThrusterConfig<S>&);
+    const char* field;
+  };
+  const Case cases[] = {
+      {"five thrusters", [](auto& c) { c.matrix.conservativeResize(6, 5); }, "thrusters.matrix"},
+      {"NaN in B", [](auto& c) { c.matrix(2, 3) = std::numeric_limits<S>::quiet_NaN(); },
+       "thrusters.matrix"},
+      {"rank-deficient B", [](auto& c) { c.matrix.col(5) = c.matrix.col(4); },
+       "thrusters.matrix"},
+      {"limits of the wrong size", [](auto& c) { c.max_thrust.conservativeResize(5); },
+       "thrusters.max_thrust"},
+      {"min above max", [](auto& c) { c.min_thrust(1) = S(300); }, "thrusters.max_thrust"},
+      {"infinite limit", [](auto& c) { c.max_thrust(0) = std::numeric_limits<S>::infinity(); },
+       "thrusters.max_thrust"},
+      {"zero weight",
+       [](auto& c) {
+         c.weights = ThrusterConfig<S>::Vector::Ones(6);
+         c.weights(2) = S(0);
+       },
+       "thrusters.weights"},
+      {"negative time constant", [](auto& c) { c.time_constant = S(-0.1); },
+       "thrusters.time_constant"},
+  };
+  for (const Case& k : cases) {
+    ThrusterConfig<S> cfg = nerov_thrusters<S>();
+    k.mutate(cfg);
+    Thrusters<S> t;
+    const ValidationError e = Thrusters<S>::create(cfg, t);
+    ASSERT_FALSE(e.ok()) << k.what;
+    EXPECT_STREQ(e.field, k.field) << k.what;
+  }
+}
+
+// -------------------------------------------------------------- closed loop
+
+template <typename S>
+SimulationConfig<S> loop_config() {
+  SimulationConfig<S> c;
+  c.duration = S(2);
+  c.command.times.resize(1);
+  c.command.times << S(0);
+  c.command.poses.setZero(1, 6);
+  c.command.poses(0, 0) = S(1);
+  return c;
+}
+
+TYPED_TEST(ReliabilityTest, SimulationConfigurationNamesTheBadField) {
+  using S = TypeParam;
+  const S nan = std::numeric_limits<S>::quiet_NaN();
+  const Vehicle<S> vehicle(nerov_parameters<S>());
+  struct Case {
+    const char* what;
+    std::function<void(SimulationConfig<S>&)> mutate;
+    const char* field;
+  };
+  const std::vector<Case> cases = {
+      {"zero dt", [](auto& c) { c.dt = S(0); }, "dt"},
+      {"negative dt", [](auto& c) { c.dt = S(-0.2); }, "dt"},
+      {"dt above kMaxStep", [](auto& c) { c.dt = S(10.5); }, "dt"},
+      {"zero substeps", [](auto& c) { c.substeps = 0; }, "substeps"},
+      {"negative duration", [](auto& c) { c.duration = S(-1); }, "duration"},
+      {"too many steps", [](auto& c) { c.duration = S(1e9); }, "duration"},
+      {"NaN initial pose", [nan](auto& c) { c.eta0(2) = nan; }, "eta0"},
+      {"initial pitch at 90 deg", [](auto& c) { c.eta0(4) = static_cast<S>(kPi / 2); }, "eta0"},
+      {"infinite initial velocity",
+       [](auto& c) { c.nu0(5) = std::numeric_limits<S>::infinity(); }, "nu0"},
+      {"no command",
+       [](auto& c) {
+         c.command.times.resize(0);
+         c.command.poses.resize(0, 6);
+       },
+       "command.times"},
+      {"times and poses mismatched", [](auto& c) { c.command.poses.setZero(2, 6); },
+       "command.poses"},
+      {"NaN commanded pose", [nan](auto& c) { c.command.poses(0, 3) = nan; }, "command.poses"},
+      {"times not increasing",
+       [](auto& c) {
+         c.command.times.resize(2);
+         c.command.times << S(1), S(1);
+         c.command.poses.setZero(2, 6);
+       },
+       "command.times"},
+      {"zero reference damping", [](auto& c) { c.lambda_d(0) = S(0); }, "lambda_d"},
+      {"negative reference stiffness", [](auto& c) { c.omega(1) = S(-1); }, "omega"},
+      {"disturbance in DOF 6", [](auto& c) { c.disturbances.push_back({6, S(1), S(0.1), S(0), S(0)}); },
+       "disturbances.dof"},
+      {"NaN disturbance amplitude",
+       [nan](auto& c) { c.disturbances.push_back({5, nan, S(0.1), S(0), S(0)}); }, "disturbances"},
+      {"negative noise", [](auto& c) { c.noise_nu(0) = S(-0.1); }, "noise_nu"},
+      {"NaN current", [nan](auto& c) { c.current(0) = nan; }, "current"},
+      {"sensor fault ending before it starts",
+       [](auto& c) {
+         SensorFault<S> f;
+         f.start = S(2);
+         f.end = S(1);
+         c.sensor_faults.push_back(f);
+       },
+       "sensor_faults.end"},
+      {"unknown sensor fault kind",
+       [](auto& c) {
+         SensorFault<S> f;
+         f.kind = static_cast<SensorFaultKind>(7);
+         f.end = S(1);
+         c.sensor_faults.push_back(f);
+       },
+       "sensor_faults.kind"},
+      {"current steps out of order",
+       [](auto& c) {
+         c.current_steps.push_back({S(5), Vector3<S>::Zero()});
+         c.current_steps.push_back({S(4), Vector3<S>::Zero()});
+       },
+       "current_steps.time"},
+      {"thruster failure without thrusters",
+       [](auto& c) { c.failures.push_back({0, S(0), S(1)}); }, "thruster_failures"},
+      {"thruster failure of thruster 6",
+       [](auto& c) {
+         c.use_thrusters = true;
+         c.thrusters = nerov_thrusters<S>();
+         c.failures.push_back({6, S(0), S(1)});
+       },
+       "thruster_failures.index"},
+      {"efficiency above one",
+       [](auto& c) {
+         c.use_thrusters = true;
+         c.thrusters = nerov_thrusters<S>();
+         c.failures.push_back({0, S(1.5), S(1)});
+       },
+       "thruster_failures.efficiency"},
+      {"bad thruster layout",
+       [](auto& c) {
+         c.use_thrusters = true;
+         c.thrusters = nerov_thrusters<S>();
+         c.thrusters.matrix.col(1).setZero();
+       },
+       "thrusters.matrix"},
+  };
+  for (const Case& k : cases) {
+    SimulationConfig<S> cfg = loop_config<S>();
+    k.mutate(cfg);
+    PDController<S> ctl = pd<S>();
+    SimulationResult<S> out;
+    const ValidationError e = simulate(vehicle, ctl, cfg, out);
+    ASSERT_FALSE(e.ok()) << k.what;
+    EXPECT_STREQ(e.field, k.field) << k.what;
+    EXPECT_EQ(out.steps, 0) << k.what;
+  }
+  PDController<S> ctl = pd<S>();
+  SimulationResult<S> out;
+  EXPECT_STREQ(simulate(Vehicle<S>{}, ctl, loop_config<S>(), out).field, "vehicle");
+}
+
+// The loop under a sensor dropout: every refused step is recorded with its
+// status, the demanded tau is zero (policy "zero") or the last accepted one
+// (policy "hold"), the plant never sees a NaN, and the controller's weights
+// do not move while it is blind.
+TYPED_TEST(ReliabilityTest, LoopReportsRefusedStepsAndKeepsTheWeightsDuringADropout) {
+  using S = TypeParam;
+  const Vehicle<S> vehicle(nerov_parameters<S>());
+  for (const RefusedStepPolicy policy : {RefusedStepPolicy::zero, RefusedStepPolicy::hold}) {
+    SimulationConfig<S> cfg = loop_config<S>();
+    cfg.duration = S(20);
+    cfg.refused_step_policy = policy;
+    SensorFault<S> f;
+    f.kind = SensorFaultKind::dropout;
+    f.start = S(5);
+    f.end = S(8);
+    f.eta = false;  // only the velocity drops out
+    cfg.sensor_faults.push_back(f);
+    auto ctl = nn<S>(RobustModification::sigma, 9);
+    SimulationResult<S> r;
+    ASSERT_TRUE(simulate(vehicle, ctl, cfg, r).ok());
+    ASSERT_FALSE(r.diverged);
+    ASSERT_TRUE(r.eta.allFinite() && r.nu.allFinite() && r.tau_applied.allFinite());
+    int refused = 0;
+    for (Eigen::Index k = 0; k < r.steps; ++k) {
+      const bool in_fault = r.t(k) >= f.start && r.t(k) < f.end;
+      EXPECT_EQ(r.faults(k) == fault_bits::dropout, in_fault) << "t = " << r.t(k);
+      EXPECT_EQ(r.controller_status(k) == static_cast<std::uint8_t>(Status::non_finite_input),
+                in_fault)
+          << "t = " << r.t(k);
+      if (!in_fault) continue;
+      ++refused;
+      EXPECT_EQ(r.adaptive_norm(k), r.adaptive_norm(k - 1)) << "weights moved while blind";
+      const Vector6<S> expected = policy == RefusedStepPolicy::zero
+                                      ? Vector6<S>::Zero().eval()
+                                      : Vector6<S>(r.tau_demanded.row(k - 1).transpose());
+      EXPECT_TRUE((r.tau_demanded.row(k).transpose().array() == expected.array()).all())
+          << "t = " << r.t(k);
+    }
+    EXPECT_GE(refused, 14);  // 3 s at 5 Hz, give or take the rounding of k dt
+  }
+}
+
+}  // namespace
