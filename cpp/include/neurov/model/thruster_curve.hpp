@@ -25,8 +25,8 @@
 
 namespace neurov {
 
-/// Rows a curve table can hold. Blue Robotics publish the T200 in steps of
-/// 4 us from 1100 to 1900 us: 201 rows.
+/// Rows a curve table can hold: room for a manufacturer's PWM table
+/// (1100 to 1900 us) at a few microseconds per row.
 inline constexpr int kThrusterCurveCapacity = 256;
 
 template <typename Scalar>
