@@ -1,0 +1,44 @@
+// The allocation matrix of a thruster layout: thruster i at position r_i
+// (body axes, from the body origin) pushing along the unit vector d_i adds
+// the column [d_i; r_i x d_i] to B, so that tau = B u for thrusts u.
+#pragma once
+
+#include <array>
+#include <cmath>
+
+#include <Eigen/Core>
+
+#include "neurov/core/types.hpp"
+#include "neurov/core/validation.hpp"
+
+namespace neurov {
+
+template <typename Scalar>
+struct ThrusterGeometry {
+  Vector3<Scalar> position = Vector3<Scalar>::Zero();   ///< r [m], body axes (x fwd, y stbd, z down)
+  Vector3<Scalar> direction = Vector3<Scalar>::Zero();  ///< unit thrust direction for positive thrust
+};
+
+/// B from a layout; `out` is untouched unless every position is finite and
+/// every direction a unit vector (to 1e-6), each error naming the thruster.
+template <typename Scalar, std::size_t N>
+inline ValidationError allocation_matrix(const std::array<ThrusterGeometry<Scalar>, N>& layout,
+                                         Eigen::Matrix<Scalar, 6, static_cast<int>(N)>& out) noexcept {
+  for (std::size_t i = 0; i < N; ++i) {
+    const int idx = static_cast<int>(i);
+    if (!detail::all_finite(layout[i].position))
+      return detail::invalid("thrusters.position", idx, std::nan(""), "finite (one row per thruster)");
+    const double norm = static_cast<double>(layout[i].direction.norm());
+    if (!(std::abs(norm - 1.0) <= 1e-6))
+      return detail::invalid("thrusters.direction", idx, norm,
+                             "a unit vector (value is its norm)");
+  }
+  for (std::size_t i = 0; i < N; ++i) {
+    const auto& g = layout[i];
+    out.col(static_cast<int>(i)).template head<3>() = g.direction;
+    out.col(static_cast<int>(i)).template tail<3>() = g.position.cross(g.direction);
+  }
+  return {};
+}
+
+}  // namespace neurov

@@ -1,0 +1,360 @@
+// Sensor models between the true state and an estimator: an AHRS/IMU
+// (attitude and gyro, gyro bias random walk), a DVL (body velocity over the
+// seabed, dropouts), a pressure depth sensor and an acoustic position fix
+// (USBL-like). Each samples the truth at its own rate, adds its bias and
+// white noise from its own random stream, and delivers the sample `latency`
+// seconds later through a fixed-capacity delay line.
+//
+//   sample n is taken at the first call with time >= n / rate,
+//   z_n = h(x(t_n)) + bias + noise_n,  noise_n ~ N(0, noise^2 I),
+//   delivered by read() once time >= t_n + latency.
+//
+// Times are double whatever the Scalar: a float clock loses milliseconds
+// within hours.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include <Eigen/Core>
+
+#include "neurov/core/random.hpp"
+#include "neurov/core/status.hpp"
+#include "neurov/core/types.hpp"
+#include "neurov/core/validation.hpp"
+#include "neurov/sim/random_streams.hpp"
+
+namespace neurov {
+
+/// The sensors' random streams. They are not yet in the RandomStream enum
+/// (its file belongs to the simulator); these numbers are theirs and must
+/// move there unchanged when the simulator wires the sensors.
+namespace sensor_stream {
+inline constexpr RandomStream imu = static_cast<RandomStream>(16);
+inline constexpr RandomStream dvl = static_cast<RandomStream>(17);
+inline constexpr RandomStream depth = static_cast<RandomStream>(18);
+inline constexpr RandomStream usbl = static_cast<RandomStream>(19);
+}  // namespace sensor_stream
+
+/// Samples a delay line holds: a latency of up to (capacity - 1) periods.
+inline constexpr int kSensorDelayCapacity = 64;
+
+template <typename Scalar, int Dim>
+struct Measurement {
+  double time = 0.0;  ///< when the truth was sampled [s]
+  Eigen::Matrix<Scalar, Dim, 1> value = Eigen::Matrix<Scalar, Dim, 1>::Zero();
+  bool valid = false;  ///< false for a dropout: the sensor reported no fix
+};
+
+/// A first-in first-out ring of measurements with a fixed capacity.
+template <typename Scalar, int Dim>
+class DelayLine {
+ public:
+  bool push(const Measurement<Scalar, Dim>& m) noexcept {
+    if (size_ == kSensorDelayCapacity) return false;
+    items_[(head_ + size_) % kSensorDelayCapacity] = m;
+    ++size_;
+    return true;
+  }
+  /// The oldest measurement taken at or before `release_time`, if any.
+  bool pop_until(double release_time, Measurement<Scalar, Dim>& out) noexcept {
+    if (size_ == 0 || items_[head_].time > release_time) return false;
+    out = items_[head_];
+    head_ = (head_ + 1) % kSensorDelayCapacity;
+    --size_;
+    return true;
+  }
+  int size() const noexcept { return size_; }
+  void clear() noexcept { head_ = size_ = 0; }
+
+ private:
+  Measurement<Scalar, Dim> items_[kSensorDelayCapacity];
+  int head_ = 0, size_ = 0;
+};
+
+namespace detail {
+
+/// Rate, latency, clock, delay line and noise source of one sensor.
+template <typename Scalar, int Dim>
+class SensorChannel {
+ public:
+  using Vec = Eigen::Matrix<Scalar, Dim, 1>;
+
+  /// Names the fields with the sensor's prefix, e.g. "sensors.dvl.rate".
+  static ValidationError check(const char* rate_field, double rate, const char* latency_field,
+                               double latency) noexcept {
+    if (auto e = check_positive_scalar(rate_field, rate)) return e;
+    if (auto e = check_non_negative_scalar(latency_field, latency)) return e;
+    if (!(latency * rate <= kSensorDelayCapacity - 2))
+      return invalid(latency_field, -1, latency,
+                     "<= 62 sample periods (the delay line holds 64 samples)");
+    return {};
+  }
+
+  void start(double rate, double latency, std::uint64_t seed, RandomStream stream) noexcept {
+    rate_ = rate;
+    latency_ = latency;
+    seed_ = stream_seed(seed, stream);
+    reset();
+  }
+
+  void reset() noexcept {
+    next_ = 0;
+    line_.clear();
+    rng_.reseed(seed_);
+  }
+
+  /// True (and the clock advanced) when a sample is due at `time`; the
+  /// tolerance lets a caller stepping at exact multiples of the period hit
+  /// every sample despite rounding.
+  bool due(double time) noexcept {
+    if (!(time * rate_ >= static_cast<double>(next_) - 1e-6)) return false;
+    next_ = static_cast<std::int64_t>(std::floor(time * rate_ + 1e-6)) + 1;
+    return true;
+  }
+
+  void emit(double time, const Vec& value, bool valid) noexcept {
+    Measurement<Scalar, Dim> m;
+    m.time = time;
+    m.value = value;
+    m.valid = valid;
+    // The capacity check at create() keeps a reading caller from overflowing;
+    // a caller that never reads loses the newest samples, not memory.
+    (void)line_.push(m);
+  }
+
+  bool read(double time, Measurement<Scalar, Dim>& out) noexcept {
+    return line_.pop_until(time - latency_ + 1e-9, out);
+  }
+
+  Scalar normal() noexcept { return static_cast<Scalar>(rng_.normal()); }
+  double uniform() noexcept { return rng_.uniform(); }
+  double period() const noexcept { return 1.0 / rate_; }
+
+ private:
+  double rate_ = 1.0, latency_ = 0.0;
+  std::uint64_t seed_ = 0;
+  std::int64_t next_ = 0;
+  NormalRandom rng_{0};
+  DelayLine<Scalar, Dim> line_{};
+};
+
+template <typename Scalar>
+inline Scalar wrap_angle(Scalar a) noexcept {
+  const Scalar pi = Scalar(3.14159265358979323846);
+  a = std::remainder(a, Scalar(2) * pi);
+  return a <= -pi ? a + Scalar(2) * pi : a;
+}
+
+}  // namespace detail
+
+// ---------------------------------------------------------------- AHRS / IMU
+
+template <typename Scalar>
+struct ImuConfig {
+  double rate = 50.0;                ///< [Hz], > 0
+  double latency = 0.0;              ///< [s], >= 0
+  Scalar attitude_noise = Scalar(0);  ///< std of phi, theta, psi [rad]
+  Scalar gyro_noise = Scalar(0);      ///< std of p, q, r [rad/s]
+  Scalar gyro_bias_walk = Scalar(0);  ///< bias random walk [rad/s/sqrt(s)]
+  Vector3<Scalar> gyro_bias = Vector3<Scalar>::Zero();  ///< initial gyro bias [rad/s]
+};
+
+/// Measures [phi, theta, psi (wrapped to (-pi, pi]), p, q, r] + [0; bias] + noise.
+template <typename Scalar>
+class ImuSensor {
+ public:
+  using Reading = Measurement<Scalar, 6>;
+
+  static ValidationError create(const ImuConfig<Scalar>& c, std::uint64_t seed,
+                                ImuSensor& out) noexcept {
+    if (auto e = detail::SensorChannel<Scalar, 6>::check("sensors.imu.rate", c.rate,
+                                                          "sensors.imu.latency", c.latency))
+      return e;
+    if (auto e = detail::check_non_negative_scalar("sensors.imu.attitude_noise", c.attitude_noise))
+      return e;
+    if (auto e = detail::check_non_negative_scalar("sensors.imu.gyro_noise", c.gyro_noise)) return e;
+    if (auto e = detail::check_non_negative_scalar("sensors.imu.gyro_bias_walk", c.gyro_bias_walk))
+      return e;
+    if (auto e = detail::check_finite("sensors.imu.gyro_bias", c.gyro_bias)) return e;
+    out.c_ = c;
+    out.channel_.start(c.rate, c.latency, seed, sensor_stream::imu);
+    out.bias_ = c.gyro_bias;
+    return {};
+  }
+
+  /// Takes a sample if one is due; a non-finite truth takes none.
+  Status sample(double time, const Vector6<Scalar>& eta, const Vector6<Scalar>& nu) noexcept {
+    if (!std::isfinite(time) || !detail::all_finite(eta, nu)) return Status::non_finite_input;
+    if (!channel_.due(time)) return Status::ok;
+    const Scalar walk = c_.gyro_bias_walk * static_cast<Scalar>(std::sqrt(channel_.period()));
+    for (int i = 0; i < 3; ++i) bias_(i) += walk * channel_.normal();
+    Vector6<Scalar> z;
+    for (int i = 0; i < 3; ++i) z(i) = eta(3 + i) + c_.attitude_noise * channel_.normal();
+    for (int i = 0; i < 3; ++i) z(3 + i) = nu(3 + i) + bias_(i) + c_.gyro_noise * channel_.normal();
+    for (int i = 0; i < 3; ++i) z(i) = detail::wrap_angle(z(i));
+    channel_.emit(time, z, true);
+    return Status::ok;
+  }
+
+  bool read(double time, Reading& out) noexcept { return channel_.read(time, out); }
+  const Vector3<Scalar>& gyro_bias() const noexcept { return bias_; }
+  const ImuConfig<Scalar>& config() const noexcept { return c_; }
+  void reset() noexcept {
+    channel_.reset();
+    bias_ = c_.gyro_bias;
+  }
+
+ private:
+  ImuConfig<Scalar> c_{};
+  detail::SensorChannel<Scalar, 6> channel_{};
+  Vector3<Scalar> bias_ = Vector3<Scalar>::Zero();
+};
+
+// ---------------------------------------------------------------------- DVL
+
+template <typename Scalar>
+struct DvlConfig {
+  double rate = 5.0;          ///< [Hz], > 0
+  double latency = 0.0;       ///< [s], >= 0
+  Scalar noise = Scalar(0);   ///< std per axis [m/s]
+  double dropout_rate = 0.0;  ///< probability that a sample has no bottom lock, [0, 1)
+  Vector3<Scalar> bias = Vector3<Scalar>::Zero();  ///< [m/s]
+};
+
+/// Measures the body velocity over ground [u, v, w] + bias + noise; a
+/// dropout delivers a sample with valid = false.
+template <typename Scalar>
+class DvlSensor {
+ public:
+  using Reading = Measurement<Scalar, 3>;
+
+  static ValidationError create(const DvlConfig<Scalar>& c, std::uint64_t seed,
+                                DvlSensor& out) noexcept {
+    if (auto e = detail::SensorChannel<Scalar, 3>::check("sensors.dvl.rate", c.rate,
+                                                          "sensors.dvl.latency", c.latency))
+      return e;
+    if (auto e = detail::check_non_negative_scalar("sensors.dvl.noise", c.noise)) return e;
+    if (!(c.dropout_rate >= 0.0 && c.dropout_rate < 1.0))
+      return detail::invalid("sensors.dvl.dropout_rate", -1, c.dropout_rate, ">= 0 and < 1");
+    if (auto e = detail::check_finite("sensors.dvl.bias", c.bias)) return e;
+    out.c_ = c;
+    out.channel_.start(c.rate, c.latency, seed, sensor_stream::dvl);
+    return {};
+  }
+
+  Status sample(double time, const Vector6<Scalar>& /*eta*/, const Vector6<Scalar>& nu) noexcept {
+    if (!std::isfinite(time) || !detail::all_finite(nu)) return Status::non_finite_input;
+    if (!channel_.due(time)) return Status::ok;
+    // Draw the noise whether or not the sample drops out, so a dropout does
+    // not shift the noise of every later sample.
+    const bool lost = channel_.uniform() <= c_.dropout_rate;
+    Vector3<Scalar> z;
+    for (int i = 0; i < 3; ++i) z(i) = nu(i) + c_.bias(i) + c_.noise * channel_.normal();
+    channel_.emit(time, lost ? Vector3<Scalar>::Zero().eval() : z, !lost);
+    return Status::ok;
+  }
+
+  bool read(double time, Reading& out) noexcept { return channel_.read(time, out); }
+  const DvlConfig<Scalar>& config() const noexcept { return c_; }
+  void reset() noexcept { channel_.reset(); }
+
+ private:
+  DvlConfig<Scalar> c_{};
+  detail::SensorChannel<Scalar, 3> channel_{};
+};
+
+// -------------------------------------------------------------------- depth
+
+template <typename Scalar>
+struct DepthConfig {
+  double rate = 10.0;        ///< [Hz], > 0
+  double latency = 0.0;      ///< [s], >= 0
+  Scalar noise = Scalar(0);  ///< std [m]
+  Scalar bias = Scalar(0);   ///< [m]
+};
+
+/// Measures the depth z (NED, down positive) + bias + noise.
+template <typename Scalar>
+class DepthSensor {
+ public:
+  using Reading = Measurement<Scalar, 1>;
+
+  static ValidationError create(const DepthConfig<Scalar>& c, std::uint64_t seed,
+                                DepthSensor& out) noexcept {
+    if (auto e = detail::SensorChannel<Scalar, 1>::check("sensors.depth.rate", c.rate,
+                                                          "sensors.depth.latency", c.latency))
+      return e;
+    if (auto e = detail::check_non_negative_scalar("sensors.depth.noise", c.noise)) return e;
+    if (!std::isfinite(static_cast<double>(c.bias)))
+      return detail::invalid("sensors.depth.bias", -1, c.bias, "finite");
+    out.c_ = c;
+    out.channel_.start(c.rate, c.latency, seed, sensor_stream::depth);
+    return {};
+  }
+
+  Status sample(double time, const Vector6<Scalar>& eta, const Vector6<Scalar>& /*nu*/) noexcept {
+    if (!std::isfinite(time) || !detail::all_finite(eta)) return Status::non_finite_input;
+    if (!channel_.due(time)) return Status::ok;
+    Eigen::Matrix<Scalar, 1, 1> z;
+    z(0) = eta(2) + c_.bias + c_.noise * channel_.normal();
+    channel_.emit(time, z, true);
+    return Status::ok;
+  }
+
+  bool read(double time, Reading& out) noexcept { return channel_.read(time, out); }
+  const DepthConfig<Scalar>& config() const noexcept { return c_; }
+  void reset() noexcept { channel_.reset(); }
+
+ private:
+  DepthConfig<Scalar> c_{};
+  detail::SensorChannel<Scalar, 1> channel_{};
+};
+
+// --------------------------------------------------------------------- USBL
+
+template <typename Scalar>
+struct UsblConfig {
+  double rate = 1.0;         ///< [Hz], > 0
+  double latency = 0.0;      ///< [s], >= 0 (acoustic travel and processing)
+  Scalar noise = Scalar(0);  ///< std per axis [m]
+  Vector3<Scalar> bias = Vector3<Scalar>::Zero();  ///< [m], NED
+};
+
+/// Measures the position [x, y, z] (NED) + bias + noise, at the sample time.
+template <typename Scalar>
+class UsblSensor {
+ public:
+  using Reading = Measurement<Scalar, 3>;
+
+  static ValidationError create(const UsblConfig<Scalar>& c, std::uint64_t seed,
+                                UsblSensor& out) noexcept {
+    if (auto e = detail::SensorChannel<Scalar, 3>::check("sensors.usbl.rate", c.rate,
+                                                          "sensors.usbl.latency", c.latency))
+      return e;
+    if (auto e = detail::check_non_negative_scalar("sensors.usbl.noise", c.noise)) return e;
+    if (auto e = detail::check_finite("sensors.usbl.bias", c.bias)) return e;
+    out.c_ = c;
+    out.channel_.start(c.rate, c.latency, seed, sensor_stream::usbl);
+    return {};
+  }
+
+  Status sample(double time, const Vector6<Scalar>& eta, const Vector6<Scalar>& /*nu*/) noexcept {
+    if (!std::isfinite(time) || !detail::all_finite(eta)) return Status::non_finite_input;
+    if (!channel_.due(time)) return Status::ok;
+    Vector3<Scalar> z;
+    for (int i = 0; i < 3; ++i) z(i) = eta(i) + c_.bias(i) + c_.noise * channel_.normal();
+    channel_.emit(time, z, true);
+    return Status::ok;
+  }
+
+  bool read(double time, Reading& out) noexcept { return channel_.read(time, out); }
+  const UsblConfig<Scalar>& config() const noexcept { return c_; }
+  void reset() noexcept { channel_.reset(); }
+
+ private:
+  UsblConfig<Scalar> c_{};
+  detail::SensorChannel<Scalar, 3> channel_{};
+};
+
+}  // namespace neurov
