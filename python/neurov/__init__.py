@@ -58,6 +58,7 @@ from neurov.simulation import Result, simulate, simulate_many
 from neurov.controller import Controller
 from neurov.simulator import Observation, Simulator
 from neurov.vehicle_file import VehicleFileError
+from neurov import weights  # noqa: F401  (attaches NNAdaptiveController.save/load)
 
 __all__ = [
     "THETA_NAMES",

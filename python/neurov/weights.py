@@ -30,6 +30,8 @@ from typing import Any
 
 import numpy as np
 
+from neurov import _core
+
 FORMAT = "neurov-nn-weights"
 VERSION = 1
 N_INPUTS = 24
@@ -134,7 +136,7 @@ def read_weights(path: str | os.PathLike[str]) -> NetworkWeights:
 def load_network(path: str | os.PathLike[str]) -> Any:
     """An RbfNetwork rebuilt from a weights file, its weights W: pass it to
     NNAdaptiveController to start a new controller from what was learnt."""
-    from neurov import _core
+
 
     saved = read_weights(path)
     net = _core.RbfNetwork(saved.centres, saved.widths, saved.input_offset, saved.input_scale)
@@ -161,3 +163,25 @@ def load_weights(obj: Any, path: str | os.PathLike[str]) -> None:
                 "(the weights belong to another network)"
             )
     obj.weights = saved.weights
+
+
+def _attach_methods() -> None:
+    """``NNAdaptiveController.save`` and ``.load`` write and read files, which
+    is this package's work: attached here so that the compiled core never
+    imports the Python package."""
+
+    def save(self: Any, path: str | os.PathLike[str]) -> None:
+        """Writes the current weights W and the network they belong to to a
+        .npz file (format: :mod:`neurov.weights`)."""
+        save_weights(self, path)
+
+    def load(self: Any, path: str | os.PathLike[str]) -> None:
+        """Sets the current weights W from a file written by save();
+        :class:`WeightsFileError` names a file of the wrong shape or network."""
+        load_weights(self, path)
+
+    _core.NNAdaptiveController.save = save
+    _core.NNAdaptiveController.load = load
+
+
+_attach_methods()

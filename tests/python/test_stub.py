@@ -63,7 +63,7 @@ def runtime_signatures(obj: Any) -> list[list[str]]:
     """One parameter list per pybind11 overload, from the docstring."""
     if inspect.isfunction(obj):
         # Attached in Python (Vehicle.from_file reads files, the package's work).
-        return [[p.name for p in inspect.signature(obj).parameters.values()]]
+        return [[p.name for p in inspect.signature(obj).parameters.values() if p.name != "self"]]
     doc = obj.__doc__ or ""
     name = obj.__name__
     if "Overloaded function." in doc:

@@ -184,22 +184,6 @@ void bind_controllers(py::module_& m) {
           "input_scale",
           [](const NNController& c) { return Eigen::VectorXd(c.network().input_scale()); },
           "Input scale of the network's normalisation, shape (24,).")
-      .def(
-          "save",
-          [](const NNController& c, py::handle path) {
-            py::module_::import("neurov.weights").attr("save_weights")(py::cast(c), path);
-          },
-          py::arg("path"),
-          "Writes the current weights W and the network they belong to to a .npz file "
-          "(format: neurov.weights).")
-      .def(
-          "load",
-          [](py::object self, py::handle path) {
-            py::module_::import("neurov.weights").attr("load_weights")(self, path);
-          },
-          py::arg("path"),
-          "Sets the current weights W from a file written by save(); "
-          "neurov.weights.WeightsFileError names a file of the wrong shape or network.")
       .def_property_readonly(
           "modification",
           [](const NNController& c) { return std::string(to_string(c.config().modification)); },
