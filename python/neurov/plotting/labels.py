@@ -24,7 +24,7 @@ _DOFS = (("x", "x (north)", "m"), ("y", "y (east)", "m"), ("z", "z (depth)", "m"
 _TAU = (("X", "N"), ("Y", "N"), ("Z", "N"), ("K", "N m"), ("M", "N m"), ("N", "N m"))
 
 #: Each run metric (a column of a study's runs table) as an axis label: what
-#: it is in words, then its unit in brackets. The mean and maximum of |tau|
+#: it is in words, then its unit in brackets. The mean and maximum of ``|tau|``
 #: over all six DOFs, and the control energy, add forces and moments, hence
 #: "N, N m". The adapted parameters (NN weights or theta_hat) carry the units
 #: of different regressor columns: their norm has none of its own.
