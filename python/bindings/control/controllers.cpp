@@ -138,8 +138,10 @@ void bind_controllers(py::module_& m) {
            cfg.dead_zone = py_args::scalar(dead_zone, "dead_zone");
            return make_nn(network, cfg, learning_rates);
          }),
-         py::arg("network"), py::arg("lambda_"), py::arg("kd"), py::arg("gamma") = 0.3,
-         py::arg("dt") = 0.2, py::kw_only(), py::arg("modification") = "none",
+         // The defaults are the config's, the one place they are written.
+         py::arg("network"), py::arg("lambda_"), py::arg("kd"),
+         py::arg("gamma") = NNAdaptiveConfig<double>{}.gamma,
+         py::arg("dt") = NNAdaptiveConfig<double>{}.dt, py::kw_only(), py::arg("modification") = "none",
          py::arg("sigma_m") = 0.0, py::arg("kappa") = 0.0, py::arg("w_max") = 0.0,
          py::arg("dead_zone") = 0.0, py::arg("learning_rates") = py::none(),
          "network: an RbfNetwork with 24 inputs (copied; its weights are W(0)); lambda_: "
