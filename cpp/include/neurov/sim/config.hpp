@@ -282,10 +282,15 @@ inline ValidationError validate_payload(const std::vector<PayloadEvent<Scalar>>&
           {"buoyancy_position", "payload.buoyancy_position"},
           {"damping_scale", "payload.damping_scale"},
           {"added_mass_scale", "payload.added_mass_scale"}};
+      // Compared up to the first difference or the end of either name: a
+      // fixed-length compare would read past the end of a shorter field name.
+      auto same = [](const char* a, const char* b) noexcept {
+        while (*a != '\0' && *a == *b) ++a, ++b;
+        return *a == *b;
+      };
       const char* field = "payload";
       for (const auto& n : own)
-        if (std::char_traits<char>::compare(e.field, n[0], std::char_traits<char>::length(n[0]) + 1) == 0)
-          field = n[1];
+        if (same(e.field, n[0])) field = n[1];
       return detail::invalid(field, static_cast<int>(i), e.value, e.expected);
     }
     v = next;
