@@ -288,6 +288,8 @@ def _tables(r: _Reader, key: str) -> list[_Reader]:
 
 def scenario_from_mapping(data: Mapping[str, Any], origin: str = "<scenario>") -> Scenario:
     """Builds a scenario from a parsed TOML table; errors name `origin`."""
+    from neurov import scenario_sea as sea
+
     r = _Reader(data, "", origin)
     s = Scenario(source=origin if origin != "<scenario>" else "")
     c = s.simulation
@@ -341,10 +343,13 @@ def scenario_from_mapping(data: Mapping[str, Any], origin: str = "<scenario>") -
         dr.finish()
     c.disturbances = disturbances
     cr = r.table_of("current")
-    c.current = cr.array("velocity", 3, c.current, broadcast=False)
-    c.current_amplitude = cr.array("amplitude", 3, c.current_amplitude, broadcast=False)
-    c.current_period = cr.number("period", c.current_period)
+    if sea.read_current_model(cr, c):
+        c.current = cr.array("velocity", 3, c.current, broadcast=False)
+        c.current_amplitude = cr.array("amplitude", 3, c.current_amplitude, broadcast=False)
+        c.current_period = cr.number("period", c.current_period)
     cr.finish()
+    sea.read_waves(r, c)
+    sea.read_payload(r, c)
     n = r.table_of("noise")
     c.noise_eta = n.array("eta", 6, c.noise_eta)
     c.noise_nu = n.array("nu", 6, c.noise_nu)
@@ -376,6 +381,7 @@ def scenario_from_mapping(data: Mapping[str, Any], origin: str = "<scenario>") -
         s._sync()
     except ValueError as e:
         raise ScenarioError(f"{origin}: {e}") from None
+    sea.check_payload(s, origin)
     _validated(c, origin, _SIMULATION_KEYS, _LISTS)
     return s
 
