@@ -203,3 +203,15 @@ def test_sea_state_5_run_stays_below_the_minimum_depth() -> None:
     r = simulate(s.replace(duration=60.0))
     assert not r.diverged and not np.any(r.faults & 32)
     assert np.ptp(r.wave_elevation) > 3.0
+
+
+def test_the_sea_example_uses_every_key_of_the_issue() -> None:
+    path = ROOT / "examples" / "scenarios" / "sea_state_4_pickup.toml"
+    data = tomllib.loads(path.read_text())
+    assert {"model", "speed", "speed_std", "time_constant", "speed_min", "speed_max", "direction",
+            "direction_std"} <= set(data["current"])
+    assert {"spectrum", "hs", "tp", "gamma", "direction", "components"} <= set(data["waves"])
+    assert {"time", "mass", "buoyancy"} <= set(data["payload"][0])
+    s = read_scenario(path)
+    assert s.current_model == _core.CurrentModel.gauss_markov and s.waves.hs == 1.88
+    assert s.eta0[2] > 1.2 * s.waves.hs + 1.0
