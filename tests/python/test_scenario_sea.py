@@ -215,3 +215,16 @@ def test_the_sea_example_uses_every_key_of_the_issue() -> None:
     s = read_scenario(path)
     assert s.current_model == _core.CurrentModel.gauss_markov and s.waves.hs == 1.88
     assert s.eta0[2] > 1.2 * s.waves.hs + 1.0
+
+
+def test_a_computed_torque_controller_table_reads_and_names_a_bad_gain() -> None:
+    # The sea_state study runs every controller of the registry; a computed
+    # torque [controller] table is checked without its plant model (put in
+    # from the scenario's vehicle when the controller is built).
+    s = scenario(controller={"type": "computed_torque", "lambda": 0.5, "kd": [200, 200, 200, 50, 50, 50]})
+    assert s.controller.type == "computed_torque" and s.controller.config.vehicle is None
+    np.testing.assert_array_equal(s.controller.config.kd, [200, 200, 200, 50, 50, 50])
+    r = simulate(s.replace(duration=20.0))
+    assert not r.diverged and r.metrics()["rmse_position_m"] < 0.5
+    with pytest.raises(ScenarioError, match=r"sea\.toml: controller\.kd\[2\] = -1: expected >= 0"):
+        scenario(controller={"type": "computed_torque", "kd": [1, 1, -1, 1, 1, 1]})
