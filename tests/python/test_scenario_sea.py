@@ -228,3 +228,47 @@ def test_a_computed_torque_controller_table_reads_and_names_a_bad_gain() -> None
     assert not r.diverged and r.metrics()["rmse_position_m"] < 0.5
     with pytest.raises(ScenarioError, match=r"sea\.toml: controller\.kd\[2\] = -1: expected >= 0"):
         scenario(controller={"type": "computed_torque", "kd": [1, 1, -1, 1, 1, 1]})
+
+
+def _gm_study(tmp_path: Path, perturbation: str):
+    from neurov.study import load_study
+
+    path = tmp_path / "gm.toml"
+    path.write_text(f'''name = "gm"
+seed = 3
+samples = 2
+scenarios = ["nerov_square_sea_state_2"]
+[[perturbations]]
+{perturbation}
+[[perturbations]]
+parameter = "current_direction"
+range = [0.0, 360.0]
+[controllers.pd]
+type = "pd"
+kp = [100, 100, 100, 25, 25, 25]
+kd = [200, 200, 200, 50, 50, 50]
+''')
+    return load_study(path)
+
+
+def test_a_study_moves_the_mean_of_a_gauss_markov_current(tmp_path: Path) -> None:
+    from neurov.study import sample_plant
+
+    study = _gm_study(tmp_path, 'parameter = "current_speed"\nrange = [0.1, 0.6]')
+    base = study.scenarios[0]
+    for k in range(2):
+        plant, cols = sample_plant(study, base, k)
+        gm = plant.gauss_markov_current
+        assert (gm.speed, gm.direction) == (cols["p_current_speed"], cols["p_current_direction"])
+        assert (gm.speed_std, gm.time_constant) == (base.gauss_markov_current.speed_std, 30.0)
+        assert not np.any(plant.current)
+        assert not simulate(plant.replace(duration=20.0)).diverged
+    assert base.gauss_markov_current.speed == 0.3  # the study's scenario is left as it was
+
+
+def test_a_study_refuses_a_current_speed_outside_the_gauss_markov_bounds(tmp_path: Path) -> None:
+    from neurov.study import StudyError
+
+    with pytest.raises(StudyError, match=r"gm\.toml: perturbations: current_speed from 0\.1 to 1\.5 m/s: scenario "
+                                         r"'nerov_square_sea_state_2' has a Gauss-Markov current.*\[0, 1\]"):
+        _gm_study(tmp_path, 'parameter = "current_speed"\nrange = [0.1, 1.5]')
