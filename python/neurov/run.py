@@ -19,7 +19,7 @@ from typing import Any, TextIO
 from neurov.scenario import load_scenario
 from neurov.simulation import Result, simulate
 
-__all__ = ["EXIT_DIVERGED", "FIGURES", "check_output_dir", "format_metrics", "run_scenario_file",
+__all__ = ["EXIT_DIVERGED", "FIGURES", "SEA_FIGURES", "check_output_dir", "format_metrics", "run_scenario_file",
            "write_outputs"]
 
 EXIT_DIVERGED = 3
@@ -28,6 +28,9 @@ EXIT_DIVERGED = 3
 file, unwritable output), 2 a bad command line, 130 interrupted."""
 
 FIGURES = ("xy.png", "dofs.png", "errors.png", "inputs.png", "adaptive_norm.png")
+SEA_FIGURES = ("sea.png", "wave_spectrum.png")
+"""Also written for a run with a sea: the flow it met (a current, waves or a
+payload change) and, with waves, their realised spectrum against the target."""
 
 
 def check_output_dir(out_dir: str | Path) -> Path:
@@ -90,7 +93,7 @@ def format_metrics(result: Result, metrics: dict[str, Any]) -> str:
 def write_outputs(result: Result, metrics: dict[str, Any], out_dir: str | Path, plot: bool = False,
                   quiet: bool = True) -> list[Path]:
     """Writes result.csv, result.npz, metrics.json and, with `plot`, the
-    figures of :data:`FIGURES` into `out_dir` (created if missing); returns
+    figures of :data:`FIGURES` (and :data:`SEA_FIGURES`) into `out_dir` (created if missing); returns
     the paths written. Unless `quiet`, progress bars (on a terminal). A long
     run's figures draw at most :data:`neurov.decimation.MAX_PLOT_ROWS` rows."""
     from neurov.progress import progress_bar
@@ -105,10 +108,16 @@ def write_outputs(result: Result, metrics: dict[str, Any], out_dir: str | Path, 
         # plots does not need it.
         from neurov.plotting import runs as plots
 
+        from neurov.plotting import sea
+
         figures = {
             "xy.png": plots.xy_path, "dofs.png": plots.dof_time, "errors.png": plots.errors,
             "inputs.png": plots.control_inputs, "adaptive_norm.png": plots.adaptive_norm,
         }
+        if sea.has_sea(result):
+            figures[SEA_FIGURES[0]] = sea.sea_flow
+        if result.scenario.waves is not None:
+            figures[SEA_FIGURES[1]] = sea.wave_spectrum
         with progress_bar(len(figures), "figures", unit="figure", quiet=quiet) as bar:
             for name, draw in figures.items():
                 written.append(plots.save(draw(result), out / name))
@@ -126,7 +135,8 @@ def run_scenario_file(path: str | Path, out_dir: str | Path | None = None,
     With `out_dir` (checked before the run: an existing file or a folder
     that cannot be written raises OSError), writes result.csv, result.npz and
     metrics.json there, and with `plot` also xy.png, dofs.png, errors.png,
-    inputs.png and adaptive_norm.png. `plot` without `out_dir` raises
+    inputs.png and adaptive_norm.png (and, with a sea, sea.png and
+    wave_spectrum.png). `plot` without `out_dir` raises
     ValueError.
 
     A run that diverges is not an error: the table says when and how, the

@@ -208,8 +208,11 @@ SIMULATION_FIELDS: dict[str, str] = {
     "sensor_faults": "sensor_faults", "current_steps": "current_steps",
     "refused_step_policy": "refused_step_policy", "use_thrusters": "use_thrusters",
     "thruster_failures": "failures",
+    "current_model": "current_model", "gauss_markov_current": "gauss_markov_current",
+    "waves": "waves", "payload": "payload",
 }
-_ENUMS = {"refused_step_policy": _core.RefusedStepPolicy, "saturation": _core.Saturation}
+_ENUMS = {"refused_step_policy": _core.RefusedStepPolicy, "saturation": _core.Saturation,
+          "current_model": _core.CurrentModel}
 
 
 def _enum(name: str, value: Any) -> Any:

@@ -10,6 +10,7 @@ the file and the TOML key: ``square.toml: controller.kd[3] = -1: expected
 
 from __future__ import annotations
 
+import copy
 import difflib
 import math
 import re
@@ -216,7 +217,13 @@ def _controller(r: _Reader) -> ControllerSpec:
         spec.theta0_scale = r.number("theta0_scale", spec.theta0_scale)
     r.finish()
     inverse = {v: k for k, v in kind.keys.items()}
-    _validated(spec.config, r.origin, {n: r._name(inverse.get(n, n)) for n in field_names(spec.config)})
+    checked = spec.config
+    if "vehicle" in kind.managed and checked.vehicle is None:
+        # The plant model is the scenario's, put in when the controller is
+        # built: the gains are checked here beside a valid stand-in.
+        checked = copy.copy(checked)
+        checked.vehicle = _core.Vehicle.nerov()
+    _validated(checked, r.origin, {n: r._name(inverse.get(n, n)) for n in field_names(spec.config)})
     if kind.name == "nn" and not spec.width > 0:
         raise r.error("width", f"expected a number > 0, got {spec.width}")
     return spec
@@ -288,6 +295,8 @@ def _tables(r: _Reader, key: str) -> list[_Reader]:
 
 def scenario_from_mapping(data: Mapping[str, Any], origin: str = "<scenario>") -> Scenario:
     """Builds a scenario from a parsed TOML table; errors name `origin`."""
+    from neurov import scenario_sea as sea
+
     r = _Reader(data, "", origin)
     s = Scenario(source=origin if origin != "<scenario>" else "")
     c = s.simulation
@@ -341,10 +350,13 @@ def scenario_from_mapping(data: Mapping[str, Any], origin: str = "<scenario>") -
         dr.finish()
     c.disturbances = disturbances
     cr = r.table_of("current")
-    c.current = cr.array("velocity", 3, c.current, broadcast=False)
-    c.current_amplitude = cr.array("amplitude", 3, c.current_amplitude, broadcast=False)
-    c.current_period = cr.number("period", c.current_period)
+    if sea.read_current_model(cr, c):
+        c.current = cr.array("velocity", 3, c.current, broadcast=False)
+        c.current_amplitude = cr.array("amplitude", 3, c.current_amplitude, broadcast=False)
+        c.current_period = cr.number("period", c.current_period)
     cr.finish()
+    sea.read_waves(r, c)
+    sea.read_payload(r, c)
     n = r.table_of("noise")
     c.noise_eta = n.array("eta", 6, c.noise_eta)
     c.noise_nu = n.array("nu", 6, c.noise_nu)
@@ -376,6 +388,7 @@ def scenario_from_mapping(data: Mapping[str, Any], origin: str = "<scenario>") -
         s._sync()
     except ValueError as e:
         raise ScenarioError(f"{origin}: {e}") from None
+    sea.check_payload(s, origin)
     _validated(c, origin, _SIMULATION_KEYS, _LISTS)
     return s
 

@@ -2,6 +2,9 @@
 
 - :mod:`neurov.plotting.runs`: one or more closed-loop runs (path, pose,
   errors, control inputs, adaptive norm); what ``neurov run --plot`` writes.
+- :mod:`neurov.plotting.sea`: the sea a run met (the flow at the vehicle,
+  the realised wave spectrum against the target); ``neurov run --plot``
+  writes them for a scenario with a sea.
 - :mod:`neurov.plotting.paper`: the paper's Figs. 3-5 (``neurov paper``).
 - :mod:`neurov.plotting.study`: a study's box plots and error bands
   (``neurov study``).

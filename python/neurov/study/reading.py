@@ -291,6 +291,17 @@ def _check_plants(study: Study, origin: str) -> None:
     (a scaled mass matrix must stay positive definite, for instance)."""
     from neurov import _core
 
+    for p in study.perturbations:
+        if p.parameter != "current_speed":
+            continue
+        spread = NORMAL_TRUNCATION * p.std
+        low, high = (p.mean - spread, p.mean + spread) if p.distribution == "normal" else (p.low, p.high)
+        for s in study.scenarios:
+            gm = s.gauss_markov_current
+            if s.current_model == _core.CurrentModel.gauss_markov and not gm.speed_min <= low <= high <= gm.speed_max:
+                raise StudyError(f"{origin}: perturbations: current_speed from {low:g} to {high:g} m/s: scenario "
+                                 f"{s.name!r} has a Gauss-Markov current, whose mean speed it sets, within "
+                                 f"[speed_min, speed_max] = [{gm.speed_min:g}, {gm.speed_max:g}]")
     vehicle_p = [p for p in study.perturbations if p.is_vehicle]
     if not vehicle_p:
         return

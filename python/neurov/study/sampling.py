@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 
+from neurov import _core
 from neurov.scenario import Scenario
 from neurov.study.spec import Study
 
@@ -92,7 +93,16 @@ def sample_plant(study: Study, scenario: Scenario, sample: int) -> tuple[Scenari
     if touched_vehicle:
         changes["vehicle_parameters"] = params
     current = np.array(scenario.current, dtype=np.float64)
-    if "current_speed" in draws or "current_direction" in draws:
+    if scenario.current_model == _core.CurrentModel.gauss_markov:
+        # The Gauss-Markov current wanders about a mean: the draws move the mean.
+        if "current_speed" in draws or "current_direction" in draws:
+            gm = copy.copy(scenario.gauss_markov_current)
+            if "current_speed" in draws:
+                gm.speed = float(draws["current_speed"][0])
+            if "current_direction" in draws:
+                gm.direction = float(draws["current_direction"][0])
+            changes["gauss_markov_current"] = gm
+    elif "current_speed" in draws or "current_direction" in draws:
         speed = float(draws["current_speed"][0]) if "current_speed" in draws else float(np.hypot(*current[:2]))
         if "current_direction" in draws:
             heading = math.radians(float(draws["current_direction"][0]))

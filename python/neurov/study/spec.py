@@ -30,8 +30,9 @@ VEHICLE_PARAMETERS = ("mass", "inertia", "added_mass", "linear_damping", "quadra
                       "weight", "buoyancy")
 # Quantities of the environment, drawn as absolute values.
 ENVIRONMENT_PARAMETERS = {
-    "current_speed": "horizontal current speed [m/s], replacing the scenario's",
-    "current_direction": "direction the current flows to [deg from north, towards east]",
+    "current_speed": "horizontal current speed [m/s], replacing the scenario's (a Gauss-Markov current's mean)",
+    "current_direction": "direction the current flows to [deg from north, towards east] (a Gauss-Markov "
+                         "current's mean)",
     "noise_scale": "factor on the scenario's measurement-noise standard deviations",
     "disturbance_scale": "factor on the amplitudes of the scenario's disturbances",
 }

@@ -1,0 +1,130 @@
+"""The sea a run met (:class:`neurov.simulation.Result`): the flow at the
+vehicle over time, and the spectrum of the realised surface elevation against
+the target spectrum. ``neurov run --plot`` writes them as sea.png and
+wave_spectrum.png for a scenario with a sea (docs/disturbances.md).
+"""
+
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+
+import numpy as np
+from matplotlib.figure import Figure
+from numpy.typing import NDArray
+from scipy.integrate import trapezoid
+from scipy.signal import welch
+
+from neurov import _core
+from neurov.decimation import for_plotting
+from neurov.simulation import Result
+
+__all__ = ["has_sea", "realised_spectrum", "sea_flow", "target_spectrum", "wave_spectrum"]
+
+G = 9.81  # m/s^2, as the C++ sea (sea_constants.hpp)
+_AXES = ("N", "E", "D")
+_GRID = {"alpha": 0.3}
+_SHALLOW_BIT = 32  # fault_bits::shallow
+
+
+def has_sea(result: Result) -> bool:
+    """True if the run met a current, waves or a payload change."""
+    return bool(np.any(result.current) or np.any(result.wave_elevation) or np.any(result.payload_mass))
+
+
+def _shape(x: NDArray[np.float64], gamma: float) -> NDArray[np.float64]:
+    """The Pierson-Moskowitz shape 5 x^-5 exp(-5/4 x^-4) in x = omega / omega_p
+    (unit area), times the JONSWAP peak factor for gamma > 1."""
+    with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+        pm = np.where(x > 0, 5.0 / x**5 * np.exp(-1.25 / x**4), 0.0)
+    if gamma == 1.0:
+        return pm
+    sigma = np.where(x <= 1.0, 0.07, 0.09)
+    return pm * gamma ** np.exp(-0.5 * ((x - 1.0) / sigma) ** 2)
+
+
+@lru_cache(maxsize=16)
+def _area(gamma: float) -> float:
+    """The shape's area over x > 0: on [0.2, 10] by the trapezoidal rule (to
+    1e-9), plus the Pierson-Moskowitz tail above 10 (below 0.2 it is 0)."""
+    x = np.linspace(0.2, 10.0, 200001)
+    return float(trapezoid(_shape(x, gamma), x)) + 1.0 - math.exp(-1.25 / 10.0**4)
+
+
+def target_spectrum(waves: _core.WaveConfig, omega: NDArray[np.float64]) -> NDArray[np.float64]:
+    """S(omega) [m^2 s/rad] of `waves`, for drawing: the C++ density
+    (sim/wave_spectrum.hpp) is not bound, so its closed form is written out
+    here once more; JONSWAP is normalised numerically to m0 = Hs^2/16 as the
+    C++ does (tests/python/test_sea_plots.py holds it to m0, DNV's shape, the
+    ITTC form and the C++ test's C(3.3))."""
+    wp = 2.0 * math.pi / waves.tp
+    gamma = float(waves.gamma) if waves.spectrum == _core.WaveSpectrum.jonswap else 1.0
+    x = np.asarray(omega, dtype=np.float64) / wp
+    return waves.hs**2 / 16.0 / wp * _shape(x, gamma) / _area(gamma)
+
+
+def realised_spectrum(result: Result, segment_seconds: float = 200.0) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The one-sided spectrum [m^2 s/rad] of the surface elevation logged
+    above the vehicle, by Welch's method (Hann, half overlap, segments of
+    `segment_seconds` or the whole record), against circular frequency
+    [rad/s]. A moving vehicle sees the waves Doppler-shifted by k U cos(beta)
+    (a few per cent at 0.25 m/s in these seas)."""
+    dt = float(result.scenario.dt)
+    n = len(result.wave_elevation)
+    nperseg = max(8, min(n, round(segment_seconds / dt)))
+    f, p = welch(result.wave_elevation, fs=1.0 / dt, window="hann", nperseg=nperseg, detrend="constant")
+    return 2.0 * math.pi * f, p / (2.0 * math.pi)
+
+
+def wave_spectrum(result: Result, title: str | None = None) -> Figure:
+    """The realised spectrum of the elevation above the vehicle against the
+    target spectrum, with the significant wave heights 4 sqrt(m0) of both."""
+    waves = result.scenario.waves
+    if waves is None:
+        raise ValueError(f"run {result.scenario.name!r} has no waves (its scenario has no [waves] table)")
+    omega, s = realised_spectrum(result)
+    fine = np.linspace(1e-3, max(omega[-1], 4.0 * 2.0 * math.pi / waves.tp), 2000)
+    target = target_spectrum(waves, fine)
+    hs_realised = 4.0 * math.sqrt(trapezoid(s, omega))
+    fig = Figure(figsize=(7.0, 4.2), layout="constrained")
+    ax = fig.add_subplot()
+    ax.plot(fine, target, color="black", label=f"target {waves.spectrum.name}, Hs {waves.hs:g} m, Tp {waves.tp:g} s")
+    ax.plot(omega, s, color="tab:blue", linestyle="--",
+            label=f"realised above the vehicle (Welch), Hs {hs_realised:.2f} m")
+    ax.axvline(2.0 * math.pi / waves.tp, color="gray", linewidth=0.8, linestyle=":")
+    ax.set_xlim(0.0, min(omega[-1], 6.0 * 2.0 * math.pi / waves.tp))
+    ax.set_xlabel("ω [rad/s]")
+    ax.set_ylabel("S(ω) [m² s/rad]")
+    ax.grid(True, **_GRID)
+    ax.legend(loc="best", fontsize=8)
+    ax.set_title(title or f"{result.scenario.name}: wave spectrum, {result.t[-1] - result.t[0]:g} s record")
+    return fig
+
+
+def sea_flow(result: Result, title: str | None = None) -> Figure:
+    """The flow the vehicle met: the current and the orbital velocity at the
+    vehicle (NED), the surface elevation above it and the payload in effect;
+    rows where the vehicle was above the wave model's minimum depth shaded."""
+    r = for_plotting(result)
+    fig = Figure(figsize=(8.0, 8.0), layout="constrained")
+    axes = fig.subplots(4, 1, sharex=True)
+    for ax, name, series in ((axes[0], "current", r.current), (axes[1], "orbital velocity", r.wave_velocity)):
+        for k in range(3):
+            ax.plot(r.t, series[:, k], linewidth=1.0, label=f"{name} {_AXES[k]}")
+        ax.plot(r.t, np.linalg.norm(series, axis=1), color="black", linewidth=0.8, label="|v|")
+        ax.set_ylabel(f"{name} [m/s]")
+        ax.legend(loc="upper right", fontsize=7, ncol=4)
+    axes[2].plot(r.t, r.wave_elevation, color="tab:blue", linewidth=1.0)
+    axes[2].set_ylabel("elevation above [m]")
+    axes[3].step(r.t, r.payload_mass, where="post", color="tab:brown")
+    axes[3].set_ylabel("payload [kg]")
+    axes[3].set_xlabel("t [s]")
+    shallow = (np.asarray(result.faults) & _SHALLOW_BIT) != 0
+    for ax in axes:
+        ax.grid(True, **_GRID)
+        if shallow.any():
+            ax.fill_between(result.t, 0, 1, where=shallow, transform=ax.get_xaxis_transform(),
+                            color="tab:red", alpha=0.15, linewidth=0, step="post")
+    axes[0].set_title(title or f"{result.scenario.name}: the flow at the vehicle"
+                      + (" (red: above the wave model's minimum depth)" if shallow.any() else ""))
+    return fig

@@ -1,0 +1,150 @@
+"""Reading the sea of a scenario file: ``[current] model = "gauss_markov"``,
+``[waves]`` and ``[[payload]]`` (docs/disturbances.md).
+
+Each value goes into the core's own struct (``GaussMarkovCurrentConfig``,
+``WaveConfig``, ``PayloadEvent``): their defaults and their validators are
+the C++ ones. The C++ messages name a struct's field (``hs``); here each
+section is validated on its own, so that the message can name the TOML key
+(``waves.hs``) without guessing which section a field belongs to.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from neurov import _core
+from neurov.scenario import ScenarioError
+from neurov.schema import SchemaError, convert, field_names
+
+if TYPE_CHECKING:
+    from neurov.scenario import Scenario
+    from neurov.scenario_file import _Reader
+
+__all__ = ["CURRENT_MODELS", "read_current_model", "read_payload", "read_waves", "check_payload"]
+
+CURRENT_MODELS = tuple(_core.CurrentModel.__members__)
+# [current] keys of the constant model, refused with gauss_markov (the C++
+# validator refuses a non-zero constant current beside it).
+_CONSTANT_KEYS = ("velocity", "amplitude", "period")
+# PayloadEvent fields that may be left empty (None: the vehicle's own point).
+_OPTIONAL_POINTS = ("mass_position", "buoyancy_position")
+
+
+def _fill(r: _Reader, target: Any, skip: tuple[str, ...] = ()) -> None:
+    """Every field of the bound struct `target` that the table gives, under
+    the field's own name, converted by the kind of the field's default."""
+    for key in field_names(target):
+        if key in skip or not r.has(key):
+            continue
+        try:
+            setattr(target, key, convert(getattr(target, key), r.raw(key), r._name(key)))
+        except SchemaError as e:
+            raise ScenarioError(f"{r.origin}: {e}") from None
+
+
+def _probe() -> Any:
+    """A configuration valid in everything but the section put into it."""
+    c = _core.SimulationConfig()
+    c.command = _core.Command(times=[0.0], poses=np.zeros((1, 6)))
+    return c
+
+
+def _validate_section(probe: Any, origin: str, prefix: str, lists: tuple[str, ...] = ()) -> None:
+    from neurov.scenario_file import _validated
+
+    keys = {name: f"{prefix}.{name}" for name in
+            (*field_names(_core.GaussMarkovCurrentConfig()), *field_names(_core.WaveConfig()))}
+    keys["payload"] = "payload"
+    _validated(probe, origin, keys, lists)
+
+
+def read_current_model(cr: _Reader, config: Any) -> bool:
+    """Reads ``[current] model`` and, for ``"gauss_markov"``, its keys into
+    ``config.gauss_markov_current``; True if the constant model's keys are
+    still to be read."""
+    model = cr.string("model", config.current_model.name, choices=CURRENT_MODELS)
+    config.current_model = _core.CurrentModel.__members__[model]
+    if config.current_model == _core.CurrentModel.constant:
+        for key in field_names(config.gauss_markov_current):
+            if key in cr.table:
+                raise cr.error(key, "is a key of model = \"gauss_markov\"; this [current] table has "
+                                    "model = \"constant\" (the default)")
+        return True
+    for key in _CONSTANT_KEYS:
+        if key in cr.table:
+            raise cr.error(key, "is a key of model = \"constant\"; with model = \"gauss_markov\" the "
+                                "current is the Gauss-Markov process alone (speed, direction, ...)")
+    gm = _core.GaussMarkovCurrentConfig()
+    _fill(cr, gm)
+    probe = _probe()
+    probe.current_model = config.current_model
+    probe.gauss_markov_current = gm
+    _validate_section(probe, cr.origin, cr.where)
+    config.gauss_markov_current = gm
+    return False
+
+
+def read_waves(r: _Reader, config: Any) -> None:
+    """``[waves]``: absent, a calm sea; present (even empty), the C++
+    defaults (JONSWAP, Hs 2 m, Tp 8 s) for the keys it does not give."""
+    if not r.has("waves"):
+        return
+    wr = r.table_of("waves")
+    waves = _core.WaveConfig()
+    _fill(wr, waves)
+    wr.finish()
+    probe = _probe()
+    probe.waves = waves
+    _validate_section(probe, r.origin, "waves")
+    config.waves = waves
+
+
+def read_payload(r: _Reader, config: Any) -> None:
+    """``[[payload]]``: the events in time order; each against the vehicle it
+    changes is checked by :func:`check_payload`."""
+    from neurov.scenario_file import _tables
+
+    events = []
+    for pr in _tables(r, "payload"):
+        event = _core.PayloadEvent()
+        for key in _OPTIONAL_POINTS:
+            if pr.has(key):
+                setattr(event, key, pr.array(key, 3, broadcast=False))
+        _fill(pr, event, skip=_OPTIONAL_POINTS)
+        pr.finish()
+        events.append(event)
+    if not events:
+        return
+    probe = _probe()
+    probe.payload = events
+    _validate_section(probe, r.origin, "payload", lists=("payload",))
+    config.payload = events
+
+
+def check_payload(scenario: Scenario, origin: str) -> None:
+    """The payload events against the scenario's vehicle (a mass that would
+    leave the vehicle with mass <= 0, a buoyancy < 0, ...), by the C++
+    simulator's own check; also the one current at a time rule."""
+    from neurov.scenario_file import _validated
+
+    c = scenario.simulation
+    if c.current_model == _core.CurrentModel.gauss_markov and len(c.current_steps):
+        raise ScenarioError(f"{origin}: current_steps: expected none with current.model = \"gauss_markov\" "
+                            "(the Gauss-Markov process is the whole current)")
+    if not len(c.payload):
+        return
+    vehicle = scenario.vehicle_data().vehicle(scenario.vehicle_parameters)
+    probe = _probe()
+    probe.payload = list(c.payload)
+
+    class _Creation:
+        """The simulator's creation as a validator (it checks the events
+        against the vehicle each one changes)."""
+
+        def validate(self) -> None:
+            _core.Simulator(vehicle, probe)
+
+    _validated(_Creation(), origin, {"payload": "payload"}, ("payload",))
+
