@@ -66,6 +66,21 @@ void bind_sim_config(py::module_& m) {
         .value("spreading", &T::spreading, "n of the cos^n directional spreading; 0: long-crested.")
         .value("components", &T::components, "Number of components, 1 to 512.")
         .finish();
+    // The target S(omega) drawn beside a run's realised spectrum: the C++
+    // density itself, so the plot cannot drift from what the waves realise.
+    cls.def(
+        "spectral_density",
+        [](const T& c, const py::array_t<double, py::array::c_style | py::array::forcecast>& omega) {
+          const SpectralDensity density = SpectralDensity::from(c);
+          py::array_t<double> out(omega.request().shape);
+          const double* w = omega.data();
+          double* s = out.mutable_data();
+          for (py::ssize_t i = 0; i < omega.size(); ++i) s[i] = density(w[i]);
+          return out;
+        },
+        py::arg("omega"),
+        "S(omega) [m^2 s/rad] of this spectrum at the circular frequencies `omega` [rad/s] "
+        "(0 for omega <= 0); JONSWAP normalised so that its m0 is hs^2/16.");
   }
   {
     using T = PayloadEvent<double>;

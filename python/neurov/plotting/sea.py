@@ -7,7 +7,6 @@ wave_spectrum.png for a scenario with a sea (docs/disturbances.md).
 from __future__ import annotations
 
 import math
-from functools import lru_cache
 
 import numpy as np
 from matplotlib.figure import Figure
@@ -32,35 +31,11 @@ def has_sea(result: Result) -> bool:
     return bool(np.any(result.current) or np.any(result.wave_elevation) or np.any(result.payload_mass))
 
 
-def _shape(x: NDArray[np.float64], gamma: float) -> NDArray[np.float64]:
-    """The Pierson-Moskowitz shape 5 x^-5 exp(-5/4 x^-4) in x = omega / omega_p
-    (unit area), times the JONSWAP peak factor for gamma > 1."""
-    with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
-        pm = np.where(x > 0, 5.0 / x**5 * np.exp(-1.25 / x**4), 0.0)
-    if gamma == 1.0:
-        return pm
-    sigma = np.where(x <= 1.0, 0.07, 0.09)
-    return pm * gamma ** np.exp(-0.5 * ((x - 1.0) / sigma) ** 2)
-
-
-@lru_cache(maxsize=16)
-def _area(gamma: float) -> float:
-    """The shape's area over x > 0: on [0.2, 10] by the trapezoidal rule (to
-    1e-9), plus the Pierson-Moskowitz tail above 10 (below 0.2 it is 0)."""
-    x = np.linspace(0.2, 10.0, 200001)
-    return float(trapezoid(_shape(x, gamma), x)) + 1.0 - math.exp(-1.25 / 10.0**4)
-
-
 def target_spectrum(waves: _core.WaveConfig, omega: NDArray[np.float64]) -> NDArray[np.float64]:
-    """S(omega) [m^2 s/rad] of `waves`, for drawing: the C++ density
-    (sim/wave_spectrum.hpp) is not bound, so its closed form is written out
-    here once more; JONSWAP is normalised numerically to m0 = Hs^2/16 as the
-    C++ does (tests/python/test_sea_plots.py holds it to m0, DNV's shape, the
-    ITTC form and the C++ test's C(3.3))."""
-    wp = 2.0 * math.pi / waves.tp
-    gamma = float(waves.gamma) if waves.spectrum == _core.WaveSpectrum.jonswap else 1.0
-    x = np.asarray(omega, dtype=np.float64) / wp
-    return waves.hs**2 / 16.0 / wp * _shape(x, gamma) / _area(gamma)
+    """S(omega) [m^2 s/rad] of `waves` at `omega` [rad/s]: the C++ spectral
+    density (:meth:`neurov._core.WaveConfig.spectral_density`) the waves are
+    realised from."""
+    return waves.spectral_density(np.asarray(omega, dtype=np.float64))
 
 
 def realised_spectrum(result: Result, segment_seconds: float = 200.0) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
