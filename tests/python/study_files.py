@@ -1,0 +1,159 @@
+"""Study files shared by the study tests: two short scenarios (a BlueROV2
+heading step and a NEROV depth step, 30 s each) and a small study over them,
+so a whole study runs in seconds."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+# A short BlueROV2 heading step next to a shipped scenario trimmed to 30 s,
+# so the whole file runs in seconds.
+SHORT_BLUEROV = """
+name = "short_bluerov"
+duration = 30.0
+[vehicle]
+preset = "bluerov2_heavy"
+[command]
+type = "waypoints"
+interpolation = "hold"
+times = [0.0, 2.0]
+poses = [[0, 0, 1, 0, 0, 0], [1, 0, 1, 0, 0, 0.5]]
+[controller]
+type = "pd"
+kp = 10.0
+kd = 10.0
+[current]
+velocity = [0.2, 0.0, 0.0]
+[noise]
+eta = [0.01, 0.01, 0.01, 0.002, 0.002, 0.005]
+"""
+
+SHORT_NEROV = """
+name = "short_nerov"
+duration = 30.0
+[vehicle]
+preset = "nerov"
+thrusters = true
+[command]
+type = "waypoints"
+interpolation = "hold"
+times = [0.0, 2.0]
+poses = [[0, 0, 0, 0, 0, 0], [0, 0, 2, 0, 0, 0.5]]
+[controller]
+type = "pd"
+kp = 50.0
+kd = 200.0
+[[disturbances]]
+dof = "yaw"
+amplitude = 10.0
+frequency = 0.05
+"""
+
+STUDY = """
+name = "small"
+description = "2 scenarios x 3 controllers x 4 samples"
+seed = 7
+samples = 4
+after = 5.0
+scenarios = ["short_nerov.toml", "short_bluerov.toml"]
+head_to_head = [["nn", "linear"]]
+
+[ranking]
+metric = "rmse_position_m"
+
+[failure]
+rmse_position_m = 0.5
+
+[controllers.pd]
+type = "pd"
+label = "PD"
+[controllers.pd.nerov]
+kp = [100, 100, 100, 50, 50, 50]
+kd = [200, 200, 200, 50, 50, 50]
+[controllers.pd.bluerov2_heavy]
+kp = [20, 20, 20, 2, 2, 2]
+kd = [25, 25, 40, 1, 1, 1]
+
+[controllers.linear]
+type = "linear"
+theta0 = "true"
+label = "linear adaptive"
+[controllers.linear.nerov]
+kd = [200, 200, 200, 50, 50, 50]
+[controllers.linear.bluerov2_heavy]
+kd = [25, 25, 40, 1, 1, 1]
+gamma = 0.1
+
+[controllers.nn]
+type = "nn"
+label = "NN adaptive"
+[controllers.nn.centres]
+method = "sobol"
+n = 16
+seed = 1
+[controllers.nn.nerov]
+kd = [200, 200, 200, 50, 50, 50]
+[controllers.nn.bluerov2_heavy]
+kd = [25, 25, 40, 1, 1, 1]
+gamma = 0.03
+
+[[perturbations]]
+parameter = "mass"
+relative = 0.3
+
+[[perturbations]]
+parameter = "added_mass"
+relative = 0.2
+distribution = "normal"
+
+[[perturbations]]
+parameter = "linear_damping"
+relative = 0.3
+per_element = false
+
+[[perturbations]]
+parameter = "current_speed"
+range = [0.0, 0.5]
+
+[[perturbations]]
+parameter = "current_direction"
+range = [0.0, 360.0]
+
+[[perturbations]]
+parameter = "noise_scale"
+range = [0.5, 2.0]
+"""
+
+
+def write_study(folder: Path, text: str = STUDY, name: str = "small.toml") -> Path:
+    (folder / "short_nerov.toml").write_text(SHORT_NEROV)
+    (folder / "short_bluerov.toml").write_text(SHORT_BLUEROV)
+    path = folder / name
+    path.write_text(text)
+    return path
+
+
+@pytest.fixture
+def study_file(tmp_path: Path) -> Path:
+    return write_study(tmp_path)
+
+
+def study_with(change: str) -> str:
+    """The small study with one top-level key or table replaced by `change`."""
+    base = [
+        'name = "small"', "seed = 1", "samples = 2",
+        'scenarios = ["short_nerov.toml", "short_bluerov.toml"]',
+        "[controllers.pd]", 'type = "pd"', "kp = 1.0", "kd = 1.0",
+    ]
+    head, _, _ = change.partition("\n")
+    key = head.split("=")[0].strip()
+    if key.startswith("[controllers"):
+        base = base[:4] + [change]
+    elif "=" in head and not head.startswith("["):
+        base = [line for line in base if not line.startswith(key + " ")]
+        base.insert(0, change)
+    else:
+        base.append(change)
+    return "\n".join(base) + "\n"
