@@ -87,7 +87,7 @@ struct Table {
 };
 
 struct alignas(NEUROV_STORAGE_ALIGN) Storage {
-  unsigned char bytes[NEUROV_ALLOCATOR_STORAGE_BYTES(kN)];
+  unsigned char bytes[NEUROV_ALLOCATOR_STORAGE_BYTES(kN)]{};  // zeroed: the tests compare bytes
 };
 
 neurov_allocator_params heavy_params(const Layout& l) {

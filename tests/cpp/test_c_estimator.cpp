@@ -18,7 +18,7 @@ namespace {
 using Filter = neurov::Ekf<float>;
 
 struct alignas(NEUROV_STORAGE_ALIGN) Storage {
-  unsigned char bytes[NEUROV_EKF_STORAGE_BYTES];
+  unsigned char bytes[NEUROV_EKF_STORAGE_BYTES]{};  // zeroed: the tests compare bytes
 };
 
 neurov_ekf_params params() {
