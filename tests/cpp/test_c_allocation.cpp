@@ -45,13 +45,11 @@ struct Layout {
   MatB matrix() const {
     MatB b;
     for (int i = 0; i < kN; ++i) {
-      const double* r = nullptr;
-      double rr[3], d[3];
+      double r[3], d[3];
       for (int k = 0; k < 3; ++k) {
-        rr[k] = positions[3 * i + k];
+        r[k] = positions[3 * i + k];
         d[k] = directions[3 * i + k];
       }
-      r = rr;
       b.col(i) << d[0], d[1], d[2], r[1] * d[2] - r[2] * d[1], r[2] * d[0] - r[0] * d[2],
           r[0] * d[1] - r[1] * d[0];
     }
@@ -326,8 +324,6 @@ TEST(CAllocation, BadInputIsRefusedWithNeutralCommandsAndNothingChanged) {
 }
 
 TEST(CAllocation, CreateNamesTheBadArgument) {
-  Layout l;
-  Table t;
   struct Case {
     const char* field;
     int index;
@@ -377,8 +373,6 @@ TEST(CAllocation, CreateNamesTheBadArgument) {
     EXPECT_EQ(neurov_allocator_step(reinterpret_cast<neurov_allocator*>(s.bytes), tau, 16.0f, commands, nullptr),
               NEUROV_STATUS_INVALID_ARGUMENT) << "a refused create leaves no object: " << c.field;
   }
-  (void)l;
-  (void)t;
 }
 
 TEST(CAllocation, StorageTooSmallOrMisalignedIsRefused) {
