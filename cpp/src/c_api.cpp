@@ -16,6 +16,7 @@
 #include "neurov/control/reference_model.hpp"
 #include "neurov/core/status.hpp"
 #include "neurov/core/validation.hpp"
+#include "c_api_internal.hpp"
 
 namespace {
 
@@ -25,12 +26,12 @@ static_assert(NEUROV_C_INPUTS == neurov::kNNInputs, "c_api.h and nn_controller.h
 
 using Controller = neurov::NNAdaptiveController<float, kCentres>;
 using Network = Controller::Network;
-using Vec6 = neurov::Vector6<float>;
-using CVec6 = Eigen::Map<const Vec6>;
 // The C side hands over row-major arrays (one centre, one output row after the
 // other); Eigen's matrices are column-major, so these maps do the transposition.
 using CentresIn = Eigen::Map<const Eigen::Matrix<float, kCentres, neurov::kNNInputs, Eigen::RowMajor>>;
 using WeightsRowMajor = Eigen::Matrix<float, 6, kCentres, Eigen::RowMajor>;
+
+using namespace neurov::c_api;
 
 static_assert(static_cast<int>(NEUROV_STATUS_OK) == static_cast<int>(neurov::Status::ok) &&
                   static_cast<int>(NEUROV_STATUS_NEAR_SINGULARITY) ==
@@ -51,61 +52,6 @@ static_assert(static_cast<int>(NEUROV_MODIFICATION_NONE) ==
                   static_cast<int>(NEUROV_MODIFICATION_PROJECTION) ==
                       static_cast<int>(neurov::RobustModification::projection),
               "neurov_modification must mirror neurov::RobustModification");
-
-neurov_status to_c(neurov::Status s) { return static_cast<neurov_status>(s); }
-
-neurov_status fail(neurov_validation_error* error, const neurov::ValidationError& e) {
-  if (error != nullptr) {
-    error->field = e.field;
-    error->index = e.index;
-    error->value = e.value;
-    error->expected = e.expected;
-  }
-  return NEUROV_STATUS_INVALID_ARGUMENT;
-}
-
-neurov_status fail(neurov_validation_error* error, const char* field, double value,
-                   const char* expected) {
-  return fail(error, neurov::detail::invalid(field, -1, value, expected));
-}
-
-void clear(neurov_validation_error* error) {
-  if (error == nullptr) return;
-  error->field = nullptr;
-  error->index = -1;
-  error->value = 0.0;
-  error->expected = nullptr;
-}
-
-/// The storage checks shared by both create() functions.
-template <typename T>
-bool storage_fits(void* storage, std::size_t size, neurov_validation_error* error,
-                  neurov_status& status) {
-  if (storage == nullptr) {
-    status = fail(error, "storage", 0.0, "a buffer, not NULL");
-    return false;
-  }
-  if (reinterpret_cast<std::uintptr_t>(storage) % alignof(T) != 0) {
-    status = fail(error, "storage", static_cast<double>(reinterpret_cast<std::uintptr_t>(storage) %
-                                                        alignof(T)),
-                  "aligned to neurov_storage_align() (value: address modulo it)");
-    return false;
-  }
-  if (size < sizeof(T)) {
-    status = fail(error, "size", static_cast<double>(size), "at least the object's storage size");
-    return false;
-  }
-  return true;
-}
-
-void zero6(float* v) {
-  if (v != nullptr)
-    for (int i = 0; i < 6; ++i) v[i] = 0.0f;
-}
-
-void copy6(const Vec6& from, float* to) {
-  for (int i = 0; i < 6; ++i) to[i] = from(i);
-}
 
 // Every object starts with a canary that create() writes last, once the object
 // is valid, and every other call checks: a buffer create() never saw (or
@@ -128,16 +74,6 @@ struct neurov_reference {
 };
 
 namespace {
-
-/// The canary of the object of type T at p, read as bytes (p may be any
-/// pointer a caller passes; it is dereferenced only when aligned for T).
-template <typename T>
-bool created(const T* p, std::uint32_t canary) {
-  if (p == nullptr || reinterpret_cast<std::uintptr_t>(p) % alignof(T) != 0) return false;
-  std::uint32_t found = 0;
-  std::memcpy(&found, &p->canary, sizeof found);
-  return found == canary;
-}
 
 bool valid(const neurov_nn* nn) { return created(nn, kNNCanary); }
 bool valid(const neurov_reference* ref) { return created(ref, kReferenceCanary); }
@@ -168,8 +104,11 @@ const char* neurov_status_name(neurov_status status) {
 uint32_t neurov_nn_centres(void) { return static_cast<uint32_t>(kCentres); }
 size_t neurov_nn_storage_size(void) { return sizeof(neurov_nn); }
 size_t neurov_storage_align(void) {
-  return alignof(neurov_nn) > alignof(neurov_reference) ? alignof(neurov_nn)
-                                                        : alignof(neurov_reference);
+  std::size_t a = alignof(neurov_nn) > alignof(neurov_reference) ? alignof(neurov_nn)
+                                                                 : alignof(neurov_reference);
+  if (allocator_align() > a) a = allocator_align();
+  if (ekf_align() > a) a = ekf_align();
+  return a;
 }
 
 void neurov_nn_params_init(neurov_nn_params* params) {

@@ -193,6 +193,48 @@ void computed_torque() {
               static_cast<double>((eta - r).norm()));
 }
 
+/// Thrust allocation for eight vectored thrusters with an inverse curve:
+/// inside the attainable set the thrusts give tau back, the commands give
+/// the thrusts back through the table, and a NaN tau gets neutral commands.
+template <typename S>
+void thrust_allocation() {
+  using Alloc = ThrustAllocator<S, 8>;
+  Eigen::Matrix<S, 6, 8> b8;
+  CHECK(allocation_matrix(bluerov2_heavy_assumed_layout<S>(), b8).ok());
+  const typename Alloc::Vector lo = Alloc::Vector::Constant(8, S(-40)), hi = Alloc::Vector::Constant(8, S(50));
+  Alloc alloc;
+  typename Alloc::Matrix singular = b8;
+  singular.row(2).setZero();  // no heave
+  CHECK(same_field(Alloc::create(singular, lo, hi, typename Alloc::Vector(), Saturation::scale, alloc),
+                   "thrusters.matrix"));
+  CHECK(!alloc.valid());
+  CHECK(Alloc::create(b8, lo, hi, typename Alloc::Vector(), Saturation::scale, alloc).ok());
+  ThrusterCurveConfig<S> tc;
+  const double cmd[] = {-1, -0.1, 0.1, 1}, thr[] = {-40, 0, 0, 51};
+  tc.points = 4;
+  for (int i = 0; i < 4; ++i) {
+    tc.command[i] = static_cast<S>(cmd[i]);
+    tc.thrust[i] = static_cast<S>(thr[i]);
+  }
+  tc.dead_band = S(0.1);
+  tc.reference_voltage = S(16);
+  ThrusterCurve<S> curve;
+  CHECK(ThrusterCurve<S>::create(tc, curve).ok());
+  const ThrusterCurve<S>* curves[8] = {&curve, &curve, &curve, &curve, &curve, &curve, &curve, &curve};
+  Vector6<S> tau;
+  tau << S(20), S(-10), S(15), S(1.5), S(-2), S(3);
+  typename Alloc::Vector u, command;
+  CHECK(alloc.allocate(tau, S(16), curves, u, command) == Status::ok);
+  const S tol = std::is_same<S, float>::value ? S(1e-4) : S(1e-10);
+  CHECK((b8 * u - tau).cwiseAbs().maxCoeff() < tol * S(20));
+  for (int i = 0; i < 8; ++i) CHECK(std::abs(curve.static_thrust(command(i), S(16)) - u(i)) < tol * S(51));
+  tau(0) = std::numeric_limits<S>::quiet_NaN();
+  CHECK(alloc.allocate(tau, S(16), curves, u, command) == Status::non_finite_input);
+  CHECK(u.isZero(0) && command.isZero(0));
+  std::printf("%s: thrust allocation, 8 thrusters with an inverse curve\n",
+              std::is_same<S, float>::value ? "float" : "double");
+}
+
 }  // namespace
 
 int main() {
@@ -202,6 +244,8 @@ int main() {
   closed_loop_and_bad_input<double>();
   computed_torque<float>();
   computed_torque<double>();
+  thrust_allocation<float>();
+  thrust_allocation<double>();
   std::printf("%s: %d failure(s)\n", failures == 0 ? "PASS" : "FAIL", failures);
   return failures == 0 ? 0 : 1;
 }

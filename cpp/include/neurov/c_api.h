@@ -1,8 +1,9 @@
 /* neurov's C interface, for firmware written in C.
  *
  * The RBF neural-network adaptive controller (float, a number of centres N
- * fixed when the library neurov_c was built: NEUROV_C_CENTRES) and the
- * reference model, each living in a buffer the caller provides. Nothing here
+ * fixed when the library neurov_c was built: NEUROV_C_CENTRES), the
+ * reference model, the thrust allocation with the inverse thrust curves and
+ * the state estimator, each living in a buffer the caller provides. Nothing here
  * allocates, throws or blocks: create() builds the object inside the buffer,
  * step() runs in bounded time, and there is no destroy (the buffer is plain
  * memory; call create() on it again to start over).
@@ -175,6 +176,154 @@ neurov_status neurov_reference_step(neurov_reference* ref, const float r[6], flo
 
 /* Back to rest at eta0; NON_FINITE_INPUT (unchanged) for NaN/Inf. */
 neurov_status neurov_reference_reset(neurov_reference* ref, const float eta0[6]);
+
+/* ---- thrust allocation with the inverse thrust curve ------------------- */
+
+/* Most thrusters an allocator takes (the BlueROV2 Heavy has 8). */
+#define NEUROV_C_MAX_THRUSTERS 8
+/* Most rows of a thrust-curve table (neurov::kThrusterCurveCapacity). */
+#define NEUROV_C_CURVE_POINTS 256
+/* Storage of an allocator with `curves` distinct curves, an upper bound as a
+ * compile-time constant (the exact size: neurov_allocator_storage_size()):
+ * 1 KiB for the layout and pseudo-inverse, 2.1 KiB per curve table. */
+#define NEUROV_ALLOCATOR_STORAGE_BYTES(curves) (1024u + 2112u * (unsigned)(curves))
+
+/* How a wrench beyond the thrusters' reach is cut down. */
+typedef enum neurov_saturation {
+  /* One factor for all thrusters: the wrench keeps its direction. */
+  NEUROV_SATURATION_SCALE = 0,
+  /* Each thruster clipped to its limits: the wrench may turn. */
+  NEUROV_SATURATION_CLIP = 1
+} neurov_saturation;
+
+/* A thruster's static curve, command -> thrust at reference_voltage: a table
+ * (linearly interpolated; commands strictly increasing, in any unit, e.g.
+ * PWM us), a dead band around the neutral command, and thrust scaling as
+ * (voltage / reference_voltage)^voltage_exponent. Outside the dead band the
+ * thrust must rise strictly with the command (reverse thrusts below neutral,
+ * forward above), so that it can be inverted. */
+typedef struct neurov_thruster_curve {
+  uint32_t points;       /* rows, 2..NEUROV_C_CURVE_POINTS */
+  const float* command;  /* `points` commands */
+  const float* thrust;   /* `points` thrusts [N] */
+  float neutral;         /* command of zero thrust, inside the table */
+  float dead_band;       /* half-width around neutral (>= 0) */
+  float reference_voltage; /* [V] of the table (> 0) */
+  float voltage_exponent;  /* (>= 0; 2: thrust ~ speed^2 ~ voltage^2) */
+} neurov_thruster_curve;
+
+/* The thruster layout; fill with neurov_allocator_params_init() first. */
+typedef struct neurov_allocator_params {
+  uint32_t thrusters;       /* n, 6..NEUROV_C_MAX_THRUSTERS */
+  /* Either B (6 x n, row-major: row k = DOF k, tau = B u) ... */
+  const float* matrix;
+  /* ... or, with matrix NULL, each thruster's position r (n x 3, body axes,
+   * m) and unit thrust direction d (n x 3): column i of B = [d; r x d]. */
+  const float* positions;
+  const float* directions;
+  const float* min_thrust;  /* n limits [N], <= 0 */
+  const float* max_thrust;  /* n limits [N], >= 0, > min */
+  const float* weights;     /* n allocation weights (> 0), or NULL for 1 */
+  neurov_saturation saturation;
+  /* 0: the commands are the thrusts [N]. Otherwise `curves` holds
+   * curve_count tables and thruster i uses curves[curve_of[i]]; curve_of may
+   * be NULL when curve_count is 1 (one curve for all) or n (curve i). */
+  uint32_t curve_count;
+  const neurov_thruster_curve* curves;
+  const uint8_t* curve_of;
+} neurov_allocator_params;
+
+typedef struct neurov_allocator neurov_allocator; /* lives in the caller's buffer */
+
+/* Zero arrays, scale saturation, no curves. */
+void neurov_allocator_params_init(neurov_allocator_params* params);
+
+/* Exact bytes for an allocator with `curve_count` curves
+ * (<= NEUROV_ALLOCATOR_STORAGE_BYTES(curve_count)); 0 for more than
+ * NEUROV_C_MAX_THRUSTERS curves. */
+size_t neurov_allocator_storage_size(uint32_t curve_count);
+
+/* Builds an allocator in `storage`: checks the layout (B of rank 6, the
+ * limits, each curve) and computes the weighted pseudo-inverse
+ * u = W^-1 B^T (B W^-1 B^T)^-1 tau. Copies the arrays. Errors as for
+ * neurov_nn_create(). */
+neurov_status neurov_allocator_create(void* storage, size_t size,
+                                      const neurov_allocator_params* params,
+                                      neurov_allocator** out, neurov_validation_error* error);
+
+/* tau (6) -> thrusts u (n, may be NULL) -> commands (n): the pseudo-inverse,
+ * each thrust limited to [min, max] and to what its curve yields at
+ * `voltage` [V], the saturation law, then the inverse curve (a thrust inside
+ * the dead band's jump gives the band's edge; 0 gives neutral). `voltage` is
+ * read only when there are curves. On any status but OK the thrusts are 0
+ * and every command is its neutral one (0 without a curve):
+ * NON_FINITE_INPUT for NaN/Inf in tau or the voltage, INVALID_ARGUMENT for a
+ * voltage <= 0 or a bad pointer. */
+neurov_status neurov_allocator_step(neurov_allocator* alloc, const float tau[6], float voltage,
+                                    float* commands, float* thrusts);
+
+/* n of the allocator (0 for a bad pointer). */
+uint32_t neurov_allocator_thrusters(const neurov_allocator* alloc);
+
+/* Status of the last step (OK before the first). */
+neurov_status neurov_allocator_status(const neurov_allocator* alloc);
+
+/* ---- state estimator: extended Kalman filter (15 states) -------------- */
+
+/* State x = [position (NED, 3), attitude (phi, theta, psi), body velocity
+ * (u, v, w), body rates (p, q, r), gyro bias (3)]. The prediction is
+ * kinematic (velocities as random walks), so it needs neither tau nor the
+ * vehicle's coefficients. */
+#define NEUROV_EKF_STATES 15
+#define NEUROV_EKF_STORAGE_BYTES 2048u
+
+/* Every field must be set (no defaults: they belong to the sensors). */
+typedef struct neurov_ekf_params {
+  float linear_acceleration_noise;  /* [m/s^2/sqrt(Hz)], >= 0 */
+  float angular_acceleration_noise; /* [rad/s^2/sqrt(Hz)], >= 0 */
+  float gyro_bias_walk;             /* [rad/s/sqrt(s)], >= 0 */
+  float attitude_noise;             /* std of the AHRS attitude [rad], > 0 */
+  float gyro_noise;                 /* std of the gyro [rad/s], > 0 */
+  float dvl_noise;                  /* std of the DVL per axis [m/s], > 0 */
+  float depth_noise;                /* std of the depth [m], > 0 */
+  float position_noise;             /* std of an acoustic fix per axis [m], > 0 */
+  float initial_std[NEUROV_EKF_STATES]; /* std of the initial estimate, > 0 */
+} neurov_ekf_params;
+
+typedef struct neurov_ekf neurov_ekf; /* lives in the caller's buffer */
+
+size_t neurov_ekf_storage_size(void); /* <= NEUROV_EKF_STORAGE_BYTES */
+
+/* Starts at (eta0, nu0), zero gyro bias, covariance diag(initial_std^2). */
+neurov_status neurov_ekf_create(void* storage, size_t size, const neurov_ekf_params* params,
+                                const float eta0[6], const float nu0[6], neurov_ekf** out,
+                                neurov_validation_error* error);
+
+/* Back to (eta0, nu0) as create() started; NON_FINITE_INPUT (unchanged) for NaN/Inf. */
+neurov_status neurov_ekf_reset(neurov_ekf* ekf, const float eta0[6], const float nu0[6]);
+
+/* Propagates by dt in (0, 10] s. Each update fuses one measurement when the
+ * sensor delivers it. On any status but OK (and NEAR_SINGULARITY, which
+ * predict() reports for a pitch near +-90 deg and still applies) the
+ * estimate and covariance are exactly as before: NON_FINITE_INPUT for
+ * NaN/Inf, INVALID_ARGUMENT for a bad pointer or dt, NON_FINITE_OUTPUT when
+ * the update would overflow. */
+neurov_status neurov_ekf_predict(neurov_ekf* ekf, float dt);
+neurov_status neurov_ekf_update_attitude(neurov_ekf* ekf, const float attitude[3]); /* AHRS */
+neurov_status neurov_ekf_update_gyro(neurov_ekf* ekf, const float rates[3]);       /* p, q, r */
+neurov_status neurov_ekf_update_dvl(neurov_ekf* ekf, const float velocity[3]);     /* u, v, w */
+neurov_status neurov_ekf_update_depth(neurov_ekf* ekf, float depth);               /* z, down */
+/* An acoustic (USBL) fix [x, y, z] taken `age` seconds ago (0..10). */
+neurov_status neurov_ekf_update_position(neurov_ekf* ekf, const float position[3], float age);
+
+/* The estimate (either pointer may be NULL); zeros for a bad pointer. */
+void neurov_ekf_estimate(const neurov_ekf* ekf, float eta[6], float nu[6]);
+/* The 15 variances of the covariance diagonal (order of the state). */
+void neurov_ekf_covariance_diagonal(const neurov_ekf* ekf, float variance[NEUROV_EKF_STATES]);
+/* The estimated gyro bias [rad/s]. */
+void neurov_ekf_gyro_bias(const neurov_ekf* ekf, float bias[3]);
+/* Status of the last call that changed or refused to change the estimate. */
+neurov_status neurov_ekf_status(const neurov_ekf* ekf);
 
 #ifdef __cplusplus
 }

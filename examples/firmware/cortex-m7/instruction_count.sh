@@ -22,20 +22,25 @@ count() {  # binary -> instructions executed
   qemu-arm -cpu max -singlestep -d exec,nochain "$1" 2>&1 >/dev/null | grep -c '^Trace' || true
 }
 
-printf '%6s %14s %14s\n' N "reference step" "NN step"
+printf '%6s %14s %14s %14s %14s\n' N "reference step" "NN step" "allocation" "estimator"
 sizes=("$@")
 [ ${#sizes[@]} -eq 0 ] && sizes=(16 64 256)
 for n in "${sizes[@]}"; do
-  arm-none-eabi-g++ "${flags[@]}" -fno-exceptions -fno-rtti -DNEUROV_C_CENTRES="$n" \
-    -c "$root/cpp/src/c_api.cpp" -o "$work/c_api_$n.o"
+  objects=()
+  for src in c_api c_api_allocation c_api_estimator; do
+    arm-none-eabi-g++ "${flags[@]}" -fno-exceptions -fno-rtti -DNEUROV_C_CENTRES="$n" \
+      -c "$root/cpp/src/$src.cpp" -o "$work/${src}_$n.o"
+    objects+=("$work/${src}_$n.o")
+  done
   counts=()
-  for loop in 0 1 2; do
+  for loop in 0 1 2 3 4; do
     arm-none-eabi-gcc "${flags[@]}" -std=c11 -DNEUROV_C_CENTRES="$n" -DLOOP=$loop \
       -DSTEPS=$steps -nostartfiles -static -Wl,--gc-sections -Wl,-Ttext=0x10000 \
-      --specs=nano.specs "$here/instruction_count.c" "$work/c_api_$n.o" -lm \
+      --specs=nano.specs "$here/instruction_count.c" "${objects[@]}" -lm \
       -o "$work/count_${n}_$loop.elf"
     counts[$loop]=$(count "$work/count_${n}_$loop.elf")
   done
-  printf '%6d %14d %14d\n' "$n" $(( (counts[1] - counts[0]) / steps )) \
-    $(( (counts[2] - counts[1]) / steps ))
+  printf '%6d %14d %14d %14d %14d\n' "$n" $(( (counts[1] - counts[0]) / steps )) \
+    $(( (counts[2] - counts[1]) / steps )) $(( (counts[3] - counts[2]) / steps )) \
+    $(( (counts[4] - counts[3]) / steps ))
 done

@@ -1,42 +1,64 @@
-/* A C firmware's control task on a Cortex-M7, linked against neurov_c: the
- * NN controller and the reference model in static storage, stepped at a fixed
- * rate. There is no vehicle here, so a first-order stand-in plant closes the
- * loop; on a vehicle, read_sensors() and write_thrusters() talk to hardware
- * and a timer interrupt paces the loop. The image exists to be linked, sized
- * and checked for heap and exception symbols (examples/firmware/cortex-m7). */
+/* A C firmware's control task on a Cortex-M7, linked against neurov_c: one
+ * control cycle per period, sensors -> estimator -> reference model -> NN
+ * controller -> thrust allocation with the inverse thrust curve -> thruster
+ * commands, every object in static storage. There is no vehicle here, so a
+ * first-order stand-in plant closes the loop; on a vehicle, the sensor reads
+ * and write_thrusters() talk to hardware and a timer interrupt paces the
+ * loop. The image exists to be linked, sized and checked for heap and
+ * exception symbols (examples/firmware/cortex-m7). */
 #include <stdint.h>
 
 #include "neurov/c_api.h"
 
 #define N NEUROV_C_CENTRES
+#define THRUSTERS 6
+#define DT 0.2f
 
 static _Alignas(NEUROV_STORAGE_ALIGN) unsigned char nn_storage[NEUROV_NN_STORAGE_BYTES(N)];
 static _Alignas(NEUROV_STORAGE_ALIGN) unsigned char ref_storage[NEUROV_REFERENCE_STORAGE_BYTES];
+static _Alignas(NEUROV_STORAGE_ALIGN) unsigned char ekf_storage[NEUROV_EKF_STORAGE_BYTES];
+static _Alignas(NEUROV_STORAGE_ALIGN) unsigned char alloc_storage[NEUROV_ALLOCATOR_STORAGE_BYTES(1)];
 
+/* NEROV's six thrusters as neurov's vehicle file assumes them (positions in
+ * m, body axes), 250 N each way, and one normalised command curve (-1..1)
+ * with a dead band and weaker reverse thrust, in flash. */
+static const float kPositions[3 * THRUSTERS] = {-0.5f, 0.3f, 0, -0.5f, -0.3f, 0, 0.4f, 0, 0,
+                                                0.4f,  0,    0, -0.4f, 0.3f,  0, -0.4f, -0.3f, 0};
+static const float kDirections[3 * THRUSTERS] = {1, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 1, 0, 0, 1};
+static const float kMinThrust[THRUSTERS] = {-250, -250, -250, -250, -250, -250};
+static const float kMaxThrust[THRUSTERS] = {250, 250, 250, 250, 250, 250};
+static const float kCurveCommand[] = {-1.0f, -0.5f, -0.05f, 0.05f, 0.5f, 1.0f};
+static const float kCurveThrust[] = {-200.0f, -70.0f, 0.0f, 0.0f, 90.0f, 250.0f};
+
+/* The stand-in vehicle: its true state, and what the thrusters receive. */
 static float eta[6], nu[6];
-static volatile float thrust_out[6];
+static volatile float command_out[THRUSTERS];
 static volatile neurov_status last_status;
 
-static void read_sensors(float eta_out[6], float nu_out[6]) {
-  for (int i = 0; i < 6; ++i) {
-    eta_out[i] = eta[i];
-    nu_out[i] = nu[i];
-  }
-}
-
-static void write_thrusters(const float tau[6]) {
+static void write_thrusters(const float commands[THRUSTERS], const float thrusts[THRUSTERS]) {
   static const float m[6] = {215, 265, 265, 40, 80, 80};
   static const float d[6] = {70, 100, 100, 30, 50, 50};
+  float tau[6] = {0};
+  for (int j = 0; j < THRUSTERS; ++j) {
+    const float* r = kPositions + 3 * j;
+    const float* e = kDirections + 3 * j;
+    command_out[j] = commands[j];
+    tau[0] += e[0] * thrusts[j];
+    tau[1] += e[1] * thrusts[j];
+    tau[2] += e[2] * thrusts[j];
+    tau[3] += (r[1] * e[2] - r[2] * e[1]) * thrusts[j];
+    tau[4] += (r[2] * e[0] - r[0] * e[2]) * thrusts[j];
+    tau[5] += (r[0] * e[1] - r[1] * e[0]) * thrusts[j];
+  }
   for (int i = 0; i < 6; ++i) {
-    thrust_out[i] = tau[i];
-    nu[i] += 0.2f * (tau[i] - d[i] * nu[i]) / m[i];
-    eta[i] += 0.2f * nu[i];
+    nu[i] += DT * (tau[i] - d[i] * nu[i]) / m[i];
+    eta[i] += DT * nu[i];
   }
 }
 
 /* Centres on a deterministic pseudo-random pattern; a vehicle would keep a
  * table in flash. Filled on the stack and copied by neurov_nn_create(). */
-static int configure(neurov_nn** nn, neurov_reference** ref) {
+static int configure_controller(neurov_nn** nn, neurov_reference** ref) {
   float centres[N * NEUROV_C_INPUTS];
   float widths[N];
   uint32_t state = 1u;
@@ -61,22 +83,54 @@ static int configure(neurov_nn** nn, neurov_reference** ref) {
                                  &error) == NEUROV_STATUS_OK;
 }
 
+static int configure_onboard(neurov_ekf** ekf, neurov_allocator** alloc) {
+  neurov_ekf_params e = {0.05f, 0.01f, 1e-4f, 0.005f, 0.001f, 0.01f, 0.02f, 0.5f, {0}};
+  for (int i = 0; i < NEUROV_EKF_STATES; ++i) e.initial_std[i] = 0.5f;
+  const float zero[6] = {0};
+  if (neurov_ekf_create(ekf_storage, sizeof ekf_storage, &e, zero, zero, ekf, 0) != NEUROV_STATUS_OK)
+    return 0;
+  const neurov_thruster_curve curve = {6, kCurveCommand, kCurveThrust, 0.0f, 0.05f, 16.0f, 2.0f};
+  neurov_allocator_params a;
+  neurov_allocator_params_init(&a);
+  a.thrusters = THRUSTERS;
+  a.positions = kPositions;
+  a.directions = kDirections;
+  a.min_thrust = kMinThrust;
+  a.max_thrust = kMaxThrust;
+  a.curve_count = 1;
+  a.curves = &curve;
+  return neurov_allocator_create(alloc_storage, sizeof alloc_storage, &a, alloc, 0) == NEUROV_STATUS_OK;
+}
+
 int main(void) {
   neurov_nn* nn;
   neurov_reference* ref;
-  if (!configure(&nn, &ref)) {
+  neurov_ekf* ekf;
+  neurov_allocator* alloc;
+  if (!configure_controller(&nn, &ref) || !configure_onboard(&ekf, &alloc)) {
     for (;;) {
     } /* a safe mode */
   }
   const float command[6] = {2.0f, 1.0f, 0.5f, 0.0f, 0.0f, 0.5f};
+  const float supply_voltage = 15.5f; /* on a vehicle: the battery monitor */
   neurov_desired desired;
-  float eta_meas[6], nu_meas[6], tau[6];
-  for (;;) { /* one pass per control period (5 Hz) */
-    read_sensors(eta_meas, nu_meas);
-    neurov_status s = neurov_reference_step(ref, command, 0.2f, &desired);
-    if (s == NEUROV_STATUS_OK) s = neurov_nn_step(nn, eta_meas, nu_meas, &desired, tau);
+  float eta_est[6], nu_est[6], tau[6], commands[THRUSTERS], thrusts[THRUSTERS];
+  for (uint32_t k = 0;; ++k) { /* one pass per control period (5 Hz) */
+    /* Sensors -> estimator: attitude and gyro, DVL and depth every period,
+     * an acoustic fix every fifth (1 Hz), 0.4 s old when it arrives. */
+    neurov_ekf_predict(ekf, DT);
+    neurov_ekf_update_attitude(ekf, eta + 3);
+    neurov_ekf_update_gyro(ekf, nu + 3);
+    neurov_ekf_update_dvl(ekf, nu);
+    neurov_ekf_update_depth(ekf, eta[2]);
+    if (k % 5 == 0) neurov_ekf_update_position(ekf, eta, 0.4f);
+    neurov_ekf_estimate(ekf, eta_est, nu_est);
+    /* -> reference model -> NN controller -> allocation -> commands. */
+    neurov_status s = neurov_reference_step(ref, command, DT, &desired);
+    if (s == NEUROV_STATUS_OK) s = neurov_nn_step(nn, eta_est, nu_est, &desired, tau);
     if (s != NEUROV_STATUS_OK) neurov_nn_reset(nn); /* tau is already 0 */
-    last_status = s;
-    write_thrusters(tau);
+    const neurov_status a = neurov_allocator_step(alloc, tau, supply_voltage, commands, thrusts);
+    last_status = s != NEUROV_STATUS_OK ? s : a; /* on refusal: neutral commands */
+    write_thrusters(commands, thrusts);
   }
 }

@@ -1,13 +1,14 @@
 """Worst-case stack of each C entry point of neurov_c, from GCC's call graph.
 
-Compile c_api.cpp with -fcallgraph-info=su (the CI's cross-build does), then
+Compile neurov_c's sources with -fcallgraph-info=su (the CI's cross-build
+does), then
 
-    python3 stack_usage.py build-m7/cpp/src/CMakeFiles/neurov_c.dir/c_api.cpp.ci
+    python3 stack_usage.py build-m7/cpp/src/CMakeFiles/neurov_c.dir/*.ci
 
 prints, for each neurov_* function, the largest sum of stack frames along any
 call path below it, as GCC reports the frames. Functions outside the object
 (sinf, cosf, expf, sqrtf, memcpy, memset from newlib) have no frame in the
-graph; each is counted with --external bytes (default 64, more than newlib's
+graphs; each is counted with --external bytes (default 64, more than newlib's
 float functions use on ARMv7-M). Fails if a frame is dynamic or the graph
 has a cycle, since then there is no bound.
 """
@@ -19,21 +20,28 @@ import sys
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("graph", help="the .ci file written by -fcallgraph-info=su")
+    parser.add_argument("graph", nargs="+",
+                        help="the .ci files written by -fcallgraph-info=su (one per source; "
+                             "a function inline in several counts with its largest frame)")
     parser.add_argument("--external", type=int, default=64,
                         help="bytes assumed for a function outside the object")
     args = parser.parse_args()
 
-    text = open(args.graph, encoding="utf-8").read()
+    text = "".join(open(g, encoding="utf-8").read() for g in args.graph)
     frame, kind = {}, {}
     for m in re.finditer(r'node: \{ title: "([^"]+)" label: "([^"]*)"', text):
         title, label = m.group(1), m.group(2)
         b = re.search(r"(\d+) bytes \((\w+)\)", label)
-        frame[title] = int(b.group(1)) if b else args.external
-        kind[title] = b.group(2) if b else "external"
+        if b is None:  # called here, defined elsewhere (or outside neurov_c)
+            if title not in kind:
+                frame[title], kind[title] = args.external, "external"
+            continue
+        if kind.get(title) in (None, "external") or int(b.group(1)) > frame[title]:
+            frame[title], kind[title] = int(b.group(1)), b.group(2)
     calls = {}
     for m in re.finditer(r'edge: \{ sourcename: "([^"]+)" targetname: "([^"]+)"', text):
-        calls.setdefault(m.group(1), []).append(m.group(2))
+        if m.group(2) not in calls.setdefault(m.group(1), []):
+            calls[m.group(1)].append(m.group(2))
 
     dynamic = [t for t, k in kind.items() if k not in ("static", "external")]
     if dynamic:
@@ -52,7 +60,7 @@ def main() -> int:
 
     entries = sorted(t for t in frame if re.fullmatch(r"neurov_\w+", t))
     if not entries:
-        print("no neurov_* functions in", args.graph)
+        print("no neurov_* functions in", *args.graph)
         return 1
     try:
         for name in entries:

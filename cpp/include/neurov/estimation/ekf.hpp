@@ -132,9 +132,12 @@ class Ekf {
     const StateMatrix aq = a * qc.asDiagonal();
     StateMatrix q = StateMatrix(qc.asDiagonal()) * dt;
     q += (aq + aq.transpose()) * (dt * dt / Scalar(2));
-    q += aq * a.transpose() * (dt * dt * dt / Scalar(3));
+    // lazyProduct throughout: at 15 x 15 Eigen would compile its blocked GEMM,
+    // which references malloc in a firmware image that must link no allocator.
+    q += aq.lazyProduct(a.transpose()) * (dt * dt * dt / Scalar(3));
     const StateMatrix f = StateMatrix::Identity() + dt * a;
-    StateMatrix p = f * p_ * f.transpose() + q;
+    const StateMatrix fp = f.lazyProduct(p_);
+    StateMatrix p = fp.lazyProduct(f.transpose()) + q;
     return commit(x, p, k.status());
   }
 
@@ -237,16 +240,18 @@ class Ekf {
     if (!detail::all_finite(z)) return Status::non_finite_input;
     using MatM = Eigen::Matrix<Scalar, M, M>;
     const MatM r = MatM::Identity() * (noise_std * noise_std);
-    const Eigen::Matrix<Scalar, N, M> pht = p_ * h.transpose();
-    MatM s = h * pht + r;
+    const Eigen::Matrix<Scalar, N, M> pht = p_.lazyProduct(h.transpose());
+    MatM s = h.lazyProduct(pht) + r;
     s = (Scalar(0.5) * (s + s.transpose())).eval();
     MatM s_inv;
     if (!detail::spd_inverse(s, s_inv)) return Status::non_finite_output;
-    const Eigen::Matrix<Scalar, N, M> gain = pht * s_inv;
+    const Eigen::Matrix<Scalar, N, M> gain = pht.lazyProduct(s_inv);
     StateVector x = x_ + gain * y;
     x(5) = wrap(x(5));
-    const StateMatrix ikh = StateMatrix::Identity() - gain * h;
-    StateMatrix p = ikh * p_ * ikh.transpose() + gain * r * gain.transpose();
+    const StateMatrix ikh = StateMatrix::Identity() - gain.lazyProduct(h);
+    const StateMatrix ikhp = ikh.lazyProduct(p_);
+    const Eigen::Matrix<Scalar, N, M> gr = gain.lazyProduct(r);
+    StateMatrix p = ikhp.lazyProduct(ikh.transpose()) + gr.lazyProduct(gain.transpose());
     return commit(x, p, Status::ok);
   }
 

@@ -13,17 +13,9 @@
 #include "neurov/core/status.hpp"
 #include "neurov/core/types.hpp"
 #include "neurov/core/validation.hpp"
+#include "neurov/model/thrust_allocation.hpp"
 
 namespace neurov {
-
-enum class Saturation : std::uint8_t {
-  /// Scale every thruster by one factor so all fit: the wrench keeps its
-  /// direction and loses magnitude.
-  scale = 0,
-  /// Clip each thruster to its limits: full use of every thruster, but the
-  /// wrench turns.
-  clip = 1,
-};
 
 template <typename Scalar>
 struct ThrusterConfig {
@@ -49,29 +41,9 @@ class Thrusters {
   /// the pseudo-inverse. Allocates here only.
   static ValidationError create(const ThrusterConfig<Scalar>& c, Thrusters& out) {
     const Eigen::Index n = c.matrix.cols();
-    if (n < 6)
-      return detail::invalid("thrusters.matrix", -1, static_cast<double>(n),
-                             "at least 6 thrusters (columns) to act in all 6 DOF");
-    if (auto e = detail::check_finite("thrusters.matrix", c.matrix)) return e;
-    if (c.min_thrust.size() != n)
-      return detail::invalid("thrusters.min_thrust", -1, static_cast<double>(c.min_thrust.size()),
-                             "one limit per thruster");
-    if (c.max_thrust.size() != n)
-      return detail::invalid("thrusters.max_thrust", -1, static_cast<double>(c.max_thrust.size()),
-                             "one limit per thruster");
-    if (auto e = detail::check_finite("thrusters.min_thrust", c.min_thrust)) return e;
-    if (auto e = detail::check_finite("thrusters.max_thrust", c.max_thrust)) return e;
-    for (Eigen::Index i = 0; i < n; ++i)
-      if (!(c.max_thrust(i) > c.min_thrust(i)) || c.max_thrust(i) < Scalar(0) ||
-          c.min_thrust(i) > Scalar(0))
-        return detail::invalid("thrusters.max_thrust", static_cast<int>(i),
-                               static_cast<double>(c.max_thrust(i)),
-                               "min_thrust <= 0 <= max_thrust and min < max");
     Vector w = c.weights.size() == 0 ? Vector::Ones(n) : c.weights;
-    if (w.size() != n)
-      return detail::invalid("thrusters.weights", -1, static_cast<double>(w.size()),
-                             "one weight per thruster");
-    if (auto e = detail::check_positive("thrusters.weights", w)) return e;
+    if (auto e = detail::validate_thruster_limits(c.matrix, c.min_thrust, c.max_thrust, w))
+      return e;
     if (auto e = detail::check_non_negative_scalar("thrusters.time_constant",
                                                    static_cast<double>(c.time_constant)))
       return e;
@@ -96,20 +68,8 @@ class Thrusters {
   /// Thrust commands for a demanded wrench, saturated; stored as the command
   /// the lag follows.
   void command(const Vector6<Scalar>& tau) noexcept {
-    command_.noalias() = pinv_ * tau;
-    if (!command_.allFinite()) return command_overflowed(tau);
-    if (config_.saturation == Saturation::clip) {
-      command_ = command_.cwiseMax(config_.min_thrust).cwiseMin(config_.max_thrust);
-      return;
-    }
-    Scalar factor = Scalar(1);
-    for (Eigen::Index i = 0; i < command_.size(); ++i) {
-      const Scalar u = command_(i);
-      if (u > config_.max_thrust(i)) factor = std::min(factor, config_.max_thrust(i) / u);
-      if (u < config_.min_thrust(i)) factor = std::min(factor, config_.min_thrust(i) / u);
-    }
-    // The clamp only undoes rounding: u * (max / u) can land an ulp beyond max.
-    command_ = (command_ * factor).cwiseMax(config_.min_thrust).cwiseMin(config_.max_thrust);
+    detail::allocate_saturated(pinv_, tau, config_.min_thrust, config_.max_thrust,
+                               config_.saturation, command_);
   }
 
   /// Moves the actual thrusts toward the command over dt (exact solution of
@@ -151,32 +111,6 @@ class Thrusters {
   const Vector& efficiency() const noexcept { return efficiency_; }
 
  private:
-  /// The rare path of command(): a finite tau so large that B^+ tau
-  /// overflows, where inf - inf in the product would hand NaN thrusts on. Its
-  /// direction is allocated instead and saturated along; a NaN or infinite
-  /// tau gives no thrust at all.
-  void command_overflowed(const Vector6<Scalar>& tau) noexcept {
-    const Scalar size = tau.allFinite() ? tau.cwiseAbs().maxCoeff() : Scalar(0);
-    if (!(size > Scalar(0))) {
-      command_.setZero();
-      return;
-    }
-    command_.noalias() = pinv_ * (tau / size);
-    if (config_.saturation == Saturation::clip) {
-      // size * u may be +-inf, never NaN, and the clip brings it back.
-      command_ = (command_ * size).cwiseMax(config_.min_thrust).cwiseMin(config_.max_thrust);
-      return;
-    }
-    // How far along the unit allocation u every thruster can follow.
-    Scalar reach = size;
-    for (Eigen::Index i = 0; i < command_.size(); ++i) {
-      const Scalar u = command_(i);
-      if (u > Scalar(0)) reach = std::min(reach, config_.max_thrust(i) / u);
-      if (u < Scalar(0)) reach = std::min(reach, config_.min_thrust(i) / u);
-    }
-    command_ = (command_ * reach).cwiseMax(config_.min_thrust).cwiseMin(config_.max_thrust);
-  }
-
   ThrusterConfig<Scalar> config_{};
   Eigen::Matrix<Scalar, Eigen::Dynamic, 6> pinv_{};
   Vector efficiency_{};
