@@ -1,6 +1,11 @@
 // Thrusters: allocation of a demanded wrench tau to n thrusters by a weighted
 // pseudo-inverse, saturation, first-order lag and failures.
 //   tau = B u,  u = W^-1 B^T (B W^-1 B^T)^-1 tau   (minimum sum of w_i u_i^2)
+// With a curve per thruster (model/thruster_curve.hpp) the saturated thrusts
+// u go through the curve's inverse to commands (PWM, say), and the plant
+// produces curve(command) at the supply voltage, with the curve's own lag and
+// slew limit: what a vehicle's allocation and ESCs do. Without curves the
+// command is the thrust itself (linear thrusters).
 #pragma once
 
 #include <Eigen/Core>
@@ -9,10 +14,12 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <vector>
 
 #include "neurov/core/status.hpp"
 #include "neurov/core/types.hpp"
 #include "neurov/core/validation.hpp"
+#include "neurov/model/thruster_curve.hpp"
 
 namespace neurov {
 
@@ -30,11 +37,21 @@ struct ThrusterConfig {
   using Matrix = Eigen::Matrix<Scalar, 6, Eigen::Dynamic>;
   using Vector = Eigen::Matrix<Scalar, Eigen::Dynamic, 1>;
   Matrix matrix;      ///< B (6 x n): wrench of each thruster per unit thrust
-  Vector min_thrust;  ///< lower limits [N] (n), < 0 for a reversible thruster
-  Vector max_thrust;  ///< upper limits [N] (n), > min
+  /// Lower limits [N] (n), <= 0. With curves they may be left empty: the
+  /// curves' thrust at their lowest command and the supply voltage.
+  Vector min_thrust;
+  /// Upper limits [N] (n), >= 0 and > min. With curves: empty (the curves'
+  /// thrust at their highest command), or inside what the curve attains.
+  Vector max_thrust;
   Vector weights;     ///< allocation weights w_i (n), > 0; empty means all 1
   Saturation saturation = Saturation::scale;
-  Scalar time_constant = Scalar(0);  ///< first-order lag [s]; 0 means none
+  /// First-order lag [s] of linear thrusters; 0 means none. Must be 0 with
+  /// curves, which carry their own lag and slew limit.
+  Scalar time_constant = Scalar(0);
+  /// Command -> thrust of each thruster (n curves), or empty: linear.
+  std::vector<ThrusterCurveConfig<Scalar>> curves;
+  /// Supply voltage [V] the curves are scaled to; > 0 with curves.
+  Scalar supply_voltage = Scalar(0);
 };
 
 template <typename Scalar>
@@ -53,20 +70,58 @@ class Thrusters {
       return detail::invalid("thrusters.matrix", -1, static_cast<double>(n),
                              "at least 6 thrusters (columns) to act in all 6 DOF");
     if (auto e = detail::check_finite("thrusters.matrix", c.matrix)) return e;
-    if (c.min_thrust.size() != n)
-      return detail::invalid("thrusters.min_thrust", -1, static_cast<double>(c.min_thrust.size()),
+    const bool curved = !c.curves.empty();
+    std::vector<ThrusterCurve<Scalar>> curves(c.curves.size());
+    Vector lowest, highest;  // what the curves attain at the supply voltage
+    if (curved) {
+      if (static_cast<Eigen::Index>(c.curves.size()) != n)
+        return detail::invalid("thrusters.curves", -1, static_cast<double>(c.curves.size()),
+                               "one curve per thruster (or none: linear thrusters)");
+      if (auto e = detail::check_positive_scalar("thrusters.supply_voltage",
+                                                 static_cast<double>(c.supply_voltage)))
+        return e;
+      if (c.time_constant != Scalar(0))
+        return detail::invalid("thrusters.time_constant", -1,
+                               static_cast<double>(c.time_constant),
+                               "0 with curves (each curve has its own time_constant)");
+      lowest.resize(n);
+      highest.resize(n);
+      for (Eigen::Index i = 0; i < n; ++i) {
+        if (auto e = ThrusterCurve<Scalar>::create(c.curves[static_cast<std::size_t>(i)],
+                                                   curves[static_cast<std::size_t>(i)]))
+          return e;
+        lowest(i) = curves[static_cast<std::size_t>(i)].min_thrust(c.supply_voltage);
+        highest(i) = curves[static_cast<std::size_t>(i)].max_thrust(c.supply_voltage);
+      }
+    }
+    const Vector min_thrust = curved && c.min_thrust.size() == 0 ? lowest : c.min_thrust;
+    const Vector max_thrust = curved && c.max_thrust.size() == 0 ? highest : c.max_thrust;
+    if (min_thrust.size() != n)
+      return detail::invalid("thrusters.min_thrust", -1, static_cast<double>(min_thrust.size()),
                              "one limit per thruster");
-    if (c.max_thrust.size() != n)
-      return detail::invalid("thrusters.max_thrust", -1, static_cast<double>(c.max_thrust.size()),
+    if (max_thrust.size() != n)
+      return detail::invalid("thrusters.max_thrust", -1, static_cast<double>(max_thrust.size()),
                              "one limit per thruster");
-    if (auto e = detail::check_finite("thrusters.min_thrust", c.min_thrust)) return e;
-    if (auto e = detail::check_finite("thrusters.max_thrust", c.max_thrust)) return e;
+    if (auto e = detail::check_finite("thrusters.min_thrust", min_thrust)) return e;
+    if (auto e = detail::check_finite("thrusters.max_thrust", max_thrust)) return e;
     for (Eigen::Index i = 0; i < n; ++i)
-      if (!(c.max_thrust(i) > c.min_thrust(i)) || c.max_thrust(i) < Scalar(0) ||
-          c.min_thrust(i) > Scalar(0))
+      if (!(max_thrust(i) > min_thrust(i)) || max_thrust(i) < Scalar(0) ||
+          min_thrust(i) > Scalar(0))
         return detail::invalid("thrusters.max_thrust", static_cast<int>(i),
-                               static_cast<double>(c.max_thrust(i)),
+                               static_cast<double>(max_thrust(i)),
                                "min_thrust <= 0 <= max_thrust and min < max");
+    for (Eigen::Index i = 0; curved && i < n; ++i) {
+      if (max_thrust(i) > highest(i))
+        return detail::invalid("thrusters.max_thrust", static_cast<int>(i),
+                               static_cast<double>(max_thrust(i)),
+                               "<= the curve's thrust at its highest command and the supply "
+                               "voltage");
+      if (min_thrust(i) < lowest(i))
+        return detail::invalid("thrusters.min_thrust", static_cast<int>(i),
+                               static_cast<double>(min_thrust(i)),
+                               ">= the curve's thrust at its lowest command and the supply "
+                               "voltage");
+    }
     Vector w = c.weights.size() == 0 ? Vector::Ones(n) : c.weights;
     if (w.size() != n)
       return detail::invalid("thrusters.weights", -1, static_cast<double>(w.size()),
@@ -83,10 +138,15 @@ class Thrusters {
                              "rank 6 (the thrusters must act in all 6 DOF)");
     out.config_ = c;
     out.config_.weights = w;
+    out.config_.min_thrust = min_thrust;
+    out.config_.max_thrust = max_thrust;
     out.pinv_ = w_inv.asDiagonal() * c.matrix.transpose() * lu.inverse();
+    out.curves_ = std::move(curves);
     out.efficiency_ = Vector::Ones(n);
     out.thrust_ = Vector::Zero(n);
     out.command_ = Vector::Zero(n);
+    out.actuator_command_ = Vector::Zero(n);
+    out.reset();
     return {};
   }
 
@@ -94,28 +154,30 @@ class Thrusters {
   const ThrusterConfig<Scalar>& config() const noexcept { return config_; }
 
   /// Thrust commands for a demanded wrench, saturated; stored as the command
-  /// the lag follows.
+  /// the lag follows. With curves, each thrust is turned into the command
+  /// that gives it at the supply voltage (actuator_commands()).
   void command(const Vector6<Scalar>& tau) noexcept {
-    command_.noalias() = pinv_ * tau;
-    if (!command_.allFinite()) return command_overflowed(tau);
-    if (config_.saturation == Saturation::clip) {
-      command_ = command_.cwiseMax(config_.min_thrust).cwiseMin(config_.max_thrust);
+    allocate(tau);
+    if (curves_.empty()) {
+      actuator_command_ = command_;
       return;
     }
-    Scalar factor = Scalar(1);
-    for (Eigen::Index i = 0; i < command_.size(); ++i) {
-      const Scalar u = command_(i);
-      if (u > config_.max_thrust(i)) factor = std::min(factor, config_.max_thrust(i) / u);
-      if (u < config_.min_thrust(i)) factor = std::min(factor, config_.min_thrust(i) / u);
-    }
-    // The clamp only undoes rounding: u * (max / u) can land an ulp beyond max.
-    command_ = (command_ * factor).cwiseMax(config_.min_thrust).cwiseMin(config_.max_thrust);
+    for (std::size_t i = 0; i < curves_.size(); ++i)
+      actuator_command_(static_cast<Eigen::Index>(i)) = curves_[i].command_for(
+          command_(static_cast<Eigen::Index>(i)), config_.supply_voltage);
   }
 
-  /// Moves the actual thrusts toward the command over dt (exact solution of
-  /// the first-order lag for a held command), then applies the failures.
+  /// Moves the actual thrusts toward the command over dt, dt in (0, kMaxStep]
+  /// (the exact solution of the first-order lag for a held command; with
+  /// curves, each curve's lag and slew limit toward curve(command)).
   void advance(Scalar dt) noexcept {
-    if (config_.time_constant > Scalar(0)) {
+    if (!curves_.empty()) {
+      for (std::size_t i = 0; i < curves_.size(); ++i) {
+        const auto k = static_cast<Eigen::Index>(i);
+        curves_[i].step(actuator_command_(k), config_.supply_voltage, dt);
+        thrust_(k) = curves_[i].thrust();
+      }
+    } else if (config_.time_constant > Scalar(0)) {
       const Scalar a = std::exp(-dt / config_.time_constant);
       thrust_ = a * thrust_ + (Scalar(1) - a) * command_;
     } else {
@@ -144,13 +206,45 @@ class Thrusters {
     efficiency_.setOnes();
     thrust_.setZero();
     command_.setZero();
+    actuator_command_.setZero();
+    for (std::size_t i = 0; i < curves_.size(); ++i) {
+      curves_[i].reset();
+      actuator_command_(static_cast<Eigen::Index>(i)) = curves_[i].config().neutral;
+    }
   }
 
+  bool has_curves() const noexcept { return !curves_.empty(); }
   const Vector& thrust() const noexcept { return thrust_; }
+  /// The thrusts the allocation asks for (saturated) [N].
   const Vector& commanded() const noexcept { return command_; }
+  /// What each thruster is sent: with curves, the curve's command (its
+  /// unit, e.g. PWM us) for the commanded thrust; without, that thrust.
+  const Vector& actuator_commands() const noexcept { return actuator_command_; }
+  /// Thruster i's curve (i < count(), has_curves()).
+  const ThrusterCurve<Scalar>& curve(Eigen::Index i) const noexcept {
+    return curves_[static_cast<std::size_t>(i)];
+  }
   const Vector& efficiency() const noexcept { return efficiency_; }
 
  private:
+  /// The allocated, saturated thrusts into command_.
+  void allocate(const Vector6<Scalar>& tau) noexcept {
+    command_.noalias() = pinv_ * tau;
+    if (!command_.allFinite()) return command_overflowed(tau);
+    if (config_.saturation == Saturation::clip) {
+      command_ = command_.cwiseMax(config_.min_thrust).cwiseMin(config_.max_thrust);
+      return;
+    }
+    Scalar factor = Scalar(1);
+    for (Eigen::Index i = 0; i < command_.size(); ++i) {
+      const Scalar u = command_(i);
+      if (u > config_.max_thrust(i)) factor = std::min(factor, config_.max_thrust(i) / u);
+      if (u < config_.min_thrust(i)) factor = std::min(factor, config_.min_thrust(i) / u);
+    }
+    // The clamp only undoes rounding: u * (max / u) can land an ulp beyond max.
+    command_ = (command_ * factor).cwiseMax(config_.min_thrust).cwiseMin(config_.max_thrust);
+  }
+
   /// The rare path of command(): a finite tau so large that B^+ tau
   /// overflows, where inf - inf in the product would hand NaN thrusts on. Its
   /// direction is allocated instead and saturated along; a NaN or infinite
@@ -179,9 +273,11 @@ class Thrusters {
 
   ThrusterConfig<Scalar> config_{};
   Eigen::Matrix<Scalar, Eigen::Dynamic, 6> pinv_{};
+  std::vector<ThrusterCurve<Scalar>> curves_{};
   Vector efficiency_{};
   Vector thrust_{};
   Vector command_{};
+  Vector actuator_command_{};
 };
 
 }  // namespace neurov
