@@ -24,7 +24,10 @@ A thruster may have a command-to-thrust curve: ``[thrusters.curve]`` (one
 curve for every thruster) or ``[[thrusters.curve]]`` (one table per
 thruster, n of them), each with ``command`` and ``thrust`` (equally long
 lists: commands strictly increasing, e.g. PWM in us; thrust in N at
-``reference_voltage``), ``neutral`` (the command of zero thrust),
+``reference_voltage``) or a fitted ``polynomial`` (coefficients, lowest order
+first, thrust in N) with ``command_range`` (2 numbers) and optional
+``points`` (2 to 256, default 256: it is sampled there into a table),
+``neutral`` (the command of zero thrust),
 ``reference_voltage`` (V), and optional ``dead_band`` (command units, default
 0), ``voltage_exponent`` (default 2), ``time_constant`` (s) and ``slew_rate``
 (N/s, default 0: none). With curves, ``[thrusters]`` needs ``supply_voltage``
@@ -370,8 +373,9 @@ def thrusters_from_mapping(table: Any, where: str) -> dict[str, Any]:
     return out
 
 
-_CURVE_KEYS = {"command": True, "thrust": True, "neutral": True, "reference_voltage": True,
-               "dead_band": False, "voltage_exponent": False, "time_constant": False, "slew_rate": False}
+_CURVE_KEYS = {"command": False, "thrust": False, "polynomial": False, "command_range": False,
+               "points": False, "neutral": True, "reference_voltage": True, "dead_band": False,
+               "voltage_exponent": False, "time_constant": False, "slew_rate": False}
 
 
 def _curves(table: dict[str, Any], n: int, where: str) -> list[Any]:
@@ -403,7 +407,7 @@ def _curve(t: dict[str, Any], where: str) -> Any:
     for key, required in _CURVE_KEYS.items():
         if required and key not in t:
             raise VehicleFileError(f"{where}: missing field {key!r}")
-    command, thrust = t["command"], t["thrust"]
+    command, thrust = _curve_rows(t, where)
     for key, v in (("command", command), ("thrust", thrust)):
         s = _shape_of(v)
         if s is None or len(s) != 1:
@@ -428,9 +432,45 @@ def _curve(t: dict[str, Any], where: str) -> Any:
         # The C++ message names `thruster_curve.x`: say which key of this file that is.
         text = str(e).split(": ", 1)[-1]
         file, _, key = where.rpartition(": ")
-        raise VehicleFileError(f"{file + ': ' if file else ''}{text.replace('thruster_curve.', key + '.')}"
-                               ) from None
+        sampled = (f" (the polynomial sampled at {len(command)} commands over command_range)"
+                   if "polynomial" in t else "")
+        raise VehicleFileError(f"{file + ': ' if file else ''}"
+                               f"{text.replace('thruster_curve.', key + '.')}{sampled}") from None
     return c
+
+
+def _curve_rows(t: dict[str, Any], where: str) -> tuple[Any, Any]:
+    """The curve's (command, thrust) rows: its table, or its polynomial (thrust =
+    sum of polynomial[k] * command^k) sampled at `points` evenly spaced commands
+    over command_range (default 256, the most a curve holds), which the C++
+    curve then interpolates linearly."""
+    import numpy as np
+
+    if "polynomial" not in t:
+        for key in ("command", "thrust"):
+            if key not in t:
+                raise VehicleFileError(f"{where}: missing field {key!r} (or give 'polynomial' and "
+                                       "'command_range')")
+        for key in ("command_range", "points"):
+            if key in t:
+                raise VehicleFileError(f"{where}.{key}: only with 'polynomial'")
+        return t["command"], t["thrust"]
+    for key in ("command", "thrust"):
+        if key in t:
+            raise VehicleFileError(f"{where}.{key}: give either 'command' and 'thrust' or "
+                                   "'polynomial', not both")
+    coefficients, span = t["polynomial"], t.get("command_range")
+    if _shape_of(coefficients) is None or len(_shape_of(coefficients) or ()) != 1:
+        raise VehicleFileError(f"{where}.polynomial: expected a list of numbers (lowest order "
+                               f"first), got {_describe(coefficients)}")
+    if _shape_of(span) != (2,) or not (span[0] < span[1]):
+        raise VehicleFileError(f"{where}.command_range: expected 2 increasing numbers with "
+                               f"'polynomial', got {_describe(span) if span is not None else None}")
+    points = t.get("points", 256)
+    if isinstance(points, bool) or not isinstance(points, int) or not 2 <= points <= 256:
+        raise VehicleFileError(f"{where}.points: expected an integer from 2 to 256, got {points!r}")
+    command = np.linspace(float(span[0]), float(span[1]), points)
+    return command.tolist(), np.polynomial.polynomial.polyval(command, coefficients).tolist()
 
 
 def _check_layout(thrusters: dict[str, Any], where: str) -> None:

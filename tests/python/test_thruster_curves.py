@@ -168,3 +168,35 @@ def test_bluerov2_scenarios_fly_through_their_thrusters() -> None:
     assert np.all(thrusts <= 5.25 * KGF + 1e-9)
     assert np.all(thrusts >= -4.07 * KGF - 1e-9)
     assert np.any(np.abs(thrusts) > 1.0)
+
+
+POLY = "polynomial = [0.0, 100.0, 0.0, 50.0]\ncommand_range = [-1.0, 1.0]\nneutral = 0.0\nreference_voltage = 16.0"
+
+
+def test_a_polynomial_curve_is_sampled_into_the_table(tmp_path: Path) -> None:
+    t = read_vehicle_file(_with_curve(tmp_path, POLY + "\npoints = 201")).thrusters
+    assert t is not None
+    curve = t["curves"][0]
+    assert curve.table.shape == (201, 2)
+    # At the sample points (every 0.01) the table is the polynomial 100 c + 50 c^3.
+    for c in (-1.0, -0.37, 0.0, 0.25, 0.9, 1.0):
+        assert curve.static_thrust(c, 16.0) == pytest.approx(100 * c + 50 * c**3, rel=1e-12, abs=1e-12)
+    np.testing.assert_allclose(t["max_thrust"], 150.0, rtol=1e-15)
+    np.testing.assert_allclose(t["min_thrust"], -150.0, rtol=1e-15)
+
+
+@pytest.mark.parametrize(("curve", "message"), [
+    ("polynomial = [0.0, 0.0, -1.0]\ncommand_range = [-1.0, 1.0]\nneutral = 0.0\nreference_voltage = 16.0",
+     r"thrusters\.curve\.thrust\[\d+\] = .*: expected strictly increasing .*\(the polynomial sampled at "
+     r"256 commands over command_range\)"),
+    (POLY.replace("command_range = [-1.0, 1.0]", "command_range = [1.0, -1.0]"),
+     r"thrusters\.curve\.command_range: expected 2 increasing numbers"),
+    (POLY + "\ncommand = [0.0, 1.0]", r"thrusters\.curve\.command: give either 'command' and 'thrust' or"),
+    (POLY + "\npoints = 300", r"thrusters\.curve\.points: expected an integer from 2 to 256, got 300"),
+    (GOOD + "\npoints = 30", r"thrusters\.curve\.points: only with 'polynomial'"),
+    (GOOD.replace("thrust = [-200.0, 0.0, 0.0, 250.0]\n", ""),
+     r"thrusters\.curve: missing field 'thrust' \(or give 'polynomial'"),
+])
+def test_bad_polynomial_curves_are_named_errors(tmp_path: Path, curve: str, message: str) -> None:
+    with pytest.raises(VehicleFileError, match=message):
+        read_vehicle_file(_with_curve(tmp_path, curve))
