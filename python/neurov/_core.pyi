@@ -1327,6 +1327,58 @@ class Command:
         """The commanded pose at time t."""
 
 @final
+class ThrusterCurveConfig:
+    """One thruster from command to thrust: a table (linearly interpolated), a dead band around the neutral command, supply-voltage scaling, a first-order lag and a slew-rate limit."""
+
+    def __init__(self, **kwargs: Any) -> None:
+        """Every field is a keyword argument (an unknown one is a TypeError)."""
+    @property
+    def table(self) -> _Array:
+        """(n, 2) rows of (command, thrust [N] at reference_voltage), commands strictly increasing, 2 <= n <= 256 (a read-only copy)."""
+    @table.setter
+    def table(self, value: _ArrayLike) -> None: ...
+    @property
+    def neutral(self) -> float:
+        """The command of zero thrust, inside the table."""
+    @neutral.setter
+    def neutral(self, value: SupportsFloat) -> None: ...
+    @property
+    def dead_band(self) -> float:
+        """Half-width of the dead band around neutral (command units), >= 0."""
+    @dead_band.setter
+    def dead_band(self, value: SupportsFloat) -> None: ...
+    @property
+    def reference_voltage(self) -> float:
+        """Supply voltage [V] at which the table was measured, > 0."""
+    @reference_voltage.setter
+    def reference_voltage(self, value: SupportsFloat) -> None: ...
+    @property
+    def voltage_exponent(self) -> float:
+        """Thrust ~ voltage^exponent at a fixed command, >= 0 (2: an assumption)."""
+    @voltage_exponent.setter
+    def voltage_exponent(self, value: SupportsFloat) -> None: ...
+    @property
+    def time_constant(self) -> float:
+        """First-order lag of the thrust [s]; 0: none."""
+    @time_constant.setter
+    def time_constant(self, value: SupportsFloat) -> None: ...
+    @property
+    def slew_rate(self) -> float:
+        """Largest rate of change of the thrust [N/s]; 0: none."""
+    @slew_rate.setter
+    def slew_rate(self, value: SupportsFloat) -> None: ...
+    def __copy__(self) -> ThrusterCurveConfig: ...
+    def __deepcopy__(self, memo: dict[int, Any]) -> ThrusterCurveConfig: ...
+    def __getstate__(self) -> dict[str, Any]: ...
+    def __setstate__(self, state: dict[str, Any]) -> None: ...
+    def validate(self) -> None:
+        """Raises ValueError naming the first field that is wrong and what it expected."""
+    def static_thrust(self, command: SupportsFloat, voltage: SupportsFloat) -> float:
+        """Steady thrust [N] at a command and supply voltage (the C++ curve)."""
+    def command_for(self, thrust: SupportsFloat, voltage: SupportsFloat) -> float:
+        """The command whose steady thrust is `thrust` at `voltage` (the curve's inverse), clamped to the table."""
+
+@final
 class ThrusterConfig:
     """n thrusters: tau = B u, allocated by the weighted pseudo-inverse, saturated, with a first-order lag."""
 
@@ -1359,9 +1411,19 @@ class ThrusterConfig:
     def saturation(self, value: Saturation) -> None: ...
     @property
     def time_constant(self) -> float:
-        """First-order lag [s]; 0 means none."""
+        """First-order lag [s] of linear thrusters; 0 means none (0 with curves)."""
     @time_constant.setter
     def time_constant(self, value: SupportsFloat) -> None: ...
+    @property
+    def curves(self) -> tuple[ThrusterCurveConfig, ...]:
+        """One command-to-thrust curve per thruster, or empty: linear thrusters (a tuple of copies; assign a list)."""
+    @curves.setter
+    def curves(self, value: Iterable[ThrusterCurveConfig]) -> None: ...
+    @property
+    def supply_voltage(self) -> float:
+        """Supply voltage [V] of the curves, > 0 with curves."""
+    @supply_voltage.setter
+    def supply_voltage(self, value: SupportsFloat) -> None: ...
     def __copy__(self) -> ThrusterConfig: ...
     def __deepcopy__(self, memo: dict[int, Any]) -> ThrusterConfig: ...
     def __getstate__(self) -> dict[str, Any]: ...
@@ -1566,6 +1628,9 @@ def run_closed_loop(vehicle: Vehicle, controller: PIDController, config: Simulat
 def run_closed_loop(vehicle: Vehicle, controller: SlidingModeController, config: SimulationConfig) -> _SimulationResult: ...
 @overload
 def run_closed_loop(vehicle: Vehicle, controller: ComputedTorqueController, config: SimulationConfig) -> _SimulationResult: ...
+def bluerov2_heavy_layout() -> tuple[_Array, _Array, list[str]]:
+    """The BlueROV2 Heavy's thruster layout of the C++ core (model/bluerov2_heavy.hpp): (positions (8, 3) [m], unit thrust directions (8, 3), names), body axes x forward, y starboard, z down."""
+
 def allocate_thrust(
     matrix: _ArrayLike,
     tau: _ArrayLike,

@@ -297,9 +297,17 @@ class Scenario:
                 raise ValueError(f"scenario {self.name!r}: vehicle file {self.vehicle_path()} has no "
                                  "[thrusters] table")
             tc = t["time_constant"] if self.thruster_time_constant is None else self.thruster_time_constant
+            curves = list(t["curves"] or [])
+            if curves and self.thruster_time_constant is not None:
+                # With curves the lag is each curve's: the override goes there.
+                curves = [copy.copy(c) for c in curves]
+                for c in curves:
+                    c.time_constant = tc
+                tc = 0.0
             sim.thrusters = _core.ThrusterConfig(
                 matrix=t["matrix"], max_thrust=t["max_thrust"], min_thrust=t["min_thrust"],
-                saturation=sim.thrusters.saturation, time_constant=tc)
+                saturation=sim.thrusters.saturation, time_constant=tc, curves=curves,
+                supply_voltage=t["supply_voltage"])
 
     def describe(self) -> dict[str, Any]:
         """Everything that decides a run, as plain data (for hashing)."""

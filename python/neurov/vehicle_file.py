@@ -17,6 +17,24 @@ an explicit 6 x n ``matrix``; ``max_thrust`` (a number or n numbers, N);
 optional ``min_thrust`` (default -max_thrust) and ``time_constant`` (s, a
 first-order lag; default 0, none).
 
+Optional ``names`` (n strings) name the thrusters; "port" and "starboard" in
+a name must agree with the sign of y (a test checks the shipped files).
+
+A thruster may have a command-to-thrust curve: ``[thrusters.curve]`` (one
+curve for every thruster) or ``[[thrusters.curve]]`` (one table per
+thruster, n of them), each with ``command`` and ``thrust`` (equally long
+lists: commands strictly increasing, e.g. PWM in us; thrust in N at
+``reference_voltage``) or a fitted ``polynomial`` (coefficients, lowest order
+first, thrust in N) with ``command_range`` (2 numbers) and optional
+``points`` (2 to 256, default 256: it is sampled there into a table),
+``neutral`` (the command of zero thrust),
+``reference_voltage`` (V), and optional ``dead_band`` (command units, default
+0), ``voltage_exponent`` (default 2), ``time_constant`` (s) and ``slew_rate``
+(N/s, default 0: none). With curves, ``[thrusters]`` needs ``supply_voltage``
+(V); ``max_thrust`` and ``min_thrust`` become optional (default: what the
+curve gives at its ends at that voltage) and ``time_constant`` belongs to the
+curves.
+
 An optional ``[limits]`` table states what a vehicle without a thruster
 layout can produce: ``tau_max`` (6 positive numbers, N and N m), the largest
 force or moment each DOF can get alone (the Gymnasium environment scales its
@@ -251,8 +269,11 @@ def load_limits(path: str | Path) -> Any:
 
 def load_thrusters(path: str | Path) -> dict[str, Any] | None:
     """The ``[thrusters]`` table of a vehicle file as arrays (``matrix``
-    (6, n), ``max_thrust``, ``min_thrust`` (n,), ``time_constant``), or None
-    if the file has none. Errors name the file and the field."""
+    (6, n), ``max_thrust``, ``min_thrust`` (n,), ``time_constant``, ``curves``
+    (n ThrusterCurveConfig, or None), ``supply_voltage`` and ``names`` (or
+    None)), or None if the
+    file has none. With curves, absent limits are the curves' thrust at their
+    end commands. Errors name the file and the field."""
     return read_vehicle_file(path).thrusters
 
 
@@ -262,7 +283,8 @@ def thrusters_from_mapping(table: Any, where: str) -> dict[str, Any]:
 
     if not isinstance(table, dict):
         raise VehicleFileError(f"{where}: expected a table")
-    allowed = {"positions", "directions", "matrix", "max_thrust", "min_thrust", "time_constant", "description"}
+    allowed = {"positions", "directions", "matrix", "max_thrust", "min_thrust", "time_constant",
+               "description", "curve", "supply_voltage", "names"}
     for key in table:
         if key not in allowed:
             close = difflib.get_close_matches(key, sorted(allowed), n=1)
@@ -299,8 +321,16 @@ def thrusters_from_mapping(table: Any, where: str) -> dict[str, Any]:
         dirs = dirs / norms[:, None]
         matrix = np.vstack([dirs.T, np.cross(pos, dirs).T])
     n = matrix.shape[1]
-    if "max_thrust" not in table:
-        raise VehicleFileError(f"{where}: missing field 'max_thrust'")
+    names = table.get("names")
+    if names is not None and not (isinstance(names, list) and len(names) == n
+                                  and all(isinstance(x, str) for x in names)):
+        raise VehicleFileError(f"{where}.names: expected {n} strings (one per thruster), got "
+                               f"{_describe(names)}")
+    curves = _curves(table, n, where) if "curve" in table else None
+    if "supply_voltage" in table and curves is None:
+        raise VehicleFileError(f"{where}.supply_voltage: only with a [thrusters.curve]")
+    if "max_thrust" not in table and curves is None:
+        raise VehicleFileError(f"{where}: missing field 'max_thrust' (or give a [thrusters.curve])")
 
     def limits(key: str) -> Any:
         v = table[key]
@@ -313,12 +343,146 @@ def thrusters_from_mapping(table: Any, where: str) -> dict[str, Any]:
             raise VehicleFileError(f"{where}.{key}: expected finite numbers")
         return a
 
-    max_thrust = limits("max_thrust")
-    min_thrust = limits("min_thrust") if "min_thrust" in table else -max_thrust
+    voltage = 0.0
+    if curves is not None:
+        v = table.get("supply_voltage")
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
+            raise VehicleFileError(f"{where}.supply_voltage: expected a number > 0 (V) with a curve, "
+                                   f"got {v!r}")
+        voltage = float(v)
+
+    def curve_end(row: int) -> Any:
+        # The curves' thrust at their first or last command (the C++ curve evaluates it).
+        return np.array([c.static_thrust(c.table[row, 0], voltage) for c in curves or []])
+
+    max_thrust = limits("max_thrust") if "max_thrust" in table else curve_end(-1)
+    if "min_thrust" in table:
+        min_thrust = limits("min_thrust")
+    else:
+        min_thrust = -max_thrust if curves is None else curve_end(0)
     tc = table.get("time_constant", 0.0)
     if isinstance(tc, bool) or not isinstance(tc, (int, float)) or not math.isfinite(tc) or tc < 0:
         raise VehicleFileError(f"{where}.time_constant: expected a number >= 0, got {tc!r}")
-    return {"matrix": matrix, "max_thrust": max_thrust, "min_thrust": min_thrust, "time_constant": float(tc)}
+    if curves is not None and "time_constant" in table:
+        raise VehicleFileError(f"{where}.time_constant: with a curve the lag is the curve's "
+                               "(give 'time_constant' in [thrusters.curve])")
+    out = {"matrix": matrix, "max_thrust": max_thrust, "min_thrust": min_thrust,
+           "time_constant": float(tc), "curves": curves, "supply_voltage": voltage, "names": names}
+    if curves is not None:
+        _check_layout(out, where)
+    return out
+
+
+_CURVE_KEYS = {"command": False, "thrust": False, "polynomial": False, "command_range": False,
+               "points": False, "neutral": True, "reference_voltage": True, "dead_band": False,
+               "voltage_exponent": False, "time_constant": False, "slew_rate": False}
+
+
+def _curves(table: dict[str, Any], n: int, where: str) -> list[Any]:
+    """The ``curve`` entry as n ThrusterCurveConfig, each checked by the C++
+    validator, whose field names are turned into this file's keys."""
+    raw = table["curve"]
+    if isinstance(raw, dict):
+        items = [(f"{where}.curve", raw)] * n
+    elif isinstance(raw, list) and all(isinstance(t, dict) for t in raw):
+        if len(raw) != n:
+            raise VehicleFileError(f"{where}.curve: expected one table or {n} tables (one per "
+                                   f"thruster), got {len(raw)}")
+        items = [(f"{where}.curve[{i}]", t) for i, t in enumerate(raw)]
+    else:
+        raise VehicleFileError(f"{where}.curve: expected a table [thrusters.curve] or {n} tables "
+                               f"[[thrusters.curve]], got {_describe(raw)}")
+    built: dict[int, Any] = {}
+    return [built.setdefault(id(t), _curve(t, w)) for w, t in items]
+
+
+def _curve(t: dict[str, Any], where: str) -> Any:
+    from neurov._core import ThrusterCurveConfig
+
+    for key in t:
+        if key not in _CURVE_KEYS:
+            close = difflib.get_close_matches(key, list(_CURVE_KEYS), n=1)
+            hint = f"; did you mean {close[0]!r}?" if close else ""
+            raise VehicleFileError(f"{where}.{key}: unknown field{hint}")
+    for key, required in _CURVE_KEYS.items():
+        if required and key not in t:
+            raise VehicleFileError(f"{where}: missing field {key!r}")
+    command, thrust = _curve_rows(t, where)
+    for key, v in (("command", command), ("thrust", thrust)):
+        s = _shape_of(v)
+        if s is None or len(s) != 1:
+            raise VehicleFileError(f"{where}.{key}: expected a list of numbers, got {_describe(v)}")
+    if len(command) != len(thrust):
+        raise VehicleFileError(f"{where}.thrust: expected {len(command)} numbers (one per command), "
+                               f"got {len(thrust)}")
+    c = ThrusterCurveConfig()
+    try:
+        c.table = [[float(a), float(b)] for a, b in zip(command, thrust)]
+        for key in ("neutral", "reference_voltage", "dead_band", "voltage_exponent", "time_constant",
+                    "slew_rate"):
+            if key in t:
+                v = t[key]
+                if isinstance(v, bool) or not isinstance(v, (int, float)):
+                    raise VehicleFileError(f"{where}.{key}: expected a number, got {_describe(v)}")
+                setattr(c, key, float(v))
+        c.validate()
+    except VehicleFileError:
+        raise
+    except ValueError as e:
+        # The C++ message names `thruster_curve.x`: say which key of this file that is.
+        text = str(e).split(": ", 1)[-1]
+        file, _, key = where.rpartition(": ")
+        sampled = (f" (the polynomial sampled at {len(command)} commands over command_range)"
+                   if "polynomial" in t else "")
+        raise VehicleFileError(f"{file + ': ' if file else ''}"
+                               f"{text.replace('thruster_curve.', key + '.')}{sampled}") from None
+    return c
+
+
+def _curve_rows(t: dict[str, Any], where: str) -> tuple[Any, Any]:
+    """The curve's (command, thrust) rows: its table, or its polynomial (thrust =
+    sum of polynomial[k] * command^k) sampled at `points` evenly spaced commands
+    over command_range (default 256, the most a curve holds), which the C++
+    curve then interpolates linearly."""
+    import numpy as np
+
+    if "polynomial" not in t:
+        for key in ("command", "thrust"):
+            if key not in t:
+                raise VehicleFileError(f"{where}: missing field {key!r} (or give 'polynomial' and "
+                                       "'command_range')")
+        for key in ("command_range", "points"):
+            if key in t:
+                raise VehicleFileError(f"{where}.{key}: only with 'polynomial'")
+        return t["command"], t["thrust"]
+    for key in ("command", "thrust"):
+        if key in t:
+            raise VehicleFileError(f"{where}.{key}: give either 'command' and 'thrust' or "
+                                   "'polynomial', not both")
+    coefficients, span = t["polynomial"], t.get("command_range")
+    if _shape_of(coefficients) is None or len(_shape_of(coefficients) or ()) != 1:
+        raise VehicleFileError(f"{where}.polynomial: expected a list of numbers (lowest order "
+                               f"first), got {_describe(coefficients)}")
+    if _shape_of(span) != (2,) or not (span[0] < span[1]):
+        raise VehicleFileError(f"{where}.command_range: expected 2 increasing numbers with "
+                               f"'polynomial', got {_describe(span) if span is not None else None}")
+    points = t.get("points", 256)
+    if isinstance(points, bool) or not isinstance(points, int) or not 2 <= points <= 256:
+        raise VehicleFileError(f"{where}.points: expected an integer from 2 to 256, got {points!r}")
+    command = np.linspace(float(span[0]), float(span[1]), points)
+    return command.tolist(), np.polynomial.polynomial.polyval(command, coefficients).tolist()
+
+
+def _check_layout(thrusters: dict[str, Any], where: str) -> None:
+    """The layout with its curves through the C++ validator (limits inside the curves)."""
+    from neurov._core import ThrusterConfig
+
+    try:
+        ThrusterConfig(matrix=thrusters["matrix"], max_thrust=thrusters["max_thrust"],
+                       min_thrust=thrusters["min_thrust"], curves=thrusters["curves"],
+                       supply_voltage=thrusters["supply_voltage"]).validate()
+    except ValueError as e:
+        raise VehicleFileError(f"{where}: {e}") from None
 
 
 def _attach_file_constructors() -> None:

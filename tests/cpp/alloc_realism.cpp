@@ -91,7 +91,7 @@ TYPED_TEST(RealismAllocTest, ThrusterCurveSensorsAndEkfDoNotAllocate) {
     errors[4] = UsblSensor<S>::create(uc, 3, *usbl);
     errors[5] = Ekf<S>::create(ec, eta, nu, *ekf);
     Eigen::Matrix<S, 6, 8> b;
-    errors[6] = allocation_matrix(bluerov2_heavy_assumed_layout<S>(), b);
+    errors[6] = allocation_matrix(bluerov2_heavy_layout<S>(), b);
     for (int k = 1; k <= 500; ++k) {  // 10 s at 50 Hz
       const double t = k * 0.02;
       eta(0) += S(0.3 * 0.02);

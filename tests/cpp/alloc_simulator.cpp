@@ -89,12 +89,35 @@ SimulationConfig<S> busy_config(RefusedStepPolicy policy) {
 /// Runs a whole closed loop (controller, report, simulator step) and a
 /// reset in the watch window.
 template <typename S, typename Controller>
-void expect_run_does_not_allocate(Controller& controller, RefusedStepPolicy policy) {
+void expect_run_does_not_allocate(Controller& controller, RefusedStepPolicy policy,
+                                  bool curves = false) {
   const Vehicle<S> vehicle(nerov_parameters<S>());
   Eigen::Matrix<S, 1, kMaxLoggedParameters> parameters;
   const int logged = controller_report<S>(controller, Status::ok, parameters).parameter_count;
   Simulator<S> sim;
-  ASSERT_TRUE(Simulator<S>::create(vehicle, busy_config<S>(policy), sim, logged).ok());
+  SimulationConfig<S> config = busy_config<S>(policy);
+  if (curves) {
+    // A PWM curve with a dead band, asymmetric thrust, lag and slew limit.
+    ThrusterCurveConfig<S> curve;
+    const double pwm[] = {1100, 1300, 1460, 1540, 1700, 1900};
+    const double thrust[] = {-80, -30, 0, 0, 40, 100};
+    curve.points = 6;
+    for (int i = 0; i < 6; ++i) {
+      curve.command[i] = static_cast<S>(pwm[i]);
+      curve.thrust[i] = static_cast<S>(thrust[i]);
+    }
+    curve.neutral = S(1500);
+    curve.dead_band = S(40);
+    curve.reference_voltage = S(16);
+    curve.time_constant = S(0.1);
+    curve.slew_rate = S(500);
+    config.thrusters.curves.assign(6, curve);
+    config.thrusters.supply_voltage = S(15);
+    config.thrusters.time_constant = S(0);
+    config.thrusters.min_thrust.resize(0);
+    config.thrusters.max_thrust.resize(0);
+  }
+  ASSERT_TRUE(Simulator<S>::create(vehicle, config, sim, logged).ok());
   Vector6<S> tau;
   long refused = 0;
   Status worst_plant = Status::ok;
@@ -129,6 +152,16 @@ TYPED_TEST(SimulatorAllocTest, StepAndResetDoNotAllocateWithAPDController) {
   ASSERT_TRUE(PDController<S>::create(cfg, pd).ok());
   expect_run_does_not_allocate<S>(pd, RefusedStepPolicy::zero);
   expect_run_does_not_allocate<S>(pd, RefusedStepPolicy::hold);
+}
+
+TYPED_TEST(SimulatorAllocTest, StepAndResetDoNotAllocateWithThrusterCurves) {
+  using S = TypeParam;
+  PDConfig<S> cfg;
+  cfg.kp.setConstant(S(50));
+  cfg.kd.setConstant(S(80));
+  PDController<S> pd;
+  ASSERT_TRUE(PDController<S>::create(cfg, pd).ok());
+  expect_run_does_not_allocate<S>(pd, RefusedStepPolicy::hold, true);
 }
 
 TYPED_TEST(SimulatorAllocTest, StepAndResetDoNotAllocateWhileLoggingParameters) {

@@ -1,6 +1,7 @@
-// The BlueROV2 Heavy allocation matrix against its (assumed) geometry: each
-// column [d; r x d] written out component by component, full rank, the
-// decoupling the X layout gives, and port/starboard names against y.
+// The BlueROV2 Heavy allocation matrix against its geometry: each column
+// [d; r x d] written out component by component, full rank, the decoupling
+// the X layout gives, the signs of ArduSub's motor factors for the frame,
+// and port/starboard names against y.
 #include <cmath>
 #include <string>
 
@@ -24,7 +25,7 @@ TYPED_TEST_SUITE(BlueRov2HeavyTest, Scalars, ScalarName);
 
 TYPED_TEST(BlueRov2HeavyTest, EveryColumnIsDirectionAndMomentOfItsThruster) {
   using S = TypeParam;
-  const auto g = bluerov2_heavy_assumed_layout<S>();
+  const auto g = bluerov2_heavy_layout<S>();
   Eigen::Matrix<S, 6, 8> b;
   ASSERT_TRUE(allocation_matrix(g, b).ok());
   const double e = std::is_same<S, float>::value ? 1e-6 : 1e-15;
@@ -49,11 +50,12 @@ TYPED_TEST(BlueRov2HeavyTest, EveryColumnIsDirectionAndMomentOfItsThruster) {
 TYPED_TEST(BlueRov2HeavyTest, SurgeSwayAndYawUseOnlyTheHorizontalThrusters) {
   using S = TypeParam;
   Eigen::Matrix<S, 6, 8> b;
-  ASSERT_TRUE(allocation_matrix(bluerov2_heavy_assumed_layout<S>(), b).ok());
-  // All four horizontal thrusters at +1 N: pure surge of 4 cos 45 deg plus
-  // the pitch moment of thrust acting 0.085 m below the origin.
+  ASSERT_TRUE(allocation_matrix(bluerov2_heavy_layout<S>(), b).ok());
+  // The horizontal thrusters at ArduSub's forward factors (-1, -1, +1, +1)
+  // N: pure surge of 4 cos 45 deg plus the pitch moment of thrust acting
+  // 0.085 m below the origin.
   Eigen::Matrix<S, 8, 1> u = Eigen::Matrix<S, 8, 1>::Zero();
-  u.template head<4>().setOnes();
+  u.template head<4>() << S(-1), S(-1), S(1), S(1);
   const Vector6<S> tau = b * u;
   const double tol = std::is_same<S, float>::value ? 1e-6 : 1e-14;
   EXPECT_NEAR(static_cast<double>(tau(0)), 4 * std::sqrt(0.5), tol);
@@ -76,9 +78,34 @@ TYPED_TEST(BlueRov2HeavyTest, SurgeSwayAndYawUseOnlyTheHorizontalThrusters) {
   EXPECT_NEAR(static_cast<double>((b * thrusters.commanded())(5)), 2.0, 1e-5);
 }
 
+TYPED_TEST(BlueRov2HeavyTest, ColumnsHaveTheSignsOfArduSubsMotorFactors) {
+  using S = TypeParam;
+  Eigen::Matrix<S, 6, 8> b;
+  ASSERT_TRUE(allocation_matrix(bluerov2_heavy_layout<S>(), b).ok());
+  // ArduPilot AP_Motors6DOF.cpp, SUB_FRAME_VECTORED_6DOF, per motor: roll,
+  // pitch, yaw, throttle, forward, lateral. Throttle is positive up (-z), so
+  // heave's sign is -throttle. Zero factors are where the column's entry is
+  // zero or (roll and pitch of a horizontal thruster) only the small moment
+  // of its 0.085 m depth.
+  const int factors[8][6] = {{0, 0, 1, 0, -1, 1},  {0, 0, -1, 0, -1, -1}, {0, 0, -1, 0, 1, 1},
+                             {0, 0, 1, 0, 1, -1},  {1, -1, 0, -1, 0, 0},  {-1, -1, 0, -1, 0, 0},
+                             {1, 1, 0, -1, 0, 0},  {-1, 1, 0, -1, 0, 0}};
+  for (int i = 0; i < 8; ++i) {
+    const int sign[6] = {factors[i][4], factors[i][5], -factors[i][3],
+                         factors[i][0], factors[i][1], factors[i][2]};
+    for (int k = 0; k < 6; ++k) {
+      const double v = static_cast<double>(b(k, i));
+      if (sign[k] != 0)
+        EXPECT_GT(v * sign[k], 0.0) << "motor " << i + 1 << ", DOF " << k;
+      else if (k < 3 || i >= 4)
+        EXPECT_EQ(v, 0.0) << "motor " << i + 1 << ", DOF " << k;
+    }
+  }
+}
+
 TYPED_TEST(BlueRov2HeavyTest, PortAndStarboardNamesMatchTheSignOfY) {
   using S = TypeParam;
-  const auto g = bluerov2_heavy_assumed_layout<S>();
+  const auto g = bluerov2_heavy_layout<S>();
   for (int i = 0; i < 8; ++i) {
     const std::string name = kBlueRov2HeavyThrusterNames[i];
     const bool starboard = name.find("starboard") != std::string::npos;
@@ -92,14 +119,14 @@ TYPED_TEST(BlueRov2HeavyTest, PortAndStarboardNamesMatchTheSignOfY) {
 
 TYPED_TEST(BlueRov2HeavyTest, BadLayoutsAreNamedErrors) {
   using S = TypeParam;
-  auto g = bluerov2_heavy_assumed_layout<S>();
+  auto g = bluerov2_heavy_layout<S>();
   Eigen::Matrix<S, 6, 8> b = Eigen::Matrix<S, 6, 8>::Constant(S(7));
   g[3].direction = Vector3<S>(S(1), S(1), S(0));
   ValidationError e = allocation_matrix(g, b);
   EXPECT_STREQ(e.field, "thrusters.direction");
   EXPECT_EQ(e.index, 3);
   EXPECT_EQ(b(0, 0), S(7)) << "out must stay untouched";
-  g = bluerov2_heavy_assumed_layout<S>();
+  g = bluerov2_heavy_layout<S>();
   g[6].position.y() = std::numeric_limits<S>::quiet_NaN();
   e = allocation_matrix(g, b);
   EXPECT_STREQ(e.field, "thrusters.position");

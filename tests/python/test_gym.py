@@ -208,19 +208,23 @@ def test_terminated_on_leaving_the_bounding_box() -> None:
 
 
 def test_vehicle_limits_table_scales_a_vehicle_without_thrusters(tmp_path: Path) -> None:
+    # The BlueROV2 Heavy's parameters without its [thrusters] table.
+    body = (PACKAGE / "vehicles" / "bluerov2_heavy.toml").read_text().split("\n[thrusters]")[0]
+    body = body[:body.rindex("\n\n")]
     vehicle = tmp_path / "rov.toml"
-    vehicle.write_text((PACKAGE / "vehicles" / "bluerov2_heavy.toml").read_text()
-                       + "\n[limits]\ntau_max = [80, 80, 90, 5, 6, 7]\n")
+    vehicle.write_text(body + "\n[limits]\ntau_max = [80, 80, 90, 5, 6, 7]\n")
+    (tmp_path / "bare.toml").write_text(body + "\n")
     scenario = (PACKAGE / "scenarios" / "bluerov2_depth_step.toml").read_text().replace(
-        'preset = "bluerov2_heavy"', 'file = "rov.toml"')
+        'preset = "bluerov2_heavy"', 'file = "rov.toml"').replace("thrusters = true ", "thrusters = false")
     (tmp_path / "s.toml").write_text(scenario)
+    (tmp_path / "bare_s.toml").write_text(scenario.replace('file = "rov.toml"', 'file = "bare.toml"'))
     env = TrackingEnv(tmp_path / "s.toml")
     pos, neg = env.action_scale
     np.testing.assert_array_equal(pos, [80, 80, 90, 5, 6, 7])
     np.testing.assert_array_equal(neg, pos)
     check_env(env, skip_render_check=True)
     with pytest.raises(ValueError, match="neither a \\[thrusters\\] table nor \\[limits\\] tau_max"):
-        TrackingEnv("bluerov2_depth_step")
+        TrackingEnv(tmp_path / "bare_s.toml")
     with pytest.raises(ValueError, match="'thrusters' needs a thruster layout"):
         TrackingEnv(tmp_path / "s.toml", action="thrusters")
 

@@ -4,10 +4,13 @@
 #include <pybind11/pybind11.h>
 
 #include <limits>
+#include <string>
 
 #include "bindings.hpp"
 #include "fields.hpp"
 #include "numpy_args.hpp"
+#include "neurov/model/bluerov2_heavy.hpp"
+#include "neurov/model/thruster_curve.hpp"
 #include "neurov/model/thrusters.hpp"
 
 namespace neurov::bindings {
@@ -20,6 +23,67 @@ void bind_thrusters(py::module_& m) {
              "Every thruster scaled by one factor: the wrench keeps its direction.")
       .value("clip", Saturation::clip, "Each thruster clipped to its limits: the wrench turns.");
   {
+    using T = ThrusterCurveConfig<double>;
+    py::class_<T> cls(m, "ThrusterCurveConfig",
+                      "One thruster from command to thrust: a table (linearly interpolated), a "
+                      "dead band around the neutral command, supply-voltage scaling, a "
+                      "first-order lag and a slew-rate limit.");
+    Fields<T>(cls, "ThrusterCurveConfig")
+        .field(
+            "table",
+            [](const T& c) {
+              Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor> t(c.points, 2);
+              for (int i = 0; i < c.points; ++i) t.row(i) << c.command[i], c.thrust[i];
+              py::array a = py::cast(t);
+              a.attr("setflags")(py::arg("write") = false);
+              return a;
+            },
+            [](T& c, const py::handle& v, const std::string& qualified) {
+              const auto t = py_args::dynamic_matrix(v, qualified.c_str(), -1, 2);
+              if (t.rows() > kThrusterCurveCapacity)
+                throw py::value_error(qualified + " must have at most " +
+                                      std::to_string(kThrusterCurveCapacity) + " rows, got " +
+                                      std::to_string(t.rows()));
+              c.points = static_cast<int>(t.rows());
+              for (int i = 0; i < c.points; ++i) {
+                c.command[i] = t(i, 0);
+                c.thrust[i] = t(i, 1);
+              }
+            },
+            "(n, 2) rows of (command, thrust [N] at reference_voltage), commands strictly "
+            "increasing, 2 <= n <= 256 (a read-only copy; assign a whole table).")
+        .value("neutral", &T::neutral, "The command of zero thrust, inside the table.")
+        .value("dead_band", &T::dead_band,
+               "Half-width of the dead band around neutral (command units), >= 0.")
+        .value("reference_voltage", &T::reference_voltage,
+               "Supply voltage [V] at which the table was measured, > 0.")
+        .value("voltage_exponent", &T::voltage_exponent,
+               "Thrust ~ voltage^exponent at a fixed command, >= 0 (2: an assumption).")
+        .value("time_constant", &T::time_constant, "First-order lag of the thrust [s]; 0: none.")
+        .value("slew_rate", &T::slew_rate, "Largest rate of change of the thrust [N/s]; 0: none.")
+        .validator("ThrusterCurveConfig")
+        .finish();
+    cls.def(
+        "static_thrust",
+        [](const T& c, double command, double voltage) {
+          ThrusterCurve<double> curve;
+          py_args::raise_if_invalid(ThrusterCurve<double>::create(c, curve), "ThrusterCurveConfig");
+          return curve.static_thrust(command, voltage);
+        },
+        py::arg("command"), py::arg("voltage"),
+        "Steady thrust [N] at a command and supply voltage (the C++ curve).");
+    cls.def(
+        "command_for",
+        [](const T& c, double thrust, double voltage) {
+          ThrusterCurve<double> curve;
+          py_args::raise_if_invalid(ThrusterCurve<double>::create(c, curve), "ThrusterCurveConfig");
+          return curve.command_for(thrust, voltage);
+        },
+        py::arg("thrust"), py::arg("voltage"),
+        "The command whose steady thrust is `thrust` at `voltage` (the curve's inverse), "
+        "clamped to the table.");
+  }
+  {
     using T = ThrusterConfig<double>;
     py::class_<T> cls(m, "ThrusterConfig",
                       "n thrusters: tau = B u, allocated by the weighted pseudo-inverse, "
@@ -31,7 +95,12 @@ void bind_thrusters(py::module_& m) {
         .dynamic_vector("weights", &T::weights,
                "Allocation weights (n,), > 0; empty means all 1.")
         .value("saturation", &T::saturation, "A Saturation.")
-        .value("time_constant", &T::time_constant, "First-order lag [s]; 0 means none.")
+        .value("time_constant", &T::time_constant,
+               "First-order lag [s] of linear thrusters; 0 means none (0 with curves).")
+        .list("curves", &T::curves, "ThrusterCurveConfig",
+              "One command-to-thrust curve per thruster, or empty: linear thrusters (a tuple; "
+              "assign a list). With curves, empty limits mean the curves' range.")
+        .value("supply_voltage", &T::supply_voltage, "Supply voltage [V] of the curves, > 0 with curves.")
         .validator("ThrusterConfig",
                    [](const T& c) {
                      Thrusters<double> t;
@@ -39,6 +108,23 @@ void bind_thrusters(py::module_& m) {
                    })
         .finish();
   }
+
+  m.def(
+      "bluerov2_heavy_layout",
+      [] {
+        const auto g = bluerov2_heavy_layout<double>();
+        Eigen::Matrix<double, 8, 3, Eigen::RowMajor> positions, directions;
+        py::list names;
+        for (int i = 0; i < 8; ++i) {
+          positions.row(i) = g[static_cast<std::size_t>(i)].position.transpose();
+          directions.row(i) = g[static_cast<std::size_t>(i)].direction.transpose();
+          names.append(kBlueRov2HeavyThrusterNames[static_cast<std::size_t>(i)]);
+        }
+        return py::make_tuple(positions, directions, names);
+      },
+      "The BlueROV2 Heavy's thruster layout of the C++ core (model/bluerov2_heavy.hpp): "
+      "(positions (8, 3) [m], unit thrust directions (8, 3), names), body axes x forward, "
+      "y starboard, z down.");
 
   m.def(
       "allocate_thrust",

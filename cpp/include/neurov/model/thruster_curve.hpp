@@ -13,8 +13,8 @@
 // Forward and reverse thrust differ because the table does: its commands
 // below neutral carry the reverse thrusts, those above the forward ones.
 // The curve's numbers come from the user (a vehicle file); no
-// manufacturer's data is built in (see docs/realism.md for where the
-// T200's table must come from).
+// manufacturer's data is built in (the T200's, with its source, is in
+// python/neurov/vehicles/bluerov2_heavy.toml).
 #pragma once
 
 #include <array>
