@@ -57,7 +57,7 @@ TYPED_TEST(OnboardAllocTest, ThrustAllocatorDoesNotAllocate) {
   const Window w = watch([&] {
     errors[0] = ThrusterCurve<S>::create(tc, *curve);
     Eigen::Matrix<S, 6, 8> b8;
-    errors[1] = allocation_matrix(bluerov2_heavy_assumed_layout<S>(), b8);
+    errors[1] = allocation_matrix(bluerov2_heavy_layout<S>(), b8);
     const typename Alloc::Matrix b = b8;
     const typename Alloc::Vector lo = Alloc::Vector::Constant(8, S(-30)),
                                  hi = Alloc::Vector::Constant(8, S(40));
@@ -86,7 +86,7 @@ struct alignas(NEUROV_STORAGE_ALIGN) OnboardStorage {
 };
 
 TEST(OnboardAllocTestC, TheCAllocatorAndEstimatorDoNotCallOperatorNew) {
-  const auto g = bluerov2_heavy_assumed_layout<float>();
+  const auto g = bluerov2_heavy_layout<float>();
   float pos[24], dir[24], lo[8], hi[8];
   for (int i = 0; i < 8; ++i) {
     for (int k = 0; k < 3; ++k) {

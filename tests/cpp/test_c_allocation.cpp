@@ -31,7 +31,7 @@ struct Layout {
   float min_thrust[kN];
   float max_thrust[kN];
   Layout() {
-    const auto g = neurov::bluerov2_heavy_assumed_layout<float>();
+    const auto g = neurov::bluerov2_heavy_layout<float>();
     for (int i = 0; i < kN; ++i) {
       for (int k = 0; k < 3; ++k) {
         positions[3 * i + k] = g[static_cast<std::size_t>(i)].position(k);

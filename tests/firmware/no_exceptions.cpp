@@ -200,7 +200,7 @@ template <typename S>
 void thrust_allocation() {
   using Alloc = ThrustAllocator<S, 8>;
   Eigen::Matrix<S, 6, 8> b8;
-  CHECK(allocation_matrix(bluerov2_heavy_assumed_layout<S>(), b8).ok());
+  CHECK(allocation_matrix(bluerov2_heavy_layout<S>(), b8).ok());
   const typename Alloc::Vector lo = Alloc::Vector::Constant(8, S(-40)), hi = Alloc::Vector::Constant(8, S(50));
   Alloc alloc;
   typename Alloc::Matrix singular = b8;
