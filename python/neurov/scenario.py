@@ -207,7 +207,7 @@ SIMULATION_FIELDS: dict[str, str] = {
     "current_period": "current_period", "noise_eta": "noise_eta", "noise_nu": "noise_nu",
     "sensor_faults": "sensor_faults", "current_steps": "current_steps",
     "refused_step_policy": "refused_step_policy", "use_thrusters": "use_thrusters",
-    "thruster_failures": "failures",
+    "thruster_failures": "failures", "control_delay": "control_delay",
 }
 _ENUMS = {"refused_step_policy": _core.RefusedStepPolicy, "saturation": _core.Saturation}
 

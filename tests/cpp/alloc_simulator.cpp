@@ -1,6 +1,6 @@
 // The Simulator allocates in create() only: step() and reset() touch no heap,
 // whatever the run holds (noise, every sensor fault, thrusters with failures,
-// current steps, disturbances, logged parameters, refused steps), in float
+// current steps, disturbances, a control delay, logged parameters, refused steps), in float
 // and double.
 //
 // The detectors are in alloc_probe.hpp; the counting global operator new is
@@ -83,6 +83,7 @@ SimulationConfig<S> busy_config(RefusedStepPolicy policy) {
   f.efficiency = S(0.5);
   f.time = S(15);
   c.failures = {f};
+  c.control_delay = 2;  // the pending forces' ring
   return c;
 }
 

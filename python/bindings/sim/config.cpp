@@ -188,6 +188,9 @@ void bind_sim_config(py::module_& m) {
         .optional("waves", &T::waves, "A WaveConfig, or None for a calm sea.")
         .list("payload", &T::payload, "PayloadEvent",
               "Payload events in non-decreasing time (a tuple; assign a list).")
+        .value("control_delay", &T::control_delay,
+               "Control periods between a measurement and the force computed from it acting, "
+               "0..16 (0: in the same period).")
         .validator("SimulationConfig")
         .finish();
   }

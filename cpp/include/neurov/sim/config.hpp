@@ -113,6 +113,11 @@ struct Command {
   }
 };
 
+/// The longest computation delay a run holds, in control periods: the
+/// simulator keeps the forces not yet applied in a fixed ring of this many + 1.
+inline constexpr int kMaxControlDelay = 16;
+static_assert(kMaxControlDelay == 16, "validate()'s control_delay message names the maximum");
+
 template <typename Scalar>
 struct SimulationConfig {
   Scalar dt = Scalar(0.2);  ///< control period [s]
@@ -148,6 +153,10 @@ struct SimulationConfig {
   /// non-decreasing time; each is checked against the vehicle it changes by
   /// Simulator::create (validate_payload).
   std::vector<PayloadEvent<Scalar>> payload;
+  /// Control periods between the measurement a force is computed from and
+  /// the interval it acts over, 0..kMaxControlDelay: the force demanded at
+  /// row k acts over [t_k+n, t_k+n+1); before row n no force acts.
+  int control_delay = 0;
 };
 
 /// Checks every field a run needs (allocates: the thrusters' pseudo-inverse is
@@ -161,6 +170,9 @@ inline ValidationError validate(const SimulationConfig<Scalar>& c) {
   if (c.duration / c.dt > Scalar(1e8))
     return detail::invalid("duration", -1, static_cast<double>(c.duration),
                            "at most 1e8 control steps");
+  if (c.control_delay < 0 || c.control_delay > kMaxControlDelay)
+    return detail::invalid("control_delay", -1, static_cast<double>(c.control_delay),
+                           "a whole number of control periods in 0..16");
   if (auto e = detail::check_finite("eta0", c.eta0)) return e;
   if (auto e = detail::check_finite("nu0", c.nu0)) return e;
   if (c.command.times.size() < 1)

@@ -17,12 +17,16 @@
 // (zero-order hold); the plant integrated by RK4 at dt / substeps, thrusters
 // advanced per substep; the reference model advanced at the control rate. Row
 // k of the result is the instant t_k = k dt: the true state there, the
-// desired state the controller was given, and the force it demanded for
-// [t_k, t_k+1).
+// desired state the controller was given, and the force it demanded from the
+// measurement at t_k. With control_delay = n that force acts over
+// [t_k+n, t_k+n+1) (the computation's delay, in whole periods); the forces
+// waiting to act sit in a fixed ring, so a step allocates nothing. n = 0 is
+// the force acting over [t_k, t_k+1).
 #pragma once
 
 #include <Eigen/Core>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -150,6 +154,7 @@ class Simulator {
     held_eta_ = eta_;
     held_nu_ = nu_;
     last_accepted_tau_.setZero();
+    for (Vec6& f : pending_tau_) f.setZero();
     result_.clear();
     k_ = 0;
     observe();
@@ -210,14 +215,21 @@ class Simulator {
     }
     r.payload_mass(k) = payload_mass_;
 
+    // The force this row demanded waits control_delay periods; the one due
+    // now (zero before the first one is due) acts over this interval.
+    const int n = config_.control_delay;
+    pending_tau_[static_cast<std::size_t>(k % kPendingSlots)] = applied_tau;
+    const Vec6 acting_tau = k >= n ? pending_tau_[static_cast<std::size_t>((k - n) % kPendingSlots)]
+                                   : Vec6::Zero().eval();
+
     std::uint8_t faults = faults_;
-    if (config_.use_thrusters) thrusters_.command(applied_tau);
+    if (config_.use_thrusters) thrusters_.command(acting_tau);
     Status ps = Status::ok;
     Vec6 applied_sum = Vec6::Zero();
     for (int j = 0; j < config_.substeps; ++j) {
       const Scalar ts = t + static_cast<Scalar>(j) * h_;
       apply_payload_events(ts);
-      Vec6 applied = applied_tau;
+      Vec6 applied = acting_tau;
       if (config_.use_thrusters) {
         for (std::size_t f = 0; f < config_.failures.size(); ++f) {
           if (!failure_applied_[f] && ts >= config_.failures[f].time) {
@@ -391,6 +403,7 @@ class Simulator {
   }
 
   static constexpr Scalar kTwoPi = Scalar(6.283185307179586);
+  static constexpr Eigen::Index kPendingSlots = kMaxControlDelay + 1;
 
   Vehicle<Scalar> vehicle_;   ///< the plant, changed by the payload events
   Vehicle<Scalar> vehicle0_;  ///< the plant at t = 0
@@ -415,6 +428,8 @@ class Simulator {
   // The last measurements delivered unfrozen, which a freeze keeps repeating.
   Vec6 held_eta_ = Vec6::Zero(), held_nu_ = Vec6::Zero();
   Vec6 last_accepted_tau_ = Vec6::Zero();
+  /// Forces demanded and not yet acting: row k's at slot k mod kPendingSlots.
+  std::array<Vec6, kPendingSlots> pending_tau_{};
   Observation<Scalar> observation_;
   std::uint8_t faults_ = 0;
   SimulationResult<Scalar> result_;
