@@ -1507,12 +1507,20 @@ class SimulationConfig:
         """Control periods between a measurement and the force computed from it acting, 0..16 (0: in the same period)."""
     @control_delay.setter
     def control_delay(self, value: SupportsIndex) -> None: ...
+    @property
+    def water_density(self) -> float:
+        """[kg/m^3], > 0 (sea water by default); a vehicle file's displaced volume gives its buoyancy as buoyancy_in_water(water_density, volume)."""
+    @water_density.setter
+    def water_density(self, value: SupportsFloat) -> None: ...
     def __copy__(self) -> SimulationConfig: ...
     def __deepcopy__(self, memo: dict[int, Any]) -> SimulationConfig: ...
     def __getstate__(self) -> dict[str, Any]: ...
     def __setstate__(self, state: dict[str, Any]) -> None: ...
     def validate(self) -> None:
         """Raises ValueError naming the first field that is wrong and what it expected."""
+
+def buoyancy_in_water(water_density: SupportsFloat, displaced_volume: SupportsFloat) -> float:
+    """B = rho g V [N]: the buoyancy of displaced_volume [m^3] in water of water_density [kg/m^3]."""
 
 @type_check_only
 class _SimulationResult(TypedDict):

@@ -19,3 +19,4 @@ def read_realism(r: Any, c: Any) -> None:
     """Reads the top-level keys of reader `r` into config `c`."""
     # Any integer reaches the C++ validator, which names the allowed range.
     c.control_delay = r.integer("control_delay", c.control_delay, minimum=-(2**31))
+    c.water_density = r.number("water_density", c.water_density)

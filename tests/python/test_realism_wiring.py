@@ -78,3 +78,53 @@ def test_a_bad_delay_from_python_is_named(tmp_path: Path) -> None:
         simulate(s)
     with pytest.raises(ValueError, match="control_delay"):
         neurov.Scenario(control_delay=17).simulation.validate()
+
+
+# --- the water -------------------------------------------------------------------
+
+BLUEROV2 = HOVER.replace('preset = "nerov"', 'preset = "bluerov2_heavy"')
+G = 9.81
+
+
+@pytest.mark.parametrize("rho", [1000.0, 1025.0])
+def test_buoyancy_is_rho_g_v_in_the_scenarios_water(tmp_path: Path, rho: float) -> None:
+    from neurov.simulation import build_vehicle
+
+    s = load_scenario(write(tmp_path, f"water_density = {rho}\n" + BLUEROV2))
+    assert s.water_density == rho
+    b = build_vehicle(s).buoyancy
+    assert b == pytest.approx(rho * G * 0.0134, rel=1e-12)
+    assert b == _core.buoyancy_in_water(rho, 0.0134)
+    # The vehicle's weight is trimmed for neither: in fresh water it sinks,
+    # in sea water it rises, from rest at the rate (W - B) / (m + Z_wdot).
+    v = build_vehicle(s)
+    sim = _core.Simulator(v, _core.SimulationConfig(
+        dt=0.01, substeps=1, duration=0.01, eta0=[0, 0, 5, 0, 0, 0],
+        command=_core.Command(times=[0.0], poses=[[0, 0, 5, 0, 0, 0]])))
+    sim.step(np.zeros(6))
+    w = sim.state[1][2]
+    expected = (v.weight - b) / (v.mass + v.added_mass[2, 2]) * 0.01
+    assert np.sign(w) == (1.0 if rho == 1000.0 else -1.0)
+    assert w == pytest.approx(expected, rel=1e-2)
+
+
+def test_sea_water_is_the_default_and_a_given_buoyancy_stays(tmp_path: Path) -> None:
+    from neurov.simulation import build_vehicle
+
+    assert _core.SimulationConfig().water_density == 1025.0
+    assert neurov.Vehicle.preset("bluerov2_heavy").buoyancy == pytest.approx(1025.0 * G * 0.0134, rel=1e-12)
+    fresh = load_scenario(write(tmp_path, "water_density = 1000.0\n" + HOVER))
+    assert build_vehicle(fresh).buoyancy == 1800.0  # NEROV's file gives B itself
+
+
+def test_bad_water_is_named(tmp_path: Path) -> None:
+    with pytest.raises(ScenarioError, match=r"water_density = 0: expected > 0 and finite"):
+        load_scenario(write(tmp_path, "water_density = 0.0\n" + HOVER))
+    with pytest.raises(ValueError, match="displaced_volume"):
+        _core.buoyancy_in_water(1025.0, -1.0)
+    text = (Path(neurov.__file__).parent / "vehicles" / "bluerov2_heavy.toml").read_text()
+    boat = tmp_path / "boat.toml"
+    boat.write_text(text + "\nbuoyancy = 130.0\n")
+    with pytest.raises(neurov.VehicleFileError, match="either 'buoyancy'"):
+        neurov.Vehicle.from_file(boat)
+

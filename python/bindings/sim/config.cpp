@@ -13,6 +13,17 @@ namespace neurov::bindings {
 namespace py = pybind11;
 
 void bind_sim_config(py::module_& m) {
+  m.def(
+      "buoyancy_in_water",
+      [](double water_density, double displaced_volume) {
+        double b = 0.0;
+        py_args::raise_if_invalid(buoyancy_in_water(water_density, displaced_volume, b),
+                                  "buoyancy_in_water");
+        return b;
+      },
+      py::arg("water_density"), py::arg("displaced_volume"),
+      "B = rho g V [N]: the buoyancy of displaced_volume [m^3] in water of water_density "
+      "[kg/m^3]. ValueError naming an argument that is not > 0 and finite.");
   py::enum_<SensorFaultKind>(m, "SensorFaultKind", "What a sensor fault does to a measurement.")
       .value("freeze", SensorFaultKind::freeze, "Repeats the last measurement delivered.")
       .value("dropout", SensorFaultKind::dropout, "NaN, which the controller refuses.")
@@ -191,6 +202,9 @@ void bind_sim_config(py::module_& m) {
         .value("control_delay", &T::control_delay,
                "Control periods between a measurement and the force computed from it acting, "
                "0..16 (0: in the same period).")
+        .value("water_density", &T::water_density,
+               "[kg/m^3], > 0 (sea water by default); a vehicle file's displaced volume gives "
+               "its buoyancy as buoyancy_in_water(water_density, volume).")
         .validator("SimulationConfig")
         .finish();
   }

@@ -16,6 +16,7 @@
 #include "neurov/model/thrusters.hpp"
 #include "neurov/sim/gauss_markov_current.hpp"
 #include "neurov/sim/payload.hpp"
+#include "neurov/sim/sea_constants.hpp"
 #include "neurov/sim/wave_spectrum.hpp"
 #include "neurov/sim/waves.hpp"
 
@@ -157,7 +158,27 @@ struct SimulationConfig {
   /// the interval it acts over, 0..kMaxControlDelay: the force demanded at
   /// row k acts over [t_k+n, t_k+n+1); before row n no force acts.
   int control_delay = 0;
+  /// The density of the water [kg/m^3], > 0: sea water by default. The
+  /// buoyancy of a vehicle given by its displaced volume is
+  /// buoyancy_in_water(water_density, volume); a Vehicle built with it is
+  /// what the simulator runs (it takes the Vehicle's buoyancy as given).
+  Scalar water_density = Scalar(1025);
 };
+
+/// B = rho g V [N]: the buoyancy of `displaced_volume` [m^3] in water of
+/// `water_density` [kg/m^3] (g = standard_gravity). Both must be > 0 and
+/// finite (the error names the field); `buoyancy` is untouched on error.
+template <typename Scalar>
+inline ValidationError buoyancy_in_water(Scalar water_density, Scalar displaced_volume,
+                                         Scalar& buoyancy) noexcept {
+  if (auto e = detail::check_positive_scalar("water_density", static_cast<double>(water_density)))
+    return e;
+  if (auto e = detail::check_positive_scalar("displaced_volume",
+                                             static_cast<double>(displaced_volume)))
+    return e;
+  buoyancy = water_density * static_cast<Scalar>(standard_gravity) * displaced_volume;
+  return {};
+}
 
 /// Checks every field a run needs (allocates: the thrusters' pseudo-inverse is
 /// computed to know that it exists); the first error names the field.
@@ -173,6 +194,8 @@ inline ValidationError validate(const SimulationConfig<Scalar>& c) {
   if (c.control_delay < 0 || c.control_delay > kMaxControlDelay)
     return detail::invalid("control_delay", -1, static_cast<double>(c.control_delay),
                            "a whole number of control periods in 0..16");
+  if (auto e = detail::check_positive_scalar("water_density", static_cast<double>(c.water_density)))
+    return e;
   if (auto e = detail::check_finite("eta0", c.eta0)) return e;
   if (auto e = detail::check_finite("nu0", c.nu0)) return e;
   if (c.command.times.size() < 1)
