@@ -87,15 +87,43 @@ SimulationConfig<S> busy_config(RefusedStepPolicy policy) {
   return c;
 }
 
+/// busy_config with the four sensors and the EKF in place of the white noise.
+template <typename S>
+SimulationConfig<S> sensed_config(RefusedStepPolicy policy, EstimatorType estimator) {
+  SimulationConfig<S> c = busy_config<S>(policy);
+  c.noise_eta.setZero();
+  c.noise_nu.setZero();
+  UsblConfig<S> usbl;
+  usbl.noise = S(0.5);
+  usbl.latency = 0.5;
+  DvlConfig<S> dvl;
+  dvl.noise = S(0.01);
+  dvl.dropout_rate = 0.1;
+  DepthConfig<S> depth;
+  depth.noise = S(0.02);
+  ImuConfig<S> imu;
+  imu.attitude_noise = S(0.005);
+  imu.gyro_noise = S(0.001);
+  imu.gyro_bias_walk = S(1e-5);
+  c.sensors.usbl = usbl;
+  c.sensors.dvl = dvl;
+  c.sensors.depth = depth;
+  c.sensors.imu = imu;
+  c.estimator.type = estimator;
+  return c;
+}
+
 /// Runs a whole closed loop (controller, report, simulator step) and a
 /// reset in the watch window.
 template <typename S, typename Controller>
-void expect_run_does_not_allocate(Controller& controller, RefusedStepPolicy policy) {
+void expect_run_does_not_allocate(Controller& controller, RefusedStepPolicy policy,
+                                  const SimulationConfig<S>* config = nullptr) {
   const Vehicle<S> vehicle(nerov_parameters<S>());
   Eigen::Matrix<S, 1, kMaxLoggedParameters> parameters;
   const int logged = controller_report<S>(controller, Status::ok, parameters).parameter_count;
   Simulator<S> sim;
-  ASSERT_TRUE(Simulator<S>::create(vehicle, busy_config<S>(policy), sim, logged).ok());
+  ASSERT_TRUE(
+      Simulator<S>::create(vehicle, config ? *config : busy_config<S>(policy), sim, logged).ok());
   Vector6<S> tau;
   long refused = 0;
   Status worst_plant = Status::ok;
@@ -130,6 +158,19 @@ TYPED_TEST(SimulatorAllocTest, StepAndResetDoNotAllocateWithAPDController) {
   ASSERT_TRUE(PDController<S>::create(cfg, pd).ok());
   expect_run_does_not_allocate<S>(pd, RefusedStepPolicy::zero);
   expect_run_does_not_allocate<S>(pd, RefusedStepPolicy::hold);
+}
+
+TYPED_TEST(SimulatorAllocTest, StepAndResetDoNotAllocateWithSensorsAndAnEstimator) {
+  using S = TypeParam;
+  PDConfig<S> cfg;
+  cfg.kp.setConstant(S(50));
+  cfg.kd.setConstant(S(80));
+  PDController<S> pd;
+  ASSERT_TRUE(PDController<S>::create(cfg, pd).ok());
+  for (EstimatorType e : {EstimatorType::none, EstimatorType::ekf}) {
+    const SimulationConfig<S> c = sensed_config<S>(RefusedStepPolicy::hold, e);
+    expect_run_does_not_allocate<S>(pd, RefusedStepPolicy::hold, &c);
+  }
 }
 
 TYPED_TEST(SimulatorAllocTest, StepAndResetDoNotAllocateWhileLoggingParameters) {

@@ -16,6 +16,7 @@
 #include "neurov/model/thrusters.hpp"
 #include "neurov/sim/gauss_markov_current.hpp"
 #include "neurov/sim/payload.hpp"
+#include "neurov/sim/sensing.hpp"
 #include "neurov/sim/sea_constants.hpp"
 #include "neurov/sim/wave_spectrum.hpp"
 #include "neurov/sim/waves.hpp"
@@ -163,6 +164,11 @@ struct SimulationConfig {
   /// buoyancy_in_water(water_density, volume); a Vehicle built with it is
   /// what the simulator runs (it takes the Vehicle's buoyancy as given).
   Scalar water_density = Scalar(1025);
+  /// The sensors; none configured: ideal sensing (the true state with the
+  /// white noise of noise_eta and noise_nu).
+  SensorsConfig<Scalar> sensors;
+  /// What the controller is given from the sensors (used when some are configured).
+  EstimatorConfig<Scalar> estimator;
 };
 
 /// B = rho g V [N]: the buoyancy of `displaced_volume` [m^3] in water of
@@ -229,6 +235,10 @@ inline ValidationError validate(const SimulationConfig<Scalar>& c) {
     return e;
   if (auto e = detail::check_non_negative("noise_eta", c.noise_eta)) return e;
   if (auto e = detail::check_non_negative("noise_nu", c.noise_nu)) return e;
+  if (auto e = Sensing<Scalar>::validate(c.sensors, c.estimator)) return e;
+  if (c.sensors.any() && !(c.noise_eta.isZero(Scalar(0)) && c.noise_nu.isZero(Scalar(0))))
+    return detail::invalid("noise_eta", -1, static_cast<double>(c.noise_eta.norm() + c.noise_nu.norm()),
+                           "zero noise_eta and noise_nu with sensors (their own noise replaces it)");
   for (std::size_t i = 0; i < c.failures.size(); ++i) {
     const auto& f = c.failures[i];
     if (!c.use_thrusters)

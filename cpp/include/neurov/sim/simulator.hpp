@@ -48,13 +48,15 @@
 #include "neurov/sim/payload.hpp"
 #include "neurov/sim/result.hpp"
 #include "neurov/sim/sea_constants.hpp"
+#include "neurov/sim/sensing.hpp"
 #include "neurov/sim/waves.hpp"
 
 namespace neurov {
 
 /// What a controller is given at t_k: the pose and velocity as measured
-/// (noise and sensor faults applied; NaN during a dropout) and the desired
-/// state from the reference model.
+/// (noise, or the sensors' readings or estimate, and the sensor faults
+/// applied; NaN during a dropout) and the desired state from the reference
+/// model.
 template <typename Scalar>
 struct Observation {
   Scalar t = Scalar(0);
@@ -118,6 +120,7 @@ class Simulator {
     s.noisy_ = !(config.noise_eta.isZero(Scalar(0)) && config.noise_nu.isZero(Scalar(0)));
     s.h_ = config.dt / static_cast<Scalar>(config.substeps);
     s.failure_applied_.assign(config.failures.size(), false);
+    Sensing<Scalar>::create(config.sensors, config.estimator, config.seed, s.sensing_);
     s.result_.allocate(s.rows_, s.thruster_count_, logged_parameters);
     s.configured_ = true;
     s.reset(config.seed);
@@ -150,6 +153,8 @@ class Simulator {
       Waves<Scalar>::create(*config_.waves, seed, waves_);
       waves_.start(0.0, eta_.template head<3>(), h_);
     }
+    // The sensors' first samples, at t = 0 (validate() checked them).
+    sensing_.reset(seed, eta_, nu_);
     observation_.desired = reference_.desired();
     held_eta_ = eta_;
     held_nu_ = nu_;
@@ -196,6 +201,8 @@ class Simulator {
     r.t(k) = t;
     r.eta.row(k) = eta_.transpose();
     r.nu.row(k) = nu_.transpose();
+    r.eta_estimate.row(k) = observation_.eta.transpose();
+    r.nu_estimate.row(k) = observation_.nu.transpose();
     r.eta_d.row(k) = desired.eta_d.transpose();
     r.eta_d_dot.row(k) = desired.eta_d_dot.transpose();
     r.tau_demanded.row(k) = applied_tau.transpose();
@@ -271,6 +278,11 @@ class Simulator {
         ps = worst(ps, rk4_step(vehicle_, eta_, nu_, tau_s, h_, current_velocity(ts)));
       }
       if (ps != Status::ok && ps != Status::near_singularity) break;
+      // The sensors sample the state at the end of each substep (times in
+      // double: a float clock loses milliseconds within hours).
+      sensing_.sense(static_cast<double>(k) * static_cast<double>(config_.dt) +
+                         static_cast<double>(j + 1) * static_cast<double>(h_),
+                     eta_, nu_);
     }
     if (config_.current_model == CurrentModel::gauss_markov) current_.advance(config_.dt);
     r.tau_applied.row(k) = (applied_sum / static_cast<Scalar>(config_.substeps)).transpose();
@@ -302,6 +314,8 @@ class Simulator {
   Eigen::Index thruster_count() const noexcept { return thruster_count_; }
   const SimulationConfig<Scalar>& config() const noexcept { return config_; }
   const Vehicle<Scalar>& vehicle() const noexcept { return vehicle_; }
+  /// The sensors and the estimator (inactive without sensors).
+  const Sensing<Scalar>& sensing() const noexcept { return sensing_; }
 
   /// A copy of the rows logged so far (allocates).
   SimulationResult<Scalar> result() const {
@@ -324,6 +338,7 @@ class Simulator {
   void observe() noexcept {
     const Scalar t = static_cast<Scalar>(k_) * config_.dt;
     Vec6 eta_m = eta_, nu_m = nu_;
+    if (sensing_.active()) sensing_.measurement(eta_, nu_, eta_m, nu_m);
     if (noisy_) {
       for (int i = 0; i < 6; ++i) {
         eta_m(i) += config_.noise_eta(i) * static_cast<Scalar>(rng_.normal());
@@ -414,6 +429,7 @@ class Simulator {
   SimulationConfig<Scalar> config_;
   ReferenceModel<Scalar> reference_;
   Thrusters<Scalar> thrusters_;
+  Sensing<Scalar> sensing_;
   NormalRandom rng_;
   std::uint64_t seed_ = 0;
   bool configured_ = false;
