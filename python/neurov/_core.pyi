@@ -1020,6 +1020,235 @@ class Saturation:
         """The member's integer value."""
 
 @final
+class EstimatorType:
+    """What the controller is given from the sensors."""
+
+    none: ClassVar[EstimatorType]
+    """Each sensor's latest reading, as it is."""
+    ekf: ClassVar[EstimatorType]
+    """The extended Kalman filter's estimate."""
+    __members__: ClassVar[dict[str, EstimatorType]]
+
+    def __init__(self, value: SupportsInt | SupportsIndex) -> None:
+        """The member with this integer value."""
+    def __eq__(self, other: object) -> bool: ...
+    def __ne__(self, other: object) -> bool: ...
+    def __hash__(self) -> int: ...
+    def __index__(self) -> int: ...
+    def __int__(self) -> int: ...
+    def __getstate__(self) -> int: ...
+    def __setstate__(self, state: SupportsInt | SupportsIndex) -> None: ...
+    @property
+    def name(self) -> str:
+        """The member's name."""
+    @property
+    def value(self) -> int:
+        """The member's integer value."""
+
+@final
+class UsblConfig:
+    """An acoustic position fix (USBL-like): NED position."""
+
+    def __init__(self, **kwargs: Any) -> None:
+        """Every field is a keyword argument (an unknown one is a TypeError)."""
+    @property
+    def rate(self) -> float:
+        """[Hz], > 0."""
+    @rate.setter
+    def rate(self, value: SupportsFloat) -> None: ...
+    @property
+    def latency(self) -> float:
+        """[s], >= 0 (acoustic travel and processing)."""
+    @latency.setter
+    def latency(self, value: SupportsFloat) -> None: ...
+    @property
+    def noise(self) -> float:
+        """Standard deviation per axis [m], >= 0."""
+    @noise.setter
+    def noise(self, value: SupportsFloat) -> None: ...
+    @property
+    def bias(self) -> _Array:
+        """NED [m] (3,)."""
+    @bias.setter
+    def bias(self, value: _ArrayLike) -> None: ...
+    def __copy__(self) -> UsblConfig: ...
+    def __deepcopy__(self, memo: dict[int, Any]) -> UsblConfig: ...
+    def __getstate__(self) -> dict[str, Any]: ...
+    def __setstate__(self, state: dict[str, Any]) -> None: ...
+
+@final
+class DvlConfig:
+    """A Doppler velocity log: body velocity over ground."""
+
+    def __init__(self, **kwargs: Any) -> None:
+        """Every field is a keyword argument (an unknown one is a TypeError)."""
+    @property
+    def rate(self) -> float:
+        """[Hz], > 0."""
+    @rate.setter
+    def rate(self, value: SupportsFloat) -> None: ...
+    @property
+    def latency(self) -> float:
+        """[s], >= 0."""
+    @latency.setter
+    def latency(self, value: SupportsFloat) -> None: ...
+    @property
+    def noise(self) -> float:
+        """Standard deviation per axis [m/s], >= 0."""
+    @noise.setter
+    def noise(self, value: SupportsFloat) -> None: ...
+    @property
+    def dropout_rate(self) -> float:
+        """Probability that a sample has no bottom lock, in [0, 1)."""
+    @dropout_rate.setter
+    def dropout_rate(self, value: SupportsFloat) -> None: ...
+    @property
+    def bias(self) -> _Array:
+        """[m/s] (3,)."""
+    @bias.setter
+    def bias(self, value: _ArrayLike) -> None: ...
+    def __copy__(self) -> DvlConfig: ...
+    def __deepcopy__(self, memo: dict[int, Any]) -> DvlConfig: ...
+    def __getstate__(self) -> dict[str, Any]: ...
+    def __setstate__(self, state: dict[str, Any]) -> None: ...
+
+@final
+class DepthConfig:
+    """A pressure depth sensor: z, down positive."""
+
+    def __init__(self, **kwargs: Any) -> None:
+        """Every field is a keyword argument (an unknown one is a TypeError)."""
+    @property
+    def rate(self) -> float:
+        """[Hz], > 0."""
+    @rate.setter
+    def rate(self, value: SupportsFloat) -> None: ...
+    @property
+    def latency(self) -> float:
+        """[s], >= 0."""
+    @latency.setter
+    def latency(self, value: SupportsFloat) -> None: ...
+    @property
+    def noise(self) -> float:
+        """Standard deviation [m], >= 0."""
+    @noise.setter
+    def noise(self, value: SupportsFloat) -> None: ...
+    @property
+    def bias(self) -> float:
+        """[m]."""
+    @bias.setter
+    def bias(self, value: SupportsFloat) -> None: ...
+    def __copy__(self) -> DepthConfig: ...
+    def __deepcopy__(self, memo: dict[int, Any]) -> DepthConfig: ...
+    def __getstate__(self) -> dict[str, Any]: ...
+    def __setstate__(self, state: dict[str, Any]) -> None: ...
+
+@final
+class ImuConfig:
+    """An AHRS/IMU: attitude and gyro rates, the gyro's bias walking."""
+
+    def __init__(self, **kwargs: Any) -> None:
+        """Every field is a keyword argument (an unknown one is a TypeError)."""
+    @property
+    def rate(self) -> float:
+        """[Hz], > 0."""
+    @rate.setter
+    def rate(self, value: SupportsFloat) -> None: ...
+    @property
+    def latency(self) -> float:
+        """[s], >= 0."""
+    @latency.setter
+    def latency(self, value: SupportsFloat) -> None: ...
+    @property
+    def attitude_noise(self) -> float:
+        """Standard deviation of the angles [rad], >= 0."""
+    @attitude_noise.setter
+    def attitude_noise(self, value: SupportsFloat) -> None: ...
+    @property
+    def gyro_noise(self) -> float:
+        """Standard deviation of the rates [rad/s], >= 0."""
+    @gyro_noise.setter
+    def gyro_noise(self, value: SupportsFloat) -> None: ...
+    @property
+    def gyro_bias_walk(self) -> float:
+        """Bias random walk [rad/s/sqrt(s)], >= 0."""
+    @gyro_bias_walk.setter
+    def gyro_bias_walk(self, value: SupportsFloat) -> None: ...
+    @property
+    def gyro_bias(self) -> _Array:
+        """Initial gyro bias [rad/s] (3,)."""
+    @gyro_bias.setter
+    def gyro_bias(self, value: _ArrayLike) -> None: ...
+    def __copy__(self) -> ImuConfig: ...
+    def __deepcopy__(self, memo: dict[int, Any]) -> ImuConfig: ...
+    def __getstate__(self) -> dict[str, Any]: ...
+    def __setstate__(self, state: dict[str, Any]) -> None: ...
+
+@final
+class SensorsConfig:
+    """The sensors of a run, each optional; none configured: ideal sensing."""
+
+    def __init__(self, **kwargs: Any) -> None:
+        """Every field is a keyword argument (an unknown one is a TypeError)."""
+    @property
+    def usbl(self) -> UsblConfig | None:
+        """A UsblConfig, or None."""
+    @usbl.setter
+    def usbl(self, value: UsblConfig | None) -> None: ...
+    @property
+    def dvl(self) -> DvlConfig | None:
+        """A DvlConfig, or None."""
+    @dvl.setter
+    def dvl(self, value: DvlConfig | None) -> None: ...
+    @property
+    def depth(self) -> DepthConfig | None:
+        """A DepthConfig, or None."""
+    @depth.setter
+    def depth(self, value: DepthConfig | None) -> None: ...
+    @property
+    def imu(self) -> ImuConfig | None:
+        """An ImuConfig, or None."""
+    @imu.setter
+    def imu(self, value: ImuConfig | None) -> None: ...
+    def any(self) -> bool:
+        """Some sensor is configured."""
+    def __copy__(self) -> SensorsConfig: ...
+    def __deepcopy__(self, memo: dict[int, Any]) -> SensorsConfig: ...
+    def __getstate__(self) -> dict[str, Any]: ...
+    def __setstate__(self, state: dict[str, Any]) -> None: ...
+
+@final
+class EstimatorConfig:
+    """What the controller is given from the sensors; the EKF's measurement noises are the sensors' own."""
+
+    def __init__(self, **kwargs: Any) -> None:
+        """Every field is a keyword argument (an unknown one is a TypeError)."""
+    @property
+    def type(self) -> EstimatorType:
+        """An EstimatorType."""
+    @type.setter
+    def type(self, value: EstimatorType) -> None: ...
+    @property
+    def linear_acceleration_noise(self) -> float:
+        """sqrt of the PSD of the velocities' random walk [m/s^2/sqrt(Hz)], >= 0."""
+    @linear_acceleration_noise.setter
+    def linear_acceleration_noise(self, value: SupportsFloat) -> None: ...
+    @property
+    def angular_acceleration_noise(self) -> float:
+        """sqrt of the PSD of the rates' random walk [rad/s^2/sqrt(Hz)], >= 0."""
+    @angular_acceleration_noise.setter
+    def angular_acceleration_noise(self, value: SupportsFloat) -> None: ...
+    @property
+    def initial_std(self) -> _Array:
+        """Standard deviations of the initial estimate (15,): position, angles, body velocity, rates, gyro bias."""
+    @initial_std.setter
+    def initial_std(self, value: _ArrayLike) -> None: ...
+    def __copy__(self) -> EstimatorConfig: ...
+    def __deepcopy__(self, memo: dict[int, Any]) -> EstimatorConfig: ...
+    def __getstate__(self) -> dict[str, Any]: ...
+    def __setstate__(self, state: dict[str, Any]) -> None: ...
+
+@final
 class SinusoidalDisturbance:
     """A force or moment in one body DOF: amplitude * sin(2 pi frequency (t - start) + phase) for t >= start."""
 
@@ -1566,12 +1795,35 @@ class SimulationConfig:
         """Payload events in non-decreasing time (a tuple of copies; assign a list)."""
     @payload.setter
     def payload(self, value: Iterable[PayloadEvent]) -> None: ...
+    @property
+    def control_delay(self) -> int:
+        """Control periods between a measurement and the force computed from it acting, 0..16 (0: in the same period)."""
+    @control_delay.setter
+    def control_delay(self, value: SupportsIndex) -> None: ...
+    @property
+    def water_density(self) -> float:
+        """[kg/m^3], > 0 (sea water by default); a vehicle file's displaced volume gives its buoyancy as buoyancy_in_water(water_density, volume)."""
+    @water_density.setter
+    def water_density(self, value: SupportsFloat) -> None: ...
+    @property
+    def sensors(self) -> SensorsConfig:
+        """The sensors; none: ideal sensing."""
+    @sensors.setter
+    def sensors(self, value: SensorsConfig) -> None: ...
+    @property
+    def estimator(self) -> EstimatorConfig:
+        """The estimator."""
+    @estimator.setter
+    def estimator(self, value: EstimatorConfig) -> None: ...
     def __copy__(self) -> SimulationConfig: ...
     def __deepcopy__(self, memo: dict[int, Any]) -> SimulationConfig: ...
     def __getstate__(self) -> dict[str, Any]: ...
     def __setstate__(self, state: dict[str, Any]) -> None: ...
     def validate(self) -> None:
         """Raises ValueError naming the first field that is wrong and what it expected."""
+
+def buoyancy_in_water(water_density: SupportsFloat, displaced_volume: SupportsFloat) -> float:
+    """B = rho g V [N]: the buoyancy of displaced_volume [m^3] in water of water_density [kg/m^3]."""
 
 @type_check_only
 class _SimulationResult(TypedDict):
@@ -1586,6 +1838,8 @@ class _SimulationResult(TypedDict):
     tau_applied: _Array
     disturbance: _Array
     s: _Array
+    eta_estimate: _Array
+    nu_estimate: _Array
     thrusts: _Array
     theta: _Array
     adaptive_norm: _Array
@@ -1737,6 +1991,9 @@ class Simulator:
     @property
     def state(self) -> tuple[_Array, _Array]:
         """The true (eta, nu) at t_k."""
+    @property
+    def estimate_covariance(self) -> _Array | None:
+        """The EKF's covariance (15, 15) at t_k (position, angles, body velocity, rates, gyro bias), or None without the ekf estimator."""
     @property
     def config(self) -> SimulationConfig:
         """A copy of the configuration."""

@@ -49,7 +49,7 @@ def _finite_or_inf(x: Any) -> float:
 SERIES = (
     "t", "eta", "nu", "eta_d", "eta_d_dot", "tau_demanded", "tau_applied", "disturbance", "s",
     "thrusts", "theta", "adaptive_norm", "controller_status", "plant_status", "faults",
-    "current", "wave_velocity", "wave_elevation", "payload_mass",
+    "current", "wave_velocity", "wave_elevation", "payload_mass", "eta_estimate", "nu_estimate",
 )
 
 
@@ -79,6 +79,8 @@ class Result:
     wave_velocity: Array  #: (N, 3) NED orbital velocity at the vehicle [m/s]
     wave_elevation: Array  #: (N,) surface elevation above the vehicle [m]
     payload_mass: Array  #: (N,) payload mass in effect [kg]
+    eta_estimate: Array  #: (N, 6) the pose the controller was given (measured or estimated)
+    nu_estimate: Array  #: (N, 6) the body velocity the controller was given
     diverged: bool
     wall_time: float = 0.0
     extra: dict[str, Any] = field(default_factory=dict)
@@ -159,7 +161,8 @@ class Result:
             ("eta", self.eta, dof), ("nu", self.nu, body), ("eta_d", self.eta_d, dof),
             ("eta_d_dot", self.eta_d_dot, dof), ("tau_demanded", self.tau_demanded, body),
             ("tau_applied", self.tau_applied, body), ("disturbance", self.disturbance, body),
-            ("s", self.s, dof),
+            ("s", self.s, dof), ("eta_estimate", self.eta_estimate, dof),
+            ("nu_estimate", self.nu_estimate, body),
         ):
             for i, lab in enumerate(labels):
                 cols[f"{name}_{lab}"] = arr[:, i]
@@ -191,8 +194,10 @@ class Result:
         ``fault_dropout``, ``fault_noise_burst``, ``fault_thruster`` and
         ``pitch_limited`` and ``shallow`` (bits 1, 2, 4, 8, 16, 32 of :attr:`faults`);
         the sea at the vehicle ``current_N, current_E, current_D``,
-        ``wave_velocity_N`` ... [m/s], ``wave_elevation`` [m] and the
-        ``payload_mass`` in effect [kg]."""
+        ``wave_velocity_N`` ... [m/s], ``wave_elevation`` [m], the
+        ``payload_mass`` in effect [kg], and what the controller was given
+        (the measurement or the estimate) ``x_est`` ... ``psi_est``,
+        ``u_est`` ... ``r_est``."""
         import pandas as pd
 
         pose, body = ("x", "y", "z", "phi", "theta", "psi"), ("u", "v", "w", "p", "q", "r")
@@ -203,7 +208,9 @@ class Result:
                            (self.tau_demanded, [f"tau_{n}" for n in force]),
                            (self.tau_applied, [f"tau_applied_{n}" for n in force]),
                            (self.disturbance, [f"d_{n}" for n in force]),
-                           (self.s, [f"s_{n}" for n in pose])):
+                           (self.s, [f"s_{n}" for n in pose]),
+                           (self.eta_estimate, [f"{n}_est" for n in pose]),
+                           (self.nu_estimate, [f"{n}_est" for n in body])):
             cols.update((n, arr[:, i]) for i, n in enumerate(names))
         cols.update((f"thrust_{i}", self.thrusts[:, i]) for i in range(self.thrusts.shape[1]))
         cols.update((f"theta[{n}]", self.theta[:, i])

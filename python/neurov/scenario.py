@@ -207,7 +207,7 @@ SIMULATION_FIELDS: dict[str, str] = {
     "current_period": "current_period", "noise_eta": "noise_eta", "noise_nu": "noise_nu",
     "sensor_faults": "sensor_faults", "current_steps": "current_steps",
     "refused_step_policy": "refused_step_policy", "use_thrusters": "use_thrusters",
-    "thruster_failures": "failures",
+    "thruster_failures": "failures", "control_delay": "control_delay", "water_density": "water_density",
     "current_model": "current_model", "gauss_markov_current": "gauss_markov_current",
     "waves": "waves", "payload": "payload",
 }
@@ -350,7 +350,7 @@ class Scenario:
         path = self.vehicle_path()
         if self.vehicle_file is None or self.vehicle_file.path != path:
             self.__dict__["vehicle_file"] = read_vehicle_file(path)
-        return self.vehicle_file
+        return self.vehicle_file.in_water(self.simulation.water_density)
 
     def vehicle_path(self) -> Path:
         p = Path(self.vehicle)

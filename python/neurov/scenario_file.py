@@ -25,6 +25,7 @@ from numpy.typing import NDArray
 from neurov import _core, trajectories
 from neurov.files import read_text
 from neurov.scenario import CommandSpec, ControllerSpec, Scenario, ScenarioError
+from neurov.scenario_realism import REALISM_KEYS, read_realism
 from neurov.schema import SchemaError, convert, field_names
 from neurov.vehicle_file import VehicleFileError
 
@@ -383,13 +384,14 @@ def scenario_from_mapping(data: Mapping[str, Any], origin: str = "<scenario>") -
     c.current_steps = steps
     policy = r.string("refused_step_policy", "zero", choices=tuple(_core.RefusedStepPolicy.__members__))
     c.refused_step_policy = _core.RefusedStepPolicy.__members__[policy]
+    read_realism(r, c)
     r.finish()
     try:
         s._sync()
     except ValueError as e:
         raise ScenarioError(f"{origin}: {e}") from None
     sea.check_payload(s, origin)
-    _validated(c, origin, _SIMULATION_KEYS, _LISTS)
+    _validated(c, origin, {**_SIMULATION_KEYS, **REALISM_KEYS}, _LISTS)
     return s
 
 

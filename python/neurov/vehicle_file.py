@@ -3,7 +3,9 @@
 A file holds these keys (SI units, body axes x forward, y starboard, z down):
 
 ``mass`` (number, kg); ``inertia`` (3 numbers, the diagonal, or a 3x3 table);
-``weight`` and ``buoyancy`` (numbers, N); ``added_mass`` (6 numbers, the positive
+``weight`` (number, N); ``buoyancy`` (number, N) or ``displaced_volume``
+(number, m^3: the buoyancy is then rho g V in the scenario's water, see
+``water_density``); ``added_mass`` (6 numbers, the positive
 diagonal of M_A, or a 6x6 table); ``linear_damping`` and ``quadratic_damping``
 (6 numbers each); optional ``centre_of_gravity`` and ``centre_of_buoyancy``
 (3 numbers, m, default zero), ``coriolis_form`` (``"velocity_independent"``, the
@@ -78,7 +80,8 @@ _FIELDS: dict[str, tuple[bool, tuple[Any, ...]]] = {
     "mass": (True, ((),)),
     "inertia": (True, ((3,), (3, 3))),
     "weight": (True, ((),)),
-    "buoyancy": (True, ((),)),
+    "buoyancy": (False, ((),)),
+    "displaced_volume": (False, ((),)),
     "added_mass": (True, ((6,), (6, 6))),
     "linear_damping": (True, ((6,),)),
     "quadratic_damping": (True, ((6,),)),
@@ -150,6 +153,24 @@ class VehicleFile:
     path: Path
     parameters: dict[str, Any]
     thrusters: dict[str, Any] | None
+    displaced_volume: float | None = None
+    """[m^3] when the file gives it: the buoyancy follows the water."""
+
+    def in_water(self, water_density: float) -> VehicleFile:
+        """The file as the vehicle is in water of `water_density` [kg/m^3]:
+        itself when it gives its buoyancy, else a copy whose buoyancy is
+        :func:`neurov._core.buoyancy_in_water` of its displaced volume."""
+        if self.displaced_volume is None:
+            return self
+        from dataclasses import replace
+
+        from neurov._core import buoyancy_in_water
+
+        try:
+            b = buoyancy_in_water(water_density, self.displaced_volume)
+        except ValueError as e:
+            raise VehicleFileError(f"{self.path}: {e}") from None
+        return replace(self, parameters={**self.parameters, "buoyancy": b})
 
     def vehicle(self, overrides: dict[str, Any] | None = None) -> Any:
         """The vehicle, with some parameters overridden (a perturbed plant)."""
@@ -175,9 +196,18 @@ def read_vehicle_file(path: str | Path) -> VehicleFile:
     except tomllib.TOMLDecodeError as e:
         raise VehicleFileError(f"{where}: not valid TOML: {e}") from None
     parameters = parameters_from_mapping(data, where)
+    volume = parameters.pop("displaced_volume", None)
     table = data.get("thrusters")
     thrusters = None if table is None else thrusters_from_mapping(table, f"{where}: thrusters")
-    return VehicleFile(path=path, parameters=parameters, thrusters=thrusters)
+    file = VehicleFile(path=path, parameters=parameters, thrusters=thrusters,
+                       displaced_volume=None if volume is None else float(volume))
+    if volume is None:
+        return file
+    # Standing alone (Vehicle.from_file, a preset), the vehicle is in the
+    # default water of a run; a scenario puts it in its own.
+    from neurov._core import SimulationConfig
+
+    return file.in_water(SimulationConfig().water_density)
 
 
 def load_vehicle_parameters(path: str | Path) -> dict[str, Any]:
@@ -220,6 +250,8 @@ def parameters_from_mapping(data: dict[str, Any], where: str) -> dict[str, Any]:
         if key in ("name", "source"):
             continue
         kwargs[key] = value
+    if ("buoyancy" in kwargs) == ("displaced_volume" in kwargs):
+        raise VehicleFileError(f"{where}: give either 'buoyancy' (N) or 'displaced_volume' (m^3)")
     form = kwargs.get("coriolis_form", "velocity_independent")
     if form not in _CORIOLIS_FORMS:
         raise VehicleFileError(

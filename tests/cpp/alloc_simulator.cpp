@@ -1,6 +1,6 @@
 // The Simulator allocates in create() only: step() and reset() touch no heap,
 // whatever the run holds (noise, every sensor fault, thrusters with failures,
-// current steps, disturbances, logged parameters, refused steps), in float
+// current steps, disturbances, a control delay, logged parameters, refused steps), in float
 // and double.
 //
 // The detectors are in alloc_probe.hpp; the counting global operator new is
@@ -83,41 +83,73 @@ SimulationConfig<S> busy_config(RefusedStepPolicy policy) {
   f.efficiency = S(0.5);
   f.time = S(15);
   c.failures = {f};
+  c.control_delay = 2;  // the pending forces' ring
   return c;
+}
+
+/// busy_config with the four sensors and the EKF in place of the white noise.
+template <typename S>
+SimulationConfig<S> sensed_config(RefusedStepPolicy policy, EstimatorType estimator) {
+  SimulationConfig<S> c = busy_config<S>(policy);
+  c.noise_eta.setZero();
+  c.noise_nu.setZero();
+  UsblConfig<S> usbl;
+  usbl.noise = S(0.5);
+  usbl.latency = 0.5;
+  DvlConfig<S> dvl;
+  dvl.noise = S(0.01);
+  dvl.dropout_rate = 0.1;
+  DepthConfig<S> depth;
+  depth.noise = S(0.02);
+  ImuConfig<S> imu;
+  imu.attitude_noise = S(0.005);
+  imu.gyro_noise = S(0.001);
+  imu.gyro_bias_walk = S(1e-5);
+  c.sensors.usbl = usbl;
+  c.sensors.dvl = dvl;
+  c.sensors.depth = depth;
+  c.sensors.imu = imu;
+  c.estimator.type = estimator;
+  return c;
+}
+
+/// busy_config with a PWM curve per thruster: a dead band, asymmetric
+/// thrust, lag and slew limit.
+template <typename S>
+SimulationConfig<S> curved_config(RefusedStepPolicy policy) {
+  SimulationConfig<S> config = busy_config<S>(policy);
+  ThrusterCurveConfig<S> curve;
+  const double pwm[] = {1100, 1300, 1460, 1540, 1700, 1900};
+  const double thrust[] = {-80, -30, 0, 0, 40, 100};
+  curve.points = 6;
+  for (int i = 0; i < 6; ++i) {
+    curve.command[i] = static_cast<S>(pwm[i]);
+    curve.thrust[i] = static_cast<S>(thrust[i]);
+  }
+  curve.neutral = S(1500);
+  curve.dead_band = S(40);
+  curve.reference_voltage = S(16);
+  curve.time_constant = S(0.1);
+  curve.slew_rate = S(500);
+  config.thrusters.curves.assign(6, curve);
+  config.thrusters.supply_voltage = S(15);
+  config.thrusters.time_constant = S(0);
+  config.thrusters.min_thrust.resize(0);
+  config.thrusters.max_thrust.resize(0);
+  return config;
 }
 
 /// Runs a whole closed loop (controller, report, simulator step) and a
 /// reset in the watch window.
 template <typename S, typename Controller>
 void expect_run_does_not_allocate(Controller& controller, RefusedStepPolicy policy,
-                                  bool curves = false) {
+                                  const SimulationConfig<S>* config = nullptr) {
   const Vehicle<S> vehicle(nerov_parameters<S>());
   Eigen::Matrix<S, 1, kMaxLoggedParameters> parameters;
   const int logged = controller_report<S>(controller, Status::ok, parameters).parameter_count;
   Simulator<S> sim;
-  SimulationConfig<S> config = busy_config<S>(policy);
-  if (curves) {
-    // A PWM curve with a dead band, asymmetric thrust, lag and slew limit.
-    ThrusterCurveConfig<S> curve;
-    const double pwm[] = {1100, 1300, 1460, 1540, 1700, 1900};
-    const double thrust[] = {-80, -30, 0, 0, 40, 100};
-    curve.points = 6;
-    for (int i = 0; i < 6; ++i) {
-      curve.command[i] = static_cast<S>(pwm[i]);
-      curve.thrust[i] = static_cast<S>(thrust[i]);
-    }
-    curve.neutral = S(1500);
-    curve.dead_band = S(40);
-    curve.reference_voltage = S(16);
-    curve.time_constant = S(0.1);
-    curve.slew_rate = S(500);
-    config.thrusters.curves.assign(6, curve);
-    config.thrusters.supply_voltage = S(15);
-    config.thrusters.time_constant = S(0);
-    config.thrusters.min_thrust.resize(0);
-    config.thrusters.max_thrust.resize(0);
-  }
-  ASSERT_TRUE(Simulator<S>::create(vehicle, config, sim, logged).ok());
+  ASSERT_TRUE(
+      Simulator<S>::create(vehicle, config ? *config : busy_config<S>(policy), sim, logged).ok());
   Vector6<S> tau;
   long refused = 0;
   Status worst_plant = Status::ok;
@@ -161,7 +193,21 @@ TYPED_TEST(SimulatorAllocTest, StepAndResetDoNotAllocateWithThrusterCurves) {
   cfg.kd.setConstant(S(80));
   PDController<S> pd;
   ASSERT_TRUE(PDController<S>::create(cfg, pd).ok());
-  expect_run_does_not_allocate<S>(pd, RefusedStepPolicy::hold, true);
+  const SimulationConfig<S> c = curved_config<S>(RefusedStepPolicy::hold);
+  expect_run_does_not_allocate<S>(pd, RefusedStepPolicy::hold, &c);
+}
+
+TYPED_TEST(SimulatorAllocTest, StepAndResetDoNotAllocateWithSensorsAndAnEstimator) {
+  using S = TypeParam;
+  PDConfig<S> cfg;
+  cfg.kp.setConstant(S(50));
+  cfg.kd.setConstant(S(80));
+  PDController<S> pd;
+  ASSERT_TRUE(PDController<S>::create(cfg, pd).ok());
+  for (EstimatorType e : {EstimatorType::none, EstimatorType::ekf}) {
+    const SimulationConfig<S> c = sensed_config<S>(RefusedStepPolicy::hold, e);
+    expect_run_does_not_allocate<S>(pd, RefusedStepPolicy::hold, &c);
+  }
 }
 
 TYPED_TEST(SimulatorAllocTest, StepAndResetDoNotAllocateWhileLoggingParameters) {

@@ -296,8 +296,9 @@ def test_bluerov2_heavy_restoring(rng: np.random.Generator) -> None:
         sf, cf, st, ct = np.sin(eta[3]), np.cos(eta[3]), np.sin(eta[4]), np.cos(eta[4])
         expected = [(w - b) * st, -(w - b) * ct * sf, -(w - b) * ct * cf, 0.01 * b * ct * sf, 0.01 * b * st, 0]
         np.testing.assert_allclose(v.restoring(eta), expected, rtol=1e-13, atol=1e-13)
-    # Heavier than buoyant: at rest and level it sinks (z is down).
-    assert v.acceleration(np.zeros(6), np.zeros(6), np.zeros(6))[2] > 0
+    # In sea water (the preset's, 1025 kg/m^3) it displaces more than it
+    # weighs: at rest and level it rises (z is down).
+    assert v.acceleration(np.zeros(6), np.zeros(6), np.zeros(6))[2] < 0
 
 
 # -------------------------------------------------------------------- current

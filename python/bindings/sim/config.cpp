@@ -13,6 +13,17 @@ namespace neurov::bindings {
 namespace py = pybind11;
 
 void bind_sim_config(py::module_& m) {
+  m.def(
+      "buoyancy_in_water",
+      [](double water_density, double displaced_volume) {
+        double b = 0.0;
+        py_args::raise_if_invalid(buoyancy_in_water(water_density, displaced_volume, b),
+                                  "buoyancy_in_water");
+        return b;
+      },
+      py::arg("water_density"), py::arg("displaced_volume"),
+      "B = rho g V [N]: the buoyancy of displaced_volume [m^3] in water of water_density "
+      "[kg/m^3]. ValueError naming an argument that is not > 0 and finite.");
   py::enum_<SensorFaultKind>(m, "SensorFaultKind", "What a sensor fault does to a measurement.")
       .value("freeze", SensorFaultKind::freeze, "Repeats the last measurement delivered.")
       .value("dropout", SensorFaultKind::dropout, "NaN, which the controller refuses.")
@@ -101,6 +112,81 @@ void bind_sim_config(py::module_& m) {
         .finish();
   }
 
+  py::enum_<EstimatorType>(m, "EstimatorType", "What the controller is given from the sensors.")
+      .value("none", EstimatorType::none, "Each sensor's latest reading, as it is.")
+      .value("ekf", EstimatorType::ekf, "The extended Kalman filter's estimate.");
+  {
+    using T = UsblConfig<double>;
+    py::class_<T> cls(m, "UsblConfig", "An acoustic position fix (USBL-like): NED position.");
+    Fields<T>(cls, "UsblConfig")
+        .value("rate", &T::rate, "[Hz], > 0.")
+        .value("latency", &T::latency, "[s], >= 0 (acoustic travel and processing).")
+        .value("noise", &T::noise, "Standard deviation per axis [m], >= 0.")
+        .vector("bias", &T::bias, "NED [m] (3,).")
+        .finish();
+  }
+  {
+    using T = DvlConfig<double>;
+    py::class_<T> cls(m, "DvlConfig", "A Doppler velocity log: body velocity over ground.");
+    Fields<T>(cls, "DvlConfig")
+        .value("rate", &T::rate, "[Hz], > 0.")
+        .value("latency", &T::latency, "[s], >= 0.")
+        .value("noise", &T::noise, "Standard deviation per axis [m/s], >= 0.")
+        .value("dropout_rate", &T::dropout_rate,
+               "Probability that a sample has no bottom lock, in [0, 1).")
+        .vector("bias", &T::bias, "[m/s] (3,).")
+        .finish();
+  }
+  {
+    using T = DepthConfig<double>;
+    py::class_<T> cls(m, "DepthConfig", "A pressure depth sensor: z, down positive.");
+    Fields<T>(cls, "DepthConfig")
+        .value("rate", &T::rate, "[Hz], > 0.")
+        .value("latency", &T::latency, "[s], >= 0.")
+        .value("noise", &T::noise, "Standard deviation [m], >= 0.")
+        .value("bias", &T::bias, "[m].")
+        .finish();
+  }
+  {
+    using T = ImuConfig<double>;
+    py::class_<T> cls(m, "ImuConfig", "An AHRS/IMU: attitude and gyro rates, the gyro's bias walking.");
+    Fields<T>(cls, "ImuConfig")
+        .value("rate", &T::rate, "[Hz], > 0.")
+        .value("latency", &T::latency, "[s], >= 0.")
+        .value("attitude_noise", &T::attitude_noise, "Standard deviation of the angles [rad], >= 0.")
+        .value("gyro_noise", &T::gyro_noise, "Standard deviation of the rates [rad/s], >= 0.")
+        .value("gyro_bias_walk", &T::gyro_bias_walk, "Bias random walk [rad/s/sqrt(s)], >= 0.")
+        .vector("gyro_bias", &T::gyro_bias, "Initial gyro bias [rad/s] (3,).")
+        .finish();
+  }
+  {
+    using T = SensorsConfig<double>;
+    py::class_<T> cls(m, "SensorsConfig",
+                      "The sensors of a run, each optional; none configured: ideal sensing.");
+    Fields<T>(cls, "SensorsConfig")
+        .optional("usbl", &T::usbl, "A UsblConfig, or None.")
+        .optional("dvl", &T::dvl, "A DvlConfig, or None.")
+        .optional("depth", &T::depth, "A DepthConfig, or None.")
+        .optional("imu", &T::imu, "An ImuConfig, or None.")
+        .finish();
+    cls.def("any", &T::any, "Some sensor is configured.");
+  }
+  {
+    using T = EstimatorConfig<double>;
+    py::class_<T> cls(m, "EstimatorConfig",
+                      "What the controller is given from the sensors; the EKF's measurement "
+                      "noises are the sensors' own.");
+    Fields<T>(cls, "EstimatorConfig")
+        .value("type", &T::type, "An EstimatorType.")
+        .value("linear_acceleration_noise", &T::linear_acceleration_noise,
+               "sqrt of the PSD of the velocities' random walk [m/s^2/sqrt(Hz)], >= 0.")
+        .value("angular_acceleration_noise", &T::angular_acceleration_noise,
+               "sqrt of the PSD of the rates' random walk [rad/s^2/sqrt(Hz)], >= 0.")
+        .vector("initial_std", &T::initial_std,
+                "Standard deviations of the initial estimate (15,): position, angles, body "
+                "velocity, rates, gyro bias.")
+        .finish();
+  }
   {
     using T = SinusoidalDisturbance<double>;
     py::class_<T> cls(m, "SinusoidalDisturbance",
@@ -203,6 +289,14 @@ void bind_sim_config(py::module_& m) {
         .optional("waves", &T::waves, "A WaveConfig, or None for a calm sea.")
         .list("payload", &T::payload, "PayloadEvent",
               "Payload events in non-decreasing time (a tuple; assign a list).")
+        .value("control_delay", &T::control_delay,
+               "Control periods between a measurement and the force computed from it acting, "
+               "0..16 (0: in the same period).")
+        .value("water_density", &T::water_density,
+               "[kg/m^3], > 0 (sea water by default); a vehicle file's displaced volume gives "
+               "its buoyancy as buoyancy_in_water(water_density, volume).")
+        .value("sensors", &T::sensors, "The sensors (a SensorsConfig); none: ideal sensing.")
+        .value("estimator", &T::estimator, "The estimator (an EstimatorConfig).")
         .validator("SimulationConfig")
         .finish();
   }

@@ -48,6 +48,8 @@ py::dict result_dict(SimulationResult<double>&& r) {
   d["tau_applied"] = hand_over(std::move(r.tau_applied));
   d["disturbance"] = hand_over(std::move(r.disturbance));
   d["s"] = hand_over(std::move(r.s));
+  d["eta_estimate"] = hand_over(std::move(r.eta_estimate));
+  d["nu_estimate"] = hand_over(std::move(r.nu_estimate));
   d["thrusts"] = hand_over(std::move(r.thrusts));
   d["theta"] = hand_over(std::move(r.theta));
   d["adaptive_norm"] = hand_over(std::move(r.adaptive_norm));

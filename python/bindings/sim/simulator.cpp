@@ -149,6 +149,15 @@ void bind_simulator(py::module_& m) {
           "The true (eta, nu) at t_k.")
       .def_property_readonly(
           "config", [](const Sim& sim) { return sim.config(); }, "A copy of the configuration.")
+      .def_property_readonly(
+          "estimate_covariance",
+          [](const Sim& sim) -> py::object {
+            if (sim.config().estimator.type != EstimatorType::ekf || !sim.sensing().active())
+              return py::none();
+            return py::cast(Ekf<double>::StateMatrix(sim.sensing().filter().covariance()));
+          },
+          "The EKF's covariance (15, 15) at t_k (position, angles, body velocity, rates, gyro "
+          "bias), or None without the ekf estimator.")
       .def(
           "result", [](const Sim& sim) { return result_dict(sim.result()); },
           "The rows logged so far, as the dict run_closed_loop returns.");

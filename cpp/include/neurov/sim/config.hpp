@@ -16,6 +16,8 @@
 #include "neurov/model/thrusters.hpp"
 #include "neurov/sim/gauss_markov_current.hpp"
 #include "neurov/sim/payload.hpp"
+#include "neurov/sim/sensing.hpp"
+#include "neurov/sim/sea_constants.hpp"
 #include "neurov/sim/wave_spectrum.hpp"
 #include "neurov/sim/waves.hpp"
 
@@ -113,6 +115,11 @@ struct Command {
   }
 };
 
+/// The longest computation delay a run holds, in control periods: the
+/// simulator keeps the forces not yet applied in a fixed ring of this many + 1.
+inline constexpr int kMaxControlDelay = 16;
+static_assert(kMaxControlDelay == 16, "validate()'s control_delay message names the maximum");
+
 template <typename Scalar>
 struct SimulationConfig {
   Scalar dt = Scalar(0.2);  ///< control period [s]
@@ -148,7 +155,36 @@ struct SimulationConfig {
   /// non-decreasing time; each is checked against the vehicle it changes by
   /// Simulator::create (validate_payload).
   std::vector<PayloadEvent<Scalar>> payload;
+  /// Control periods between the measurement a force is computed from and
+  /// the interval it acts over, 0..kMaxControlDelay: the force demanded at
+  /// row k acts over [t_k+n, t_k+n+1); before row n no force acts.
+  int control_delay = 0;
+  /// The density of the water [kg/m^3], > 0: sea water by default. The
+  /// buoyancy of a vehicle given by its displaced volume is
+  /// buoyancy_in_water(water_density, volume); a Vehicle built with it is
+  /// what the simulator runs (it takes the Vehicle's buoyancy as given).
+  Scalar water_density = Scalar(1025);
+  /// The sensors; none configured: ideal sensing (the true state with the
+  /// white noise of noise_eta and noise_nu).
+  SensorsConfig<Scalar> sensors;
+  /// What the controller is given from the sensors (used when some are configured).
+  EstimatorConfig<Scalar> estimator;
 };
+
+/// B = rho g V [N]: the buoyancy of `displaced_volume` [m^3] in water of
+/// `water_density` [kg/m^3] (g = standard_gravity). Both must be > 0 and
+/// finite (the error names the field); `buoyancy` is untouched on error.
+template <typename Scalar>
+inline ValidationError buoyancy_in_water(Scalar water_density, Scalar displaced_volume,
+                                         Scalar& buoyancy) noexcept {
+  if (auto e = detail::check_positive_scalar("water_density", static_cast<double>(water_density)))
+    return e;
+  if (auto e = detail::check_positive_scalar("displaced_volume",
+                                             static_cast<double>(displaced_volume)))
+    return e;
+  buoyancy = water_density * static_cast<Scalar>(standard_gravity) * displaced_volume;
+  return {};
+}
 
 /// Checks every field a run needs (allocates: the thrusters' pseudo-inverse is
 /// computed to know that it exists); the first error names the field.
@@ -161,6 +197,11 @@ inline ValidationError validate(const SimulationConfig<Scalar>& c) {
   if (c.duration / c.dt > Scalar(1e8))
     return detail::invalid("duration", -1, static_cast<double>(c.duration),
                            "at most 1e8 control steps");
+  if (c.control_delay < 0 || c.control_delay > kMaxControlDelay)
+    return detail::invalid("control_delay", -1, static_cast<double>(c.control_delay),
+                           "a whole number of control periods in 0..16");
+  if (auto e = detail::check_positive_scalar("water_density", static_cast<double>(c.water_density)))
+    return e;
   if (auto e = detail::check_finite("eta0", c.eta0)) return e;
   if (auto e = detail::check_finite("nu0", c.nu0)) return e;
   if (c.command.times.size() < 1)
@@ -194,6 +235,10 @@ inline ValidationError validate(const SimulationConfig<Scalar>& c) {
     return e;
   if (auto e = detail::check_non_negative("noise_eta", c.noise_eta)) return e;
   if (auto e = detail::check_non_negative("noise_nu", c.noise_nu)) return e;
+  if (auto e = Sensing<Scalar>::validate(c.sensors, c.estimator)) return e;
+  if (c.sensors.any() && !(c.noise_eta.isZero(Scalar(0)) && c.noise_nu.isZero(Scalar(0))))
+    return detail::invalid("noise_eta", -1, static_cast<double>(c.noise_eta.norm() + c.noise_nu.norm()),
+                           "zero noise_eta and noise_nu with sensors (their own noise replaces it)");
   for (std::size_t i = 0; i < c.failures.size(); ++i) {
     const auto& f = c.failures[i];
     if (!c.use_thrusters)

@@ -17,6 +17,11 @@ enum class RandomStream : std::uint64_t {
   measurement_noise = 0,
   current = 1,
   waves = 2,
+  // The sensors' noise (sim/sensors.hpp), one stream each.
+  imu = 16,
+  dvl = 17,
+  depth = 18,
+  usbl = 19,
 };
 
 namespace detail {

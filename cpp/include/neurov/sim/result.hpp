@@ -14,6 +14,9 @@ struct SimulationResult {
   using RowsX = Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   Eigen::Matrix<Scalar, Eigen::Dynamic, 1> t;
   Rows6 eta, nu, eta_d, eta_d_dot, tau_demanded, tau_applied, disturbance, s;
+  /// What the controller was given at t_k: the measurement (ideal sensing),
+  /// the raw sensor readings or the estimate; NaN in a dropout.
+  Rows6 eta_estimate, nu_estimate;
   RowsX thrusts;      ///< produced thrust per thruster (mean over the interval)
   /// The controller's logged parameters per step: theta_hat of the linear
   /// adaptive controller; no columns for the others.
@@ -38,7 +41,8 @@ struct SimulationResult {
   /// `rows` zero rows, with `thrusters` and `parameters` columns where these vary.
   void allocate(Eigen::Index rows, Eigen::Index thrusters, Eigen::Index parameters) {
     t.setZero(rows);
-    for (Rows6* m : {&eta, &nu, &eta_d, &eta_d_dot, &tau_demanded, &tau_applied, &disturbance, &s})
+    for (Rows6* m : {&eta, &nu, &eta_d, &eta_d_dot, &tau_demanded, &tau_applied, &disturbance, &s,
+                     &eta_estimate, &nu_estimate})
       m->setZero(rows, 6);
     thrusts.setZero(rows, thrusters);
     theta.setZero(rows, parameters);
@@ -57,7 +61,8 @@ struct SimulationResult {
   /// Zeroes every row in place: same sizes, no allocation.
   void clear() noexcept {
     t.setZero();
-    for (Rows6* m : {&eta, &nu, &eta_d, &eta_d_dot, &tau_demanded, &tau_applied, &disturbance, &s})
+    for (Rows6* m : {&eta, &nu, &eta_d, &eta_d_dot, &tau_demanded, &tau_applied, &disturbance, &s,
+                     &eta_estimate, &nu_estimate})
       m->setZero();
     thrusts.setZero();
     theta.setZero();
@@ -76,7 +81,8 @@ struct SimulationResult {
   /// Only the first `rows` rows (the ones simulated) are kept.
   void truncate(Eigen::Index rows) {
     t.conservativeResize(rows);
-    for (Rows6* m : {&eta, &nu, &eta_d, &eta_d_dot, &tau_demanded, &tau_applied, &disturbance, &s})
+    for (Rows6* m : {&eta, &nu, &eta_d, &eta_d_dot, &tau_demanded, &tau_applied, &disturbance, &s,
+                     &eta_estimate, &nu_estimate})
       m->conservativeResize(rows, 6);
     thrusts.conservativeResize(rows, thrusts.cols());
     theta.conservativeResize(rows, theta.cols());

@@ -26,14 +26,12 @@
 
 namespace neurov {
 
-/// The sensors' random streams. They are not yet in the RandomStream enum
-/// (its file belongs to the simulator); these numbers are theirs and must
-/// move there unchanged when the simulator wires the sensors.
+/// The sensors' random streams (RandomStream's numbers, which never change).
 namespace sensor_stream {
-inline constexpr RandomStream imu = static_cast<RandomStream>(16);
-inline constexpr RandomStream dvl = static_cast<RandomStream>(17);
-inline constexpr RandomStream depth = static_cast<RandomStream>(18);
-inline constexpr RandomStream usbl = static_cast<RandomStream>(19);
+inline constexpr RandomStream imu = RandomStream::imu;
+inline constexpr RandomStream dvl = RandomStream::dvl;
+inline constexpr RandomStream depth = RandomStream::depth;
+inline constexpr RandomStream usbl = RandomStream::usbl;
 }  // namespace sensor_stream
 
 /// Samples a delay line holds: a latency of up to (capacity - 1) periods.

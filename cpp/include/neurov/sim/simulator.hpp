@@ -17,12 +17,16 @@
 // (zero-order hold); the plant integrated by RK4 at dt / substeps, thrusters
 // advanced per substep; the reference model advanced at the control rate. Row
 // k of the result is the instant t_k = k dt: the true state there, the
-// desired state the controller was given, and the force it demanded for
-// [t_k, t_k+1).
+// desired state the controller was given, and the force it demanded from the
+// measurement at t_k. With control_delay = n that force acts over
+// [t_k+n, t_k+n+1) (the computation's delay, in whole periods); the forces
+// waiting to act sit in a fixed ring, so a step allocates nothing. n = 0 is
+// the force acting over [t_k, t_k+1).
 #pragma once
 
 #include <Eigen/Core>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -44,13 +48,15 @@
 #include "neurov/sim/payload.hpp"
 #include "neurov/sim/result.hpp"
 #include "neurov/sim/sea_constants.hpp"
+#include "neurov/sim/sensing.hpp"
 #include "neurov/sim/waves.hpp"
 
 namespace neurov {
 
 /// What a controller is given at t_k: the pose and velocity as measured
-/// (noise and sensor faults applied; NaN during a dropout) and the desired
-/// state from the reference model.
+/// (noise, or the sensors' readings or estimate, and the sensor faults
+/// applied; NaN during a dropout) and the desired state from the reference
+/// model.
 template <typename Scalar>
 struct Observation {
   Scalar t = Scalar(0);
@@ -114,6 +120,7 @@ class Simulator {
     s.noisy_ = !(config.noise_eta.isZero(Scalar(0)) && config.noise_nu.isZero(Scalar(0)));
     s.h_ = config.dt / static_cast<Scalar>(config.substeps);
     s.failure_applied_.assign(config.failures.size(), false);
+    Sensing<Scalar>::create(config.sensors, config.estimator, config.seed, s.sensing_);
     s.result_.allocate(s.rows_, s.thruster_count_, logged_parameters);
     s.configured_ = true;
     s.reset(config.seed);
@@ -146,10 +153,13 @@ class Simulator {
       Waves<Scalar>::create(*config_.waves, seed, waves_);
       waves_.start(0.0, eta_.template head<3>(), h_);
     }
+    // The sensors' first samples, at t = 0 (validate() checked them).
+    sensing_.reset(seed, eta_, nu_);
     observation_.desired = reference_.desired();
     held_eta_ = eta_;
     held_nu_ = nu_;
     last_accepted_tau_.setZero();
+    for (Vec6& f : pending_tau_) f.setZero();
     result_.clear();
     k_ = 0;
     observe();
@@ -191,6 +201,8 @@ class Simulator {
     r.t(k) = t;
     r.eta.row(k) = eta_.transpose();
     r.nu.row(k) = nu_.transpose();
+    r.eta_estimate.row(k) = observation_.eta.transpose();
+    r.nu_estimate.row(k) = observation_.nu.transpose();
     r.eta_d.row(k) = desired.eta_d.transpose();
     r.eta_d_dot.row(k) = desired.eta_d_dot.transpose();
     r.tau_demanded.row(k) = applied_tau.transpose();
@@ -210,14 +222,21 @@ class Simulator {
     }
     r.payload_mass(k) = payload_mass_;
 
+    // The force this row demanded waits control_delay periods; the one due
+    // now (zero before the first one is due) acts over this interval.
+    const int n = config_.control_delay;
+    pending_tau_[static_cast<std::size_t>(k % kPendingSlots)] = applied_tau;
+    const Vec6 acting_tau = k >= n ? pending_tau_[static_cast<std::size_t>((k - n) % kPendingSlots)]
+                                   : Vec6::Zero().eval();
+
     std::uint8_t faults = faults_;
-    if (config_.use_thrusters) thrusters_.command(applied_tau);
+    if (config_.use_thrusters) thrusters_.command(acting_tau);
     Status ps = Status::ok;
     Vec6 applied_sum = Vec6::Zero();
     for (int j = 0; j < config_.substeps; ++j) {
       const Scalar ts = t + static_cast<Scalar>(j) * h_;
       apply_payload_events(ts);
-      Vec6 applied = applied_tau;
+      Vec6 applied = acting_tau;
       if (config_.use_thrusters) {
         for (std::size_t f = 0; f < config_.failures.size(); ++f) {
           if (!failure_applied_[f] && ts >= config_.failures[f].time) {
@@ -259,6 +278,11 @@ class Simulator {
         ps = worst(ps, rk4_step(vehicle_, eta_, nu_, tau_s, h_, current_velocity(ts)));
       }
       if (ps != Status::ok && ps != Status::near_singularity) break;
+      // The sensors sample the state at the end of each substep (times in
+      // double: a float clock loses milliseconds within hours).
+      sensing_.sense(static_cast<double>(k) * static_cast<double>(config_.dt) +
+                         static_cast<double>(j + 1) * static_cast<double>(h_),
+                     eta_, nu_);
     }
     if (config_.current_model == CurrentModel::gauss_markov) current_.advance(config_.dt);
     r.tau_applied.row(k) = (applied_sum / static_cast<Scalar>(config_.substeps)).transpose();
@@ -290,6 +314,8 @@ class Simulator {
   Eigen::Index thruster_count() const noexcept { return thruster_count_; }
   const SimulationConfig<Scalar>& config() const noexcept { return config_; }
   const Vehicle<Scalar>& vehicle() const noexcept { return vehicle_; }
+  /// The sensors and the estimator (inactive without sensors).
+  const Sensing<Scalar>& sensing() const noexcept { return sensing_; }
 
   /// A copy of the rows logged so far (allocates).
   SimulationResult<Scalar> result() const {
@@ -312,6 +338,7 @@ class Simulator {
   void observe() noexcept {
     const Scalar t = static_cast<Scalar>(k_) * config_.dt;
     Vec6 eta_m = eta_, nu_m = nu_;
+    if (sensing_.active()) sensing_.measurement(eta_, nu_, eta_m, nu_m);
     if (noisy_) {
       for (int i = 0; i < 6; ++i) {
         eta_m(i) += config_.noise_eta(i) * static_cast<Scalar>(rng_.normal());
@@ -391,6 +418,7 @@ class Simulator {
   }
 
   static constexpr Scalar kTwoPi = Scalar(6.283185307179586);
+  static constexpr Eigen::Index kPendingSlots = kMaxControlDelay + 1;
 
   Vehicle<Scalar> vehicle_;   ///< the plant, changed by the payload events
   Vehicle<Scalar> vehicle0_;  ///< the plant at t = 0
@@ -401,6 +429,7 @@ class Simulator {
   SimulationConfig<Scalar> config_;
   ReferenceModel<Scalar> reference_;
   Thrusters<Scalar> thrusters_;
+  Sensing<Scalar> sensing_;
   NormalRandom rng_;
   std::uint64_t seed_ = 0;
   bool configured_ = false;
@@ -415,6 +444,8 @@ class Simulator {
   // The last measurements delivered unfrozen, which a freeze keeps repeating.
   Vec6 held_eta_ = Vec6::Zero(), held_nu_ = Vec6::Zero();
   Vec6 last_accepted_tau_ = Vec6::Zero();
+  /// Forces demanded and not yet acting: row k's at slot k mod kPendingSlots.
+  std::array<Vec6, kPendingSlots> pending_tau_{};
   Observation<Scalar> observation_;
   std::uint8_t faults_ = 0;
   SimulationResult<Scalar> result_;

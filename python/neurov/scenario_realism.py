@@ -1,0 +1,68 @@
+"""The scenario keys of the vehicle as it really is (the timing, the water,
+the sensors and the estimator), read into the core's ``SimulationConfig``::
+
+    water_density = 1025.0       # kg/m^3
+    control_delay = 1            # control periods between measurement and thrust
+    [sensors]                    # absent: ideal sensing
+    usbl = { rate = 1.0, noise = 0.5, latency = 0.5 }          # Hz, m, s
+    dvl = { rate = 5.0, noise = 0.01, dropout_rate = 0.01 }    # Hz, m/s, per sample
+    depth = { rate = 10.0, noise = 0.02 }
+    imu = { rate = 50.0, attitude_noise = 0.005, gyro_noise = 0.001, gyro_bias_walk = 1e-5 }
+    [estimator]
+    type = "ekf"                 # or "none"
+
+Called by :mod:`neurov.scenario_file` with its reader; the rules (a delay of
+0..16 whole periods, a rate > 0, an estimator with the sensors it needs) are
+the C++ validators', whose messages name the TOML key (``sensors.usbl.rate``)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from neurov import _core
+
+__all__ = ["REALISM_KEYS", "read_realism"]
+
+# SimulationConfig field -> TOML key, for the validator's messages (the
+# sensors' and the estimator's messages already name theirs).
+REALISM_KEYS: dict[str, str] = {}
+
+# TOML key -> (bound config, its numbers, its 3-vectors).
+_SENSORS: dict[str, tuple[Any, tuple[str, ...], tuple[str, ...]]] = {
+    "usbl": (_core.UsblConfig, ("rate", "latency", "noise"), ("bias",)),
+    "dvl": (_core.DvlConfig, ("rate", "latency", "noise", "dropout_rate"), ("bias",)),
+    "depth": (_core.DepthConfig, ("rate", "latency", "noise", "bias"), ()),
+    "imu": (_core.ImuConfig, ("rate", "latency", "attitude_noise", "gyro_noise", "gyro_bias_walk"),
+            ("gyro_bias",)),
+}
+
+
+def read_realism(r: Any, c: Any) -> None:
+    """Reads the top-level keys of reader `r` into config `c`."""
+    # Any integer reaches the C++ validator, which names the allowed range.
+    c.control_delay = r.integer("control_delay", c.control_delay, minimum=-(2**31))
+    c.water_density = r.number("water_density", c.water_density)
+    sensors = _core.SensorsConfig()
+    table = r.table_of("sensors")
+    for key, (kind, numbers, vectors) in _SENSORS.items():
+        if not table.has(key):
+            continue
+        t = table.table_of(key)
+        config = kind()
+        for name in numbers:
+            setattr(config, name, t.number(name, getattr(config, name)))
+        for name in vectors:
+            setattr(config, name, t.array(name, 3, getattr(config, name), broadcast=False))
+        t.finish()
+        setattr(sensors, key, config)
+    table.finish()
+    c.sensors = sensors
+    e = r.table_of("estimator")
+    estimator = _core.EstimatorConfig()
+    kind = e.string("type", "none", choices=tuple(_core.EstimatorType.__members__))
+    estimator.type = _core.EstimatorType.__members__[kind]
+    for name in ("linear_acceleration_noise", "angular_acceleration_noise"):
+        setattr(estimator, name, e.number(name, getattr(estimator, name)))
+    estimator.initial_std = e.array("initial_std", 15, estimator.initial_std)
+    e.finish()
+    c.estimator = estimator
