@@ -50,12 +50,13 @@ inline Status derivative_in_flow(const Vehicle<Scalar>& vehicle, const Vector6<S
     return Status::non_finite_input;
   }
   const VehicleParameters<Scalar>& p = vehicle.parameters();
-  const Vec3 a_b = rotation(EulerTrig<Scalar>::from_pose(eta)).transpose() * f.acceleration;
+  const EulerTrig<Scalar> trig = EulerTrig<Scalar>::from_pose(eta);
+  const Vec3 a_b = rotation(trig).transpose() * f.acceleration;
   Vector6<Scalar> force = tau;
   force.template head<3>() += (f.displaced_mass - p.mass) * a_b;
   force.template tail<3>() += f.displaced_mass * p.centre_of_buoyancy.cross(a_b) -
                               p.mass * p.centre_of_gravity.cross(a_b);
-  const Status s = vehicle.derivative(eta, nu, force, f.velocity, eta_dot, nu_dot);
+  const Status s = vehicle.derivative(trig, eta, nu, force, f.velocity, eta_dot, nu_dot);
   if (s != Status::ok && s != Status::near_singularity) return s;
   nu_dot.template head<3>() += a_b;
   if (!detail::all_finite(nu_dot)) {

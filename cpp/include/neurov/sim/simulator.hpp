@@ -8,10 +8,11 @@
 // The sea: the current (constant model, or Gauss-Markov advanced once per
 // control period on its own random stream, so its realisation does not
 // depend on substeps), the waves (their kinematics followed at the vehicle
-// once per substep, interpolated through the RK4 stages, see
-// rk4_step_in_flow) and the payload events (the plant's Vehicle rebuilt
-// in place at the first substep at or after their time; the controller is
-// not told). Without waves the plant step is rk4_step, as before they existed.
+// once per control period, with their rates along its path, and
+// interpolated in time through the substeps and RK4 stages, see
+// follow_waves, WaveInterval and rk4_step_in_flow) and the payload events
+// (the plant's Vehicle rebuilt in place at the first substep at or after
+// their time; the controller is not told). Without waves the plant step is rk4_step, as before they existed.
 //
 // Timing: control at dt with the force held over each control interval
 // (zero-order hold); the plant integrated by RK4 at dt / substeps, thrusters
@@ -144,7 +145,8 @@ class Simulator {
       GaussMarkovCurrent<Scalar>::create(config_.gauss_markov_current, seed, current_);
     if (config_.waves) {
       Waves<Scalar>::create(*config_.waves, seed, waves_);
-      waves_.start(0.0, eta_.template head<3>(), h_);
+      waves_.start(0.0, eta_.template head<3>(), config_.dt, ned_velocity());
+      wave_path_known_ = false;
     }
     observation_.desired = reference_.desired();
     held_eta_ = eta_;
@@ -211,6 +213,7 @@ class Simulator {
     r.payload_mass(k) = payload_mass_;
 
     std::uint8_t faults = faults_;
+    if (config_.waves) follow_waves();
     if (config_.use_thrusters) thrusters_.command(applied_tau);
     Status ps = Status::ok;
     Vec6 applied_sum = Vec6::Zero();
@@ -239,21 +242,13 @@ class Simulator {
       const Vec6 tau_s = applied + disturbance_at(ts);
       if (config_.waves) {
         if (eta_(2) < waves_.minimum_depth()) faults |= fault_bits::shallow;
-        // The flow at the substep's start, then the waves followed on to
-        // its end at the position predicted from the present velocity (the
-        // kinematics change over a wavelength; the prediction is off by
-        // O(h^2)): the stages interpolate between the two.
         FluidFlow<Scalar> start, end;
-        start.velocity = current_velocity(ts) + waves_.kinematics().velocity;
-        start.acceleration = waves_.kinematics().acceleration;
+        wave_period_.at(static_cast<Scalar>(j) * h_, start.velocity, start.acceleration);
+        wave_period_.at(static_cast<Scalar>(j + 1) * h_, end.velocity, end.acceleration);
+        start.velocity += current_velocity(ts);
+        end.velocity += current_velocity(ts);
         start.displaced_mass =
             vehicle_.parameters().buoyancy / static_cast<Scalar>(standard_gravity);
-        const Vec3 p_end = eta_.template head<3>() +
-                           h_ * (rotation(EulerTrig<Scalar>::from_pose(eta_)) *
-                                 nu_.template head<3>());
-        waves_.advance(p_end);
-        end.velocity = current_velocity(ts) + waves_.kinematics().velocity;
-        end.acceleration = waves_.kinematics().acceleration;
         ps = worst(ps, rk4_step_in_flow(vehicle_, eta_, nu_, tau_s, h_, start, end));
       } else {
         ps = worst(ps, rk4_step(vehicle_, eta_, nu_, tau_s, h_, current_velocity(ts)));
@@ -375,6 +370,30 @@ class Simulator {
     }
   }
 
+  /// The vehicle's velocity in NED.
+  Vec3 ned_velocity() const noexcept {
+    return rotation(EulerTrig<Scalar>::from_pose(eta_)) * nu_.template head<3>();
+  }
+
+  /// The waves over the control period that starts now: from where they
+  /// were followed to (the position predicted for now), on to the end of
+  /// the period at the position predicted from the vehicle's NED velocity u
+  /// and its change b over the last period (off by O(dt^3)), with their
+  /// rates along that path; the substeps interpolate between the two.
+  void follow_waves() noexcept {
+    const Scalar dt = config_.dt;
+    const Vec3 u = ned_velocity();
+    const Vec3 b = wave_path_known_ ? Vec3((u - wave_path_velocity_) / dt) : Vec3::Zero();
+    wave_path_velocity_ = u;
+    wave_path_known_ = true;
+    wave_period_.duration = dt;
+    wave_period_.start = waves_.kinematics();
+    wave_period_.start_rates = waves_.rates();
+    waves_.advance(eta_.template head<3>() + dt * u + (dt * dt / Scalar(2)) * b, u + dt * b);
+    wave_period_.end = waves_.kinematics();
+    wave_period_.end_rates = waves_.rates();
+  }
+
   /// The current at the vehicle over the substep starting at t.
   Vec3 current_velocity(Scalar t) const noexcept {
     return config_.current_model == CurrentModel::gauss_markov ? current_.velocity()
@@ -398,6 +417,9 @@ class Simulator {
   Scalar payload_mass_ = Scalar(0);
   GaussMarkovCurrent<Scalar> current_;
   Waves<Scalar> waves_;
+  WaveInterval<Scalar> wave_period_;  ///< the waves over this control period
+  Vec3 wave_path_velocity_ = Vec3::Zero();  ///< u of the last period
+  bool wave_path_known_ = false;
   SimulationConfig<Scalar> config_;
   ReferenceModel<Scalar> reference_;
   Thrusters<Scalar> thrusters_;

@@ -14,15 +14,22 @@
 //
 // Two ways to evaluate: evaluate() computes the sum directly (a sin, cos
 // and exp per component); start()/advance() follow one moving point at a
-// fixed time step and update each component's phasor e^(i theta_i) and
-// decay e^(-k_i z) by a complex rotation and short series in the small
-// position change, with a direct evaluation every resync_interval steps.
+// fixed time step (the simulator's control period) and update each
+// component's phasor e^(i theta_i) and decay e^(-k_i z) by the exact time
+// rotation e^(i w_i step), precomputed, and by e^(-i k_i . dp) and
+// e^(-k_i dz) of the point's move, from series of a scaled argument squared
+// back up; the components are held as arrays so that the loops vectorise.
+// Along with the kinematics they give the rates of change of the velocity
+// and acceleration following the point along a given path velocity, from
+// which WaveInterval interpolates the flow within the step (cubic Hermite).
 #pragma once
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
+
+#include <Eigen/Core>
 
 #include "neurov/core/random.hpp"
 #include "neurov/core/status.hpp"
@@ -41,35 +48,56 @@ struct WaveKinematics {
   Vector3<Scalar> acceleration = Vector3<Scalar>::Zero();  ///< its time derivative, NED [m/s^2]
 };
 
-namespace detail {
-/// cos and sin of a small angle d (|d| <= 0.1) by their series to d^8 and
-/// d^9: the first terms left out, d^10/10! and d^11/11!, are below 3e-17.
-inline void small_sincos(double d, double& s, double& c) noexcept {
-  const double d2 = d * d;
-  c = 1.0 + d2 * (-1.0 / 2 + d2 * (1.0 / 24 + d2 * (-1.0 / 720 + d2 * (1.0 / 40320))));
-  s = d * (1.0 + d2 * (-1.0 / 6 + d2 * (1.0 / 120 + d2 * (-1.0 / 5040 + d2 * (1.0 / 362880)))));
-}
-/// exp(d) for |d| <= 0.1 by its series to d^9 (d^10/10! < 3e-17 left out).
-inline double small_exp(double d) noexcept {
-  double term = 1.0, sum = 1.0;
-  for (int n = 1; n <= 9; ++n) sum += (term *= d / n);
-  return sum;
-}
-}  // namespace detail
+/// The time derivatives of the velocity and acceleration of WaveKinematics
+/// seen from a point moving with a given velocity u: d/dt = partial/partial t
+/// + (u . grad).
+template <typename Scalar>
+struct WaveRates {
+  Vector3<Scalar> velocity = Vector3<Scalar>::Zero();      ///< NED [m/s^2]
+  Vector3<Scalar> acceleration = Vector3<Scalar>::Zero();  ///< NED [m/s^3]
+};
+
+/// The orbital flow over one step [0, duration] of a moving point, from the
+/// kinematics and rates along its path at both ends: cubic Hermite in time,
+/// exact to O(duration^4) for each component, as the path is followed.
+template <typename Scalar>
+struct WaveInterval {
+  using Vec3 = Vector3<Scalar>;
+  Scalar duration = Scalar(0);
+  WaveKinematics<Scalar> start, end;
+  WaveRates<Scalar> start_rates, end_rates;
+
+  /// The velocity and local acceleration (partial dv/dt, which the plant's
+  /// force takes) at s in [0, duration].
+  void at(Scalar s, Vec3& velocity, Vec3& acceleration) const noexcept {
+    const Scalar h = duration, tau = h > Scalar(0) ? s / h : Scalar(0);
+    const Scalar t2 = tau * tau, t3 = t2 * tau;
+    const Scalar h00 = Scalar(2) * t3 - Scalar(3) * t2 + Scalar(1), h01 = Scalar(1) - h00;
+    const Scalar h10 = h * (t3 - Scalar(2) * t2 + tau), h11 = h * (t3 - t2);
+    velocity = h00 * start.velocity + h01 * end.velocity + h10 * start_rates.velocity +
+               h11 * end_rates.velocity;
+    acceleration = h00 * start.acceleration + h01 * end.acceleration +
+                   h10 * start_rates.acceleration + h11 * end_rates.acceleration;
+  }
+};
 
 /// A seeded realisation of a wave spectrum with at most Capacity components,
-/// held inline (no heap: the object is about 120 bytes per component).
+/// held inline (no heap: the object is about 200 bytes per component).
 template <typename ScalarT, int Capacity = 512>
 class Waves {
  public:
   using Scalar = ScalarT;
   using Vec3 = Vector3<Scalar>;
   static constexpr int capacity = Capacity;
-  /// Steps of advance() between two direct evaluations.
+  /// Steps of advance() between two direct evaluations (the rounding of
+  /// the rotations grows as a random walk, about 1e-15 over them).
   static constexpr int resync_interval = 1000;
-  /// Largest phase or decay exponent change per step that advance() follows
-  /// by series; a larger jump of the point is evaluated directly.
-  static constexpr double max_series_argument = 0.1;
+  /// advance() scales the move's largest phase or decay exponent change
+  /// down by 2^m to at most series_argument, where the series below are
+  /// exact to rounding, and squares the factors m times back up;
+  /// a move of more than max_move_argument (m > 6, where the squarings
+  /// would have doubled the rounding six times) is evaluated directly.
+  static constexpr double series_argument = 0.125, max_move_argument = 8.0;
   /// The band realised, in multiples of the peak frequency: it holds all
   /// but 0.1 % of the Pierson-Moskowitz m0 (the tail above 6 wp holds
   /// 5/4 * 6^-4); the realised amplitudes are scaled up to give Hs exactly.
@@ -90,6 +118,11 @@ class Waves {
     out.spectrum_ = SpectralDensity::from(c);
     const int n = c.components;
     out.n_ = n;
+    for (Array* a : {&out.omega_, &out.k_, &out.amp_, &out.phase_, &out.cos_beta_, &out.sin_beta_,
+                     &out.kx_, &out.ky_, &out.vel_, &out.acc_, &out.vcb_, &out.vsb_, &out.acb_,
+                     &out.asb_, &out.rot_re_, &out.rot_im_, &out.pre_, &out.pim_, &out.decay_,
+                     &out.work_[0], &out.work_[1], &out.work_[2], &out.work_[3]})
+      a->resize(n);
     NormalRandom rng(stream_seed(seed, RandomStream::waves));
     const double wp = out.spectrum_.peak_frequency;
     const double lo = band_low * wp, dw = (band_high - band_low) * wp / n;
@@ -107,7 +140,6 @@ class Waves {
     const double scale = m0 > 0.0 ? std::sqrt(hs * hs / 16.0 / m0) : 0.0;
     const double main = static_cast<double>(c.direction) * pi / 180.0;
     const double spread = static_cast<double>(c.spreading);
-    out.k_max_ = 0.0;
     for (int i = 0; i < n; ++i) {
       double beta = main;
       if (spread > 0.0) {  // cos^n(theta) on (-pi/2, pi/2) by rejection
@@ -117,14 +149,18 @@ class Waves {
         beta += theta;
       }
       out.amp_[i] *= scale;
-      out.vel_[i] = out.amp_[i] * out.omega_[i];
-      out.acc_[i] = out.vel_[i] * out.omega_[i];
       out.cos_beta_[i] = std::cos(beta);
       out.sin_beta_[i] = std::sin(beta);
-      out.kx_[i] = out.k_[i] * out.cos_beta_[i];
-      out.ky_[i] = out.k_[i] * out.sin_beta_[i];
-      out.k_max_ = std::max(out.k_max_, out.k_[i]);
     }
+    out.vel_ = out.amp_ * out.omega_;
+    out.acc_ = out.vel_ * out.omega_;
+    out.kx_ = out.k_ * out.cos_beta_;
+    out.ky_ = out.k_ * out.sin_beta_;
+    out.vcb_ = out.vel_ * out.cos_beta_;
+    out.vsb_ = out.vel_ * out.sin_beta_;
+    out.acb_ = out.acc_ * out.cos_beta_;
+    out.asb_ = out.acc_ * out.sin_beta_;
+    out.k_max_ = out.k_.maxCoeff();
     out.valid_ = true;
     out.started_ = false;
     return {};
@@ -153,19 +189,31 @@ class Waves {
     if (!(std::isfinite(t) && detail::all_finite(p))) return Status::non_finite_input;
     const double x = static_cast<double>(p.x()), y = static_cast<double>(p.y());
     const double z = std::max(0.0, static_cast<double>(p.z()));
-    Sums s;
+    double zeta = 0, vn = 0, ve = 0, vd = 0, an = 0, ae = 0, ad = 0;
     for (int i = 0; i < n_; ++i) {
       const double theta = omega_[i] * t - (kx_[i] * x + ky_[i] * y) + phase_[i];
-      add(s, i, std::cos(theta), std::sin(theta), std::exp(-k_[i] * z));
+      const double c = std::cos(theta), sn = std::sin(theta), decay = std::exp(-k_[i] * z);
+      zeta += amp_[i] * c;
+      const double u = vel_[i] * decay * c, du = -acc_[i] * decay * sn;
+      vn += u * cos_beta_[i];
+      ve += u * sin_beta_[i];
+      vd += vel_[i] * decay * sn;
+      an += du * cos_beta_[i];
+      ae += du * sin_beta_[i];
+      ad += acc_[i] * decay * c;
     }
-    return store(s, out);
+    WaveRates<Scalar> unused;
+    return store(zeta, Eigen::Vector3d(vn, ve, vd), Eigen::Vector3d(an, ae, ad),
+                 Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), out, unused);
   }
 
   /// Starts following a point: kinematics() is then the field at (t0, p),
-  /// and each advance() moves time on by `step` [s].
-  Status start(double t0, const Vec3& p, Scalar step) noexcept {
+  /// rates() its rates following the path velocity u (NED [m/s]), and each
+  /// advance() moves time on by `step` [s].
+  Status start(double t0, const Vec3& p, Scalar step, const Vec3& u = Vec3::Zero()) noexcept {
     if (!valid_) return Status::invalid_argument;
-    if (!(std::isfinite(t0) && std::isfinite(static_cast<double>(step)) && detail::all_finite(p)))
+    if (!(std::isfinite(t0) && std::isfinite(static_cast<double>(step)) &&
+          detail::all_finite(p, u)))
       return Status::non_finite_input;
     if (!(step > Scalar(0))) return Status::invalid_argument;
     t0_ = t0;
@@ -176,110 +224,150 @@ class Waves {
       rot_im_[i] = std::sin(omega_[i] * step_);
     }
     started_ = true;
-    return resync(p);
+    return resync(p, u);
   }
 
-  /// Moves time on by one step and the point to p, and updates kinematics().
-  /// invalid_argument before start(), non_finite_input for a NaN or infinite
-  /// p (time and state are unchanged then); non_finite_output, with zero
+  /// Moves time on by one step and the point to p, and updates kinematics()
+  /// and rates() (following the path velocity u there). invalid_argument
+  /// before start(), non_finite_input for a NaN or infinite p or u (time
+  /// and state are unchanged then); non_finite_output, with zero
   /// kinematics, if the sums overflowed.
-  Status advance(const Vec3& p) noexcept {
+  Status advance(const Vec3& p, const Vec3& u = Vec3::Zero()) noexcept {
     if (!started_) return Status::invalid_argument;
-    if (!detail::all_finite(p)) return Status::non_finite_input;
+    if (!detail::all_finite(p, u)) return Status::non_finite_input;
     ++steps_;
     const double x = static_cast<double>(p.x()), y = static_cast<double>(p.y());
     const double z = std::max(0.0, static_cast<double>(p.z()));
     const double dx = x - x_, dy = y - y_, dz = z - z_;
     const double reach = k_max_ * std::max(std::sqrt(dx * dx + dy * dy), std::abs(dz));
-    if (steps_ % resync_interval == 0 || reach > max_series_argument) return resync(p);
-    const bool moved = dx != 0.0 || dy != 0.0, dived = dz != 0.0;
-    Sums s;
-    for (int i = 0; i < n_; ++i) {
-      double re = pre_[i] * rot_re_[i] - pim_[i] * rot_im_[i];
-      double im = pre_[i] * rot_im_[i] + pim_[i] * rot_re_[i];
-      if (moved) {  // times e^(-i delta), delta = k_i . (dx, dy)
-        double sd, cd;
-        detail::small_sincos(kx_[i] * dx + ky_[i] * dy, sd, cd);
-        const double r2 = re * cd + im * sd;
-        im = im * cd - re * sd;
-        re = r2;
-      }
-      if (dived) decay_[i] *= detail::small_exp(-k_[i] * dz);
-      pre_[i] = re;
-      pim_[i] = im;
-      add(s, i, re, im, decay_[i]);
-    }
+    if (steps_ % resync_interval == 0 || !(reach <= max_move_argument)) return resync(p, u);
+    rotate(dx, dy, dz, reach);
     x_ = x;
     y_ = y;
     z_ = z;
-    return store(s, kin_);
+    return sum(u);
   }
 
   /// The field at the followed point after the last start() or advance().
   const WaveKinematics<Scalar>& kinematics() const noexcept { return kin_; }
+  /// The rates of kinematics() following the path velocity given there.
+  const WaveRates<Scalar>& rates() const noexcept { return rates_; }
   /// Time of kinematics() [s]: t0 + steps * step.
   double time() const noexcept { return t0_ + static_cast<double>(steps_) * step_; }
 
  private:
-  struct Sums {
-    double zeta = 0, vn = 0, ve = 0, vd = 0, an = 0, ae = 0, ad = 0;
-  };
+  using Array = Eigen::Array<double, Eigen::Dynamic, 1, Eigen::ColMajor, Capacity, 1>;
 
-  void add(Sums& s, int i, double c, double sn, double decay) const noexcept {
-    s.zeta += amp_[i] * c;
-    const double u = vel_[i] * decay * c, du = -acc_[i] * decay * sn;
-    s.vn += u * cos_beta_[i];
-    s.ve += u * sin_beta_[i];
-    s.vd += vel_[i] * decay * sn;
-    s.an += du * cos_beta_[i];
-    s.ae += du * sin_beta_[i];
-    s.ad += acc_[i] * decay * c;
+  /// Each phasor times e^(i w_i step) e^(-i k_i . (dx, dy)), each decay
+  /// times e^(-k_i dz): the move's factors from their series at the
+  /// argument scaled by 2^-m (cos and sin to x^10 and x^11, exp to x^11:
+  /// at |x| <= 1/8 the first terms left out are below 1e-19), then
+  /// squared m times.
+  void rotate(double dx, double dy, double dz, double reach) noexcept {
+    int m = 0;
+    for (double r = reach; r > series_argument; r *= 0.5) ++m;
+    const double scale = std::ldexp(1.0, -m);
+    Array &c = work_[0], &s = work_[1], &e = work_[2], &x2 = work_[3];
+    s = (kx_ * (dx * scale) + ky_ * (dy * scale));
+    x2 = s.square();
+    c = 1.0 + x2 * (-1.0 / 2 + x2 * (1.0 / 24 + x2 * (-1.0 / 720 + x2 * (1.0 / 40320 +
+                                                         x2 * (-1.0 / 3628800)))));
+    s = s * (1.0 + x2 * (-1.0 / 6 + x2 * (1.0 / 120 + x2 * (-1.0 / 5040 + x2 * (1.0 / 362880 +
+                                                                x2 * (-1.0 / 39916800))))));
+    x2 = k_ * (-dz * scale);
+    e = 1.0 + x2 * (1.0 + x2 * (1.0 / 2 + x2 * (1.0 / 6 + x2 * (1.0 / 24 + x2 * (1.0 / 120 +
+        x2 * (1.0 / 720 + x2 * (1.0 / 5040 + x2 * (1.0 / 40320 + x2 * (1.0 / 362880 +
+        x2 * (1.0 / 3628800 + x2 * (1.0 / 39916800)))))))))));
+    for (int j = 0; j < m; ++j) {
+      x2 = c * c - s * s;
+      s = 2.0 * c * s;
+      c = x2;
+      e = e.square();
+    }
+    // w = e^(i w step) (c - i s), then the phasor times w.
+    x2 = rot_re_ * c + rot_im_ * s;
+    s = rot_im_ * c - rot_re_ * s;
+    c = pre_ * x2 - pim_ * s;
+    pim_ = pre_ * s + pim_ * x2;
+    pre_ = c;
+    decay_ *= e;
   }
 
-  /// Writes the sums to `out`; non_finite_output (zeros) if any overflowed
-  /// (an extreme Hs or Tp, or a float that cannot hold them).
-  static Status store(const Sums& s, WaveKinematics<Scalar>& out) noexcept {
-    out.elevation = static_cast<Scalar>(s.zeta);
-    out.velocity = Vec3(static_cast<Scalar>(s.vn), static_cast<Scalar>(s.ve),
-                        static_cast<Scalar>(s.vd));
-    out.acceleration = Vec3(static_cast<Scalar>(s.an), static_cast<Scalar>(s.ae),
-                            static_cast<Scalar>(s.ad));
+  /// kinematics() and rates() from the phasors and decays: with
+  /// Q_i = e^(-k_i z) e^(i theta_i), v = sum vel_i [cos b_i Re Q_i,
+  /// sin b_i Re Q_i, Im Q_i], a = sum acc_i [-cos b_i Im Q_i, -sin b_i Im Q_i,
+  /// Re Q_i], and following u, dQ_i/dt = (-k_i u_D + i (w_i - k_i . u)) Q_i.
+  Status sum(const Vec3& u) noexcept {
+    const double un = static_cast<double>(u.x()), ue = static_cast<double>(u.y());
+    // Above the surface z stays 0, as do the decays.
+    const double ud = z_ > 0.0 ? static_cast<double>(u.z()) : 0.0;
+    Array &qr = work_[0], &qi = work_[1], &rr = work_[2], &ri = work_[3];
+    qr = pre_ * decay_;
+    qi = pim_ * decay_;
+    const double zeta = dot(amp_, pre_);
+    const Eigen::Vector3d v(dot(vcb_, qr), dot(vsb_, qr), dot(vel_, qi));
+    const Eigen::Vector3d a(-dot(acb_, qi), -dot(asb_, qi), dot(acc_, qr));
+    rr = omega_ - kx_ * un - ky_ * ue;  // Im of the rate; Re is -k_i u_D
+    ri = rr * qr - k_ * (ud * qi);
+    rr = -(k_ * (ud * qr)) - rr * qi;
+    const Eigen::Vector3d dv(dot(vcb_, rr), dot(vsb_, rr), dot(vel_, ri));
+    const Eigen::Vector3d da(-dot(acb_, ri), -dot(asb_, ri), dot(acc_, rr));
+    return store(zeta, v, a, dv, da, kin_, rates_);
+  }
+
+  static double dot(const Array& a, const Array& b) noexcept {
+    return a.matrix().dot(b.matrix());
+  }
+
+  /// Writes the sums out; non_finite_output (zeros) if any overflowed (an
+  /// extreme Hs or Tp, or a float that cannot hold them).
+  static Status store(double zeta, const Eigen::Vector3d& v, const Eigen::Vector3d& a,
+                      const Eigen::Vector3d& dv, const Eigen::Vector3d& da,
+                      WaveKinematics<Scalar>& out, WaveRates<Scalar>& rates) noexcept {
+    out.elevation = static_cast<Scalar>(zeta);
+    out.velocity = v.cast<Scalar>();
+    out.acceleration = a.cast<Scalar>();
+    rates.velocity = dv.cast<Scalar>();
+    rates.acceleration = da.cast<Scalar>();
     if (std::isfinite(static_cast<double>(out.elevation)) &&
-        detail::all_finite(out.velocity, out.acceleration))
+        detail::all_finite(out.velocity, out.acceleration) &&
+        detail::all_finite(rates.velocity, rates.acceleration))
       return Status::ok;
     out = WaveKinematics<Scalar>{};
+    rates = WaveRates<Scalar>{};
     return Status::non_finite_output;
   }
 
-  /// Phasors, decays and kinematics() computed directly at time() and p.
-  Status resync(const Vec3& p) noexcept {
+  /// Phasors, decays, kinematics() and rates() computed directly at time()
+  /// and p.
+  Status resync(const Vec3& p, const Vec3& u) noexcept {
     x_ = static_cast<double>(p.x());
     y_ = static_cast<double>(p.y());
     z_ = std::max(0.0, static_cast<double>(p.z()));
     const double t = time();
-    Sums s;
     for (int i = 0; i < n_; ++i) {
       const double theta = omega_[i] * t - (kx_[i] * x_ + ky_[i] * y_) + phase_[i];
       pre_[i] = std::cos(theta);
       pim_[i] = std::sin(theta);
-      decay_[i] = std::exp(-k_[i] * z_);
-      add(s, i, pre_[i], pim_[i], decay_[i]);
     }
-    return store(s, kin_);
+    decay_ = (k_ * -z_).exp();
+    return sum(u);
   }
 
-  using Array = std::array<double, static_cast<std::size_t>(Capacity)>;
   WaveConfig<Scalar> config_{};
   SpectralDensity spectrum_{};
   int n_ = 0;
   // The components (fixed at create) and the followed point's state, in
   // double whatever Scalar: a float build keeps the phases of a long run.
-  Array omega_{}, k_{}, amp_{}, vel_{}, acc_{}, phase_{}, cos_beta_{}, sin_beta_{}, kx_{}, ky_{};
-  Array rot_re_{}, rot_im_{}, pre_{}, pim_{}, decay_{};
+  Array omega_, k_, amp_, phase_, cos_beta_, sin_beta_, kx_, ky_;
+  Array vel_, acc_, vcb_, vsb_, acb_, asb_;  // a w, a w^2, and times cos b, sin b
+  Array rot_re_, rot_im_, pre_, pim_, decay_;
+  Array work_[4];  // scratch of rotate() and sum(), kept here off the stack
   double k_max_ = 0.0;
   double t0_ = 0.0, step_ = 0.0, x_ = 0.0, y_ = 0.0, z_ = 0.0;
   std::int64_t steps_ = 0;
   WaveKinematics<Scalar> kin_{};
+  WaveRates<Scalar> rates_{};
   bool valid_ = false, started_ = false;
 };
 
