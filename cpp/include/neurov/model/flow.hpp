@@ -88,6 +88,22 @@ inline Status rk4_step_in_flow(const Vehicle<Scalar>& vehicle, Vector6<Scalar>& 
   FluidFlow<Scalar> mid = start;
   mid.velocity = Scalar(0.5) * (v0 + v1) + (dt / Scalar(8)) * (a0 - a1);
   mid.acceleration = (Scalar(1.5) / dt) * (v1 - v0) - Scalar(0.25) * (a0 + a1);
+  return rk4_step_in_flow(vehicle, eta, nu, tau, dt, start, mid, end);
+}
+
+/// The same with the flow at the step's middle given too (a caller that
+/// knows the flow along the vehicle's path: the Hermite midpoint above
+/// treats the local acceleration as the rate along the path, which a
+/// moving vehicle's is not).
+template <typename Scalar>
+inline Status rk4_step_in_flow(const Vehicle<Scalar>& vehicle, Vector6<Scalar>& eta,
+                               Vector6<Scalar>& nu, const Vector6<Scalar>& tau, Scalar dt,
+                               const FluidFlow<Scalar>& start, const FluidFlow<Scalar>& middle,
+                               const FluidFlow<Scalar>& end) noexcept {
+  if (detail::check_step("dt", static_cast<double>(dt))) return Status::invalid_argument;
+  using V6 = Vector6<Scalar>;
+  FluidFlow<Scalar> mid = middle;
+  mid.displaced_mass = start.displaced_mass;
   FluidFlow<Scalar> last = end;
   last.displaced_mass = start.displaced_mass;
   const FluidFlow<Scalar>* stages[4] = {&start, &mid, &mid, &last};

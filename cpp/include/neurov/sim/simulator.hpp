@@ -146,7 +146,6 @@ class Simulator {
     if (config_.waves) {
       Waves<Scalar>::create(*config_.waves, seed, waves_);
       waves_.start(0.0, eta_.template head<3>(), config_.dt, ned_velocity());
-      wave_path_known_ = false;
     }
     observation_.desired = reference_.desired();
     held_eta_ = eta_;
@@ -213,8 +212,10 @@ class Simulator {
     r.payload_mass(k) = payload_mass_;
 
     std::uint8_t faults = faults_;
-    if (config_.waves) follow_waves();
     if (config_.use_thrusters) thrusters_.command(applied_tau);
+    if (config_.waves)
+      follow_waves((config_.use_thrusters ? Vec6(thrusters_.wrench()) : applied_tau) +
+                   disturbance_at(t));
     Status ps = Status::ok;
     Vec6 applied_sum = Vec6::Zero();
     for (int j = 0; j < config_.substeps; ++j) {
@@ -242,14 +243,19 @@ class Simulator {
       const Vec6 tau_s = applied + disturbance_at(ts);
       if (config_.waves) {
         if (eta_(2) < waves_.minimum_depth()) faults |= fault_bits::shallow;
-        FluidFlow<Scalar> start, end;
-        wave_period_.at(static_cast<Scalar>(j) * h_, start.velocity, start.acceleration);
-        wave_period_.at(static_cast<Scalar>(j + 1) * h_, end.velocity, end.acceleration);
-        start.velocity += current_velocity(ts);
-        end.velocity += current_velocity(ts);
+        // The flow along the vehicle's path at the stages' times.
+        FluidFlow<Scalar> start, mid, end;
+        const Scalar s0 = static_cast<Scalar>(j) * h_;
+        wave_period_.at(s0, start.velocity, start.acceleration);
+        wave_period_.at(s0 + h_ / Scalar(2), mid.velocity, mid.acceleration);
+        wave_period_.at(s0 + h_, end.velocity, end.acceleration);
+        const Vec3 current = current_velocity(ts);
+        start.velocity += current;
+        mid.velocity += current;
+        end.velocity += current;
         start.displaced_mass =
             vehicle_.parameters().buoyancy / static_cast<Scalar>(standard_gravity);
-        ps = worst(ps, rk4_step_in_flow(vehicle_, eta_, nu_, tau_s, h_, start, end));
+        ps = worst(ps, rk4_step_in_flow(vehicle_, eta_, nu_, tau_s, h_, start, mid, end));
       } else {
         ps = worst(ps, rk4_step(vehicle_, eta_, nu_, tau_s, h_, current_velocity(ts)));
       }
@@ -375,17 +381,27 @@ class Simulator {
     return rotation(EulerTrig<Scalar>::from_pose(eta_)) * nu_.template head<3>();
   }
 
-  /// The waves over the control period that starts now: from where they
-  /// were followed to (the position predicted for now), on to the end of
-  /// the period at the position predicted from the vehicle's NED velocity u
-  /// and its change b over the last period (off by O(dt^3)), with their
-  /// rates along that path; the substeps interpolate between the two.
-  void follow_waves() noexcept {
+  /// The waves over the control period that starts now, under the force
+  /// tau: from where they were followed to (the position predicted for
+  /// now), on to the end of the period at the position predicted from the
+  /// vehicle's NED velocity u and acceleration b now (off by dt^3 |jerk| / 6),
+  /// with their rates along that path; the substeps interpolate between the
+  /// two.
+  void follow_waves(const Vec6& tau) noexcept {
     const Scalar dt = config_.dt;
-    const Vec3 u = ned_velocity();
-    const Vec3 b = wave_path_known_ ? Vec3((u - wave_path_velocity_) / dt) : Vec3::Zero();
-    wave_path_velocity_ = u;
-    wave_path_known_ = true;
+    const Matrix3<Scalar> r = rotation(EulerTrig<Scalar>::from_pose(eta_));
+    const Vec3 u = r * nu_.template head<3>();
+    FluidFlow<Scalar> flow;
+    flow.velocity = current_velocity(observation_.t) + waves_.kinematics().velocity;
+    flow.acceleration = waves_.kinematics().acceleration;
+    flow.displaced_mass = vehicle_.parameters().buoyancy / static_cast<Scalar>(standard_gravity);
+    Vec6 eta_dot, nu_dot;
+    const Status s = derivative_in_flow(vehicle_, eta_, nu_, tau, flow, eta_dot, nu_dot);
+    // d(R v)/dt = R (v_dot + w x v); none if the plant cannot say.
+    const Vec3 b = (s == Status::ok || s == Status::near_singularity)
+                       ? Vec3(r * (nu_dot.template head<3>() +
+                                   nu_.template tail<3>().cross(nu_.template head<3>())))
+                       : Vec3::Zero();
     wave_period_.duration = dt;
     wave_period_.start = waves_.kinematics();
     wave_period_.start_rates = waves_.rates();
@@ -418,8 +434,6 @@ class Simulator {
   GaussMarkovCurrent<Scalar> current_;
   Waves<Scalar> waves_;
   WaveInterval<Scalar> wave_period_;  ///< the waves over this control period
-  Vec3 wave_path_velocity_ = Vec3::Zero();  ///< u of the last period
-  bool wave_path_known_ = false;
   SimulationConfig<Scalar> config_;
   ReferenceModel<Scalar> reference_;
   Thrusters<Scalar> thrusters_;

@@ -268,11 +268,11 @@ class Waves {
     for (double r = reach; r > series_argument; r *= 0.5) ++m;
     const double scale = std::ldexp(1.0, -m);
     Array &c = work_[0], &s = work_[1], &e = work_[2], &x2 = work_[3];
-    s = (kx_ * (dx * scale) + ky_ * (dy * scale));
-    x2 = s.square();
+    e = kx_ * (dx * scale) + ky_ * (dy * scale);
+    x2 = e.square();
     c = 1.0 + x2 * (-1.0 / 2 + x2 * (1.0 / 24 + x2 * (-1.0 / 720 + x2 * (1.0 / 40320 +
                                                          x2 * (-1.0 / 3628800)))));
-    s = s * (1.0 + x2 * (-1.0 / 6 + x2 * (1.0 / 120 + x2 * (-1.0 / 5040 + x2 * (1.0 / 362880 +
+    s = e * (1.0 + x2 * (-1.0 / 6 + x2 * (1.0 / 120 + x2 * (-1.0 / 5040 + x2 * (1.0 / 362880 +
                                                                 x2 * (-1.0 / 39916800))))));
     x2 = k_ * (-dz * scale);
     e = 1.0 + x2 * (1.0 + x2 * (1.0 / 2 + x2 * (1.0 / 6 + x2 * (1.0 / 24 + x2 * (1.0 / 120 +
@@ -284,12 +284,10 @@ class Waves {
       c = x2;
       e = e.square();
     }
-    // w = e^(i w step) (c - i s), then the phasor times w.
-    x2 = rot_re_ * c + rot_im_ * s;
-    s = rot_im_ * c - rot_re_ * s;
-    c = pre_ * x2 - pim_ * s;
-    pim_ = pre_ * s + pim_ * x2;
-    pre_ = c;
+    // The phasor times w = e^(i w step) (c - i s).
+    x2 = pre_ * (rot_re_ * c + rot_im_ * s) - pim_ * (rot_im_ * c - rot_re_ * s);
+    pim_ = pre_ * (rot_im_ * c - rot_re_ * s) + pim_ * (rot_re_ * c + rot_im_ * s);
+    pre_ = x2;
     decay_ *= e;
   }
 
