@@ -80,7 +80,6 @@ inline Status rk4_step_in_flow(const Vehicle<Scalar>& vehicle, Vector6<Scalar>& 
                                const FluidFlow<Scalar>& start,
                                const FluidFlow<Scalar>& end) noexcept {
   if (detail::check_step("dt", static_cast<double>(dt))) return Status::invalid_argument;
-  using V6 = Vector6<Scalar>;
   const Vector3<Scalar> &v0 = start.velocity, &v1 = end.velocity;
   const Vector3<Scalar> &a0 = start.acceleration, &a1 = end.acceleration;
   // The midpoint of the Hermite cubic: (v0 + v1)/2 + h (a0 - a1)/8 and its

@@ -31,6 +31,7 @@
 
 #include <Eigen/Core>
 
+#include "neurov/control/rbf_kernels.hpp"  // the vector-unit dispatch
 #include "neurov/core/random.hpp"
 #include "neurov/core/status.hpp"
 #include "neurov/core/types.hpp"
@@ -47,6 +48,187 @@ struct WaveKinematics {
   Vector3<Scalar> velocity = Vector3<Scalar>::Zero();      ///< orbital velocity, NED [m/s]
   Vector3<Scalar> acceleration = Vector3<Scalar>::Zero();  ///< its time derivative, NED [m/s^2]
 };
+
+namespace detail {
+/// A move of the followed point over one step, for rotate_phasors: each
+/// component's phasor times e^(i w_i step) e^(-i k_i . (dx, dy)) and decay
+/// times e^(-k_i dz), from the series of the factors at the move scaled by
+/// 2^-squarings (hx, hy, hz: dx, dy and -dz scaled), squared back up.
+struct WaveMove {
+  const double *kx, *ky, *k, *rot_re, *rot_im;
+  double *pre, *pim, *decay, *c, *s, *e;  // c, s, e: scratch
+  int n, squarings;
+  double hx, hy, hz;
+};
+
+// Elementwise loops on vectors of L doubles (the build's vector unit, and,
+// through the dispatch of rbf_kernels.hpp, AVX2+FMA or AVX-512 where the CPU
+// has them; the copies round differently in the last bits, as the
+// network's loops do). They run on to a whole number of vectors: the
+// arrays are zero up to their capacity.
+template <int L>
+NEUROV_ALWAYS_INLINE void rotate_phasors_lanes(const WaveMove& m) noexcept {
+  using V = Vec<double, L>;
+  const int n = (m.n + L - 1) / L * L;
+  const V hx = V{} + m.hx, hy = V{} + m.hy, hz = V{} + m.hz, one = V{} + 1.0;
+  // cos and sin to x^10 and x^11, exp to x^11: at |x| <= 1/8 the first
+  // terms left out are below 1e-19.
+  for (int i = 0; i < n; i += L) {
+    V kx, ky, k;
+    load<double, L>(kx, m.kx + i);
+    load<double, L>(ky, m.ky + i);
+    load<double, L>(k, m.k + i);
+    const V a = kx * hx + ky * hy, x2 = a * a, x = k * hz;
+    const V c = one + x2 * (-1.0 / 2 + x2 * (1.0 / 24 + x2 * (-1.0 / 720 + x2 * (1.0 / 40320 +
+                                                              x2 * (-1.0 / 3628800)))));
+    const V s = a * (one + x2 * (-1.0 / 6 + x2 * (1.0 / 120 + x2 * (-1.0 / 5040 +
+                                  x2 * (1.0 / 362880 + x2 * (-1.0 / 39916800))))));
+    const V e = one + x * (1.0 + x * (1.0 / 2 + x * (1.0 / 6 + x * (1.0 / 24 + x * (1.0 / 120 +
+                x * (1.0 / 720 + x * (1.0 / 5040 + x * (1.0 / 40320 + x * (1.0 / 362880 +
+                x * (1.0 / 3628800 + x * (1.0 / 39916800)))))))))));
+    store<double, L>(m.c + i, c);
+    store<double, L>(m.s + i, s);
+    store<double, L>(m.e + i, e);
+  }
+  for (int j = 0; j < m.squarings; ++j) {
+    for (int i = 0; i < n; i += L) {
+      V c, s, e;
+      load<double, L>(c, m.c + i);
+      load<double, L>(s, m.s + i);
+      load<double, L>(e, m.e + i);
+      const V c2 = c * c - s * s, s2 = 2.0 * c * s, e2 = e * e;
+      store<double, L>(m.c + i, c2);
+      store<double, L>(m.s + i, s2);
+      store<double, L>(m.e + i, e2);
+    }
+  }
+  for (int i = 0; i < n; i += L) {
+    V c, s, e, rr, ri, pr, pi, d;
+    load<double, L>(c, m.c + i);
+    load<double, L>(s, m.s + i);
+    load<double, L>(e, m.e + i);
+    load<double, L>(rr, m.rot_re + i);
+    load<double, L>(ri, m.rot_im + i);
+    load<double, L>(pr, m.pre + i);
+    load<double, L>(pi, m.pim + i);
+    load<double, L>(d, m.decay + i);
+    const V wr = rr * c + ri * s, wi = ri * c - rr * s;  // e^(i w step) (c - i s)
+    const V pr2 = pr * wr - pi * wi, pi2 = pr * wi + pi * wr, d2 = d * e;
+    store<double, L>(m.pre + i, pr2);
+    store<double, L>(m.pim + i, pi2);
+    store<double, L>(m.decay + i, d2);
+  }
+}
+
+NEUROV_ALWAYS_INLINE void rotate_phasors_body(const WaveMove& m) noexcept {
+  rotate_phasors_lanes<kBuildVectorBytes >= 16 ? kBuildVectorBytes / 8 : 1>(m);
+}
+
+/// The sums of Waves::sum (see there) over the components, in one pass.
+struct WaveSums {
+  const double *pre, *pim, *decay, *k, *kx, *ky, *omega, *amp, *vcb, *vsb, *vel, *acb, *asb, *acc;
+  int n;
+  double un, ue, ud;
+  double out[13];  // zeta, v (3), a (3), dv (3), da (3)
+};
+
+template <int L>
+NEUROV_ALWAYS_INLINE void wave_sums_lanes(WaveSums& w) noexcept {
+  using V = Vec<double, L>;
+  const int n = (w.n + L - 1) / L * L;
+  const V un = V{} + w.un, ue = V{} + w.ue, ud = V{} + w.ud;
+  V acc[13];
+  for (V& a : acc) a = V{} + 0.0;
+  for (int i = 0; i < n; i += L) {
+    V pr, pi, d, k, kx, ky, om, c;
+    load<double, L>(pr, w.pre + i);
+    load<double, L>(pi, w.pim + i);
+    load<double, L>(d, w.decay + i);
+    load<double, L>(k, w.k + i);
+    load<double, L>(kx, w.kx + i);
+    load<double, L>(ky, w.ky + i);
+    load<double, L>(om, w.omega + i);
+    load<double, L>(c, w.amp + i);
+    acc[0] += c * pr;
+    const V qr = pr * d, qi = pi * d;
+    const V im = om - kx * un - ky * ue, re = -(k * ud);  // the rate, following u
+    const V rr = re * qr - im * qi, ri = re * qi + im * qr;
+    load<double, L>(c, w.vcb + i);
+    acc[1] += c * qr;
+    acc[7] += c * rr;
+    load<double, L>(c, w.vsb + i);
+    acc[2] += c * qr;
+    acc[8] += c * rr;
+    load<double, L>(c, w.vel + i);
+    acc[3] += c * qi;
+    acc[9] += c * ri;
+    load<double, L>(c, w.acb + i);
+    acc[4] -= c * qi;
+    acc[10] -= c * ri;
+    load<double, L>(c, w.asb + i);
+    acc[5] -= c * qi;
+    acc[11] -= c * ri;
+    load<double, L>(c, w.acc + i);
+    acc[6] += c * qr;
+    acc[12] += c * rr;
+  }
+  for (int j = 0; j < 13; ++j) {
+    double lanes[L];
+    store<double, L>(lanes, acc[j]);
+    double total = 0.0;
+    for (int l = 0; l < L; ++l) total += lanes[l];
+    w.out[j] = total;
+  }
+}
+
+NEUROV_ALWAYS_INLINE void wave_sums_body(WaveSums& w) noexcept {
+  wave_sums_lanes<kBuildVectorBytes >= 16 ? kBuildVectorBytes / 8 : 1>(w);
+}
+
+#if NEUROV_RUNTIME_DISPATCH
+NEUROV_TARGET_AVX2 inline void wave_sums_avx2(WaveSums& w) noexcept { wave_sums_lanes<4>(w); }
+NEUROV_TARGET_AVX512 inline void wave_sums_avx512(WaveSums& w) noexcept {
+  wave_sums_lanes<8>(w);
+}
+#endif
+
+inline void wave_sums(WaveSums& w) noexcept {
+#if NEUROV_RUNTIME_DISPATCH
+  switch (kernel_isa()) {
+    case KernelIsa::avx512:
+      return wave_sums_avx512(w);
+    case KernelIsa::avx2:
+      return wave_sums_avx2(w);
+    default:
+      break;
+  }
+#endif
+  wave_sums_body(w);
+}
+
+#if NEUROV_RUNTIME_DISPATCH
+NEUROV_TARGET_AVX2 inline void rotate_phasors_avx2(const WaveMove& m) noexcept {
+  rotate_phasors_lanes<4>(m);
+}
+NEUROV_TARGET_AVX512 inline void rotate_phasors_avx512(const WaveMove& m) noexcept {
+  rotate_phasors_lanes<8>(m);
+}
+#endif
+
+inline void rotate_phasors(const WaveMove& m) noexcept {
+#if NEUROV_RUNTIME_DISPATCH
+  switch (kernel_isa()) {
+    case KernelIsa::avx512:
+      return rotate_phasors_avx512(m);
+    case KernelIsa::avx2:
+      return rotate_phasors_avx2(m);
+    default:
+      break;
+  }
+#endif
+  rotate_phasors_body(m);
+}
+}  // namespace detail
 
 /// The time derivatives of the velocity and acceleration of WaveKinematics
 /// seen from a point moving with a given velocity u: d/dt = partial/partial t
@@ -89,6 +271,7 @@ class Waves {
   using Scalar = ScalarT;
   using Vec3 = Vector3<Scalar>;
   static constexpr int capacity = Capacity;
+  static_assert(Capacity % 8 == 0, "a whole number of the widest vectors (8 doubles)");
   /// Steps of advance() between two direct evaluations (the rounding of
   /// the rotations grows as a random walk, about 1e-15 over them).
   static constexpr int resync_interval = 1000;
@@ -121,8 +304,12 @@ class Waves {
     for (Array* a : {&out.omega_, &out.k_, &out.amp_, &out.phase_, &out.cos_beta_, &out.sin_beta_,
                      &out.kx_, &out.ky_, &out.vel_, &out.acc_, &out.vcb_, &out.vsb_, &out.acb_,
                      &out.asb_, &out.rot_re_, &out.rot_im_, &out.pre_, &out.pim_, &out.decay_,
-                     &out.work_[0], &out.work_[1], &out.work_[2], &out.work_[3]})
+                     &out.work_[0], &out.work_[1], &out.work_[2]})
+    {
+      a->resize(Capacity);  // zero up to the capacity: the vector loops run on
+      a->setZero();
       a->resize(n);
+    }
     NormalRandom rng(stream_seed(seed, RandomStream::waves));
     const double wp = out.spectrum_.peak_frequency;
     const double lo = band_low * wp, dw = (band_high - band_low) * wp / n;
@@ -258,37 +445,28 @@ class Waves {
  private:
   using Array = Eigen::Array<double, Eigen::Dynamic, 1, Eigen::ColMajor, Capacity, 1>;
 
-  /// Each phasor times e^(i w_i step) e^(-i k_i . (dx, dy)), each decay
-  /// times e^(-k_i dz): the move's factors from their series at the
-  /// argument scaled by 2^-m (cos and sin to x^10 and x^11, exp to x^11:
-  /// at |x| <= 1/8 the first terms left out are below 1e-19), then
-  /// squared m times.
+  /// Each phasor and decay moved on by a step and the move (dx, dy, dz),
+  /// whose largest phase or exponent change is `reach` (see WaveMove).
   void rotate(double dx, double dy, double dz, double reach) noexcept {
-    int m = 0;
-    for (double r = reach; r > series_argument; r *= 0.5) ++m;
-    const double scale = std::ldexp(1.0, -m);
-    Array &c = work_[0], &s = work_[1], &e = work_[2], &x2 = work_[3];
-    e = kx_ * (dx * scale) + ky_ * (dy * scale);
-    x2 = e.square();
-    c = 1.0 + x2 * (-1.0 / 2 + x2 * (1.0 / 24 + x2 * (-1.0 / 720 + x2 * (1.0 / 40320 +
-                                                         x2 * (-1.0 / 3628800)))));
-    s = e * (1.0 + x2 * (-1.0 / 6 + x2 * (1.0 / 120 + x2 * (-1.0 / 5040 + x2 * (1.0 / 362880 +
-                                                                x2 * (-1.0 / 39916800))))));
-    x2 = k_ * (-dz * scale);
-    e = 1.0 + x2 * (1.0 + x2 * (1.0 / 2 + x2 * (1.0 / 6 + x2 * (1.0 / 24 + x2 * (1.0 / 120 +
-        x2 * (1.0 / 720 + x2 * (1.0 / 5040 + x2 * (1.0 / 40320 + x2 * (1.0 / 362880 +
-        x2 * (1.0 / 3628800 + x2 * (1.0 / 39916800)))))))))));
-    for (int j = 0; j < m; ++j) {
-      x2 = c * c - s * s;
-      s = 2.0 * c * s;
-      c = x2;
-      e = e.square();
-    }
-    // The phasor times w = e^(i w step) (c - i s).
-    x2 = pre_ * (rot_re_ * c + rot_im_ * s) - pim_ * (rot_im_ * c - rot_re_ * s);
-    pim_ = pre_ * (rot_im_ * c - rot_re_ * s) + pim_ * (rot_re_ * c + rot_im_ * s);
-    pre_ = x2;
-    decay_ *= e;
+    detail::WaveMove m;
+    m.squarings = 0;
+    for (double r = reach; r > series_argument; r *= 0.5) ++m.squarings;
+    m.hx = std::ldexp(dx, -m.squarings);
+    m.hy = std::ldexp(dy, -m.squarings);
+    m.hz = std::ldexp(-dz, -m.squarings);
+    m.n = n_;
+    m.kx = kx_.data();
+    m.ky = ky_.data();
+    m.k = k_.data();
+    m.rot_re = rot_re_.data();
+    m.rot_im = rot_im_.data();
+    m.pre = pre_.data();
+    m.pim = pim_.data();
+    m.decay = decay_.data();
+    m.c = work_[0].data();
+    m.s = work_[1].data();
+    m.e = work_[2].data();
+    detail::rotate_phasors(m);
   }
 
   /// kinematics() and rates() from the phasors and decays: with
@@ -296,25 +474,31 @@ class Waves {
   /// sin b_i Re Q_i, Im Q_i], a = sum acc_i [-cos b_i Im Q_i, -sin b_i Im Q_i,
   /// Re Q_i], and following u, dQ_i/dt = (-k_i u_D + i (w_i - k_i . u)) Q_i.
   Status sum(const Vec3& u) noexcept {
-    const double un = static_cast<double>(u.x()), ue = static_cast<double>(u.y());
+    detail::WaveSums w;
+    w.un = static_cast<double>(u.x());
+    w.ue = static_cast<double>(u.y());
     // Above the surface z stays 0, as do the decays.
-    const double ud = z_ > 0.0 ? static_cast<double>(u.z()) : 0.0;
-    Array &qr = work_[0], &qi = work_[1], &rr = work_[2], &ri = work_[3];
-    qr = pre_ * decay_;
-    qi = pim_ * decay_;
-    const double zeta = dot(amp_, pre_);
-    const Eigen::Vector3d v(dot(vcb_, qr), dot(vsb_, qr), dot(vel_, qi));
-    const Eigen::Vector3d a(-dot(acb_, qi), -dot(asb_, qi), dot(acc_, qr));
-    rr = omega_ - kx_ * un - ky_ * ue;  // Im of the rate; Re is -k_i u_D
-    ri = rr * qr - k_ * (ud * qi);
-    rr = -(k_ * (ud * qr)) - rr * qi;
-    const Eigen::Vector3d dv(dot(vcb_, rr), dot(vsb_, rr), dot(vel_, ri));
-    const Eigen::Vector3d da(-dot(acb_, ri), -dot(asb_, ri), dot(acc_, rr));
-    return store(zeta, v, a, dv, da, kin_, rates_);
-  }
-
-  static double dot(const Array& a, const Array& b) noexcept {
-    return a.matrix().dot(b.matrix());
+    w.ud = z_ > 0.0 ? static_cast<double>(u.z()) : 0.0;
+    w.n = n_;
+    w.pre = pre_.data();
+    w.pim = pim_.data();
+    w.decay = decay_.data();
+    w.k = k_.data();
+    w.kx = kx_.data();
+    w.ky = ky_.data();
+    w.omega = omega_.data();
+    w.amp = amp_.data();
+    w.vcb = vcb_.data();
+    w.vsb = vsb_.data();
+    w.vel = vel_.data();
+    w.acb = acb_.data();
+    w.asb = asb_.data();
+    w.acc = acc_.data();
+    detail::wave_sums(w);
+    const double* o = w.out;
+    return store(o[0], Eigen::Vector3d(o[1], o[2], o[3]), Eigen::Vector3d(o[4], o[5], o[6]),
+                 Eigen::Vector3d(o[7], o[8], o[9]), Eigen::Vector3d(o[10], o[11], o[12]), kin_,
+                 rates_);
   }
 
   /// Writes the sums out; non_finite_output (zeros) if any overflowed (an
@@ -360,7 +544,7 @@ class Waves {
   Array omega_, k_, amp_, phase_, cos_beta_, sin_beta_, kx_, ky_;
   Array vel_, acc_, vcb_, vsb_, acb_, asb_;  // a w, a w^2, and times cos b, sin b
   Array rot_re_, rot_im_, pre_, pim_, decay_;
-  Array work_[4];  // scratch of rotate() and sum(), kept here off the stack
+  Array work_[3];  // scratch of rotate(), kept here off the stack
   double k_max_ = 0.0;
   double t0_ = 0.0, step_ = 0.0, x_ = 0.0, y_ = 0.0, z_ = 0.0;
   std::int64_t steps_ = 0;
