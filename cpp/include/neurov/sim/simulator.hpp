@@ -12,7 +12,8 @@
 // interpolated in time through the substeps and RK4 stages, see
 // follow_waves, WaveInterval and rk4_step_in_flow) and the payload events
 // (the plant's Vehicle rebuilt in place at the first substep at or after
-// their time; the controller is not told). Without waves the plant step is rk4_step, as before they existed.
+// their time; the controller is not told). Without waves the plant step
+// is rk4_step, as before they existed.
 //
 // Timing: control at dt with the force held over each control interval
 // (zero-order hold); the plant integrated by RK4 at dt / substeps, thrusters
@@ -243,7 +244,8 @@ class Simulator {
       const Vec6 tau_s = applied + disturbance_at(ts);
       if (config_.waves) {
         if (eta_(2) < waves_.minimum_depth()) faults |= fault_bits::shallow;
-        // The flow along the vehicle's path at the stages' times.
+        // The flow along the vehicle's path at the stages' times, with its
+        // rate along the path (see WaveInterval).
         FluidFlow<Scalar> start, mid, end;
         const Scalar s0 = static_cast<Scalar>(j) * h_;
         wave_period_.at(s0, start.velocity, start.acceleration);
@@ -393,7 +395,7 @@ class Simulator {
     const Vec3 u = r * nu_.template head<3>();
     FluidFlow<Scalar> flow;
     flow.velocity = current_velocity(observation_.t) + waves_.kinematics().velocity;
-    flow.acceleration = waves_.kinematics().acceleration;
+    flow.acceleration = waves_.rates().velocity;
     flow.displaced_mass = vehicle_.parameters().buoyancy / static_cast<Scalar>(standard_gravity);
     Vec6 eta_dot, nu_dot;
     const Status s = derivative_in_flow(vehicle_, eta_, nu_, tau, flow, eta_dot, nu_dot);
@@ -403,11 +405,11 @@ class Simulator {
                                    nu_.template tail<3>().cross(nu_.template head<3>())))
                        : Vec3::Zero();
     wave_period_.duration = dt;
-    wave_period_.start = waves_.kinematics();
-    wave_period_.start_rates = waves_.rates();
+    wave_period_.start_velocity = waves_.kinematics().velocity;
+    wave_period_.start_rate = waves_.rates().velocity;
     waves_.advance(eta_.template head<3>() + dt * u + (dt * dt / Scalar(2)) * b, u + dt * b);
-    wave_period_.end = waves_.kinematics();
-    wave_period_.end_rates = waves_.rates();
+    wave_period_.end_velocity = waves_.kinematics().velocity;
+    wave_period_.end_rate = waves_.rates().velocity;
   }
 
   /// The current at the vehicle over the substep starting at t.

@@ -19,9 +19,9 @@
 // rotation e^(i w_i step), precomputed, and by e^(-i k_i . dp) and
 // e^(-k_i dz) of the point's move, from series of a scaled argument squared
 // back up; the components are held as arrays so that the loops vectorise.
-// Along with the kinematics they give the rates of change of the velocity
-// and acceleration following the point along a given path velocity, from
-// which WaveInterval interpolates the flow within the step (cubic Hermite).
+// Along with the kinematics they give the rate of change of the velocity
+// following the point along a given path velocity, from which WaveInterval
+// interpolates the flow within the step (cubic Hermite).
 #pragma once
 
 #include <algorithm>
@@ -129,7 +129,7 @@ struct WaveSums {
   const double *pre, *pim, *decay, *k, *kx, *ky, *omega, *amp, *vcb, *vsb, *vel, *acb, *asb, *acc;
   int n;
   double un, ue, ud;
-  double out[13];  // zeta, v (3), a (3), dv (3), da (3)
+  double out[10];  // zeta, v (3), a (3), dv/dt following u (3)
 };
 
 template <int L>
@@ -137,7 +137,7 @@ NEUROV_ALWAYS_INLINE void wave_sums_lanes(WaveSums& w) noexcept {
   using V = Vec<double, L>;
   const int n = (w.n + L - 1) / L * L;
   const V un = V{} + w.un, ue = V{} + w.ue, ud = V{} + w.ud;
-  V acc[13];
+  V acc[10];
   for (V& a : acc) a = V{} + 0.0;
   for (int i = 0; i < n; i += L) {
     V pr, pi, d, k, kx, ky, om, c;
@@ -164,15 +164,12 @@ NEUROV_ALWAYS_INLINE void wave_sums_lanes(WaveSums& w) noexcept {
     acc[9] += c * ri;
     load<double, L>(c, w.acb + i);
     acc[4] -= c * qi;
-    acc[10] -= c * ri;
     load<double, L>(c, w.asb + i);
     acc[5] -= c * qi;
-    acc[11] -= c * ri;
     load<double, L>(c, w.acc + i);
     acc[6] += c * qr;
-    acc[12] += c * rr;
   }
-  for (int j = 0; j < 13; ++j) {
+  for (int j = 0; j < 10; ++j) {
     double lanes[L];
     store<double, L>(lanes, acc[j]);
     double total = 0.0;
@@ -230,36 +227,40 @@ inline void rotate_phasors(const WaveMove& m) noexcept {
 }
 }  // namespace detail
 
-/// The time derivatives of the velocity and acceleration of WaveKinematics
-/// seen from a point moving with a given velocity u: d/dt = partial/partial t
-/// + (u . grad).
+/// The rate of change of the orbital velocity seen from a point moving
+/// with a given velocity u: d/dt = partial/partial t + (u . grad).
 template <typename Scalar>
 struct WaveRates {
-  Vector3<Scalar> velocity = Vector3<Scalar>::Zero();      ///< NED [m/s^2]
-  Vector3<Scalar> acceleration = Vector3<Scalar>::Zero();  ///< NED [m/s^3]
+  Vector3<Scalar> velocity = Vector3<Scalar>::Zero();  ///< NED [m/s^2]
 };
 
 /// The orbital flow over one step [0, duration] of a moving point, from the
-/// kinematics and rates along its path at both ends: cubic Hermite in time,
-/// exact to O(duration^4) for each component, as the path is followed.
+/// velocity and its rate along the point's path at both ends: the velocity
+/// by cubic Hermite in time (exact to O(duration^4) for each component as
+/// the path is followed), the acceleration its derivative, the rate of the
+/// flow along the path. That is the acceleration the plant takes: a body
+/// carried by the water meets exactly the flow it moves with (it differs
+/// from the local partial dv/dt by (u . grad) v, second order in the wave
+/// slope for a body moving with the water, which linear theory drops).
 template <typename Scalar>
 struct WaveInterval {
   using Vec3 = Vector3<Scalar>;
   Scalar duration = Scalar(0);
-  WaveKinematics<Scalar> start, end;
-  WaveRates<Scalar> start_rates, end_rates;
+  Vec3 start_velocity = Vec3::Zero(), end_velocity = Vec3::Zero();
+  Vec3 start_rate = Vec3::Zero(), end_rate = Vec3::Zero();
 
-  /// The velocity and local acceleration (partial dv/dt, which the plant's
-  /// force takes) at s in [0, duration].
+  /// The velocity and acceleration at s in [0, duration].
   void at(Scalar s, Vec3& velocity, Vec3& acceleration) const noexcept {
     const Scalar h = duration, tau = h > Scalar(0) ? s / h : Scalar(0);
     const Scalar t2 = tau * tau, t3 = t2 * tau;
     const Scalar h00 = Scalar(2) * t3 - Scalar(3) * t2 + Scalar(1), h01 = Scalar(1) - h00;
     const Scalar h10 = h * (t3 - Scalar(2) * t2 + tau), h11 = h * (t3 - t2);
-    velocity = h00 * start.velocity + h01 * end.velocity + h10 * start_rates.velocity +
-               h11 * end_rates.velocity;
-    acceleration = h00 * start.acceleration + h01 * end.acceleration +
-                   h10 * start_rates.acceleration + h11 * end_rates.acceleration;
+    velocity = h00 * start_velocity + h01 * end_velocity + h10 * start_rate + h11 * end_rate;
+    // d/ds of the above: dh00/ds = 6 (t2 - tau) / h, dh10/ds = 3 t2 - 4 tau + 1, ...
+    const Scalar d00 = h > Scalar(0) ? Scalar(6) * (t2 - tau) / h : Scalar(0);
+    acceleration = d00 * (start_velocity - end_velocity) +
+                   (Scalar(3) * t2 - Scalar(4) * tau + Scalar(1)) * start_rate +
+                   (Scalar(3) * t2 - Scalar(2) * tau) * end_rate;
   }
 };
 
@@ -391,11 +392,12 @@ class Waves {
     }
     WaveRates<Scalar> unused;
     return store(zeta, Eigen::Vector3d(vn, ve, vd), Eigen::Vector3d(an, ae, ad),
-                 Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), out, unused);
+                 Eigen::Vector3d::Zero(), out, unused);
   }
 
   /// Starts following a point: kinematics() is then the field at (t0, p),
-  /// rates() its rates following the path velocity u (NED [m/s]), and each
+  /// rates() the velocity's rate following the path velocity u (NED [m/s]),
+  /// and each
   /// advance() moves time on by `step` [s].
   Status start(double t0, const Vec3& p, Scalar step, const Vec3& u = Vec3::Zero()) noexcept {
     if (!valid_) return Status::invalid_argument;
@@ -437,7 +439,8 @@ class Waves {
 
   /// The field at the followed point after the last start() or advance().
   const WaveKinematics<Scalar>& kinematics() const noexcept { return kin_; }
-  /// The rates of kinematics() following the path velocity given there.
+  /// The rate of kinematics().velocity following the path velocity given
+  /// there.
   const WaveRates<Scalar>& rates() const noexcept { return rates_; }
   /// Time of kinematics() [s]: t0 + steps * step.
   double time() const noexcept { return t0_ + static_cast<double>(steps_) * step_; }
@@ -497,23 +500,20 @@ class Waves {
     detail::wave_sums(w);
     const double* o = w.out;
     return store(o[0], Eigen::Vector3d(o[1], o[2], o[3]), Eigen::Vector3d(o[4], o[5], o[6]),
-                 Eigen::Vector3d(o[7], o[8], o[9]), Eigen::Vector3d(o[10], o[11], o[12]), kin_,
-                 rates_);
+                 Eigen::Vector3d(o[7], o[8], o[9]), kin_, rates_);
   }
 
   /// Writes the sums out; non_finite_output (zeros) if any overflowed (an
   /// extreme Hs or Tp, or a float that cannot hold them).
   static Status store(double zeta, const Eigen::Vector3d& v, const Eigen::Vector3d& a,
-                      const Eigen::Vector3d& dv, const Eigen::Vector3d& da,
-                      WaveKinematics<Scalar>& out, WaveRates<Scalar>& rates) noexcept {
+                      const Eigen::Vector3d& dv, WaveKinematics<Scalar>& out,
+                      WaveRates<Scalar>& rates) noexcept {
     out.elevation = static_cast<Scalar>(zeta);
     out.velocity = v.cast<Scalar>();
     out.acceleration = a.cast<Scalar>();
     rates.velocity = dv.cast<Scalar>();
-    rates.acceleration = da.cast<Scalar>();
     if (std::isfinite(static_cast<double>(out.elevation)) &&
-        detail::all_finite(out.velocity, out.acceleration) &&
-        detail::all_finite(rates.velocity, rates.acceleration))
+        detail::all_finite(out.velocity, out.acceleration, rates.velocity))
       return Status::ok;
     out = WaveKinematics<Scalar>{};
     rates = WaveRates<Scalar>{};
