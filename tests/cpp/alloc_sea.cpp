@@ -40,7 +40,7 @@ TYPED_TEST(SeaAllocTest, CurrentWavesAndPayloadDoNotAllocate) {
   cc.vertical_angle_std = S(1);
   WaveConfig<S> wc;
   wc.spreading = S(2);
-  // The wave field is about 60 kB: on the heap, made before the window.
+  // The wave field is about 90 kB: on the heap, made before the window.
   auto waves = std::make_unique<Waves<S>>();
   GaussMarkovCurrent<S> current;
   const Vehicle<S> vehicle(nerov_parameters<S>());

@@ -78,9 +78,11 @@ TEST(SeaSimulator, NeutrallyBuoyantVehicleMovesWithTheOrbitalFlow) {
   EXPECT_EQ(r.faults.maxCoeff(), 0);  // 10 m is below 1.2 Hs
 }
 
-TEST(SeaSimulator, WaveKinematicsPerSubstepCostsLittleAgainstAFinerStep) {
-  // The error of evaluating the waves once per substep (interpolated
-  // through the stages): 10 against 100 substeps of a 0.2 s period.
+TEST(SeaSimulator, WavesInterpolatedThroughTheSubstepsConvergeWithTheStep) {
+  // The waves are followed once per control period and interpolated
+  // through the substeps and stages: 10 against 100 substeps of a 0.2 s
+  // period (the error against the direct sum at every stage is in
+  // test_sea_wave_error.cpp).
   VehicleParameters<double> p = nerov_parameters<double>();
   SimulationConfig<double> c = still(300.0, 0.2, 10, 6.0);
   c.waves = WaveConfig<double>{};

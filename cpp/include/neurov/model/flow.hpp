@@ -50,12 +50,13 @@ inline Status derivative_in_flow(const Vehicle<Scalar>& vehicle, const Vector6<S
     return Status::non_finite_input;
   }
   const VehicleParameters<Scalar>& p = vehicle.parameters();
-  const Vec3 a_b = rotation(EulerTrig<Scalar>::from_pose(eta)).transpose() * f.acceleration;
+  const EulerTrig<Scalar> trig = EulerTrig<Scalar>::from_pose(eta);
+  const Vec3 a_b = rotation(trig).transpose() * f.acceleration;
   Vector6<Scalar> force = tau;
   force.template head<3>() += (f.displaced_mass - p.mass) * a_b;
   force.template tail<3>() += f.displaced_mass * p.centre_of_buoyancy.cross(a_b) -
                               p.mass * p.centre_of_gravity.cross(a_b);
-  const Status s = vehicle.derivative(eta, nu, force, f.velocity, eta_dot, nu_dot);
+  const Status s = vehicle.derivative(trig, eta, nu, force, f.velocity, eta_dot, nu_dot);
   if (s != Status::ok && s != Status::near_singularity) return s;
   nu_dot.template head<3>() += a_b;
   if (!detail::all_finite(nu_dot)) {
@@ -79,7 +80,6 @@ inline Status rk4_step_in_flow(const Vehicle<Scalar>& vehicle, Vector6<Scalar>& 
                                const FluidFlow<Scalar>& start,
                                const FluidFlow<Scalar>& end) noexcept {
   if (detail::check_step("dt", static_cast<double>(dt))) return Status::invalid_argument;
-  using V6 = Vector6<Scalar>;
   const Vector3<Scalar> &v0 = start.velocity, &v1 = end.velocity;
   const Vector3<Scalar> &a0 = start.acceleration, &a1 = end.acceleration;
   // The midpoint of the Hermite cubic: (v0 + v1)/2 + h (a0 - a1)/8 and its
@@ -87,6 +87,22 @@ inline Status rk4_step_in_flow(const Vehicle<Scalar>& vehicle, Vector6<Scalar>& 
   FluidFlow<Scalar> mid = start;
   mid.velocity = Scalar(0.5) * (v0 + v1) + (dt / Scalar(8)) * (a0 - a1);
   mid.acceleration = (Scalar(1.5) / dt) * (v1 - v0) - Scalar(0.25) * (a0 + a1);
+  return rk4_step_in_flow(vehicle, eta, nu, tau, dt, start, mid, end);
+}
+
+/// The same with the flow at the step's middle given too (a caller that
+/// knows the flow along the vehicle's path: the Hermite midpoint above
+/// treats the local acceleration as the rate along the path, which a
+/// moving vehicle's is not).
+template <typename Scalar>
+inline Status rk4_step_in_flow(const Vehicle<Scalar>& vehicle, Vector6<Scalar>& eta,
+                               Vector6<Scalar>& nu, const Vector6<Scalar>& tau, Scalar dt,
+                               const FluidFlow<Scalar>& start, const FluidFlow<Scalar>& middle,
+                               const FluidFlow<Scalar>& end) noexcept {
+  if (detail::check_step("dt", static_cast<double>(dt))) return Status::invalid_argument;
+  using V6 = Vector6<Scalar>;
+  FluidFlow<Scalar> mid = middle;
+  mid.displaced_mass = start.displaced_mass;
   FluidFlow<Scalar> last = end;
   last.displaced_mass = start.displaced_mass;
   const FluidFlow<Scalar>* stages[4] = {&start, &mid, &mid, &last};

@@ -8,10 +8,12 @@
 // The sea: the current (constant model, or Gauss-Markov advanced once per
 // control period on its own random stream, so its realisation does not
 // depend on substeps), the waves (their kinematics followed at the vehicle
-// once per substep, interpolated through the RK4 stages, see
-// rk4_step_in_flow) and the payload events (the plant's Vehicle rebuilt
-// in place at the first substep at or after their time; the controller is
-// not told). Without waves the plant step is rk4_step, as before they existed.
+// once per control period, with their rates along its path, and
+// interpolated in time through the substeps and RK4 stages, see
+// follow_waves, WaveInterval and rk4_step_in_flow) and the payload events
+// (the plant's Vehicle rebuilt in place at the first substep at or after
+// their time; the controller is not told). Without waves the plant step
+// is rk4_step, as before they existed.
 //
 // Timing: control at dt with the force held over each control interval
 // (zero-order hold); the plant integrated by RK4 at dt / substeps, thrusters
@@ -151,7 +153,7 @@ class Simulator {
       GaussMarkovCurrent<Scalar>::create(config_.gauss_markov_current, seed, current_);
     if (config_.waves) {
       Waves<Scalar>::create(*config_.waves, seed, waves_);
-      waves_.start(0.0, eta_.template head<3>(), h_);
+      waves_.start(0.0, eta_.template head<3>(), config_.dt, ned_velocity());
     }
     // The sensors' first samples, at t = 0 (validate() checked them).
     sensing_.reset(seed, eta_, nu_);
@@ -231,6 +233,9 @@ class Simulator {
 
     std::uint8_t faults = faults_;
     if (config_.use_thrusters) thrusters_.command(acting_tau);
+    if (config_.waves)
+      follow_waves((config_.use_thrusters ? Vec6(thrusters_.wrench()) : acting_tau) +
+                   disturbance_at(t));
     Status ps = Status::ok;
     Vec6 applied_sum = Vec6::Zero();
     for (int j = 0; j < config_.substeps; ++j) {
@@ -258,22 +263,20 @@ class Simulator {
       const Vec6 tau_s = applied + disturbance_at(ts);
       if (config_.waves) {
         if (eta_(2) < waves_.minimum_depth()) faults |= fault_bits::shallow;
-        // The flow at the substep's start, then the waves followed on to
-        // its end at the position predicted from the present velocity (the
-        // kinematics change over a wavelength; the prediction is off by
-        // O(h^2)): the stages interpolate between the two.
-        FluidFlow<Scalar> start, end;
-        start.velocity = current_velocity(ts) + waves_.kinematics().velocity;
-        start.acceleration = waves_.kinematics().acceleration;
+        // The flow along the vehicle's path at the stages' times, with its
+        // rate along the path (see WaveInterval).
+        FluidFlow<Scalar> start, mid, end;
+        const Scalar s0 = static_cast<Scalar>(j) * h_;
+        wave_period_.at(s0, start.velocity, start.acceleration);
+        wave_period_.at(s0 + h_ / Scalar(2), mid.velocity, mid.acceleration);
+        wave_period_.at(s0 + h_, end.velocity, end.acceleration);
+        const Vec3 current = current_velocity(ts);
+        start.velocity += current;
+        mid.velocity += current;
+        end.velocity += current;
         start.displaced_mass =
             vehicle_.parameters().buoyancy / static_cast<Scalar>(standard_gravity);
-        const Vec3 p_end = eta_.template head<3>() +
-                           h_ * (rotation(EulerTrig<Scalar>::from_pose(eta_)) *
-                                 nu_.template head<3>());
-        waves_.advance(p_end);
-        end.velocity = current_velocity(ts) + waves_.kinematics().velocity;
-        end.acceleration = waves_.kinematics().acceleration;
-        ps = worst(ps, rk4_step_in_flow(vehicle_, eta_, nu_, tau_s, h_, start, end));
+        ps = worst(ps, rk4_step_in_flow(vehicle_, eta_, nu_, tau_s, h_, start, mid, end));
       } else {
         ps = worst(ps, rk4_step(vehicle_, eta_, nu_, tau_s, h_, current_velocity(ts)));
       }
@@ -402,6 +405,40 @@ class Simulator {
     }
   }
 
+  /// The vehicle's velocity in NED.
+  Vec3 ned_velocity() const noexcept {
+    return rotation(EulerTrig<Scalar>::from_pose(eta_)) * nu_.template head<3>();
+  }
+
+  /// The waves over the control period that starts now, under the force
+  /// tau: from where they were followed to (the position predicted for
+  /// now), on to the end of the period at the position predicted from the
+  /// vehicle's NED velocity u and acceleration b now (off by dt^3 |jerk| / 6),
+  /// with their rates along that path; the substeps interpolate between the
+  /// two.
+  void follow_waves(const Vec6& tau) noexcept {
+    const Scalar dt = config_.dt;
+    const Matrix3<Scalar> r = rotation(EulerTrig<Scalar>::from_pose(eta_));
+    const Vec3 u = r * nu_.template head<3>();
+    FluidFlow<Scalar> flow;
+    flow.velocity = current_velocity(observation_.t) + waves_.kinematics().velocity;
+    flow.acceleration = waves_.rates().velocity;
+    flow.displaced_mass = vehicle_.parameters().buoyancy / static_cast<Scalar>(standard_gravity);
+    Vec6 eta_dot, nu_dot;
+    const Status s = derivative_in_flow(vehicle_, eta_, nu_, tau, flow, eta_dot, nu_dot);
+    // d(R v)/dt = R (v_dot + w x v); none if the plant cannot say.
+    const Vec3 b = (s == Status::ok || s == Status::near_singularity)
+                       ? Vec3(r * (nu_dot.template head<3>() +
+                                   nu_.template tail<3>().cross(nu_.template head<3>())))
+                       : Vec3::Zero();
+    wave_period_.duration = dt;
+    wave_period_.start_velocity = waves_.kinematics().velocity;
+    wave_period_.start_rate = waves_.rates().velocity;
+    waves_.advance(eta_.template head<3>() + dt * u + (dt * dt / Scalar(2)) * b, u + dt * b);
+    wave_period_.end_velocity = waves_.kinematics().velocity;
+    wave_period_.end_rate = waves_.rates().velocity;
+  }
+
   /// The current at the vehicle over the substep starting at t.
   Vec3 current_velocity(Scalar t) const noexcept {
     return config_.current_model == CurrentModel::gauss_markov ? current_.velocity()
@@ -426,6 +463,7 @@ class Simulator {
   Scalar payload_mass_ = Scalar(0);
   GaussMarkovCurrent<Scalar> current_;
   Waves<Scalar> waves_;
+  WaveInterval<Scalar> wave_period_;  ///< the waves over this control period
   SimulationConfig<Scalar> config_;
   ReferenceModel<Scalar> reference_;
   Thrusters<Scalar> thrusters_;
