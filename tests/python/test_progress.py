@@ -56,7 +56,7 @@ def test_simulate_many_shows_progress_on_a_terminal(monkeypatch: pytest.MonkeyPa
 
 def test_study_progress_covers_runs_tables_and_plots_and_quiet_silences_it(
         tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]) -> None:
-    from test_study import STUDY, write_study
+    from study_files import STUDY, write_study
 
     small = write_study(tmp_path, STUDY.replace("samples = 4", "samples = 1"), "one.toml")
     args = ["study", str(small), "--workers", "1", "--executor", "processes"]

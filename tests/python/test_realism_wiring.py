@@ -124,7 +124,7 @@ def test_bad_water_is_named(tmp_path: Path) -> None:
         _core.buoyancy_in_water(1025.0, -1.0)
     text = (Path(neurov.__file__).parent / "vehicles" / "bluerov2_heavy.toml").read_text()
     boat = tmp_path / "boat.toml"
-    boat.write_text(text + "\nbuoyancy = 130.0\n")
+    boat.write_text("buoyancy = 130.0\n" + text)  # top level: before the first table
     with pytest.raises(neurov.VehicleFileError, match="either 'buoyancy'"):
         neurov.Vehicle.from_file(boat)
 
