@@ -22,6 +22,15 @@ documentation: docs/running.md (running a scenario: outputs, metrics window,
 divergence, long runs)"""
 
 
+def _shipped_studies() -> str:
+    """The shipped study files by name, read from the package folder (the
+    study package itself imports numpy)."""
+    from importlib.resources import files
+
+    return ", ".join(sorted(p.name[:-5] for p in (files("neurov") / "studies").iterdir()
+                            if p.name.endswith(".toml")))
+
+
 def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="neurov",
@@ -62,7 +71,8 @@ def _parser() -> argparse.ArgumentParser:
         help="run a study: every scenario x controller x perturbed plant",
         description="Runs every (scenario x controller x sample) of a study file (TOML; see "
         "docs/studies.md) and writes runs.csv (one row per run), summary.csv, league.md and "
-        "plots. Runs already in DIR are not redone. Shipped studies by name: league, robustness.",
+        "plots. Runs already in DIR are not redone. Shipped studies by name: "
+        + _shipped_studies() + ".",
     )
     study.add_argument("study", metavar="STUDY.toml", help="the study file, or a shipped study's name")
     study.add_argument("--out", default=None, metavar="DIR", help="output folder (default: study-NAME)")
