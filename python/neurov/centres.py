@@ -21,7 +21,6 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.stats import qmc
 
 __all__ = ["INPUT_NAMES", "grid", "latin_hypercube", "sobol"]
 
@@ -114,6 +113,8 @@ def sobol(n: int, low: ArrayLike, high: ArrayLike, seed: int = 0, n_inputs: int 
     lo, hi = _box(low, high, n_inputs)
     if int(n) != n or n < 1:
         raise ValueError(f"argument 'n' must be a positive integer, got {n!r}")
+    from scipy.stats import qmc  # here: scipy.stats costs about 75 MB and a second to import
+
     sampler = qmc.Sobol(d=len(lo), scramble=True, rng=np.random.default_rng(seed))
     with warnings.catch_warnings():
         # scipy warns when n is not a power of two; the points are still valid.
@@ -130,6 +131,8 @@ def latin_hypercube(
     lo, hi = _box(low, high, n_inputs)
     if int(n) != n or n < 1:
         raise ValueError(f"argument 'n' must be a positive integer, got {n!r}")
+    from scipy.stats import qmc
+
     sampler = qmc.LatinHypercube(d=len(lo), rng=np.random.default_rng(seed))
     return _scale(sampler.random(int(n)), lo, hi)
 
