@@ -18,6 +18,7 @@
 #include "neurov/model/bluerov2_heavy.hpp"
 #include "neurov/model/thrust_allocation.hpp"
 #include "neurov/model/thruster_curve.hpp"
+#include "curve_tables.hpp"
 
 namespace {
 
@@ -41,14 +42,7 @@ const double kCommand[] = {-1, -0.1, 0.1, 1}, kThrust[] = {-30, 0, 0, 40};
 TYPED_TEST(OnboardAllocTest, ThrustAllocatorDoesNotAllocate) {
   using S = TypeParam;
   using Alloc = ThrustAllocator<S, 8>;
-  ThrusterCurveConfig<S> tc;
-  tc.points = 4;
-  for (int i = 0; i < 4; ++i) {
-    tc.command[i] = static_cast<S>(kCommand[i]);
-    tc.thrust[i] = static_cast<S>(kThrust[i]);
-  }
-  tc.dead_band = S(0.1);
-  tc.reference_voltage = S(16);
+  const ThrusterCurveConfig<S> tc = neurov_test::unit_test_curve<S>(kThrust[0], kThrust[3]);
   auto curve = std::make_unique<ThrusterCurve<S>>();
   auto alloc = std::make_unique<Alloc>();
   ValidationError errors[3];

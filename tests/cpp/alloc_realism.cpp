@@ -14,6 +14,7 @@
 #include "neurov/estimation/ekf.hpp"
 #include "neurov/model/bluerov2_heavy.hpp"
 #include "neurov/model/thruster_curve.hpp"
+#include "curve_tables.hpp"
 #include "neurov/sim/sensors.hpp"
 
 namespace {
@@ -35,15 +36,7 @@ TYPED_TEST_SUITE(RealismAllocTest, Scalars, ScalarName);
 
 TYPED_TEST(RealismAllocTest, ThrusterCurveSensorsAndEkfDoNotAllocate) {
   using S = TypeParam;
-  ThrusterCurveConfig<S> tc;
-  tc.points = 4;
-  const double cmd[] = {-1, -0.1, 0.1, 1}, thr[] = {-30, 0, 0, 40};
-  for (int i = 0; i < 4; ++i) {
-    tc.command[i] = static_cast<S>(cmd[i]);
-    tc.thrust[i] = static_cast<S>(thr[i]);
-  }
-  tc.dead_band = S(0.1);
-  tc.reference_voltage = S(16);
+  ThrusterCurveConfig<S> tc = neurov_test::unit_test_curve<S>(-30, 40);
   tc.time_constant = S(0.05);
   tc.slew_rate = S(200);
   EkfConfig<S> ec;

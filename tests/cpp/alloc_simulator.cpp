@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "neurov/neurov.hpp"
+#include "curve_tables.hpp"
 
 namespace {
 
@@ -118,14 +119,9 @@ SimulationConfig<S> sensed_config(RefusedStepPolicy policy, EstimatorType estima
 template <typename S>
 SimulationConfig<S> curved_config(RefusedStepPolicy policy) {
   SimulationConfig<S> config = busy_config<S>(policy);
-  ThrusterCurveConfig<S> curve;
   const double pwm[] = {1100, 1300, 1460, 1540, 1700, 1900};
   const double thrust[] = {-80, -30, 0, 0, 40, 100};
-  curve.points = 6;
-  for (int i = 0; i < 6; ++i) {
-    curve.command[i] = static_cast<S>(pwm[i]);
-    curve.thrust[i] = static_cast<S>(thrust[i]);
-  }
+  ThrusterCurveConfig<S> curve = neurov_test::curve_table<S>(pwm, thrust);
   curve.neutral = S(1500);
   curve.dead_band = S(40);
   curve.reference_voltage = S(16);

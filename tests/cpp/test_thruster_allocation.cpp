@@ -11,31 +11,15 @@
 #include "neurov/model/bluerov2_heavy.hpp"
 #include "neurov/model/thrusters.hpp"
 #include "neurov/sim/simulator.hpp"
+#include "curve_tables.hpp"
 #include "test_support.hpp"
 
 namespace {
 
 using namespace neurov;
 using neurov_test::ScalarName;
+using neurov_test::pwm_test_curve;
 using neurov_test::Scalars;
-
-/// A test table (not manufacturer data): PWM [us] -> thrust [N] at 16 V,
-/// reverse about 0.8 of forward, zero from 1460 to 1540 us.
-template <typename S>
-ThrusterCurveConfig<S> test_curve() {
-  const double pwm[] = {1100, 1200, 1300, 1400, 1460, 1540, 1600, 1700, 1800, 1900};
-  const double thrust[] = {-32, -22, -12, -4, 0, 0, 5, 15, 27, 40};
-  ThrusterCurveConfig<S> c;
-  c.points = 10;
-  for (int i = 0; i < 10; ++i) {
-    c.command[i] = static_cast<S>(pwm[i]);
-    c.thrust[i] = static_cast<S>(thrust[i]);
-  }
-  c.neutral = S(1500);
-  c.dead_band = S(40);
-  c.reference_voltage = S(16);
-  return c;
-}
 
 template <typename S>
 ThrusterConfig<S> curved_layout(S voltage) {
@@ -44,7 +28,7 @@ ThrusterConfig<S> curved_layout(S voltage) {
   EXPECT_TRUE(allocation_matrix(layout, b).ok());
   ThrusterConfig<S> c;
   c.matrix = b;
-  c.curves.assign(8, test_curve<S>());
+  c.curves.assign(8, pwm_test_curve<S>());
   c.supply_voltage = voltage;
   return c;
 }
@@ -74,7 +58,7 @@ TYPED_TEST(ThrusterAllocationTest, InsideTheAttainableSetTheThrustersReproduceTa
   for (const S voltage : {S(16), S(14.8)}) {
     Thrusters<S> t;
     ASSERT_TRUE(Thrusters<S>::create(curved_layout<S>(voltage), t).ok());
-    const auto& curve = test_curve<S>();
+    const auto& curve = pwm_test_curve<S>();
     neurov_test::Rng rng(7);
     for (int k = 0; k < 200; ++k) {
       Vector6<S> tau;

@@ -8,30 +8,15 @@
 #include <gtest/gtest.h>
 
 #include "neurov/model/thruster_curve.hpp"
+#include "curve_tables.hpp"
 #include "test_support.hpp"
 
 namespace {
 
 using namespace neurov;
 using neurov_test::ScalarName;
+using neurov_test::pwm_test_curve;
 using neurov_test::Scalars;
-
-template <typename S>
-ThrusterCurveConfig<S> test_curve() {
-  // PWM [us] -> thrust [N]; zero thrust from 1460 to 1540.
-  const double pwm[] = {1100, 1200, 1300, 1400, 1460, 1540, 1600, 1700, 1800, 1900};
-  const double thrust[] = {-32, -22, -12, -4, 0, 0, 5, 15, 27, 40};
-  ThrusterCurveConfig<S> c;
-  c.points = 10;
-  for (int i = 0; i < 10; ++i) {
-    c.command[i] = static_cast<S>(pwm[i]);
-    c.thrust[i] = static_cast<S>(thrust[i]);
-  }
-  c.neutral = S(1500);
-  c.dead_band = S(40);
-  c.reference_voltage = S(16);
-  return c;
-}
 
 template <typename S>
 S tol(double scale) {
@@ -45,8 +30,8 @@ TYPED_TEST_SUITE(ThrusterCurveTest, Scalars, ScalarName);
 TYPED_TEST(ThrusterCurveTest, ReproducesTheTablePointsAndInterpolatesBetweenThem) {
   using S = TypeParam;
   ThrusterCurve<S> curve;
-  ASSERT_TRUE(ThrusterCurve<S>::create(test_curve<S>(), curve).ok());
-  const auto c = test_curve<S>();
+  ASSERT_TRUE(ThrusterCurve<S>::create(pwm_test_curve<S>(), curve).ok());
+  const auto c = pwm_test_curve<S>();
   for (int i = 0; i < c.points; ++i)
     EXPECT_NEAR(curve.static_thrust(c.command[i], S(16)), c.thrust[i], tol<S>(40)) << i;
   // Midway between 1700 (15 N) and 1800 (27 N), a quarter of the way between
@@ -65,7 +50,7 @@ TYPED_TEST(ThrusterCurveTest, ReproducesTheTablePointsAndInterpolatesBetweenThem
 TYPED_TEST(ThrusterCurveTest, ThrustScalesWithTheVoltageSquaredByDefault) {
   using S = TypeParam;
   ThrusterCurve<S> curve;
-  ASSERT_TRUE(ThrusterCurve<S>::create(test_curve<S>(), curve).ok());
+  ASSERT_TRUE(ThrusterCurve<S>::create(pwm_test_curve<S>(), curve).ok());
   EXPECT_NEAR(curve.static_thrust(S(1900), S(12)), S(40) * S(0.5625), tol<S>(40));
   EXPECT_NEAR(curve.max_thrust(S(8)), S(10), tol<S>(40));
   EXPECT_EQ(curve.static_thrust(S(1900), S(0)), S(0));
@@ -74,7 +59,7 @@ TYPED_TEST(ThrusterCurveTest, ThrustScalesWithTheVoltageSquaredByDefault) {
 TYPED_TEST(ThrusterCurveTest, InverseReturnsTheCommandOfEveryAttainableThrust) {
   using S = TypeParam;
   ThrusterCurve<S> curve;
-  ASSERT_TRUE(ThrusterCurve<S>::create(test_curve<S>(), curve).ok());
+  ASSERT_TRUE(ThrusterCurve<S>::create(pwm_test_curve<S>(), curve).ok());
   for (const double v : {16.0, 14.8}) {
     const S volts = static_cast<S>(v);
     for (int k = -100; k <= 100; ++k) {
@@ -95,7 +80,7 @@ TYPED_TEST(ThrusterCurveTest, InverseReturnsTheCommandOfEveryAttainableThrust) {
 
 TYPED_TEST(ThrusterCurveTest, InverseOfACurveThatJumpsAtTheDeadBandGivesItsEdge) {
   using S = TypeParam;
-  auto c = test_curve<S>();
+  auto c = pwm_test_curve<S>();
   c.dead_band = S(80);  // edges 1420 and 1580, where the table is -2.667 N and 3.333 N
   ThrusterCurve<S> curve;
   ASSERT_TRUE(ThrusterCurve<S>::create(c, curve).ok());
@@ -106,7 +91,7 @@ TYPED_TEST(ThrusterCurveTest, InverseOfACurveThatJumpsAtTheDeadBandGivesItsEdge)
 
 TYPED_TEST(ThrusterCurveTest, LagIsTheExactFirstOrderResponseAndTheSlewLimitHolds) {
   using S = TypeParam;
-  auto c = test_curve<S>();
+  auto c = pwm_test_curve<S>();
   c.time_constant = S(0.1);
   ThrusterCurve<S> curve;
   ASSERT_TRUE(ThrusterCurve<S>::create(c, curve).ok());
@@ -129,7 +114,7 @@ TYPED_TEST(ThrusterCurveTest, LagIsTheExactFirstOrderResponseAndTheSlewLimitHold
 TYPED_TEST(ThrusterCurveTest, ARejectedStepLeavesTheThrustAsItWas) {
   using S = TypeParam;
   ThrusterCurve<S> curve;
-  ASSERT_TRUE(ThrusterCurve<S>::create(test_curve<S>(), curve).ok());
+  ASSERT_TRUE(ThrusterCurve<S>::create(pwm_test_curve<S>(), curve).ok());
   ASSERT_EQ(curve.step(S(1700), S(16), S(0.01)), Status::ok);
   EXPECT_EQ(curve.step(std::nan(""), S(16), S(0.01)), Status::non_finite_input);
   EXPECT_EQ(curve.step(S(1700), S(16), S(-1)), Status::invalid_argument);
@@ -145,41 +130,41 @@ TYPED_TEST(ThrusterCurveTest, BadCurvesAreNamedErrors) {
     const ValidationError e = ThrusterCurve<S>::create(c, curve);
     return std::string(e.ok() ? "ok" : e.field) + "[" + std::to_string(e.index) + "]";
   };
-  auto c = test_curve<S>();
+  auto c = pwm_test_curve<S>();
   c.thrust[7] = S(4);  // falls from 5 N at 1600 us: not monotonic outside the dead band
   EXPECT_EQ(field(c), "thruster_curve.thrust[7]");
-  c = test_curve<S>();
+  c = pwm_test_curve<S>();
   c.thrust[2] = S(-23);  // -22 then -23: falls on the reverse side
   EXPECT_EQ(field(c), "thruster_curve.thrust[2]");
-  c = test_curve<S>();
+  c = pwm_test_curve<S>();
   c.thrust[4] = S(0.5);  // positive below the dead band
   EXPECT_EQ(field(c), "thruster_curve.thrust[-1]");
-  c = test_curve<S>();
+  c = pwm_test_curve<S>();
   c.thrust[5] = S(-0.5);  // negative above the dead band
   EXPECT_EQ(field(c), "thruster_curve.thrust[-1]");
-  c = test_curve<S>();
+  c = pwm_test_curve<S>();
   c.command[3] = S(1300);
   EXPECT_EQ(field(c), "thruster_curve.command[3]");
-  c = test_curve<S>();
+  c = pwm_test_curve<S>();
   c.points = 1;
   EXPECT_EQ(field(c), "thruster_curve.points[-1]");
-  c = test_curve<S>();
+  c = pwm_test_curve<S>();
   c.slew_rate = S(-1);
   EXPECT_EQ(field(c), "thruster_curve.slew_rate[-1]");
-  c = test_curve<S>();
+  c = pwm_test_curve<S>();
   c.time_constant = S(-0.1);
   EXPECT_EQ(field(c), "thruster_curve.time_constant[-1]");
-  c = test_curve<S>();
+  c = pwm_test_curve<S>();
   c.dead_band = S(-1);
   EXPECT_EQ(field(c), "thruster_curve.dead_band[-1]");
-  c = test_curve<S>();
+  c = pwm_test_curve<S>();
   c.reference_voltage = S(0);
   EXPECT_EQ(field(c), "thruster_curve.reference_voltage[-1]");
-  c = test_curve<S>();
+  c = pwm_test_curve<S>();
   c.neutral = S(2000);
   EXPECT_EQ(field(c), "thruster_curve.neutral[-1]");
   // Flat inside the dead band is fine (the zero rows of a measured table).
-  c = test_curve<S>();
+  c = pwm_test_curve<S>();
   EXPECT_EQ(field(c), "ok[-1]");
 }
 

@@ -10,6 +10,7 @@
 #include <type_traits>
 
 #include "neurov/neurov.hpp"
+#include "../cpp/curve_tables.hpp"
 
 #if NEUROV_HAS_EXCEPTIONS
 #error "this test must be built with -fno-exceptions or NEUROV_NO_EXCEPTIONS"
@@ -209,15 +210,7 @@ void thrust_allocation() {
                    "thrusters.matrix"));
   CHECK(!alloc.valid());
   CHECK(Alloc::create(b8, lo, hi, typename Alloc::Vector(), Saturation::scale, alloc).ok());
-  ThrusterCurveConfig<S> tc;
-  const double cmd[] = {-1, -0.1, 0.1, 1}, thr[] = {-40, 0, 0, 51};
-  tc.points = 4;
-  for (int i = 0; i < 4; ++i) {
-    tc.command[i] = static_cast<S>(cmd[i]);
-    tc.thrust[i] = static_cast<S>(thr[i]);
-  }
-  tc.dead_band = S(0.1);
-  tc.reference_voltage = S(16);
+  const ThrusterCurveConfig<S> tc = neurov_test::unit_test_curve<S>(-40, 51);
   ThrusterCurve<S> curve;
   CHECK(ThrusterCurve<S>::create(tc, curve).ok());
   const ThrusterCurve<S>* curves[8] = {&curve, &curve, &curve, &curve, &curve, &curve, &curve, &curve};
