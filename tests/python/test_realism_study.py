@@ -64,12 +64,12 @@ def test_the_realism_study_pairs_each_disturbed_scenario_with_its_realistic_twin
     study = load_study("realism")
     names = [s.name for s in study.scenarios]
     assert names == [n for pair in TWINS for n in pair]
-    assert set(study.controllers) == set(REGISTRY)
+    assert set(study.controllers) == set(REGISTRY) | {"linear_nominal"}
     robustness = load_study("robustness")
     assert study.perturbations == robustness.perturbations and study.seed == robustness.seed
     for scenario in study.scenarios:
         for c in study.controllers:
-            assert study.spec_for(c, scenario).type == c
+            assert study.spec_for(c, scenario).type == c.removesuffix("_nominal")
 
 
 def test_the_realism_study_gives_every_controller_the_gains_of_the_earlier_studies() -> None:
