@@ -134,7 +134,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                        batch_size=args.batch_size, quiet=args.quiet)
     except KeyboardInterrupt as e:
         # A study says what it saved and that rerunning resumes; one line, no traceback.
-        print(f"neurov: {e or 'interrupted'}", file=sys.stderr)
+        print(f"neurov: {str(e) or 'interrupted'}", file=sys.stderr)
         return 130
     except (ValueError, OSError) as e:
         # ScenarioError and VehicleFileError are ValueErrors that name the

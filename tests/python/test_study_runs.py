@@ -244,6 +244,42 @@ def test_ctrl_c_says_what_is_saved_and_exits_130(tmp_path: Path, monkeypatch: py
     assert "6 runs (2 already done, 4 run in" in capsys.readouterr().out
 
 
+def test_ctrl_c_before_a_study_starts_says_interrupted(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+                                                       capsys: pytest.CaptureFixture[str]) -> None:
+    import neurov.study as study
+
+    def interrupted(*_: object, **__: object) -> object:
+        raise KeyboardInterrupt  # a bare one, as Python raises it: no message of its own
+
+    monkeypatch.setattr(study, "main_study", interrupted)
+    assert cli.main(["study", str(write_study(tmp_path)), "--out", str(tmp_path / "out")]) == 130
+    assert capsys.readouterr().err == "neurov: interrupted\n"
+
+
+def test_workers_start_with_ctrl_c_ignored(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A worker spawned by the process pool starts importing with SIGINT as the
+    parent had it while submitting; it must be ignored then, or a Ctrl-C in
+    the worker's first second prints its traceback."""
+    import concurrent.futures as cf
+    import signal
+
+    from neurov.study import executors
+
+    seen = []
+
+    def submit(self: cf.ProcessPoolExecutor, fn: object, *args: object) -> cf.Future:  # type: ignore[type-arg]
+        seen.append(signal.getsignal(signal.SIGINT))
+        future: cf.Future = cf.Future()  # type: ignore[type-arg]
+        future.set_result([])
+        return future
+
+    monkeypatch.setattr(cf.ProcessPoolExecutor, "submit", submit)
+    before = signal.getsignal(signal.SIGINT)
+    executors.run_with_processes(None, [[(0, 0, 0)], [(0, 0, 1)]], 2, lambda rows: None)  # type: ignore[arg-type]
+    assert seen == [signal.SIG_IGN, signal.SIG_IGN]
+    assert signal.getsignal(signal.SIGINT) is before
+
+
 @pytest.mark.parametrize("executor", ["processes", "dask"])
 def test_ctrl_c_from_the_terminal_stops_worker_processes_quietly(tmp_path: Path, executor: str) -> None:
     if executor == "dask":

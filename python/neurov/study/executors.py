@@ -81,7 +81,16 @@ def run_with_processes(study: Study, batches: list[list[tuple[int, int, int]]], 
         pool = cf.ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_process_worker,
                                       initargs=(study,))
         try:
-            futures = [pool.submit(_run_batch_in_process, b) for b in batches]
+            # The pool starts its workers in these submits. A spawned worker
+            # takes a second or more to import before its initializer ignores
+            # SIGINT, and a Ctrl-C in that time printed its traceback; started
+            # with SIGINT ignored, it inherits that (Python keeps an ignored
+            # SIGINT ignored). A Ctrl-C during the submits themselves is lost.
+            previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+            try:
+                futures = [pool.submit(_run_batch_in_process, b) for b in batches]
+            finally:
+                signal.signal(signal.SIGINT, previous)
             for fut in cf.as_completed(futures):
                 on_done(fut.result())
         except BaseException:
