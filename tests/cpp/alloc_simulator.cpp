@@ -171,35 +171,35 @@ void expect_run_does_not_allocate(Controller& controller, RefusedStepPolicy poli
   EXPECT_GE(refused, 2 * 5);  // the dropout: 1 s at 5 Hz, in each of the two runs
 }
 
-TYPED_TEST(SimulatorAllocTest, StepAndResetDoNotAllocateWithAPDController) {
-  using S = TypeParam;
+/// The PD gains of the runs below (the controller is not what they test).
+template <typename S>
+PDConfig<S> pd_gains() {
   PDConfig<S> cfg;
   cfg.kp.setConstant(S(50));
   cfg.kd.setConstant(S(80));
+  return cfg;
+}
+
+TYPED_TEST(SimulatorAllocTest, StepAndResetDoNotAllocateWithAPDController) {
+  using S = TypeParam;
   PDController<S> pd;
-  ASSERT_TRUE(PDController<S>::create(cfg, pd).ok());
+  ASSERT_TRUE(PDController<S>::create(pd_gains<S>(), pd).ok());
   expect_run_does_not_allocate<S>(pd, RefusedStepPolicy::zero);
   expect_run_does_not_allocate<S>(pd, RefusedStepPolicy::hold);
 }
 
 TYPED_TEST(SimulatorAllocTest, StepAndResetDoNotAllocateWithThrusterCurves) {
   using S = TypeParam;
-  PDConfig<S> cfg;
-  cfg.kp.setConstant(S(50));
-  cfg.kd.setConstant(S(80));
   PDController<S> pd;
-  ASSERT_TRUE(PDController<S>::create(cfg, pd).ok());
+  ASSERT_TRUE(PDController<S>::create(pd_gains<S>(), pd).ok());
   const SimulationConfig<S> c = curved_config<S>(RefusedStepPolicy::hold);
   expect_run_does_not_allocate<S>(pd, RefusedStepPolicy::hold, &c);
 }
 
 TYPED_TEST(SimulatorAllocTest, StepAndResetDoNotAllocateWithSensorsAndAnEstimator) {
   using S = TypeParam;
-  PDConfig<S> cfg;
-  cfg.kp.setConstant(S(50));
-  cfg.kd.setConstant(S(80));
   PDController<S> pd;
-  ASSERT_TRUE(PDController<S>::create(cfg, pd).ok());
+  ASSERT_TRUE(PDController<S>::create(pd_gains<S>(), pd).ok());
   for (EstimatorType e : {EstimatorType::none, EstimatorType::ekf}) {
     const SimulationConfig<S> c = sensed_config<S>(RefusedStepPolicy::hold, e);
     expect_run_does_not_allocate<S>(pd, RefusedStepPolicy::hold, &c);
