@@ -270,6 +270,105 @@ TYPED_TEST(SimulatorTest, ARunSteppedByHandIsTheClosedLoop) {
   expect_stepped_run_is_simulate<S>(make_nn<S>, "nn");
 }
 
+/// The rows first .. first + n - 1 of `whole`, for comparing a chunk.
+template <typename S>
+SimulationResult<S> rows_of(const SimulationResult<S>& whole, Eigen::Index first, Eigen::Index n) {
+  SimulationResult<S> out;
+  out.t = whole.t.segment(first, n);
+  for (auto [to, from] : {std::pair{&out.eta, &whole.eta}, {&out.nu, &whole.nu},
+                          {&out.eta_d, &whole.eta_d}, {&out.eta_d_dot, &whole.eta_d_dot},
+                          {&out.tau_demanded, &whole.tau_demanded},
+                          {&out.tau_applied, &whole.tau_applied},
+                          {&out.disturbance, &whole.disturbance}, {&out.s, &whole.s}})
+    *to = from->middleRows(first, n);
+  out.thrusts = whole.thrusts.middleRows(first, n);
+  out.theta = whole.theta.middleRows(first, n);
+  out.adaptive_norm = whole.adaptive_norm.segment(first, n);
+  out.controller_status = whole.controller_status.segment(first, n);
+  out.plant_status = whole.plant_status.segment(first, n);
+  out.faults = whole.faults.segment(first, n);
+  out.steps = n;
+  out.diverged = whole.diverged;
+  return out;
+}
+
+// A run handed over in chunks is the whole run cut in pieces, bit for bit,
+// whatever the chunk size (one row, a prime, the run's length and more);
+// only the last chunk says that the run diverged.
+TYPED_TEST(SimulatorTest, ChunksTogetherAreTheWholeRun) {
+  using S = TypeParam;
+  const Vehicle<S> vehicle(nerov_parameters<S>());
+  for (const auto& [label, cfg] : configurations<S>()) {
+    auto reference = make_linear<S>();
+    SimulationResult<S> whole;
+    ASSERT_TRUE(simulate(vehicle, reference, cfg, whole).ok()) << label;
+    for (const Eigen::Index chunk_rows : {Eigen::Index(1), Eigen::Index(13), whole.steps,
+                                          Eigen::Index(1000)}) {
+      const std::string what = label + ", chunks of " + std::to_string(chunk_rows);
+      auto controller = make_linear<S>();
+      Eigen::Index first = 0;
+      int chunks = 0;
+      ASSERT_TRUE(simulate_in_chunks(vehicle, controller, cfg, chunk_rows,
+                                     [&](const SimulationResult<S>& chunk) {
+                                       const Eigen::Index n = chunk.t.size();
+                                       ASSERT_GE(n, 1) << what;
+                                       ASSERT_LE(n, chunk_rows) << what;
+                                       ASSERT_LE(first + n, whole.steps) << what;
+                                       SimulationResult<S> expected = rows_of(whole, first, n);
+                                       expected.diverged = whole.diverged && first + n == whole.steps;
+                                       expect_same_run(chunk, expected, what);
+                                       first += n;
+                                       ++chunks;
+                                     })
+                      .ok())
+          << what;
+      EXPECT_EQ(first, whole.steps) << what;
+      EXPECT_EQ(chunks, (whole.steps + chunk_rows - 1) / chunk_rows) << what;
+    }
+    auto controller = make_linear<S>();
+    const auto e = simulate_in_chunks(vehicle, controller, cfg, Eigen::Index(0),
+                                      [](const SimulationResult<S>&) { FAIL() << "a chunk"; });
+    EXPECT_EQ(std::string(e.field), "chunk_rows") << label;
+  }
+}
+
+// A full log window refuses the step and changes nothing; drain() hands the
+// rows over, and the run goes on as if the window were the whole run.
+TYPED_TEST(SimulatorTest, AFullLogWindowRefusesUntilDrained) {
+  using S = TypeParam;
+  const Vehicle<S> vehicle(nerov_parameters<S>());
+  const SimulationConfig<S> cfg = square<S>();
+  Simulator<S> windowed, whole;
+  ASSERT_TRUE(Simulator<S>::create(vehicle, cfg, windowed, 0, 5).ok());
+  ASSERT_TRUE(Simulator<S>::create(vehicle, cfg, whole).ok());
+  EXPECT_EQ(windowed.log_rows(), 5);
+  EXPECT_EQ(whole.log_rows(), whole.planned_steps());
+  Simulator<S> refused;
+  EXPECT_EQ(std::string(Simulator<S>::create(vehicle, cfg, refused, 0, -1).field), "log_rows");
+  Vector6<S> tau;
+  tau << S(10), S(-5), S(2), S(0), S(1), S(-1);
+  const ControllerReport<S> report;
+  for (int k = 0; k < 5; ++k) ASSERT_EQ(windowed.step(tau, report), whole.step(tau, report));
+  EXPECT_TRUE(windowed.log_full());
+  EXPECT_FALSE(windowed.done());
+  const Vector6<S> eta = windowed.eta();
+  EXPECT_EQ(windowed.step(tau, report), Status::invalid_argument);
+  EXPECT_EQ(windowed.steps(), 5);
+  EXPECT_EQ(windowed.eta(), eta);
+  SimulationResult<S> first;
+  EXPECT_EQ(windowed.drain(first), 5);
+  EXPECT_EQ(windowed.logged_from(), 5);
+  EXPECT_FALSE(windowed.log_full());
+  EXPECT_EQ(windowed.result().t.size(), 0);
+  for (int k = 0; k < 3; ++k) ASSERT_EQ(windowed.step(tau, report), whole.step(tau, report));
+  const SimulationResult<S> all = whole.result();
+  expect_same_run(first, rows_of(all, 0, 5), "first window");
+  expect_same_run(windowed.result(), rows_of(all, 5, 3), "second window");
+  windowed.reset();
+  EXPECT_EQ(windowed.logged_from(), 0);
+  EXPECT_EQ(windowed.steps(), 0);
+}
+
 // An independent reference for the timing: with no noise, no thrusters and a
 // force that depends on t only, row k is rk4_step applied substeps times from
 // row k-1 with the force plus the disturbance at each substep, and eta_d is a

@@ -48,10 +48,38 @@ constexpr const char* kDoc =
     "configuration raises ValueError naming the field. neurov.simulate(scenario) is the "
     "friendly front end.";
 
+/// The loop runs without the GIL; it is taken back only to hand a chunk to
+/// `on_rows`, whose exception ends the run and propagates.
+template <typename Controller>
+void run_chunks(const Vehicle<double>& vehicle, Controller& controller,
+                const SimulationConfig<double>& config, Eigen::Index chunk_rows,
+                const py::function& on_rows) {
+  ValidationError e;
+  {
+    py::gil_scoped_release release;
+    e = simulate_in_chunks(vehicle, controller, config, chunk_rows,
+                           [&on_rows](const SimulationResult<double>& chunk) {
+                             py::gil_scoped_acquire acquire;
+                             on_rows(result_dict(chunk));
+                           });
+  }
+  py_args::raise_if_invalid(e, "run_closed_loop_chunks");
+}
+
+constexpr const char* kChunksDoc =
+    "The run of run_closed_loop with its rows handed over in chunks: on_rows(dict) is "
+    "called with each chunk of at most chunk_rows rows, in time order (the dict of "
+    "run_closed_loop; the last chunk's 'diverged' says how the run ended), so a run of any "
+    "length holds one chunk in memory. A bad configuration or chunk_rows < 1 raises "
+    "ValueError before any step; an exception raised by on_rows ends the run and propagates.";
+
 template <typename Controller>
 void def_run(py::module_& m) {
   m.def("run_closed_loop", &run<Controller>, py::arg("vehicle"), py::arg("controller"),
         py::arg("config"), kDoc);
+  m.def("run_closed_loop_chunks", &run_chunks<Controller>, py::arg("vehicle"),
+        py::arg("controller"), py::arg("config"), py::arg("chunk_rows"), py::arg("on_rows"),
+        kChunksDoc);
 }
 
 }  // namespace

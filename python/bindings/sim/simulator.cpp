@@ -39,6 +39,9 @@ Status step(Sim& sim, const py::handle& tau_in, Status status, const py::handle&
     throw std::runtime_error("Simulator.step: the run is done (" + why +
                              "); result() holds every row, reset() starts again");
   }
+  if (sim.log_full())
+    throw std::runtime_error("Simulator.step: the log window of " + std::to_string(sim.log_rows()) +
+                             " rows is full; drain() hands its rows over and empties it");
   // A refused step's force is not applied, so it may be anything of shape (6,).
   const Vector6<double> tau =
       status == Status::ok ? py_args::vector<6>(tau_in, "tau") : any_vector6(tau_in, "tau");
@@ -96,16 +99,19 @@ void bind_simulator(py::module_& m) {
                   "Everything of a run except the controller, stepped one control period at "
                   "a time: the same rows as run_closed_loop for the same forces.")
       .def(py::init([](const Vehicle<double>& vehicle, const SimulationConfig<double>& config,
-                       int logged_parameters) {
+                       int logged_parameters, Eigen::Index log_rows) {
              Sim sim;
-             py_args::raise_if_invalid(Sim::create(vehicle, config, sim, logged_parameters),
-                                       "SimulationConfig");
+             py_args::raise_if_invalid(
+                 Sim::create(vehicle, config, sim, logged_parameters, log_rows),
+                 "SimulationConfig");
              return sim;
            }),
            py::arg("vehicle"), py::arg("config"), py::arg("logged_parameters") = 0,
+           py::arg("log_rows") = 0,
            "Copies the vehicle and the configuration; `logged_parameters` is the number of "
-           "parameters step() logs per row (the result's theta columns). Raises ValueError "
-           "naming a bad field.")
+           "parameters step() logs per row (the result's theta columns); `log_rows` > 0 keeps "
+           "a window of at most that many rows, emptied by drain() (0: every row of the run). "
+           "Raises ValueError naming a bad field.")
       .def(
           "reset",
           [](Sim& sim, const py::object& seed) {
@@ -158,9 +164,25 @@ void bind_simulator(py::module_& m) {
           },
           "The EKF's covariance (15, 15) at t_k (position, angles, body velocity, rates, gyro "
           "bias), or None without the ekf estimator.")
+      .def_property_readonly("log_rows", &Sim::log_rows,
+                             "Rows the log holds at most (the whole run, or the window).")
+      .def_property_readonly("logged_from", &Sim::logged_from,
+                             "The run's index of the log's first row (rows drained before).")
+      .def_property_readonly("log_full", &Sim::log_full,
+                             "The log window is full: step() refuses until drain().")
       .def(
           "result", [](const Sim& sim) { return result_dict(sim.result()); },
-          "The rows logged so far, as the dict run_closed_loop returns.");
+          "The rows in the log (logged so far, or since the last drain), as the dict "
+          "run_closed_loop returns.")
+      .def(
+          "drain",
+          [](Sim& sim) {
+            SimulationResult<double> rows;
+            sim.drain(rows);
+            return result_dict(std::move(rows));
+          },
+          "The rows in the log, as result() gives them, and empties the log so that "
+          "stepping goes on past a full window.");
 }
 
 }  // namespace neurov::bindings

@@ -92,18 +92,23 @@ class Simulator {
   Simulator() = default;
 
   /// Validates the vehicle and the configuration, copies them, and allocates
-  /// the result rows of the whole duration (the only allocation), with
-  /// `logged_parameters` parameter columns. `out` is untouched on failure.
-  /// Ready at t = 0 with the configuration's seed.
+  /// the result rows (the only allocation), with `logged_parameters`
+  /// parameter columns: the rows of the whole duration, or with `log_rows`
+  /// > 0 a window of at most that many rows, which drain() empties (a run of
+  /// any length then needs the memory of one window). `out` is untouched on
+  /// failure. Ready at t = 0 with the configuration's seed.
   static ValidationError create(const Vehicle<Scalar>& vehicle,
                                 const SimulationConfig<Scalar>& config, Simulator& out,
-                                int logged_parameters = 0) {
+                                int logged_parameters = 0, Eigen::Index log_rows = 0) {
     if (!vehicle.valid()) return detail::invalid("vehicle", -1, std::nan(""), "a valid vehicle");
     if (auto e = validate(config)) return e;
     if (auto e = validate_payload(config.payload, vehicle)) return e;
     if (logged_parameters < 0)
       return detail::invalid("logged_parameters", -1, static_cast<double>(logged_parameters),
                              ">= 0");
+    if (log_rows < 0)
+      return detail::invalid("log_rows", -1, static_cast<double>(log_rows),
+                             ">= 0 (0: every row of the run)");
     // Both were checked by validate(); create() builds them.
     ReferenceModel<Scalar> reference;
     ReferenceModel<Scalar>::create(config.lambda_d, config.omega, config.eta0, reference);
@@ -123,7 +128,8 @@ class Simulator {
     s.h_ = config.dt / static_cast<Scalar>(config.substeps);
     s.failure_applied_.assign(config.failures.size(), false);
     Sensing<Scalar>::create(config.sensors, config.estimator, config.seed, s.sensing_);
-    s.result_.allocate(s.rows_, s.thruster_count_, logged_parameters);
+    s.log_rows_ = log_rows > 0 ? std::min(log_rows, s.rows_) : s.rows_;
+    s.result_.allocate(s.log_rows_, s.thruster_count_, logged_parameters);
     s.configured_ = true;
     s.reset(config.seed);
     out = std::move(s);
@@ -164,6 +170,7 @@ class Simulator {
     for (Vec6& f : pending_tau_) f.setZero();
     result_.clear();
     k_ = 0;
+    log_first_ = 0;
     observe();
   }
 
@@ -178,17 +185,19 @@ class Simulator {
   /// period to t_k+1, where the next observation is measured. Returns the
   /// plant's status: ok, near_singularity, or another status when the plant
   /// diverged (then the row is the last, diverged() and done()).
-  /// A call that is refused returns invalid_argument (after done(); a report
-  /// whose parameter_count is not the one of create) or non_finite_input (an
-  /// accepted step with a non-finite force) and changes nothing.
+  /// A call that is refused returns invalid_argument (after done(); with the
+  /// log window full, see log_full(); a report whose parameter_count is not
+  /// the one of create) or non_finite_input (an accepted step with a
+  /// non-finite force) and changes nothing.
   Status step(const Vec6& tau, const ControllerReport<Scalar>& report) noexcept {
-    if (done()) return Status::invalid_argument;
+    if (done() || log_full()) return Status::invalid_argument;
     if (report.parameter_count != parameter_count_ ||
         (parameter_count_ > 0 && report.parameters == nullptr))
       return Status::invalid_argument;
     if (report.status == Status::ok && !tau.allFinite()) return Status::non_finite_input;
 
     const Eigen::Index k = k_;
+    const Eigen::Index row = k_ - log_first_;  // the row in the log window
     const Scalar t = observation_.t;
     Vec6 applied_tau = tau;
     if (report.status == Status::ok)
@@ -200,29 +209,29 @@ class Simulator {
 
     SimulationResult<Scalar>& r = result_;
     const DesiredState<Scalar>& desired = observation_.desired;
-    r.t(k) = t;
-    r.eta.row(k) = eta_.transpose();
-    r.nu.row(k) = nu_.transpose();
-    r.eta_estimate.row(k) = observation_.eta.transpose();
-    r.nu_estimate.row(k) = observation_.nu.transpose();
-    r.eta_d.row(k) = desired.eta_d.transpose();
-    r.eta_d_dot.row(k) = desired.eta_d_dot.transpose();
-    r.tau_demanded.row(k) = applied_tau.transpose();
-    r.s.row(k) = report.s.transpose();
-    r.adaptive_norm(k) = report.adaptive_norm;
-    r.controller_status(k) = static_cast<std::uint8_t>(report.status);
+    r.t(row) = t;
+    r.eta.row(row) = eta_.transpose();
+    r.nu.row(row) = nu_.transpose();
+    r.eta_estimate.row(row) = observation_.eta.transpose();
+    r.nu_estimate.row(row) = observation_.nu.transpose();
+    r.eta_d.row(row) = desired.eta_d.transpose();
+    r.eta_d_dot.row(row) = desired.eta_d_dot.transpose();
+    r.tau_demanded.row(row) = applied_tau.transpose();
+    r.s.row(row) = report.s.transpose();
+    r.adaptive_norm(row) = report.adaptive_norm;
+    r.controller_status(row) = static_cast<std::uint8_t>(report.status);
     if (parameter_count_ > 0)
-      r.theta.row(k) =
+      r.theta.row(row) =
           Eigen::Map<const Eigen::Matrix<Scalar, 1, Eigen::Dynamic>>(report.parameters,
                                                                      parameter_count_);
-    r.disturbance.row(k) = disturbance_at(t).transpose();
+    r.disturbance.row(row) = disturbance_at(t).transpose();
     apply_payload_events(t);
-    r.current.row(k) = current_velocity(t).transpose();
+    r.current.row(row) = current_velocity(t).transpose();
     if (config_.waves) {
-      r.wave_velocity.row(k) = waves_.kinematics().velocity.transpose();
-      r.wave_elevation(k) = waves_.kinematics().elevation;
+      r.wave_velocity.row(row) = waves_.kinematics().velocity.transpose();
+      r.wave_elevation(row) = waves_.kinematics().elevation;
     }
-    r.payload_mass(k) = payload_mass_;
+    r.payload_mass(row) = payload_mass_;
 
     // The force this row demanded waits control_delay periods; the one due
     // now (zero before the first one is due) acts over this interval.
@@ -255,7 +264,7 @@ class Simulator {
         thrusters_.advance(h_);
         applied = thrusters_.wrench();
         if (thruster_count_ > 0)
-          r.thrusts.row(k) +=
+          r.thrusts.row(row) +=
               thrusters_.efficiency().cwiseProduct(thrusters_.thrust()).transpose() /
               static_cast<Scalar>(config_.substeps);
       }
@@ -288,11 +297,11 @@ class Simulator {
                      eta_, nu_);
     }
     if (config_.current_model == CurrentModel::gauss_markov) current_.advance(config_.dt);
-    r.tau_applied.row(k) = (applied_sum / static_cast<Scalar>(config_.substeps)).transpose();
-    r.plant_status(k) = static_cast<std::uint8_t>(ps);
-    r.faults(k) = faults;
+    r.tau_applied.row(row) = (applied_sum / static_cast<Scalar>(config_.substeps)).transpose();
+    r.plant_status(row) = static_cast<std::uint8_t>(ps);
+    r.faults(row) = faults;
     k_ = k + 1;
-    r.steps = k_;
+    r.steps = row + 1;
     if (ps != Status::ok && ps != Status::near_singularity) {
       r.diverged = true;
       return ps;
@@ -309,8 +318,14 @@ class Simulator {
   /// The true state at t_k = steps() dt (the last state reached if diverged).
   const Vec6& eta() const noexcept { return eta_; }
   const Vec6& nu() const noexcept { return nu_; }
-  /// Rows logged so far.
+  /// Rows logged so far (drained ones included).
   Eigen::Index steps() const noexcept { return k_; }
+  /// Rows the log holds at most: every row of the run, or the window of create().
+  Eigen::Index log_rows() const noexcept { return log_rows_; }
+  /// The run's index of the log's first row: the rows drained before it.
+  Eigen::Index logged_from() const noexcept { return log_first_; }
+  /// The log window is full: step() refuses until drain() empties it.
+  bool log_full() const noexcept { return k_ - log_first_ >= log_rows_; }
   /// Rows of a whole run: round(duration / dt) + 1.
   Eigen::Index planned_steps() const noexcept { return rows_; }
   int logged_parameters() const noexcept { return parameter_count_; }
@@ -320,18 +335,34 @@ class Simulator {
   /// The sensors and the estimator (inactive without sensors).
   const Sensing<Scalar>& sensing() const noexcept { return sensing_; }
 
-  /// A copy of the rows logged so far (allocates).
+  /// A copy of the rows in the log: the rows logged so far, or since the last
+  /// drain() (allocates).
   SimulationResult<Scalar> result() const {
     SimulationResult<Scalar> out = result_;
-    out.truncate(k_);
+    out.truncate(k_ - log_first_);
     return out;
   }
 
-  /// Moves the rows logged so far into `out` without a copy; the simulator is
+  /// Copies the rows in the log into `out` (allocates) and empties the log,
+  /// so that stepping can go on past a full window; returns how many rows.
+  /// `out.diverged` says whether the run has diverged.
+  Eigen::Index drain(SimulationResult<Scalar>& out) {
+    const Eigen::Index n = k_ - log_first_;
+    out = result_;
+    out.truncate(n);
+    const bool diverged = result_.diverged;
+    result_.clear();
+    result_.diverged = diverged;
+    log_first_ = k_;
+    return n;
+  }
+
+  /// Moves the rows in the log into `out` without a copy; the simulator is
   /// empty afterwards (create it again to run again).
   void release_result(SimulationResult<Scalar>& out) {
+    const Eigen::Index n = k_ - log_first_;
     out = std::move(result_);
-    if (k_ < rows_) out.truncate(k_);
+    if (n < out.t.size()) out.truncate(n);
     *this = Simulator();
   }
 
@@ -474,6 +505,8 @@ class Simulator {
   bool noisy_ = false;
   Scalar h_ = Scalar(0);
   Eigen::Index rows_ = 0;
+  Eigen::Index log_rows_ = 0;   // rows the log holds at most
+  Eigen::Index log_first_ = 0;  // the run's index of the log's row 0
   Eigen::Index k_ = 0;
   Eigen::Index thruster_count_ = 0;
   int parameter_count_ = 0;
