@@ -11,7 +11,7 @@ raises ``TypeError``; both name the argument. Scalars are real numbers (not
 """
 
 import os
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from typing import (
     Any,
     ClassVar,
@@ -1882,6 +1882,30 @@ def run_closed_loop(vehicle: Vehicle, controller: PIDController, config: Simulat
 def run_closed_loop(vehicle: Vehicle, controller: SlidingModeController, config: SimulationConfig) -> _SimulationResult: ...
 @overload
 def run_closed_loop(vehicle: Vehicle, controller: ComputedTorqueController, config: SimulationConfig) -> _SimulationResult: ...
+@overload
+def run_closed_loop_chunks(vehicle: Vehicle, controller: NNAdaptiveController, config: SimulationConfig, chunk_rows: int,
+                           on_rows: Callable[[_SimulationResult], None]) -> None:
+    """The run of :func:`run_closed_loop` with its rows handed over in chunks:
+    ``on_rows(dict)`` gets each chunk of at most ``chunk_rows`` rows in time order
+    (the last chunk's ``diverged`` says how the run ended), so a run of any length
+    holds one chunk in memory. A bad configuration or ``chunk_rows`` < 1 raises
+    ValueError before any step; an exception raised by ``on_rows`` ends the run and
+    propagates."""
+@overload
+def run_closed_loop_chunks(vehicle: Vehicle, controller: LinearAdaptiveController, config: SimulationConfig, chunk_rows: int,
+                           on_rows: Callable[[_SimulationResult], None]) -> None: ...
+@overload
+def run_closed_loop_chunks(vehicle: Vehicle, controller: PDController, config: SimulationConfig, chunk_rows: int,
+                           on_rows: Callable[[_SimulationResult], None]) -> None: ...
+@overload
+def run_closed_loop_chunks(vehicle: Vehicle, controller: PIDController, config: SimulationConfig, chunk_rows: int,
+                           on_rows: Callable[[_SimulationResult], None]) -> None: ...
+@overload
+def run_closed_loop_chunks(vehicle: Vehicle, controller: SlidingModeController, config: SimulationConfig, chunk_rows: int,
+                           on_rows: Callable[[_SimulationResult], None]) -> None: ...
+@overload
+def run_closed_loop_chunks(vehicle: Vehicle, controller: ComputedTorqueController, config: SimulationConfig, chunk_rows: int,
+                           on_rows: Callable[[_SimulationResult], None]) -> None: ...
 def bluerov2_heavy_layout() -> tuple[_Array, _Array, list[str]]:
     """The BlueROV2 Heavy's thruster layout of the C++ core (model/bluerov2_heavy.hpp): (positions (8, 3) [m], unit thrust directions (8, 3), names), body axes x forward, y starboard, z down."""
 
@@ -1944,10 +1968,12 @@ class Simulator:
     The same rows as :func:`run_closed_loop` for the same forces.
     """
 
-    def __init__(self, vehicle: Vehicle, config: SimulationConfig, logged_parameters: int = 0) -> None:
+    def __init__(self, vehicle: Vehicle, config: SimulationConfig, logged_parameters: int = 0,
+                 log_rows: int = 0) -> None:
         """Copies the vehicle and the configuration; ``logged_parameters`` is the number
-        of parameters :meth:`step` logs per row (the result's theta columns). Raises
-        ValueError naming a bad field."""
+        of parameters :meth:`step` logs per row (the result's theta columns);
+        ``log_rows`` > 0 keeps a window of at most that many rows, emptied by
+        :meth:`drain` (0: every row of the run). Raises ValueError naming a bad field."""
     def reset(self, seed: int | None = None) -> None:
         """Back to t = 0 with noise from ``seed``; None: the seed of the last reset
         (the configuration's at first), so the same run again."""
@@ -1997,5 +2023,18 @@ class Simulator:
     @property
     def config(self) -> SimulationConfig:
         """A copy of the configuration."""
+    @property
+    def log_rows(self) -> int:
+        """Rows the log holds at most (the whole run, or the window)."""
+    @property
+    def logged_from(self) -> int:
+        """The run's index of the log's first row (the rows drained before it)."""
+    @property
+    def log_full(self) -> bool:
+        """The log window is full: :meth:`step` refuses until :meth:`drain`."""
     def result(self) -> _SimulationResult:
-        """The rows logged so far, as the dict :func:`run_closed_loop` returns."""
+        """The rows in the log (logged so far, or since the last drain), as the dict
+        :func:`run_closed_loop` returns."""
+    def drain(self) -> _SimulationResult:
+        """The rows in the log, as :meth:`result` gives them, and empties the log so
+        that stepping goes on past a full window."""

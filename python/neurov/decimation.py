@@ -20,7 +20,7 @@ from numpy.typing import NDArray
 
 from neurov.result import SERIES, Result
 
-__all__ = ["MAX_PLOT_ROWS", "for_plotting", "kept_rows"]
+__all__ = ["MAX_PLOT_ROWS", "PlotRows", "bucket_rows", "for_plotting", "kept_rows"]
 
 MAX_PLOT_ROWS = 40_000
 """At most this many rows of a run are drawn (see :func:`for_plotting`)."""
@@ -43,6 +43,36 @@ def _extremes(values: NDArray[np.float64], size: int) -> NDArray[np.int64]:
     return np.concatenate([o.ravel() for o in out])
 
 
+def _drawn(result: Result) -> list[NDArray[np.float64]]:
+    """The quantities the run plots draw, as 2-D arrays of the rows."""
+    return [result.eta, result.eta_d, result.error, result.tau_demanded, result.tau_applied,
+            result.thrusts, result.adaptive_norm[:, None]]
+
+
+def bucket_rows(rows: int, columns: int, max_rows: int = MAX_PLOT_ROWS) -> int:
+    """Rows per bucket for a run of `rows` rows with `columns` drawn columns:
+    each bucket keeps up to 2 rows per column plus its first and last row."""
+    if max_rows < 2:
+        raise ValueError(f"argument 'max_rows' must be >= 2, got {max_rows}")
+    buckets = max(1, max_rows // (2 * columns + 2))
+    return max(1, -(-rows // buckets))
+
+
+def drawn_columns(thrusters: int) -> int:
+    """Columns the run plots draw for a run with `thrusters` thrusters."""
+    return 5 * 6 + thrusters + 1
+
+
+def _picks(result: Result, size: int) -> NDArray[np.int64]:
+    """Sorted indices of the rows kept in buckets of `size` rows from row 0."""
+    rows = len(result.t)
+    starts = np.arange(0, rows, size)
+    ends = np.minimum(starts + size, rows) - 1
+    with np.errstate(invalid="ignore"):
+        picks = [starts, ends] + [_extremes(a, size) for a in _drawn(result) if a.shape[1]]
+    return np.unique(np.concatenate(picks))
+
+
 def kept_rows(result: Result, max_rows: int = MAX_PLOT_ROWS) -> NDArray[np.int64]:
     """Sorted indices of the rows :func:`for_plotting` keeps: every row if
     the run has at most `max_rows`, else at most `max_rows` (or, if more,
@@ -52,17 +82,11 @@ def kept_rows(result: Result, max_rows: int = MAX_PLOT_ROWS) -> NDArray[np.int64
     rows = len(result.t)
     if rows <= max_rows:
         return np.arange(rows)
-    drawn = [result.eta, result.eta_d, result.error, result.tau_demanded, result.tau_applied,
-             result.thrusts, result.adaptive_norm[:, None]]
-    columns = sum(a.shape[1] for a in drawn)
-    # Each bucket keeps up to 2 rows per column plus its first and last row.
-    buckets = max(1, max_rows // (2 * columns + 2))
-    size = -(-rows // buckets)
-    starts = np.arange(0, rows, size)
-    ends = np.minimum(starts + size, rows) - 1
-    with np.errstate(invalid="ignore"):
-        picks = [starts, ends] + [_extremes(a, size) for a in drawn if a.shape[1]]
-    return np.unique(np.concatenate(picks))
+    return _picks(result, bucket_rows(rows, drawn_columns(result.thrusts.shape[1]), max_rows))
+
+
+def _take(result: Result, keep: NDArray[np.int64]) -> dict[str, NDArray[np.float64]]:
+    return {name: getattr(result, name)[keep] for name in SERIES}
 
 
 def for_plotting(result: Result, max_rows: int = MAX_PLOT_ROWS) -> Result:
@@ -73,5 +97,44 @@ def for_plotting(result: Result, max_rows: int = MAX_PLOT_ROWS) -> Result:
     keep = kept_rows(result, max_rows)
     if len(keep) == len(result.t):
         return result
-    changes = {name: getattr(result, name)[keep] for name in SERIES}
-    return dataclasses.replace(result, **changes, extra={**result.extra, "plotted_rows_of": len(result.t)})
+    return dataclasses.replace(result, **_take(result, keep), extra={**result.extra, "plotted_rows_of": len(result.t)})
+
+
+class PlotRows:
+    """The rows :func:`for_plotting` keeps of a run that comes in chunks (a
+    streamed run): a run of `rows` rows with `thrusters` thrusters. Chunks
+    whose lengths are multiples of :attr:`bucket` (all but the last) give
+    exactly the rows of the whole run's :func:`for_plotting`."""
+
+    def __init__(self, rows: int, thrusters: int, max_rows: int = MAX_PLOT_ROWS) -> None:
+        self.rows = rows
+        self.whole = rows <= max_rows
+        self.bucket = bucket_rows(rows, drawn_columns(thrusters), max_rows)
+        self._parts: list[dict[str, NDArray[np.float64]]] = []
+        self._first: Result | None = None
+        self._seen = 0
+        self._diverged = False
+
+    def chunk_rows(self, about: int) -> int:
+        """A chunk length near `about` rows that is a multiple of :attr:`bucket`."""
+        return max(1, round(about / self.bucket)) * self.bucket
+
+    def add(self, chunk: Result) -> None:
+        """The run's next rows."""
+        self._first = self._first or chunk
+        self._seen += len(chunk.t)
+        self._diverged = self._diverged or chunk.diverged
+        keep = np.arange(len(chunk.t)) if self.whole else _picks(chunk, self.bucket)
+        self._parts.append(_take(chunk, keep))
+
+    def result(self) -> Result:
+        """The rows kept, as a Result of the run (its scenario, controller and
+        how it ended, from the chunks); ``extra["plotted_rows_of"]`` holds
+        the rows seen when some were dropped."""
+        if self._first is None:
+            raise ValueError("no rows were added")
+        rows = {name: np.concatenate([p[name] for p in self._parts]) for name in SERIES}
+        extra = dict(self._first.extra)
+        if len(rows["t"]) < self._seen:
+            extra["plotted_rows_of"] = self._seen
+        return dataclasses.replace(self._first, **rows, extra=extra, diverged=self._diverged)

@@ -3,10 +3,7 @@ metrics, and its export (CSV, NPZ, pandas)."""
 
 from __future__ import annotations
 
-import csv
 import json
-import math
-import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -15,36 +12,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from neurov import _core
+from neurov.metrics import TRANSIENT_S, MetricsWindow, metrics_start
 from neurov.scenario import Scenario
 
 __all__ = ["SERIES", "TRANSIENT_S", "Result", "metrics_start"]
 
 Array = NDArray[np.float64]
-
-TRANSIENT_S = 10.0
-"""The start-up transient the metrics skip [s]: the weights start from zero
-and the reference model catches up with the first command (the shipped
-commands start moving within 5 s). A fixed time, so that a 24-hour run and a
-1-minute run are judged on the same footing."""
-
-
-CSV_BLOCK_ROWS = 20_000
-"""Rows per block written by :meth:`Result.to_csv`."""
-
-
-def metrics_start(duration: float) -> float:
-    """Where the metrics window starts for a run of `duration` seconds:
-    :data:`TRANSIENT_S`, or half the run if it is shorter than twice that.
-    The one window of ``neurov run``, ``neurov paper``, :meth:`Result.metrics`
-    and the run plots (studies set their own ``after``)."""
-    return min(TRANSIENT_S, 0.5 * duration)
-
-
-def _finite_or_inf(x: Any) -> float:
-    """A metric as a float; NaN (from inf - inf in a diverged run) as inf."""
-    x = float(x)
-    return x if math.isfinite(x) else math.inf
-
 
 SERIES = (
     "t", "eta", "nu", "eta_d", "eta_d_dot", "tau_demanded", "tau_applied", "disturbance", "s",
@@ -101,46 +74,9 @@ class Result:
         A diverged run (``diverged`` true, ``diverged_at_s`` its last row)
         gets its metrics over what was simulated: from `after` if rows exist
         there, else over every row; non-finite values give inf."""
-        if after is None:
-            after = metrics_start(self.scenario.duration)
-        if not math.isfinite(after):
-            raise ValueError(f"argument 'after' must be a finite time [s], got {after}")
-        # t is increasing, so the window is a slice (views, no copies of a long run).
-        first = int(np.searchsorted(self.t, after, side="left"))
-        if first == len(self.t):
-            if not (self.diverged and len(self.t)):
-                raise ValueError(f"argument 'after' = {after} leaves no samples "
-                                 f"(run ends at {self.t[-1] if len(self.t) else 0})")
-            first = 0
-        m = slice(first, None)
-        e = self.eta[m] - self.eta_d[m]
-        tau = self.tau_demanded[m]
-        dt = self.scenario.dt
-        names = ("x", "y", "z", "roll", "pitch", "yaw")
-        with np.errstate(over="ignore", invalid="ignore"):
-            pos = np.linalg.norm(e[:, :3], axis=1)
-            out: dict[str, Any] = {
-                "window_start_s": float(self.t[m][0]),
-                "window_end_s": float(self.t[m][-1]),
-                "rmse_position_m": _finite_or_inf(np.sqrt(np.mean(pos**2))),
-                "max_position_error_m": _finite_or_inf(np.max(pos)),
-                "rmse_yaw_rad": _finite_or_inf(np.sqrt(np.mean(e[:, 5] ** 2))),
-                "max_yaw_error_rad": _finite_or_inf(np.max(np.abs(e[:, 5]))),
-                "rmse": {n: _finite_or_inf(np.sqrt(np.mean(e[:, i] ** 2))) for i, n in enumerate(names)},
-                "max_abs_error": {n: _finite_or_inf(np.max(np.abs(e[:, i]))) for i, n in enumerate(names)},
-                "iae": {n: _finite_or_inf(np.sum(np.abs(e[:, i])) * dt) for i, n in enumerate(names)},
-                "mean_abs_tau": _finite_or_inf(np.mean(np.abs(tau))),
-                "max_abs_tau": _finite_or_inf(np.max(np.abs(tau))),
-                "mean_abs_tau_dof": [_finite_or_inf(x) for x in np.mean(np.abs(tau), axis=0)],
-                "max_abs_tau_dof": [_finite_or_inf(x) for x in np.max(np.abs(tau), axis=0)],
-                "control_energy": _finite_or_inf(np.sum(np.linalg.norm(tau, axis=1)) * dt),
-                "final_adaptive_norm": _finite_or_inf(self.adaptive_norm[-1]),
-                "max_adaptive_norm": _finite_or_inf(np.max(self.adaptive_norm)),
-                "refused_steps": int(np.count_nonzero(self.controller_status[m])),
-                "diverged": bool(self.diverged),
-                "diverged_at_s": float(self.t[-1]) if self.diverged and len(self.t) else None,
-            }
-        return out
+        window = MetricsWindow(self.scenario.duration, self.scenario.dt, after)
+        window.add(self)
+        return window.value()
 
     def divergence_message(self) -> str:
         """One line saying when and how the run diverged ('' if it did not)."""
@@ -232,58 +168,41 @@ class Result:
     def to_csv(self, path: str | Path, quiet: bool = True) -> Path:
         """Writes every column of :meth:`columns` to a CSV file with a header
         row, each number as the shortest text that reads back to the same
-        float64. Written in blocks of :data:`CSV_BLOCK_ROWS` rows (a 24-hour
-        run does not need its whole text in memory), through pyarrow's C++
-        writer when pyarrow is installed (``neurov[parquet]``; about four times
-        faster), else Python's csv module; unless `quiet`, a progress bar."""
+        float64, in blocks (see :class:`neurov.export.CsvWriter`: pyarrow's
+        C++ writer when installed, about four times faster); unless `quiet`,
+        a progress bar."""
+        from neurov.export import CsvWriter
         from neurov.progress import progress_bar
 
-        path = Path(path)
         cols = self.columns()
-        rows = len(self.t)
-        with progress_bar(rows, path.name, unit="row", quiet=quiet) as bar:
-            try:
-                import pyarrow as pa
-                import pyarrow.csv as pacsv
-            except ImportError:
-                with path.open("w", newline="") as f:
-                    w = csv.writer(f)
-                    w.writerow(cols.keys())
-                    for start in range(0, rows, CSV_BLOCK_ROWS):
-                        block = slice(start, start + CSV_BLOCK_ROWS)
-                        w.writerows(zip(*(c[block].tolist() for c in cols.values())))
-                        bar.update(len(self.t[block]))
-                return path
-            schema = pa.schema([(name, pa.float64()) for name in cols])
-            options = pacsv.WriteOptions(quoting_style="none")
-            with pacsv.CSVWriter(str(path), schema, write_options=options) as writer:
-                for start in range(0, rows, CSV_BLOCK_ROWS):
-                    block = slice(start, start + CSV_BLOCK_ROWS)
-                    writer.write_batch(pa.record_batch([c[block] for c in cols.values()], schema=schema))
-                    bar.update(len(self.t[block]))
-        return path
+        with progress_bar(len(self.t), Path(path).name, unit="row", quiet=quiet) as bar, \
+                CsvWriter(path, list(cols)) as writer:
+            writer.write(cols, progress=bar)
+        return Path(path)
+
+    def npz_arrays(self) -> dict[str, Any]:
+        """What :meth:`to_npz` writes besides the series: the scenario's name,
+        the controller and whether the run diverged."""
+        return {"scenario": np.array(self.scenario.name), "controller": np.array(self.controller),
+                "diverged": np.array(self.diverged)}
 
     def to_npz(self, path: str | Path, quiet: bool = True) -> Path:
-        """Writes the arrays (and the scenario name, the controller and
-        whether it diverged) to a compressed .npz, array by array (no copy of
-        the run in memory); unless `quiet`, a progress bar."""
+        """Writes the arrays of :data:`SERIES` (and :meth:`npz_arrays`) to a
+        compressed .npz, array by array (see :class:`neurov.export.NpzWriter`);
+        unless `quiet`, a progress bar."""
+        from neurov.export import NpzWriter
         from neurov.progress import progress_bar
 
-        path = Path(path)
-        arrays: dict[str, Any] = {"scenario": np.array(self.scenario.name),
-                                  "controller": np.array(self.controller),
-                                  "diverged": np.array(self.diverged)}
-        arrays.update((k, getattr(self, k)) for k in SERIES)
-        # Level 1: the float series barely compress more at numpy's level 6,
-        # which takes several times longer.
-        with zipfile.ZipFile(path, "w", compression=zipfile.ZIP_DEFLATED, compresslevel=1,
-                             allowZip64=True) as zf, \
-                progress_bar(len(arrays), path.name, unit="array", quiet=quiet) as bar:
-            for name, value in arrays.items():
-                with zf.open(f"{name}.npy", "w", force_zip64=True) as f:
-                    np.lib.format.write_array(f, np.asanyarray(value), allow_pickle=False)
-                bar.update(1)
-        return path
+        writer = NpzWriter(path)
+        try:
+            for name, value in self.npz_arrays().items():
+                writer.set(name, value)
+            writer.append({k: getattr(self, k) for k in SERIES})
+        except BaseException:
+            writer.discard()
+            raise
+        with progress_bar(writer.count, Path(path).name, unit="array", quiet=quiet) as bar:
+            return writer.close(progress=bar)
 
     def to_time_response(self) -> Any:
         """This run as ``control.TimeResponseData`` (needs ``neurov[control]``);

@@ -1,7 +1,8 @@
 """Run one scenario file: what ``neurov run SCENARIO.toml [--out DIR] [--plot]`` does.
 
-Loads the scenario, runs the closed loop, prints the metrics, and optionally
-writes the results to a folder::
+Loads the scenario, runs the closed loop streaming its rows (see
+:mod:`neurov.run_stream`), prints the metrics, and optionally writes the
+results to a folder::
 
     from neurov.run import run_scenario_file
     result, metrics = run_scenario_file("examples/scenarios/square_nn.toml", out_dir="out", plot=True)
@@ -17,10 +18,11 @@ from pathlib import Path
 from typing import Any, TextIO
 
 from neurov.scenario import load_scenario
-from neurov.simulation import Result, simulate
+from neurov.result import Result
+from neurov.run_stream import stream_run
 
 __all__ = ["EXIT_DIVERGED", "FIGURES", "SEA_FIGURES", "check_output_dir", "format_metrics", "run_scenario_file",
-           "write_outputs"]
+           "write_figures", "write_metrics", "write_outputs"]
 
 EXIT_DIVERGED = 3
 """Exit status of ``neurov run`` and ``neurov paper`` when a run diverged
@@ -90,38 +92,54 @@ def format_metrics(result: Result, metrics: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
+def write_metrics(metrics: dict[str, Any], out: Path) -> Path:
+    """metrics.json in `out` (non-finite numbers as null)."""
+    path = out / "metrics.json"
+    path.write_text(json.dumps(_finite_or_none(metrics), indent=2) + "\n", encoding="utf-8")
+    return path
+
+
+def write_figures(drawn: Result, out: Path, quiet: bool = True, *, sea: bool | None = None,
+                  elevation: Result | None = None) -> list[Path]:
+    """The figures of :data:`FIGURES` of the run `drawn` (and of
+    :data:`SEA_FIGURES` if it met a sea: `sea`, default from its rows) into
+    `out`; the wave spectrum from `elevation` (a Result whose ``t`` and
+    ``wave_elevation`` are the whole record), default `drawn`. Unless
+    `quiet`, a progress bar."""
+    # Imported here: matplotlib costs a second to import and a run without
+    # plots does not need it.
+    from neurov.plotting import runs as plots
+    from neurov.plotting import sea as sea_plots
+    from neurov.progress import progress_bar
+
+    figures = {
+        "xy.png": plots.xy_path, "dofs.png": plots.dof_time, "errors.png": plots.errors,
+        "inputs.png": plots.control_inputs, "adaptive_norm.png": plots.adaptive_norm,
+    }
+    if sea_plots.has_sea(drawn) if sea is None else sea:
+        figures[SEA_FIGURES[0]] = sea_plots.sea_flow
+    if drawn.scenario.waves is not None:
+        figures[SEA_FIGURES[1]] = lambda _: sea_plots.wave_spectrum(elevation or drawn)
+    written = []
+    with progress_bar(len(figures), "figures", unit="figure", quiet=quiet) as bar:
+        for name, draw in figures.items():
+            written.append(plots.save(draw(drawn), out / name))
+            bar.update(1)
+    return written
+
+
 def write_outputs(result: Result, metrics: dict[str, Any], out_dir: str | Path, plot: bool = False,
                   quiet: bool = True) -> list[Path]:
     """Writes result.csv, result.npz, metrics.json and, with `plot`, the
-    figures of :data:`FIGURES` (and :data:`SEA_FIGURES`) into `out_dir` (created if missing); returns
-    the paths written. Unless `quiet`, progress bars (on a terminal). A long
-    run's figures draw at most :data:`neurov.decimation.MAX_PLOT_ROWS` rows."""
-    from neurov.progress import progress_bar
-
+    figures of :data:`FIGURES` (and :data:`SEA_FIGURES`) of a run held in
+    memory into `out_dir` (created if missing); returns the paths written.
+    Unless `quiet`, progress bars (on a terminal). A long run's figures draw
+    at most :data:`neurov.decimation.MAX_PLOT_ROWS` rows."""
     out = check_output_dir(out_dir)
-    metrics_path = out / "metrics.json"
-    metrics_path.write_text(json.dumps(_finite_or_none(metrics), indent=2) + "\n", encoding="utf-8")
     written = [result.to_csv(out / "result.csv", quiet=quiet), result.to_npz(out / "result.npz", quiet=quiet),
-               metrics_path]
+               write_metrics(metrics, out)]
     if plot:
-        # Imported here: matplotlib costs a second to import and a run without
-        # plots does not need it.
-        from neurov.plotting import runs as plots
-
-        from neurov.plotting import sea
-
-        figures = {
-            "xy.png": plots.xy_path, "dofs.png": plots.dof_time, "errors.png": plots.errors,
-            "inputs.png": plots.control_inputs, "adaptive_norm.png": plots.adaptive_norm,
-        }
-        if sea.has_sea(result):
-            figures[SEA_FIGURES[0]] = sea.sea_flow
-        if result.scenario.waves is not None:
-            figures[SEA_FIGURES[1]] = sea.wave_spectrum
-        with progress_bar(len(figures), "figures", unit="figure", quiet=quiet) as bar:
-            for name, draw in figures.items():
-                written.append(plots.save(draw(result), out / name))
-                bar.update(1)
+        written += write_figures(result, out, quiet)
     return written
 
 
@@ -143,6 +161,14 @@ def run_scenario_file(path: str | Path, out_dir: str | Path | None = None,
     files hold every row simulated, and the metrics cover those rows
     (``diverged`` true, ``diverged_at_s`` set); check ``result.diverged``.
 
+    The run is streamed (:func:`neurov.run_stream.stream_run`): the files
+    are written as the rows come and a run of any length holds about
+    :data:`neurov.run_stream.CHUNK_ROWS` rows in memory. So the result
+    returned holds the rows the figures draw: every row of a run of at most
+    :data:`neurov.decimation.MAX_PLOT_ROWS` rows, else a thinned set
+    (``result.extra["plotted_rows_of"]`` the run's row count; the metrics are
+    always of every row).
+
     Returns the result and the metrics: ``Result.metrics()`` plus
     ``scenario`` and ``controller``, the same dict metrics.json holds (where
     non-finite numbers are written as null). A bad file raises
@@ -150,13 +176,15 @@ def run_scenario_file(path: str | Path, out_dir: str | Path | None = None,
     if plot and out_dir is None:
         raise ValueError("argument 'plot' needs 'out_dir': the figures are written as PNG files there")
     scenario = load_scenario(path)
-    if out_dir is not None:
-        check_output_dir(out_dir)
-    result = simulate(scenario)
-    metrics: dict[str, Any] = {"scenario": scenario.name, "controller": result.controller, **result.metrics()}
+    out = check_output_dir(out_dir) if out_dir is not None else None
+    run = stream_run(scenario, out, quiet=False)
+    result = run.drawn
+    metrics: dict[str, Any] = {"scenario": scenario.name, "controller": result.controller, **run.metrics}
     stream: TextIO = sys.stdout
     print(format_metrics(result, metrics), file=stream)
-    if out_dir is not None:
-        written = write_outputs(result, metrics, out_dir, plot=plot, quiet=False)
-        print(f"wrote {', '.join(p.name for p in written)} to {Path(out_dir)}", file=stream)
+    if out is not None:
+        written = [*run.written, write_metrics(metrics, out)]
+        if plot:
+            written += write_figures(result, out, quiet=False, sea=run.sea, elevation=run.elevation)
+        print(f"wrote {', '.join(p.name for p in written)} to {out}", file=stream)
     return result, metrics

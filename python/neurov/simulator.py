@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -56,17 +57,18 @@ class Simulator:
     Each :meth:`step` logs the row at ``observation.t`` with the force tau and
     advances one control period (zero-order hold, RK4 substeps). `vehicle`
     replaces the scenario's plant (e.g. a perturbed one); `label` names the
-    controller in the result.
+    controller in the result; `log_rows` > 0 keeps at most that many rows
+    (a long run handed over in chunks, see :meth:`run`).
     """
 
     def __init__(self, scenario: Scenario, *, vehicle: _core.Vehicle | None = None,
-                 label: str = "python") -> None:
+                 label: str = "python", log_rows: int = 0) -> None:
         if not isinstance(scenario, Scenario):
             raise TypeError(f"argument 'scenario' must be a neurov.Scenario, got {type(scenario).__name__}")
         self.scenario = scenario
         self.label = label
         plant = vehicle if vehicle is not None else build_vehicle(scenario)
-        self._sim = _core.Simulator(plant, simulation_config(scenario))
+        self._sim = _core.Simulator(plant, simulation_config(scenario), 0, log_rows)
         self._wall = 0.0
         self._errors: dict[str, dict[str, Any]] = {}
 
@@ -89,18 +91,25 @@ class Simulator:
         self._wall += time.perf_counter() - start
         return self.observation
 
-    def run(self, controller: Any) -> Result:
+    def run(self, controller: Any, on_rows: Callable[[dict[str, Any]], None] | None = None) -> Result:
         """Runs `controller` (a :class:`neurov.Controller`) from the current
         step to the end: its refused steps are logged with their status and
-        the run goes on. Returns :meth:`result`."""
+        the run goes on. Returns :meth:`result`. With `on_rows`, the rows are
+        handed over as the simulator's log fills (``log_rows``) and at the
+        end: ``on_rows(dict)`` gets the dict of ``neurov._core.run_closed_loop``
+        for each chunk, and the result returned holds no rows."""
         call = ControllerCall(controller)
         call.reset()
         sim, step, observe, s_of = self._sim, self._sim.step, type(self._sim).observation.fget, call.s
         start = time.perf_counter()
         while not sim.done:
+            if on_rows is not None and sim.log_full:
+                on_rows(sim.drain())
             tau, status = call(observe(sim))
             s = s_of()
             step(tau, status, _NAN6 if s is None else s)
+        if on_rows is not None:
+            on_rows(sim.drain())
         self._wall += time.perf_counter() - start
         self._errors = call.errors
         return self.result()

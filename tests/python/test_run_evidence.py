@@ -126,7 +126,7 @@ def test_out_is_checked_before_anything_runs(diverging: Path, tmp_path: Path, mo
     def no_run(*args: object, **kwargs: object) -> None:
         raise AssertionError("simulated before checking --out")
 
-    monkeypatch.setattr(neurov.run, "simulate", no_run)
+    monkeypatch.setattr(neurov.run, "stream_run", no_run)
     monkeypatch.setattr(paper, "run_experiments", no_run)
     a_file = tmp_path / "a_file"
     a_file.write_text("x")
@@ -187,13 +187,13 @@ def test_decimated_plot_rows_keep_every_extreme(long_run: Result) -> None:
 @pytest.mark.parametrize("writer", ["pyarrow", "csv module"])
 def test_csv_written_in_blocks_reads_back_exactly(long_run: Result, tmp_path: Path, writer: str,
                                                   monkeypatch: pytest.MonkeyPatch) -> None:
-    import neurov.result
+    import neurov.export
 
     if writer == "pyarrow":
         pytest.importorskip("pyarrow")
     else:
         monkeypatch.setitem(sys.modules, "pyarrow", None)  # import pyarrow raises ImportError
-    monkeypatch.setattr(neurov.result, "CSV_BLOCK_ROWS", 997)
+    monkeypatch.setattr(neurov.export, "CSV_BLOCK_ROWS", 997)
     run = dataclasses.replace(long_run, **{k: getattr(long_run, k)[:5000] for k in SERIES})
     path = run.to_csv(tmp_path / "r.csv")
     with path.open(newline="") as f:

@@ -1,0 +1,155 @@
+"""A run streamed chunk by chunk, as ``neurov run`` does it: the closed loop
+hands its rows over in chunks (:func:`neurov._core.run_closed_loop_chunks`,
+or :class:`neurov.Simulator` for a controller written in Python), and each
+chunk is written to result.csv and result.npz, summed into the metrics and
+thinned to the rows the figures draw, then dropped. A run of any length so
+holds one chunk (about :data:`CHUNK_ROWS` rows) in memory, not its every row.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from neurov import _core
+from neurov.decimation import PlotRows
+from neurov.export import CsvWriter, NpzWriter
+from neurov.metrics import MetricsWindow
+from neurov.result import SERIES, Result
+from neurov.scenario import Scenario
+
+__all__ = ["CHUNK_ROWS", "StreamedRun", "stream_run"]
+
+CHUNK_ROWS = 12_000
+"""About this many rows per chunk (40 minutes at 5 Hz, some 7 MB): rounded to
+a whole number of the plot buckets (see :class:`neurov.decimation.PlotRows`)."""
+
+
+@dataclasses.dataclass
+class StreamedRun:
+    """What a streamed run leaves: `drawn`, the rows the figures draw (every
+    row of a run of at most :data:`neurov.decimation.MAX_PLOT_ROWS` rows,
+    else ``drawn.extra["plotted_rows_of"]`` holds the run's row count);
+    `metrics`, :meth:`Result.metrics` of every row; `elevation`, the whole
+    (t, wave_elevation) record when the scenario has waves (the realised
+    spectrum needs it uniform); `sea`, whether the run met a current, waves
+    or a payload change; `written`, the files written."""
+
+    drawn: Result
+    metrics: dict[str, Any]
+    elevation: Result | None
+    sea: bool
+    written: list[Path]
+
+
+class _Sinks:
+    """Where each chunk goes."""
+
+    def __init__(self, scenario: Scenario, label: str, out: Path | None, rows: int, thrusters: int,
+                 quiet: bool) -> None:
+        self.scenario, self.label, self.out, self.quiet = scenario, label, out, quiet
+        self.metrics = MetricsWindow(scenario.duration, scenario.dt)
+        self.plot_rows = PlotRows(rows, thrusters)
+        self.csv: CsvWriter | None = None
+        self.npz = NpzWriter(out / "result.npz") if out is not None else None
+        self.elevation: list[tuple[np.ndarray, np.ndarray]] | None = [] if scenario.waves is not None else None
+        self.sea = False
+        self.errors: dict[str, Any] = {}
+
+    def add(self, raw: dict[str, Any]) -> int:
+        diverged = bool(raw.pop("diverged"))
+        chunk = Result(scenario=self.scenario, controller=self.label, diverged=diverged, **raw)
+        self.metrics.add(chunk)
+        self.plot_rows.add(chunk)
+        self.sea = self.sea or bool(np.any(chunk.current) or np.any(chunk.wave_elevation)
+                                    or np.any(chunk.payload_mass))
+        if self.elevation is not None:
+            self.elevation.append((chunk.t, chunk.wave_elevation))
+        if self.out is not None and self.npz is not None:
+            cols = chunk.columns()
+            if self.csv is None:
+                self.csv = CsvWriter(self.out / "result.csv", list(cols))
+            self.csv.write(cols)
+            self.npz.append({name: getattr(chunk, name) for name in SERIES})
+        return len(chunk.t)
+
+    def close(self, drawn: Result | None) -> list[Path]:
+        """Closes the files; without `drawn` (the run failed) the CSV keeps
+        the rows written and the NPZ is not written."""
+        written: list[Path] = []
+        if self.csv is not None:
+            self.csv.close()
+            written.append(self.csv.path)
+        if self.npz is not None:
+            if drawn is None:
+                self.npz.discard()
+            else:
+                from neurov.progress import progress_bar
+
+                for name, value in drawn.npz_arrays().items():
+                    self.npz.set(name, value)
+                with progress_bar(self.npz.count, "result.npz", unit="array", quiet=self.quiet) as bar:
+                    written.append(self.npz.close(progress=bar))
+        return written
+
+
+def stream_run(scenario: Scenario, out_dir: str | Path | None = None, *, quiet: bool = True,
+               chunk_rows: int = CHUNK_ROWS) -> StreamedRun:
+    """Runs `scenario` with its controller, streaming the rows (see the
+    module): with `out_dir` (created if missing; an existing file or a
+    folder that cannot be written raises OSError before the run),
+    result.csv and result.npz are written there as
+    the run goes (the same files as :meth:`Result.to_csv` and
+    :meth:`Result.to_npz` of the whole run). Unless `quiet`, a progress bar
+    of the rows on a terminal. A run that diverges ends with the chunk where
+    it did; an exception (e.g. Ctrl-C) keeps the CSV rows written so far."""
+    from neurov.controller import is_built_in
+    from neurov.controllers import build_controller
+    from neurov.progress import progress_bar
+    from neurov.run import check_output_dir
+    from neurov.simulation import build_vehicle, simulation_config
+
+    if not isinstance(chunk_rows, int) or chunk_rows < 1:
+        raise ValueError(f"argument 'chunk_rows' must be an int >= 1, got {chunk_rows!r}")
+    out = check_output_dir(out_dir) if out_dir is not None else None
+    config = simulation_config(scenario)
+    rows = round(scenario.duration / scenario.dt) + 1
+    thrusters = config.thrusters.matrix.shape[1] if config.use_thrusters else 0
+    spec = scenario.controller
+    plant = build_vehicle(scenario)
+    controller = build_controller(spec, scenario)
+    sinks = _Sinks(scenario, spec.name, out, rows, thrusters, quiet)
+    chunk = sinks.plot_rows.chunk_rows(chunk_rows)
+    with progress_bar(rows, "run", unit="row", quiet=quiet) as bar:
+
+        def on_rows(raw: dict[str, Any]) -> None:
+            bar.update(sinks.add(raw))
+
+        start = time.perf_counter()
+        try:
+            if is_built_in(controller):
+                _core.run_closed_loop_chunks(plant, controller, config, chunk, on_rows)
+            else:
+                from neurov.simulator import Simulator
+
+                sim = Simulator(scenario, vehicle=plant, label=spec.name, log_rows=chunk)
+                sinks.errors = sim.run(controller, on_rows=on_rows).extra.get("controller_errors", {})
+        except BaseException:
+            sinks.close(None)
+            raise
+        wall = time.perf_counter() - start
+    drawn = sinks.plot_rows.result()
+    written = sinks.close(drawn)
+    drawn.wall_time = wall
+    if sinks.errors:
+        drawn.extra["controller_errors"] = sinks.errors
+    elevation = None
+    if sinks.elevation is not None:
+        t, eta = (np.concatenate(parts) for parts in zip(*sinks.elevation))
+        elevation = dataclasses.replace(drawn, t=t, wave_elevation=eta)
+    return StreamedRun(drawn=drawn, metrics=sinks.metrics.value(), elevation=elevation, sea=sinks.sea,
+                       written=written)
