@@ -78,6 +78,36 @@ class _ValidatedFields(_Fields):
     def validate(self) -> None:
         """``ValueError`` naming the first bad field and what it must be; None when valid."""
 
+@type_check_only
+class _SlidingConfig(_ValidatedFields):
+    """The configuration of a law on the sliding variable s: Lambda and K_d."""
+
+    @property
+    def lambda_(self) -> _Array:
+        """Lambda in s = eta_tilde_dot + Lambda eta_tilde, diagonal (6,), > 0."""
+    @lambda_.setter
+    def lambda_(self, value: _ArrayLike) -> None: ...
+    @property
+    def kd(self) -> _Array:
+        """K_d, diagonal (6,), >= 0."""
+    @kd.setter
+    def kd(self, value: _ArrayLike) -> None: ...
+
+@type_check_only
+class _SensorConfig(_Fields):
+    """A sensor's configuration: its rate and latency."""
+
+    @property
+    def rate(self) -> float:
+        """[Hz], > 0."""
+    @rate.setter
+    def rate(self, value: SupportsFloat) -> None: ...
+    @property
+    def latency(self) -> float:
+        """[s], >= 0."""
+    @latency.setter
+    def latency(self, value: SupportsFloat) -> None: ...
+
 @final
 class Status(_Enum):
     """Result of a real-time step; ``ok`` is 0."""
@@ -481,7 +511,7 @@ class PIDConfig(_ValidatedFields):
     @dt.setter
     def dt(self, value: SupportsFloat) -> None: ...
 
-class SlidingModeConfig(_ValidatedFields):
+class SlidingModeConfig(_SlidingConfig):
     """Configuration of :class:`SlidingModeController`.
 
     Every field has the C++ default; ``SlidingModeConfig(**fields)`` sets some by
@@ -490,16 +520,6 @@ class SlidingModeConfig(_ValidatedFields):
     :meth:`validate` run the one C++ validator.
     """
 
-    @property
-    def lambda_(self) -> _Array:
-        """Lambda in s = eta_tilde_dot + Lambda eta_tilde, diagonal (6,), > 0."""
-    @lambda_.setter
-    def lambda_(self, value: _ArrayLike) -> None: ...
-    @property
-    def kd(self) -> _Array:
-        """K_d, diagonal (6,), >= 0."""
-    @kd.setter
-    def kd(self, value: _ArrayLike) -> None: ...
     @property
     def k(self) -> _Array:
         """Switching gain K (6,), >= 0 [N, N m]."""
@@ -516,7 +536,7 @@ class SlidingModeConfig(_ValidatedFields):
     @theta.setter
     def theta(self, value: _ArrayLike) -> None: ...
 
-class LinearAdaptiveConfig(_ValidatedFields):
+class LinearAdaptiveConfig(_SlidingConfig):
     """Configuration of :class:`LinearAdaptiveController`.
 
     Every field has the C++ default; ``LinearAdaptiveConfig(**fields)`` sets some by
@@ -525,16 +545,6 @@ class LinearAdaptiveConfig(_ValidatedFields):
     :meth:`validate` run the one C++ validator.
     """
 
-    @property
-    def lambda_(self) -> _Array:
-        """Lambda in s = eta_tilde_dot + Lambda eta_tilde, diagonal (6,), > 0."""
-    @lambda_.setter
-    def lambda_(self, value: _ArrayLike) -> None: ...
-    @property
-    def kd(self) -> _Array:
-        """K_d, diagonal (6,), >= 0."""
-    @kd.setter
-    def kd(self, value: _ArrayLike) -> None: ...
     @property
     def gamma(self) -> _Array:
         """Diagonal of Gamma (24,), >= 0 (0 freezes that parameter); a number sets every entry."""
@@ -551,7 +561,7 @@ class LinearAdaptiveConfig(_ValidatedFields):
     @theta0.setter
     def theta0(self, value: _ArrayLike) -> None: ...
 
-class NNAdaptiveConfig(_ValidatedFields):
+class NNAdaptiveConfig(_SlidingConfig):
     """Configuration of :class:`NNAdaptiveController`.
 
     Every field has the C++ default; ``NNAdaptiveConfig(**fields)`` sets some by
@@ -560,11 +570,6 @@ class NNAdaptiveConfig(_ValidatedFields):
     :meth:`validate` run the one C++ validator.
     """
 
-    @property
-    def lambda_(self) -> _Array:
-        """Lambda in s = eta_tilde_dot + Lambda eta_tilde, diagonal (6,), > 0."""
-    @lambda_.setter
-    def lambda_(self, value: _ArrayLike) -> None: ...
     @property
     def kd(self) -> _Array:
         """K_d, diagonal (6,), >= 0 (0 leaves the network alone)."""
@@ -606,7 +611,7 @@ class NNAdaptiveConfig(_ValidatedFields):
     @dead_zone.setter
     def dead_zone(self, value: SupportsFloat) -> None: ...
 
-class ComputedTorqueConfig(_ValidatedFields):
+class ComputedTorqueConfig(_SlidingConfig):
     """Configuration of :class:`ComputedTorqueController`.
 
     Every field has the C++ default; ``ComputedTorqueConfig(**fields)`` sets some by
@@ -615,16 +620,6 @@ class ComputedTorqueConfig(_ValidatedFields):
     :meth:`validate` run the one C++ validator.
     """
 
-    @property
-    def lambda_(self) -> _Array:
-        """Lambda in s = eta_tilde_dot + Lambda eta_tilde, diagonal (6,), > 0."""
-    @lambda_.setter
-    def lambda_(self, value: _ArrayLike) -> None: ...
-    @property
-    def kd(self) -> _Array:
-        """K_d, diagonal (6,), >= 0."""
-    @kd.setter
-    def kd(self, value: _ArrayLike) -> None: ...
     @property
     def vehicle(self) -> Vehicle | None:
         """The nominal model, a Vehicle (None until set)."""
@@ -934,14 +929,9 @@ class EstimatorType(_Enum):
     __members__: ClassVar[dict[str, EstimatorType]]
 
 @final
-class UsblConfig(_Fields):
+class UsblConfig(_SensorConfig):
     """An acoustic position fix (USBL-like): NED position."""
 
-    @property
-    def rate(self) -> float:
-        """[Hz], > 0."""
-    @rate.setter
-    def rate(self, value: SupportsFloat) -> None: ...
     @property
     def latency(self) -> float:
         """[s], >= 0 (acoustic travel and processing)."""
@@ -959,19 +949,9 @@ class UsblConfig(_Fields):
     def bias(self, value: _ArrayLike) -> None: ...
 
 @final
-class DvlConfig(_Fields):
+class DvlConfig(_SensorConfig):
     """A Doppler velocity log: body velocity over ground."""
 
-    @property
-    def rate(self) -> float:
-        """[Hz], > 0."""
-    @rate.setter
-    def rate(self, value: SupportsFloat) -> None: ...
-    @property
-    def latency(self) -> float:
-        """[s], >= 0."""
-    @latency.setter
-    def latency(self, value: SupportsFloat) -> None: ...
     @property
     def noise(self) -> float:
         """Standard deviation per axis [m/s], >= 0."""
@@ -989,19 +969,9 @@ class DvlConfig(_Fields):
     def bias(self, value: _ArrayLike) -> None: ...
 
 @final
-class DepthConfig(_Fields):
+class DepthConfig(_SensorConfig):
     """A pressure depth sensor: z, down positive."""
 
-    @property
-    def rate(self) -> float:
-        """[Hz], > 0."""
-    @rate.setter
-    def rate(self, value: SupportsFloat) -> None: ...
-    @property
-    def latency(self) -> float:
-        """[s], >= 0."""
-    @latency.setter
-    def latency(self, value: SupportsFloat) -> None: ...
     @property
     def noise(self) -> float:
         """Standard deviation [m], >= 0."""
@@ -1014,19 +984,9 @@ class DepthConfig(_Fields):
     def bias(self, value: SupportsFloat) -> None: ...
 
 @final
-class ImuConfig(_Fields):
+class ImuConfig(_SensorConfig):
     """An AHRS/IMU: attitude and gyro rates, the gyro's bias walking."""
 
-    @property
-    def rate(self) -> float:
-        """[Hz], > 0."""
-    @rate.setter
-    def rate(self, value: SupportsFloat) -> None: ...
-    @property
-    def latency(self) -> float:
-        """[s], >= 0."""
-    @latency.setter
-    def latency(self, value: SupportsFloat) -> None: ...
     @property
     def attitude_noise(self) -> float:
         """Standard deviation of the angles [rad], >= 0."""
