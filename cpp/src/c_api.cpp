@@ -132,13 +132,9 @@ void neurov_nn_params_init(neurov_nn_params* params) {
 
 neurov_status neurov_nn_create(void* storage, size_t size, const neurov_nn_params* params,
                                neurov_nn** out, neurov_validation_error* error) {
-  if (out != nullptr) *out = nullptr;
-  clear(error);
-  neurov_status status = NEUROV_STATUS_OK;
-  if (!storage_fits<neurov_nn>(storage, size, error, status)) return status;
-  // From here a refusal leaves no object in the buffer, whatever it held.
-  std::memset(&static_cast<neurov_nn*>(storage)->canary, 0, sizeof(std::uint32_t));
-  if (out == nullptr) return fail(error, "out", 0.0, "a pointer to receive the controller");
+  const neurov_status begun =
+      begin_create(storage, size, out, error, "a pointer to receive the controller");
+  if (begun != NEUROV_STATUS_OK) return begun;
   if (params == nullptr) return fail(error, "params", 0.0, "parameters, not NULL");
   if (params->centres_count != static_cast<uint32_t>(kCentres))
     return fail(error, "centres_count", static_cast<double>(params->centres_count),
@@ -249,12 +245,9 @@ size_t neurov_reference_storage_size(void) { return sizeof(neurov_reference); }
 neurov_status neurov_reference_create(void* storage, size_t size, const float lambda_d[6],
                                       const float omega[6], const float eta0[6],
                                       neurov_reference** out, neurov_validation_error* error) {
-  if (out != nullptr) *out = nullptr;
-  clear(error);
-  neurov_status status = NEUROV_STATUS_OK;
-  if (!storage_fits<neurov_reference>(storage, size, error, status)) return status;
-  std::memset(&static_cast<neurov_reference*>(storage)->canary, 0, sizeof(std::uint32_t));
-  if (out == nullptr) return fail(error, "out", 0.0, "a pointer to receive the model");
+  const neurov_status begun =
+      begin_create(storage, size, out, error, "a pointer to receive the model");
+  if (begun != NEUROV_STATUS_OK) return begun;
   if (lambda_d == nullptr) return fail(error, "lambda_d", 0.0, "6 floats, not NULL");
   if (omega == nullptr) return fail(error, "omega", 0.0, "6 floats, not NULL");
   if (eta0 == nullptr) return fail(error, "eta0", 0.0, "6 floats, not NULL");

@@ -150,12 +150,9 @@ size_t neurov_allocator_storage_size(uint32_t curve_count) {
 neurov_status neurov_allocator_create(void* storage, size_t size,
                                       const neurov_allocator_params* params,
                                       neurov_allocator** out, neurov_validation_error* error) {
-  if (out != nullptr) *out = nullptr;
-  clear(error);
-  neurov_status status = NEUROV_STATUS_OK;
-  if (!storage_fits<neurov_allocator>(storage, size, error, status)) return status;
-  std::memset(&static_cast<neurov_allocator*>(storage)->canary, 0, sizeof(std::uint32_t));
-  if (out == nullptr) return fail(error, "out", 0.0, "a pointer to receive the allocator");
+  const neurov_status begun =
+      begin_create(storage, size, out, error, "a pointer to receive the allocator");
+  if (begun != NEUROV_STATUS_OK) return begun;
   if (params == nullptr) return fail(error, "params", 0.0, "parameters, not NULL");
   const neurov_allocator_params& p = *params;
   if (p.thrusters < 6 || p.thrusters > static_cast<uint32_t>(kMaxThrusters))
@@ -163,6 +160,7 @@ neurov_status neurov_allocator_create(void* storage, size_t size,
   const int n = static_cast<int>(p.thrusters);
   if (p.curve_count > p.thrusters)
     return fail(error, "curve_count", static_cast<double>(p.curve_count), "0 to thrusters");
+  neurov_status status = NEUROV_STATUS_OK;
   if (!storage_fits<neurov_allocator>(storage, size, error, status,
                                       neurov_allocator_storage_size(p.curve_count)))
     return status;

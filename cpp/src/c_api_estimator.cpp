@@ -61,12 +61,9 @@ size_t neurov_ekf_storage_size(void) { return sizeof(neurov_ekf); }
 neurov_status neurov_ekf_create(void* storage, size_t size, const neurov_ekf_params* params,
                                 const float eta0[6], const float nu0[6], neurov_ekf** out,
                                 neurov_validation_error* error) {
-  if (out != nullptr) *out = nullptr;
-  clear(error);
-  neurov_status status = NEUROV_STATUS_OK;
-  if (!storage_fits<neurov_ekf>(storage, size, error, status)) return status;
-  std::memset(&static_cast<neurov_ekf*>(storage)->canary, 0, sizeof(std::uint32_t));
-  if (out == nullptr) return fail(error, "out", 0.0, "a pointer to receive the estimator");
+  const neurov_status begun =
+      begin_create(storage, size, out, error, "a pointer to receive the estimator");
+  if (begun != NEUROV_STATUS_OK) return begun;
   if (params == nullptr) return fail(error, "params", 0.0, "parameters, not NULL");
   if (eta0 == nullptr) return fail(error, "eta0", 0.0, "6 floats, not NULL");
   if (nu0 == nullptr) return fail(error, "nu0", 0.0, "6 floats, not NULL");

@@ -67,6 +67,22 @@ bool storage_fits(void* storage, std::size_t size, neurov_validation_error* erro
   return true;
 }
 
+/// The start of every create(): *out = NULL and `error` cleared, the storage
+/// checked, the canary in the buffer cleared (from here a refusal leaves no
+/// object in the buffer, whatever it held) and `out` checked; `receives`
+/// names what `out` receives. Not NEUROV_STATUS_OK: the status to return.
+template <typename T>
+neurov_status begin_create(void* storage, std::size_t size, T** out,
+                           neurov_validation_error* error, const char* receives) {
+  if (out != nullptr) *out = nullptr;
+  clear(error);
+  neurov_status status = NEUROV_STATUS_OK;
+  if (!storage_fits<T>(storage, size, error, status)) return status;
+  std::memset(&static_cast<T*>(storage)->canary, 0, sizeof(std::uint32_t));
+  if (out == nullptr) return fail(error, "out", 0.0, receives);
+  return NEUROV_STATUS_OK;
+}
+
 inline void zero6(float* v) {
   if (v != nullptr)
     for (int i = 0; i < 6; ++i) v[i] = 0.0f;

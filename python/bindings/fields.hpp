@@ -37,8 +37,13 @@ namespace py = pybind11;
 template <typename T>
 class Fields {
  public:
-  Fields(py::class_<T>& cls, std::string type_name)
-      : cls_(cls), type_(std::move(type_name)), names_(std::make_shared<std::vector<std::string>>()) {}
+  Fields(py::class_<T> cls, std::string type_name)
+      : cls_(std::move(cls)),
+        type_(std::move(type_name)),
+        names_(std::make_shared<std::vector<std::string>>()) {}
+  /// Binds T as `name` in `m`, its fields to follow.
+  Fields(py::module_& m, const char* name, const char* doc)
+      : Fields(py::class_<T>(m, name, doc), name) {}
 
   /// A number, bool, enum (by value) or nested struct (a reference into this
   /// one). A value of the wrong type is a TypeError naming the field.
@@ -196,7 +201,8 @@ class Fields {
     return *this;
   }
 
-  void finish() {
+  /// Returns the class, for methods of its own.
+  py::class_<T> finish() {
     auto names = names_;
     const std::string type = type_;
     cls_.def(py::init([names, type](const py::kwargs& kw) {
@@ -230,6 +236,7 @@ class Fields {
           assign(obj, given, *names, type);
           return obj;
         }));
+    return cls_;
   }
 
  private:
@@ -338,7 +345,7 @@ class Fields {
     }
   }
 
-  py::class_<T>& cls_;
+  py::class_<T> cls_;  // a handle: copies name the one Python class
   std::string type_;
   std::shared_ptr<std::vector<std::string>> names_;
 };

@@ -88,6 +88,27 @@ Eigen::Matrix<double, N, 1> vector(const py::handle& obj, const char* name) {
   return Eigen::Map<const Eigen::Matrix<double, N, 1>>(a.data());
 }
 
+/// A vector of length N, or zero for None (an optional argument).
+template <int N>
+Eigen::Matrix<double, N, 1> vector_or_zero(const py::handle& obj, const char* name) {
+  if (obj.is_none()) return Eigen::Matrix<double, N, 1>::Zero();
+  return vector<N>(obj, name);
+}
+
+/// The arguments of the plant's functions, checked in this order: eta, nu,
+/// tau (None: zero where `tau_may_be_none`) and the current (None: still
+/// water).
+struct PlantArgs {
+  Eigen::Matrix<double, 6, 1> eta, nu, tau;
+  Eigen::Matrix<double, 3, 1> current;
+};
+inline PlantArgs plant_args(const py::handle& eta, const py::handle& nu, const py::handle& tau,
+                            const py::handle& current, bool tau_may_be_none = false) {
+  return {vector<6>(eta, "eta"), vector<6>(nu, "nu"),
+          tau_may_be_none ? vector_or_zero<6>(tau, "tau") : vector<6>(tau, "tau"),
+          vector_or_zero<3>(current, "current")};
+}
+
 /// A matrix of fixed size R x C.
 template <int R, int C>
 Eigen::Matrix<double, R, C> matrix(const py::handle& obj, const char* name) {

@@ -27,6 +27,7 @@ from typing import (
 
 import numpy
 import numpy.typing
+from typing_extensions import Self
 
 _Array = numpy.typing.NDArray[numpy.float64]
 _ArrayLike = numpy.typing.ArrayLike
@@ -38,8 +39,77 @@ __version__: str
 THETA_NAMES: tuple[str, ...]
 """Names of the 24 columns of :func:`regressor` (the entries of theta), e.g. ``'m'``, ``'X_u|u|'``."""
 
+@type_check_only
+class _Enum:
+    """What every enum of the core has: an integer value and a name."""
+
+    def __init__(self, value: SupportsInt | SupportsIndex) -> None:
+        """The member with this integer value."""
+    def __eq__(self, other: object) -> bool: ...
+    def __ne__(self, other: object) -> bool: ...
+    def __hash__(self) -> int: ...
+    def __index__(self) -> int: ...
+    def __int__(self) -> int: ...
+    def __getstate__(self) -> int: ...
+    def __setstate__(self, state: SupportsInt | SupportsIndex) -> None: ...
+    @property
+    def name(self) -> str:
+        """The member's name."""
+    @property
+    def value(self) -> int:
+        """The member's integer value."""
+
+@type_check_only
+class _Fields:
+    """What every configuration struct of the core has: a keyword constructor
+    (an unknown keyword is a TypeError), copy and pickle."""
+
+    def __init__(self, **kwargs: Any) -> None:
+        """Every field at its default, or as given by keyword (an unknown one is a TypeError)."""
+    def __copy__(self) -> Self: ...
+    def __deepcopy__(self, memo: dict[int, Any]) -> Self: ...
+    def __getstate__(self) -> dict[str, Any]: ...
+    def __setstate__(self, state: dict[str, Any]) -> None: ...
+
+@type_check_only
+class _ValidatedFields(_Fields):
+    """A configuration struct with the C++ validator."""
+
+    def validate(self) -> None:
+        """``ValueError`` naming the first bad field and what it must be; None when valid."""
+
+@type_check_only
+class _SlidingConfig(_ValidatedFields):
+    """The configuration of a law on the sliding variable s: Lambda and K_d."""
+
+    @property
+    def lambda_(self) -> _Array:
+        """Lambda in s = eta_tilde_dot + Lambda eta_tilde, diagonal (6,), > 0."""
+    @lambda_.setter
+    def lambda_(self, value: _ArrayLike) -> None: ...
+    @property
+    def kd(self) -> _Array:
+        """K_d, diagonal (6,), >= 0."""
+    @kd.setter
+    def kd(self, value: _ArrayLike) -> None: ...
+
+@type_check_only
+class _SensorConfig(_Fields):
+    """A sensor's configuration: its rate and latency."""
+
+    @property
+    def rate(self) -> float:
+        """[Hz], > 0."""
+    @rate.setter
+    def rate(self, value: SupportsFloat) -> None: ...
+    @property
+    def latency(self) -> float:
+        """[s], >= 0."""
+    @latency.setter
+    def latency(self, value: SupportsFloat) -> None: ...
+
 @final
-class Status:
+class Status(_Enum):
     """Result of a real-time step; ``ok`` is 0."""
 
     ok: ClassVar[Status]
@@ -53,22 +123,6 @@ class Status:
     non_finite_output: ClassVar[Status]
     """The result overflowed; safe values were written instead."""
     __members__: ClassVar[dict[str, Status]]
-
-    def __init__(self, value: SupportsInt | SupportsIndex) -> None:
-        """The status with this integer value."""
-    def __eq__(self, other: object) -> bool: ...
-    def __ne__(self, other: object) -> bool: ...
-    def __hash__(self) -> int: ...
-    def __index__(self) -> int: ...
-    def __int__(self) -> int: ...
-    def __getstate__(self) -> int: ...
-    def __setstate__(self, state: SupportsInt | SupportsIndex) -> None: ...
-    @property
-    def name(self) -> str:
-        """The member's name, e.g. ``"ok"``."""
-    @property
-    def value(self) -> int:
-        """The member's integer value (``ok`` is 0)."""
 
 @type_check_only
 class _VehicleParameters(TypedDict):
@@ -389,7 +443,7 @@ class RbfNetwork:
         """Number of centres N."""
 
 @final
-class RobustModification:
+class RobustModification(_Enum):
     """Robust modification of the NN controller's adaptive law."""
 
     none: ClassVar[RobustModification]
@@ -402,23 +456,7 @@ class RobustModification:
     """After each update, W scaled back onto ||W||_F <= w_max."""
     __members__: ClassVar[dict[str, RobustModification]]
 
-    def __init__(self, value: SupportsInt | SupportsIndex) -> None:
-        """The modification with this integer value."""
-    def __eq__(self, other: object) -> bool: ...
-    def __ne__(self, other: object) -> bool: ...
-    def __hash__(self) -> int: ...
-    def __index__(self) -> int: ...
-    def __int__(self) -> int: ...
-    def __getstate__(self) -> int: ...
-    def __setstate__(self, state: SupportsInt | SupportsIndex) -> None: ...
-    @property
-    def name(self) -> str:
-        """The member's name, e.g. ``"sigma"``."""
-    @property
-    def value(self) -> int:
-        """The member's integer value (``none`` is 0)."""
-
-class PDConfig:
+class PDConfig(_ValidatedFields):
     """Configuration of :class:`PDController`.
 
     Every field has the C++ default; ``PDConfig(**fields)`` sets some by
@@ -427,10 +465,6 @@ class PDConfig:
     :meth:`validate` run the one C++ validator.
     """
 
-    def __init__(self, **kwargs: Any) -> None:
-        """Every field at its default, or as given by keyword."""
-    def validate(self) -> None:
-        """``ValueError`` naming the first bad field and what it must be; None when valid."""
     @property
     def kp(self) -> _Array:
         """K_p, diagonal (6,), >= 0."""
@@ -442,7 +476,7 @@ class PDConfig:
     @kd.setter
     def kd(self, value: _ArrayLike) -> None: ...
 
-class PIDConfig:
+class PIDConfig(_ValidatedFields):
     """Configuration of :class:`PIDController`.
 
     Every field has the C++ default; ``PIDConfig(**fields)`` sets some by
@@ -451,10 +485,6 @@ class PIDConfig:
     :meth:`validate` run the one C++ validator.
     """
 
-    def __init__(self, **kwargs: Any) -> None:
-        """Every field at its default, or as given by keyword."""
-    def validate(self) -> None:
-        """``ValueError`` naming the first bad field and what it must be; None when valid."""
     @property
     def kp(self) -> _Array:
         """K_p, diagonal (6,), >= 0."""
@@ -481,7 +511,7 @@ class PIDConfig:
     @dt.setter
     def dt(self, value: SupportsFloat) -> None: ...
 
-class SlidingModeConfig:
+class SlidingModeConfig(_SlidingConfig):
     """Configuration of :class:`SlidingModeController`.
 
     Every field has the C++ default; ``SlidingModeConfig(**fields)`` sets some by
@@ -490,20 +520,6 @@ class SlidingModeConfig:
     :meth:`validate` run the one C++ validator.
     """
 
-    def __init__(self, **kwargs: Any) -> None:
-        """Every field at its default, or as given by keyword."""
-    def validate(self) -> None:
-        """``ValueError`` naming the first bad field and what it must be; None when valid."""
-    @property
-    def lambda_(self) -> _Array:
-        """Lambda in s = eta_tilde_dot + Lambda eta_tilde, diagonal (6,), > 0."""
-    @lambda_.setter
-    def lambda_(self, value: _ArrayLike) -> None: ...
-    @property
-    def kd(self) -> _Array:
-        """K_d, diagonal (6,), >= 0."""
-    @kd.setter
-    def kd(self, value: _ArrayLike) -> None: ...
     @property
     def k(self) -> _Array:
         """Switching gain K (6,), >= 0 [N, N m]."""
@@ -520,7 +536,7 @@ class SlidingModeConfig:
     @theta.setter
     def theta(self, value: _ArrayLike) -> None: ...
 
-class LinearAdaptiveConfig:
+class LinearAdaptiveConfig(_SlidingConfig):
     """Configuration of :class:`LinearAdaptiveController`.
 
     Every field has the C++ default; ``LinearAdaptiveConfig(**fields)`` sets some by
@@ -529,20 +545,6 @@ class LinearAdaptiveConfig:
     :meth:`validate` run the one C++ validator.
     """
 
-    def __init__(self, **kwargs: Any) -> None:
-        """Every field at its default, or as given by keyword."""
-    def validate(self) -> None:
-        """``ValueError`` naming the first bad field and what it must be; None when valid."""
-    @property
-    def lambda_(self) -> _Array:
-        """Lambda in s = eta_tilde_dot + Lambda eta_tilde, diagonal (6,), > 0."""
-    @lambda_.setter
-    def lambda_(self, value: _ArrayLike) -> None: ...
-    @property
-    def kd(self) -> _Array:
-        """K_d, diagonal (6,), >= 0."""
-    @kd.setter
-    def kd(self, value: _ArrayLike) -> None: ...
     @property
     def gamma(self) -> _Array:
         """Diagonal of Gamma (24,), >= 0 (0 freezes that parameter); a number sets every entry."""
@@ -559,7 +561,7 @@ class LinearAdaptiveConfig:
     @theta0.setter
     def theta0(self, value: _ArrayLike) -> None: ...
 
-class NNAdaptiveConfig:
+class NNAdaptiveConfig(_SlidingConfig):
     """Configuration of :class:`NNAdaptiveController`.
 
     Every field has the C++ default; ``NNAdaptiveConfig(**fields)`` sets some by
@@ -568,15 +570,6 @@ class NNAdaptiveConfig:
     :meth:`validate` run the one C++ validator.
     """
 
-    def __init__(self, **kwargs: Any) -> None:
-        """Every field at its default, or as given by keyword."""
-    def validate(self) -> None:
-        """``ValueError`` naming the first bad field and what it must be; None when valid."""
-    @property
-    def lambda_(self) -> _Array:
-        """Lambda in s = eta_tilde_dot + Lambda eta_tilde, diagonal (6,), > 0."""
-    @lambda_.setter
-    def lambda_(self, value: _ArrayLike) -> None: ...
     @property
     def kd(self) -> _Array:
         """K_d, diagonal (6,), >= 0 (0 leaves the network alone)."""
@@ -618,7 +611,7 @@ class NNAdaptiveConfig:
     @dead_zone.setter
     def dead_zone(self, value: SupportsFloat) -> None: ...
 
-class ComputedTorqueConfig:
+class ComputedTorqueConfig(_SlidingConfig):
     """Configuration of :class:`ComputedTorqueController`.
 
     Every field has the C++ default; ``ComputedTorqueConfig(**fields)`` sets some by
@@ -627,20 +620,6 @@ class ComputedTorqueConfig:
     :meth:`validate` run the one C++ validator.
     """
 
-    def __init__(self, **kwargs: Any) -> None:
-        """Every field at its default, or as given by keyword."""
-    def validate(self) -> None:
-        """``ValueError`` naming the first bad field and what it must be; None when valid."""
-    @property
-    def lambda_(self) -> _Array:
-        """Lambda in s = eta_tilde_dot + Lambda eta_tilde, diagonal (6,), > 0."""
-    @lambda_.setter
-    def lambda_(self, value: _ArrayLike) -> None: ...
-    @property
-    def kd(self) -> _Array:
-        """K_d, diagonal (6,), >= 0."""
-    @kd.setter
-    def kd(self, value: _ArrayLike) -> None: ...
     @property
     def vehicle(self) -> Vehicle | None:
         """The nominal model, a Vehicle (None until set)."""
@@ -892,7 +871,7 @@ class ComputedTorqueController(_Controller):
 # dynamic arrays (command times and poses, thruster arrays) are read-only
 # copies and lists of structs tuples of copies: assign them whole.
 
-class SensorFaultKind:
+class SensorFaultKind(_Enum):
     """What a sensor fault does to a measurement."""
 
     freeze: ClassVar[SensorFaultKind]
@@ -903,23 +882,7 @@ class SensorFaultKind:
     """Extra white noise."""
     __members__: ClassVar[dict[str, SensorFaultKind]]
 
-    def __init__(self, value: SupportsInt | SupportsIndex) -> None:
-        """The member with this integer value."""
-    def __eq__(self, other: object) -> bool: ...
-    def __ne__(self, other: object) -> bool: ...
-    def __hash__(self) -> int: ...
-    def __index__(self) -> int: ...
-    def __int__(self) -> int: ...
-    def __getstate__(self) -> int: ...
-    def __setstate__(self, state: SupportsInt | SupportsIndex) -> None: ...
-    @property
-    def name(self) -> str:
-        """The member's name."""
-    @property
-    def value(self) -> int:
-        """The member's integer value."""
-
-class RefusedStepPolicy:
+class RefusedStepPolicy(_Enum):
     """The force applied when the controller refuses a step."""
 
     zero: ClassVar[RefusedStepPolicy]
@@ -928,23 +891,7 @@ class RefusedStepPolicy:
     """The last force the controller accepted."""
     __members__: ClassVar[dict[str, RefusedStepPolicy]]
 
-    def __init__(self, value: SupportsInt | SupportsIndex) -> None:
-        """The member with this integer value."""
-    def __eq__(self, other: object) -> bool: ...
-    def __ne__(self, other: object) -> bool: ...
-    def __hash__(self) -> int: ...
-    def __index__(self) -> int: ...
-    def __int__(self) -> int: ...
-    def __getstate__(self) -> int: ...
-    def __setstate__(self, state: SupportsInt | SupportsIndex) -> None: ...
-    @property
-    def name(self) -> str:
-        """The member's name."""
-    @property
-    def value(self) -> int:
-        """The member's integer value."""
-
-class CurrentModel:
+class CurrentModel(_Enum):
     """The model of the current a run uses."""
 
     constant: ClassVar[CurrentModel]
@@ -953,23 +900,7 @@ class CurrentModel:
     """First-order Gauss-Markov speed and direction (gauss_markov_current)."""
     __members__: ClassVar[dict[str, CurrentModel]]
 
-    def __init__(self, value: SupportsInt | SupportsIndex) -> None:
-        """The member with this integer value."""
-    def __eq__(self, other: object) -> bool: ...
-    def __ne__(self, other: object) -> bool: ...
-    def __hash__(self) -> int: ...
-    def __index__(self) -> int: ...
-    def __int__(self) -> int: ...
-    def __getstate__(self) -> int: ...
-    def __setstate__(self, state: SupportsInt | SupportsIndex) -> None: ...
-    @property
-    def name(self) -> str:
-        """The member's name."""
-    @property
-    def value(self) -> int:
-        """The member's integer value."""
-
-class WaveSpectrum:
+class WaveSpectrum(_Enum):
     """The spectrum the waves realise."""
 
     jonswap: ClassVar[WaveSpectrum]
@@ -978,23 +909,7 @@ class WaveSpectrum:
     """Two-parameter Pierson-Moskowitz (Bretschneider/ITTC: hs, tp)."""
     __members__: ClassVar[dict[str, WaveSpectrum]]
 
-    def __init__(self, value: SupportsInt | SupportsIndex) -> None:
-        """The member with this integer value."""
-    def __eq__(self, other: object) -> bool: ...
-    def __ne__(self, other: object) -> bool: ...
-    def __hash__(self) -> int: ...
-    def __index__(self) -> int: ...
-    def __int__(self) -> int: ...
-    def __getstate__(self) -> int: ...
-    def __setstate__(self, state: SupportsInt | SupportsIndex) -> None: ...
-    @property
-    def name(self) -> str:
-        """The member's name."""
-    @property
-    def value(self) -> int:
-        """The member's integer value."""
-
-class Saturation:
+class Saturation(_Enum):
     """How thrusts beyond their limits are brought back."""
 
     scale: ClassVar[Saturation]
@@ -1003,24 +918,8 @@ class Saturation:
     """Each thruster clipped to its limits: the wrench turns."""
     __members__: ClassVar[dict[str, Saturation]]
 
-    def __init__(self, value: SupportsInt | SupportsIndex) -> None:
-        """The member with this integer value."""
-    def __eq__(self, other: object) -> bool: ...
-    def __ne__(self, other: object) -> bool: ...
-    def __hash__(self) -> int: ...
-    def __index__(self) -> int: ...
-    def __int__(self) -> int: ...
-    def __getstate__(self) -> int: ...
-    def __setstate__(self, state: SupportsInt | SupportsIndex) -> None: ...
-    @property
-    def name(self) -> str:
-        """The member's name."""
-    @property
-    def value(self) -> int:
-        """The member's integer value."""
-
 @final
-class EstimatorType:
+class EstimatorType(_Enum):
     """What the controller is given from the sensors."""
 
     none: ClassVar[EstimatorType]
@@ -1029,33 +928,10 @@ class EstimatorType:
     """The extended Kalman filter's estimate."""
     __members__: ClassVar[dict[str, EstimatorType]]
 
-    def __init__(self, value: SupportsInt | SupportsIndex) -> None:
-        """The member with this integer value."""
-    def __eq__(self, other: object) -> bool: ...
-    def __ne__(self, other: object) -> bool: ...
-    def __hash__(self) -> int: ...
-    def __index__(self) -> int: ...
-    def __int__(self) -> int: ...
-    def __getstate__(self) -> int: ...
-    def __setstate__(self, state: SupportsInt | SupportsIndex) -> None: ...
-    @property
-    def name(self) -> str:
-        """The member's name."""
-    @property
-    def value(self) -> int:
-        """The member's integer value."""
-
 @final
-class UsblConfig:
+class UsblConfig(_SensorConfig):
     """An acoustic position fix (USBL-like): NED position."""
 
-    def __init__(self, **kwargs: Any) -> None:
-        """Every field is a keyword argument (an unknown one is a TypeError)."""
-    @property
-    def rate(self) -> float:
-        """[Hz], > 0."""
-    @rate.setter
-    def rate(self, value: SupportsFloat) -> None: ...
     @property
     def latency(self) -> float:
         """[s], >= 0 (acoustic travel and processing)."""
@@ -1071,27 +947,11 @@ class UsblConfig:
         """NED [m] (3,)."""
     @bias.setter
     def bias(self, value: _ArrayLike) -> None: ...
-    def __copy__(self) -> UsblConfig: ...
-    def __deepcopy__(self, memo: dict[int, Any]) -> UsblConfig: ...
-    def __getstate__(self) -> dict[str, Any]: ...
-    def __setstate__(self, state: dict[str, Any]) -> None: ...
 
 @final
-class DvlConfig:
+class DvlConfig(_SensorConfig):
     """A Doppler velocity log: body velocity over ground."""
 
-    def __init__(self, **kwargs: Any) -> None:
-        """Every field is a keyword argument (an unknown one is a TypeError)."""
-    @property
-    def rate(self) -> float:
-        """[Hz], > 0."""
-    @rate.setter
-    def rate(self, value: SupportsFloat) -> None: ...
-    @property
-    def latency(self) -> float:
-        """[s], >= 0."""
-    @latency.setter
-    def latency(self, value: SupportsFloat) -> None: ...
     @property
     def noise(self) -> float:
         """Standard deviation per axis [m/s], >= 0."""
@@ -1107,27 +967,11 @@ class DvlConfig:
         """[m/s] (3,)."""
     @bias.setter
     def bias(self, value: _ArrayLike) -> None: ...
-    def __copy__(self) -> DvlConfig: ...
-    def __deepcopy__(self, memo: dict[int, Any]) -> DvlConfig: ...
-    def __getstate__(self) -> dict[str, Any]: ...
-    def __setstate__(self, state: dict[str, Any]) -> None: ...
 
 @final
-class DepthConfig:
+class DepthConfig(_SensorConfig):
     """A pressure depth sensor: z, down positive."""
 
-    def __init__(self, **kwargs: Any) -> None:
-        """Every field is a keyword argument (an unknown one is a TypeError)."""
-    @property
-    def rate(self) -> float:
-        """[Hz], > 0."""
-    @rate.setter
-    def rate(self, value: SupportsFloat) -> None: ...
-    @property
-    def latency(self) -> float:
-        """[s], >= 0."""
-    @latency.setter
-    def latency(self, value: SupportsFloat) -> None: ...
     @property
     def noise(self) -> float:
         """Standard deviation [m], >= 0."""
@@ -1138,27 +982,11 @@ class DepthConfig:
         """[m]."""
     @bias.setter
     def bias(self, value: SupportsFloat) -> None: ...
-    def __copy__(self) -> DepthConfig: ...
-    def __deepcopy__(self, memo: dict[int, Any]) -> DepthConfig: ...
-    def __getstate__(self) -> dict[str, Any]: ...
-    def __setstate__(self, state: dict[str, Any]) -> None: ...
 
 @final
-class ImuConfig:
+class ImuConfig(_SensorConfig):
     """An AHRS/IMU: attitude and gyro rates, the gyro's bias walking."""
 
-    def __init__(self, **kwargs: Any) -> None:
-        """Every field is a keyword argument (an unknown one is a TypeError)."""
-    @property
-    def rate(self) -> float:
-        """[Hz], > 0."""
-    @rate.setter
-    def rate(self, value: SupportsFloat) -> None: ...
-    @property
-    def latency(self) -> float:
-        """[s], >= 0."""
-    @latency.setter
-    def latency(self, value: SupportsFloat) -> None: ...
     @property
     def attitude_noise(self) -> float:
         """Standard deviation of the angles [rad], >= 0."""
@@ -1179,17 +1007,11 @@ class ImuConfig:
         """Initial gyro bias [rad/s] (3,)."""
     @gyro_bias.setter
     def gyro_bias(self, value: _ArrayLike) -> None: ...
-    def __copy__(self) -> ImuConfig: ...
-    def __deepcopy__(self, memo: dict[int, Any]) -> ImuConfig: ...
-    def __getstate__(self) -> dict[str, Any]: ...
-    def __setstate__(self, state: dict[str, Any]) -> None: ...
 
 @final
-class SensorsConfig:
+class SensorsConfig(_Fields):
     """The sensors of a run, each optional; none configured: ideal sensing."""
 
-    def __init__(self, **kwargs: Any) -> None:
-        """Every field is a keyword argument (an unknown one is a TypeError)."""
     @property
     def usbl(self) -> UsblConfig | None:
         """A UsblConfig, or None."""
@@ -1212,17 +1034,11 @@ class SensorsConfig:
     def imu(self, value: ImuConfig | None) -> None: ...
     def any(self) -> bool:
         """Some sensor is configured."""
-    def __copy__(self) -> SensorsConfig: ...
-    def __deepcopy__(self, memo: dict[int, Any]) -> SensorsConfig: ...
-    def __getstate__(self) -> dict[str, Any]: ...
-    def __setstate__(self, state: dict[str, Any]) -> None: ...
 
 @final
-class EstimatorConfig:
+class EstimatorConfig(_Fields):
     """What the controller is given from the sensors; the EKF's measurement noises are the sensors' own."""
 
-    def __init__(self, **kwargs: Any) -> None:
-        """Every field is a keyword argument (an unknown one is a TypeError)."""
     @property
     def type(self) -> EstimatorType:
         """An EstimatorType."""
@@ -1243,17 +1059,11 @@ class EstimatorConfig:
         """Standard deviations of the initial estimate (15,): position, angles, body velocity, rates, gyro bias."""
     @initial_std.setter
     def initial_std(self, value: _ArrayLike) -> None: ...
-    def __copy__(self) -> EstimatorConfig: ...
-    def __deepcopy__(self, memo: dict[int, Any]) -> EstimatorConfig: ...
-    def __getstate__(self) -> dict[str, Any]: ...
-    def __setstate__(self, state: dict[str, Any]) -> None: ...
 
 @final
-class SinusoidalDisturbance:
+class SinusoidalDisturbance(_Fields):
     """A force or moment in one body DOF: amplitude * sin(2 pi frequency (t - start) + phase) for t >= start."""
 
-    def __init__(self, **kwargs: Any) -> None:
-        """Every field is a keyword argument (an unknown one is a TypeError)."""
     @property
     def dof(self) -> int:
         """0..5: surge, sway, heave, roll, pitch, yaw."""
@@ -1279,17 +1089,11 @@ class SinusoidalDisturbance:
         """[s]."""
     @start.setter
     def start(self, value: SupportsFloat) -> None: ...
-    def __copy__(self) -> SinusoidalDisturbance: ...
-    def __deepcopy__(self, memo: dict[int, Any]) -> SinusoidalDisturbance: ...
-    def __getstate__(self) -> dict[str, Any]: ...
-    def __setstate__(self, state: dict[str, Any]) -> None: ...
 
 @final
-class ThrusterFailure:
+class ThrusterFailure(_Fields):
     """Thruster ``index`` works at ``efficiency`` (0: failed) from ``time`` on."""
 
-    def __init__(self, **kwargs: Any) -> None:
-        """Every field is a keyword argument (an unknown one is a TypeError)."""
     @property
     def index(self) -> int:
         """The thruster (a column of the thruster matrix)."""
@@ -1305,17 +1109,11 @@ class ThrusterFailure:
         """[s]."""
     @time.setter
     def time(self, value: SupportsFloat) -> None: ...
-    def __copy__(self) -> ThrusterFailure: ...
-    def __deepcopy__(self, memo: dict[int, Any]) -> ThrusterFailure: ...
-    def __getstate__(self) -> dict[str, Any]: ...
-    def __setstate__(self, state: dict[str, Any]) -> None: ...
 
 @final
-class SensorFault:
+class SensorFault(_Fields):
     """A sensor fault over [start, end): the measurement of eta and/or nu freezes, drops out (NaN) or gets extra white noise."""
 
-    def __init__(self, **kwargs: Any) -> None:
-        """Every field is a keyword argument (an unknown one is a TypeError)."""
     @property
     def kind(self) -> SensorFaultKind:
         """What the fault does."""
@@ -1351,17 +1149,11 @@ class SensorFault:
         """Standard deviations (6,); noise_burst only."""
     @noise_nu.setter
     def noise_nu(self, value: _ArrayLike) -> None: ...
-    def __copy__(self) -> SensorFault: ...
-    def __deepcopy__(self, memo: dict[int, Any]) -> SensorFault: ...
-    def __getstate__(self) -> dict[str, Any]: ...
-    def __setstate__(self, state: dict[str, Any]) -> None: ...
 
 @final
-class GaussMarkovCurrentConfig:
+class GaussMarkovCurrentConfig(_Fields):
     """A current whose speed, direction and vertical angle wander about their means as first-order Gauss-Markov processes (Fossen 2011, 8.3)."""
 
-    def __init__(self, **kwargs: Any) -> None:
-        """Every field is a keyword argument (an unknown one is a TypeError)."""
     @property
     def speed(self) -> float:
         """Mean speed [m/s], within [speed_min, speed_max]."""
@@ -1407,17 +1199,11 @@ class GaussMarkovCurrentConfig:
         """[deg], >= 0."""
     @vertical_angle_std.setter
     def vertical_angle_std(self, value: SupportsFloat) -> None: ...
-    def __copy__(self) -> GaussMarkovCurrentConfig: ...
-    def __deepcopy__(self, memo: dict[int, Any]) -> GaussMarkovCurrentConfig: ...
-    def __getstate__(self) -> dict[str, Any]: ...
-    def __setstate__(self, state: dict[str, Any]) -> None: ...
 
 @final
-class WaveConfig:
+class WaveConfig(_Fields):
     """Linear deep-water waves realised from a spectrum as a sum of seeded components."""
 
-    def __init__(self, **kwargs: Any) -> None:
-        """Every field is a keyword argument (an unknown one is a TypeError)."""
     @property
     def spectrum(self) -> WaveSpectrum:
         """A WaveSpectrum."""
@@ -1455,17 +1241,11 @@ class WaveConfig:
     def components(self, value: SupportsIndex) -> None: ...
     def spectral_density(self, omega: _ArrayLike) -> _Array:
         """S(omega) [m^2 s/rad] at the circular frequencies ``omega`` [rad/s] (0 for omega <= 0); JONSWAP normalised so that its m0 is hs^2/16."""
-    def __copy__(self) -> WaveConfig: ...
-    def __deepcopy__(self, memo: dict[int, Any]) -> WaveConfig: ...
-    def __getstate__(self) -> dict[str, Any]: ...
-    def __setstate__(self, state: dict[str, Any]) -> None: ...
 
 @final
-class PayloadEvent:
+class PayloadEvent(_Fields):
     """A change of the vehicle at ``time`` that the controller is not told about: mass, buoyancy, damping and added mass."""
 
-    def __init__(self, **kwargs: Any) -> None:
-        """Every field is a keyword argument (an unknown one is a TypeError)."""
     @property
     def time(self) -> float:
         """When it happens [s], >= 0."""
@@ -1501,17 +1281,11 @@ class PayloadEvent:
         """Factor on the added-mass matrix."""
     @added_mass_scale.setter
     def added_mass_scale(self, value: SupportsFloat) -> None: ...
-    def __copy__(self) -> PayloadEvent: ...
-    def __deepcopy__(self, memo: dict[int, Any]) -> PayloadEvent: ...
-    def __getstate__(self) -> dict[str, Any]: ...
-    def __setstate__(self, state: dict[str, Any]) -> None: ...
 
 @final
-class CurrentStep:
+class CurrentStep(_Fields):
     """From ``time`` on, the mean current is ``velocity``."""
 
-    def __init__(self, **kwargs: Any) -> None:
-        """Every field is a keyword argument (an unknown one is a TypeError)."""
     @property
     def time(self) -> float:
         """[s]."""
@@ -1522,17 +1296,11 @@ class CurrentStep:
         """NED [m/s] (3,)."""
     @velocity.setter
     def velocity(self, value: _ArrayLike) -> None: ...
-    def __copy__(self) -> CurrentStep: ...
-    def __deepcopy__(self, memo: dict[int, Any]) -> CurrentStep: ...
-    def __getstate__(self) -> dict[str, Any]: ...
-    def __setstate__(self, state: dict[str, Any]) -> None: ...
 
 @final
-class Command:
+class Command(_Fields):
     """Commanded poses at increasing times; held before the first and after the last; between them linear or held."""
 
-    def __init__(self, **kwargs: Any) -> None:
-        """Every field is a keyword argument (an unknown one is a TypeError)."""
     @property
     def times(self) -> _Array:
         """(K,) strictly increasing [s] (a read-only copy)."""
@@ -1548,19 +1316,13 @@ class Command:
         """Linear between the poses; False: piecewise constant."""
     @linear.setter
     def linear(self, value: bool) -> None: ...
-    def __copy__(self) -> Command: ...
-    def __deepcopy__(self, memo: dict[int, Any]) -> Command: ...
-    def __getstate__(self) -> dict[str, Any]: ...
-    def __setstate__(self, state: dict[str, Any]) -> None: ...
     def at(self, t: SupportsFloat) -> _Array:
         """The commanded pose at time t."""
 
 @final
-class ThrusterCurveConfig:
+class ThrusterCurveConfig(_ValidatedFields):
     """One thruster from command to thrust: a table (linearly interpolated), a dead band around the neutral command, supply-voltage scaling, a first-order lag and a slew-rate limit."""
 
-    def __init__(self, **kwargs: Any) -> None:
-        """Every field is a keyword argument (an unknown one is a TypeError)."""
     @property
     def table(self) -> _Array:
         """(n, 2) rows of (command, thrust [N] at reference_voltage), commands strictly increasing, 2 <= n <= 256 (a read-only copy)."""
@@ -1596,23 +1358,15 @@ class ThrusterCurveConfig:
         """Largest rate of change of the thrust [N/s]; 0: none."""
     @slew_rate.setter
     def slew_rate(self, value: SupportsFloat) -> None: ...
-    def __copy__(self) -> ThrusterCurveConfig: ...
-    def __deepcopy__(self, memo: dict[int, Any]) -> ThrusterCurveConfig: ...
-    def __getstate__(self) -> dict[str, Any]: ...
-    def __setstate__(self, state: dict[str, Any]) -> None: ...
-    def validate(self) -> None:
-        """Raises ValueError naming the first field that is wrong and what it expected."""
     def static_thrust(self, command: SupportsFloat, voltage: SupportsFloat) -> float:
         """Steady thrust [N] at a command and supply voltage (the C++ curve)."""
     def command_for(self, thrust: SupportsFloat, voltage: SupportsFloat) -> float:
         """The command whose steady thrust is `thrust` at `voltage` (the curve's inverse), clamped to the table."""
 
 @final
-class ThrusterConfig:
+class ThrusterConfig(_ValidatedFields):
     """n thrusters: tau = B u, allocated by the weighted pseudo-inverse, saturated, with a first-order lag."""
 
-    def __init__(self, **kwargs: Any) -> None:
-        """Every field is a keyword argument (an unknown one is a TypeError)."""
     @property
     def matrix(self) -> _Array:
         """B (6, n): the wrench of each thruster per unit thrust (a read-only copy)."""
@@ -1653,23 +1407,15 @@ class ThrusterConfig:
         """Supply voltage [V] of the curves, > 0 with curves."""
     @supply_voltage.setter
     def supply_voltage(self, value: SupportsFloat) -> None: ...
-    def __copy__(self) -> ThrusterConfig: ...
-    def __deepcopy__(self, memo: dict[int, Any]) -> ThrusterConfig: ...
-    def __getstate__(self) -> dict[str, Any]: ...
-    def __setstate__(self, state: dict[str, Any]) -> None: ...
-    def validate(self) -> None:
-        """Raises ValueError naming the first field that is wrong and what it expected."""
 
 @final
-class SimulationConfig:
+class SimulationConfig(_ValidatedFields):
     """Everything of a closed-loop run but the vehicle and the controller.
 
     Rows of a run are at t_k = k dt; the force is held over each control
     period and the plant integrated by RK4 at dt / substeps.
     """
 
-    def __init__(self, **kwargs: Any) -> None:
-        """Every field is a keyword argument (an unknown one is a TypeError)."""
     @property
     def dt(self) -> float:
         """Control period [s]."""
@@ -1815,12 +1561,6 @@ class SimulationConfig:
         """The estimator."""
     @estimator.setter
     def estimator(self, value: EstimatorConfig) -> None: ...
-    def __copy__(self) -> SimulationConfig: ...
-    def __deepcopy__(self, memo: dict[int, Any]) -> SimulationConfig: ...
-    def __getstate__(self) -> dict[str, Any]: ...
-    def __setstate__(self, state: dict[str, Any]) -> None: ...
-    def validate(self) -> None:
-        """Raises ValueError naming the first field that is wrong and what it expected."""
 
 def buoyancy_in_water(water_density: SupportsFloat, displaced_volume: SupportsFloat) -> float:
     """B = rho g V [N]: the buoyancy of displaced_volume [m^3] in water of water_density [kg/m^3]."""

@@ -10,7 +10,14 @@ from __future__ import annotations
 
 import os
 import stat
+import sys
 from pathlib import Path
+from typing import Any
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover - exercised on Python 3.10 only
+    import tomli as tomllib
 
 #: The largest file read, in bytes (4 MiB). The shipped files are a few kB; a
 #: scenario of 10^4 waypoints of six numbers is about 0.6 MB.
@@ -66,3 +73,15 @@ def read_text(path: str | Path, error: type[Exception] = ValueError,
     except UnicodeDecodeError as e:
         raise error(f"{path}: not UTF-8 text (byte 0x{data[e.start]:02x} at offset "
                     f"{e.start}); TOML files are UTF-8") from None
+
+
+def read_toml(path: str | Path, error: type[Exception], kind: str) -> dict[str, Any]:
+    """The table of the TOML file `path`, read as :func:`read_text` reads;
+    `error` (``"<path>: no such <kind> file"``, ``"<path>: not valid TOML:
+    ..."``) for a missing file or bad TOML."""
+    try:
+        return tomllib.loads(read_text(path, error))
+    except FileNotFoundError:
+        raise error(f"{path}: no such {kind} file") from None
+    except tomllib.TOMLDecodeError as e:
+        raise error(f"{path}: not valid TOML: {e}") from None

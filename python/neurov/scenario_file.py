@@ -14,7 +14,6 @@ import copy
 import difflib
 import math
 import re
-import sys
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -23,16 +22,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from neurov import _core, trajectories
-from neurov.files import read_text
+from neurov.files import read_toml
 from neurov.scenario import CommandSpec, ControllerSpec, Scenario, ScenarioError
 from neurov.scenario_realism import REALISM_KEYS, read_realism
 from neurov.schema import SchemaError, convert, field_names
 from neurov.vehicle_file import VehicleFileError
-
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # pragma: no cover
-    import tomli as tomllib
 
 __all__ = ["read_scenario", "scenario_from_mapping"]
 
@@ -65,14 +59,21 @@ class _Reader:
         self.used.add(key)
         return self.table.get(key, default)
 
+    def _lookup(self, key: str, default: Any, expected: str) -> tuple[bool, Any]:
+        """(True, the value) when the table has `key`; else (False, the
+        default), or an error naming what was `expected` without one."""
+        self.used.add(key)
+        if key in self.table:
+            return True, self.table[key]
+        if default is None:
+            raise self.error(key, f"missing (expected {expected})")
+        return False, default
+
     def number(self, key: str, default: float | None = None, *, minimum: float | None = None,
                positive: bool = False) -> float:
-        self.used.add(key)
-        if key not in self.table:
-            if default is None:
-                raise self.error(key, "missing (expected a number)")
-            return default
-        v = self.raw(key)
+        found, v = self._lookup(key, default, "a number")
+        if not found:
+            return v
         if isinstance(v, bool) or not isinstance(v, (int, float)):
             raise self.error(key, f"expected a number, got {type(v).__name__} {v!r}")
         v = float(v)
@@ -85,12 +86,9 @@ class _Reader:
         return v
 
     def integer(self, key: str, default: int | None = None, *, minimum: int = 0) -> int:
-        self.used.add(key)
-        if key not in self.table:
-            if default is None:
-                raise self.error(key, "missing (expected an integer)")
-            return default
-        v = self.raw(key)
+        found, v = self._lookup(key, default, "an integer")
+        if not found:
+            return v
         if isinstance(v, bool) or not isinstance(v, int):
             raise self.error(key, f"expected an integer, got {type(v).__name__} {v!r}")
         if v < minimum:
@@ -98,12 +96,9 @@ class _Reader:
         return v
 
     def string(self, key: str, default: str | None = None, choices: Sequence[str] | None = None) -> str:
-        self.used.add(key)
-        if key not in self.table:
-            if default is None:
-                raise self.error(key, "missing (expected a string)")
-            return default
-        v = self.raw(key)
+        found, v = self._lookup(key, default, "a string")
+        if not found:
+            return v
         if not isinstance(v, str):
             raise self.error(key, f"expected a string, got {type(v).__name__} {v!r}")
         if choices is not None and v not in choices:
@@ -122,12 +117,9 @@ class _Reader:
     def array(self, key: str, length: int | None, default: Any = None, *, non_negative: bool = False,
               positive: bool = False, broadcast: bool = True) -> NDArray[np.float64]:
         """A list of `length` numbers (or, with broadcast, one number for all)."""
-        self.used.add(key)
-        if key not in self.table:
-            if default is None:
-                raise self.error(key, f"missing (expected {length} numbers)")
-            return np.array(default, dtype=np.float64)
-        v = self.raw(key)
+        found, v = self._lookup(key, default, f"{length} numbers")
+        if not found:
+            return np.array(v, dtype=np.float64)
         want = f"{length} numbers" + (" or one number" if broadcast else "") if length else "numbers"
         if broadcast and length and isinstance(v, (int, float)) and not isinstance(v, bool):
             v = [v] * length
@@ -156,15 +148,6 @@ class _Reader:
                 close = difflib.get_close_matches(key, sorted(known), n=1)
                 hint = f"; did you mean {close[0]!r}?" if close else ""
                 raise self.error(key, f"unknown field{hint}")
-
-
-def _dof(reader: _Reader, key: str) -> int:
-    v = reader.raw(key)
-    if isinstance(v, str) and v in DOF_NAMES:
-        return DOF_NAMES.index(v)
-    if isinstance(v, int) and not isinstance(v, bool) and 0 <= v <= 5:
-        return v
-    raise reader.error(key, f"expected one of {list(DOF_NAMES)} or 0..5, got {v!r}")
 
 
 def _dof(reader: _Reader, key: str) -> int:
@@ -398,10 +381,4 @@ def scenario_from_mapping(data: Mapping[str, Any], origin: str = "<scenario>") -
 def read_scenario(path: str | Path) -> Scenario:
     """Reads a scenario file; raises :class:`ScenarioError` naming the file and field."""
     path = Path(path)
-    try:
-        data = tomllib.loads(read_text(path, ScenarioError))
-    except FileNotFoundError:
-        raise ScenarioError(f"{path}: no such scenario file") from None
-    except tomllib.TOMLDecodeError as e:
-        raise ScenarioError(f"{path}: not valid TOML: {e}") from None
-    return scenario_from_mapping(data, str(path))
+    return scenario_from_mapping(read_toml(path, ScenarioError, "scenario"), str(path))

@@ -54,7 +54,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from neurov.files import read_text
+from neurov.files import read_text, read_toml
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -189,12 +189,7 @@ def read_vehicle_file(path: str | Path) -> VehicleFile:
     :class:`VehicleFileError` naming the file and the field."""
     path = Path(path)
     where = str(path)
-    try:
-        data = tomllib.loads(read_text(path, VehicleFileError))
-    except FileNotFoundError:
-        raise VehicleFileError(f"{where}: no such vehicle file") from None
-    except tomllib.TOMLDecodeError as e:
-        raise VehicleFileError(f"{where}: not valid TOML: {e}") from None
+    data = read_toml(path, VehicleFileError, "vehicle")
     parameters = parameters_from_mapping(data, where)
     volume = parameters.pop("displaced_volume", None)
     table = data.get("thrusters")

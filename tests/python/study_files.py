@@ -8,48 +8,42 @@ from pathlib import Path
 
 import pytest
 
+NOISE = "[noise]\neta = [0.01, 0.01, 0.01, 0.002, 0.002, 0.005]\n"
+
+
+def step_scenario(name: str, preset: str, start: list[float], target: list[float], *,
+                  kp: float, kd: float, duration: float = 30.0, thrusters: bool = False,
+                  extra: str = "") -> str:
+    """A scenario file: a PD controller holding `start`, then `target` from
+    t = 2 s, with `extra` tables after."""
+    return f"""
+name = "{name}"
+duration = {duration}
+[vehicle]
+preset = "{preset}"
+thrusters = {str(thrusters).lower()}
+[command]
+type = "waypoints"
+interpolation = "hold"
+times = [0.0, 2.0]
+poses = [{start}, {target}]
+[controller]
+type = "pd"
+kp = {kp}
+kd = {kd}
+{extra}"""
+
+
 # A short BlueROV2 heading step next to a shipped scenario trimmed to 30 s,
 # so the whole file runs in seconds.
-SHORT_BLUEROV = """
-name = "short_bluerov"
-duration = 30.0
-[vehicle]
-preset = "bluerov2_heavy"
-[command]
-type = "waypoints"
-interpolation = "hold"
-times = [0.0, 2.0]
-poses = [[0, 0, 1, 0, 0, 0], [1, 0, 1, 0, 0, 0.5]]
-[controller]
-type = "pd"
-kp = 10.0
-kd = 10.0
-[current]
-velocity = [0.2, 0.0, 0.0]
-[noise]
-eta = [0.01, 0.01, 0.01, 0.002, 0.002, 0.005]
-"""
+SHORT_BLUEROV = step_scenario(
+    "short_bluerov", "bluerov2_heavy", [0, 0, 1, 0, 0, 0], [1, 0, 1, 0, 0, 0.5], kp=10.0, kd=10.0,
+    extra="[current]\nvelocity = [0.2, 0.0, 0.0]\n" + NOISE)
 
-SHORT_NEROV = """
-name = "short_nerov"
-duration = 30.0
-[vehicle]
-preset = "nerov"
-thrusters = true
-[command]
-type = "waypoints"
-interpolation = "hold"
-times = [0.0, 2.0]
-poses = [[0, 0, 0, 0, 0, 0], [0, 0, 2, 0, 0, 0.5]]
-[controller]
-type = "pd"
-kp = 50.0
-kd = 200.0
-[[disturbances]]
-dof = "yaw"
-amplitude = 10.0
-frequency = 0.05
-"""
+SHORT_NEROV = step_scenario(
+    "short_nerov", "nerov", [0, 0, 0, 0, 0, 0], [0, 0, 2, 0, 0, 0.5], kp=50.0, kd=200.0,
+    thrusters=True,
+    extra="[[disturbances]]\ndof = \"yaw\"\namplitude = 10.0\nfrequency = 0.05\n")
 
 STUDY = """
 name = "small"

@@ -11,20 +11,16 @@ import pytest
 from matplotlib.figure import Figure
 
 from neurov import plot
-from neurov.scenario import CommandSpec, ControllerSpec, Scenario, ThrusterFailure
+from neurov.scenario import ThrusterFailure
 from neurov.simulation import Result, simulate
+from plot_runs import PD, nn_and_pd, square
 
-SCENARIO = Scenario(
-    name="plot_square", duration=20.0, use_thrusters=True,
-    command=CommandSpec(type="square", args={"side": 3.0, "start": 1.0}),
-    controller=ControllerSpec(type="nn", centres={"method": "sobol", "n": 16, "seed": 0}),
-)
-PD = ControllerSpec(type="pd", kp=np.full(6, 200.0), kd=np.full(6, 300.0))
+SCENARIO = square("plot_square", 20.0)
 
 
 @pytest.fixture(scope="module")
 def runs() -> list[Result]:
-    return [simulate(SCENARIO), simulate(SCENARIO, PD)]
+    return nn_and_pd(SCENARIO)
 
 
 @pytest.fixture(scope="module")

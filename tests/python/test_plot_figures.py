@@ -21,22 +21,18 @@ from neurov.plotting.labels import METRIC_LABELS, metric_label, thruster_label
 from neurov.plotting.paper import figure_inputs, figure_xy, figure_yaw
 from neurov.plotting.paths import ARROWS, mark_start_and_direction
 from neurov.plotting.study import FEW_SAMPLES, BandPlotter, box_figure, plot_boxes
-from neurov.scenario import CommandSpec, ControllerSpec, Scenario, ThrusterFailure
+from neurov.scenario import ThrusterFailure
 from neurov.simulation import Result, simulate
 from neurov.study import load_study, metric_names
+from plot_runs import PD, nn_and_pd, square
 
 UNIT = re.compile(r"\[[^\]]+\]")
-SQUARE = Scenario(
-    name="figures_square", duration=12.0, use_thrusters=True,
-    command=CommandSpec(type="square", args={"side": 3.0, "start": 1.0}),
-    controller=ControllerSpec(type="nn", centres={"method": "sobol", "n": 16, "seed": 0}),
-)
-PD = ControllerSpec(type="pd", kp=np.full(6, 200.0), kd=np.full(6, 300.0))
+SQUARE = square("figures_square", 12.0)
 
 
 @pytest.fixture(scope="module")
 def runs() -> list[Result]:
-    return [simulate(SQUARE), simulate(SQUARE, PD)]
+    return nn_and_pd(SQUARE)
 
 
 @pytest.fixture(scope="module")

@@ -23,6 +23,7 @@ from neurov.simulation import build_controller, simulation_config
 from neurov.study.spec import SCENARIO_DIR
 from neurov.vehicle_file import load_vehicle_parameters
 from test_simulator import busy_scenario
+from user_controllers import factories
 
 SPECS = {
     "nn": ControllerSpec(type="nn", modification="sigma", sigma_m=0.05),
@@ -43,23 +44,16 @@ def built_in(name: str, scenario: neurov.Scenario) -> Any:
 NAMES = [*SPECS, *(["computed_torque"] if hasattr(_core, "ComputedTorqueController") else [])]
 
 
-class Delegate:
+class Delegate(factories.Delegate):
     """A Python controller that hands every step to a built-in one (with the time keyword)."""
 
     def __init__(self, inner: Any) -> None:
-        self.inner = inner
+        super().__init__(inner)
         self.times: list[float] = []
 
     def step(self, eta: Any, nu: Any, eta_d: Any, eta_d_dot: Any, eta_d_ddot: Any, *, t: float) -> Any:
         self.times.append(t)
-        return self.inner.step(eta, nu, eta_d, eta_d_dot, eta_d_ddot)
-
-    def reset(self) -> None:
-        self.inner.reset()
-
-    @property
-    def s(self) -> Any:
-        return self.inner.s
+        return super().step(eta, nu, eta_d, eta_d_dot, eta_d_ddot)
 
 
 @pytest.fixture(scope="module")

@@ -13,6 +13,7 @@ import neurov
 from neurov import _core
 from neurov.scenario import ScenarioError, load_scenario
 from neurov.simulation import simulate
+from test_scenario import write
 
 HOVER = """
 name = "hover"
@@ -32,12 +33,6 @@ type = "pd"
 kp = 100.0
 kd = [200, 200, 200, 50, 50, 50]
 """
-
-
-def write(tmp_path: Path, text: str, name: str = "s.toml") -> Path:
-    path = tmp_path / name
-    path.write_text(text)
-    return path
 
 
 @pytest.mark.parametrize("delay", [1, 3])

@@ -12,27 +12,9 @@ import pytest
 
 from neurov.study import StudyError, load_study, run_study
 from neurov.study.spec import METRIC_NAMES
+from study_files import NOISE, step_scenario
 
 HERE = Path(__file__).resolve().parent
-
-SCENARIO = """
-name = "{name}"
-duration = 20.0
-[vehicle]
-preset = "nerov"
-thrusters = true
-[command]
-type = "waypoints"
-interpolation = "hold"
-times = [0.0, 2.0]
-poses = [[0, 0, 0, 0, 0, 0], [{x}, 0, 2, 0, 0, 0.5]]
-[controller]
-type = "pd"
-kp = 50.0
-kd = 200.0
-[noise]
-eta = [0.01, 0.01, 0.01, 0.002, 0.002, 0.005]
-"""
 
 STUDY = """
 name = "byoc"
@@ -63,7 +45,9 @@ PYTHON_PD = 'factory = "user_controllers.factories:python_pd"\nlabel = "my PD"'
 
 def write(folder: Path, mine: str = PYTHON_PD) -> Path:
     for name, x in (("a", 1), ("b", -2)):
-        (folder / f"{name}.toml").write_text(SCENARIO.format(name=name, x=x))
+        (folder / f"{name}.toml").write_text(step_scenario(
+            name, "nerov", [0, 0, 0, 0, 0, 0], [x, 0, 2, 0, 0, 0.5], kp=50.0, kd=200.0,
+            duration=20.0, thrusters=True, extra=NOISE))
     path = folder / "study.toml"
     path.write_text(STUDY.format(mine=mine))
     return path

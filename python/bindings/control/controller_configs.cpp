@@ -28,16 +28,17 @@ constexpr const char* kLambdaDoc = "Lambda in s = eta_tilde_dot + Lambda eta_til
 constexpr const char* kKdDoc = "K_d, diagonal (6,), >= 0.";
 constexpr const char* kDtDoc = "Control period [s], > 0.";
 
-/// The Python class of a controller's configuration.
+/// The Python class of a controller's configuration, its fields to follow.
 template <typename Config>
-py::class_<Config> config_class(py::module_& m, const char* name, const char* controller) {
-  return py::class_<Config>(m, name, (std::string("Configuration of ") + controller + ".").c_str());
+Fields<Config> config_fields(py::module_& m, const char* name, const char* controller) {
+  return Fields<Config>(m, name, (std::string("Configuration of ") + controller + ".").c_str());
 }
 
 /// The fields of a controller on the sliding variable s: Lambda and K_d first.
 template <typename T>
-Fields<T> sliding_fields(py::class_<T>& cls, const char* name, const char* kd_doc = kKdDoc) {
-  Fields<T> f(cls, name);
+Fields<T> sliding_fields(py::module_& m, const char* name, const char* controller,
+                         const char* kd_doc = kKdDoc) {
+  Fields<T> f = config_fields<T>(m, name, controller);
   f.vector("lambda_", &T::lambda, kLambdaDoc).vector("kd", &T::kd, kd_doc);
   return f;
 }
@@ -65,16 +66,14 @@ void bind_controller_configs(py::module_& m) {
              "After each update, W scaled back onto ||W||_F <= w_max.");
 
   using PD = PDConfig<double>;
-  auto pd = config_class<PD>(m, "PDConfig", "PDController");
-  Fields<PD>(pd, "PDConfig")
+  config_fields<PD>(m, "PDConfig", "PDController")
       .vector("kp", &PD::kp, "K_p, diagonal (6,), >= 0.")
       .vector("kd", &PD::kd, kKdDoc)
       .validator("PD controller")
       .finish();
 
   using PID = PIDConfig<double>;
-  auto pid = config_class<PID>(m, "PIDConfig", "PIDController");
-  Fields<PID>(pid, "PIDConfig")
+  config_fields<PID>(m, "PIDConfig", "PIDController")
       .vector("kp", &PID::kp, "K_p, diagonal (6,), >= 0.")
       .vector("ki", &PID::ki, "K_i, diagonal (6,), >= 0.")
       .vector("kd", &PID::kd, kKdDoc)
@@ -84,8 +83,7 @@ void bind_controller_configs(py::module_& m) {
       .finish();
 
   using SMC = SlidingModeConfig<double>;
-  auto smc = config_class<SMC>(m, "SlidingModeConfig", "SlidingModeController");
-  sliding_fields(smc, "SlidingModeConfig")
+  sliding_fields<SMC>(m, "SlidingModeConfig", "SlidingModeController")
       .vector("k", &SMC::k, "Switching gain K (6,), >= 0 [N, N m].")
       .vector("phi", &SMC::phi, "Boundary-layer width (6,), > 0, in units of s.")
       .vector("theta", &SMC::theta,
@@ -94,8 +92,7 @@ void bind_controller_configs(py::module_& m) {
       .finish();
 
   using Lin = LinearAdaptiveConfig<double>;
-  auto lin = config_class<Lin>(m, "LinearAdaptiveConfig", "LinearAdaptiveController");
-  sliding_fields(lin, "LinearAdaptiveConfig")
+  sliding_fields<Lin>(m, "LinearAdaptiveConfig", "LinearAdaptiveController")
       .vector_or_number("gamma", &Lin::gamma,
                         "Diagonal of Gamma (24,), >= 0 (0 freezes that parameter); a number "
                         "sets every entry.")
@@ -107,8 +104,8 @@ void bind_controller_configs(py::module_& m) {
       .finish();
 
   using NN = NNAdaptiveConfig<double>;
-  auto nn = config_class<NN>(m, "NNAdaptiveConfig", "NNAdaptiveController");
-  sliding_fields(nn, "NNAdaptiveConfig", "K_d, diagonal (6,), >= 0 (0 leaves the network alone).")
+  sliding_fields<NN>(m, "NNAdaptiveConfig", "NNAdaptiveController",
+                     "K_d, diagonal (6,), >= 0 (0 leaves the network alone).")
       .value("gamma", &NN::gamma, "Gamma_w = gamma I, >= 0 (the paper: 0.3).")
       .value("dt", &NN::dt, "Control period [s], > 0 (the paper: 0.2).")
       .field(
@@ -126,8 +123,7 @@ void bind_controller_configs(py::module_& m) {
       .finish();
 
   using CT = ComputedTorqueConfig<double>;
-  auto ct = config_class<CT>(m, "ComputedTorqueConfig", "ComputedTorqueController");
-  sliding_fields(ct, "ComputedTorqueConfig")
+  sliding_fields<CT>(m, "ComputedTorqueConfig", "ComputedTorqueController")
       .field(
           "vehicle",
           [](const CT& c) -> py::object {

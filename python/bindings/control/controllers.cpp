@@ -227,17 +227,15 @@ void bind_controllers(py::module_& m) {
       [](LinController& c, const py::dict& d, const TrackingError<double>& e, Status s) {
         return c.restore(
             e, s, py_args::vector<kRegressorParameters>(snapshot_field(d, "theta"), "theta"),
-            py_args::vector<6>(snapshot_field(d, "model_output"), "model_output"));
+            model_output_from(d));
       });
   lin.def_property(
-         "theta", [](const LinController& c) { return ParameterVector<double>(c.theta()); },
-         [](LinController& c, py::handle t) {
-           c.set_theta(py_args::vector<kRegressorParameters>(t, "theta"));
-         },
-         "Current estimate theta_hat (24,); assignable.")
-      .def_property_readonly(
-          "model_output", [](const LinController& c) { return Vec6(c.model_output()); },
-          "Phi theta_hat of the last step, shape (6,).");
+      "theta", [](const LinController& c) { return ParameterVector<double>(c.theta()); },
+      [](LinController& c, py::handle t) {
+        c.set_theta(py_args::vector<kRegressorParameters>(t, "theta"));
+      },
+      "Current estimate theta_hat (24,); assignable.");
+  def_model_output<LinController>(lin, "Phi theta_hat of the last step, shape (6,).");
 
   // --- PD ------------------------------------------------------------------
   py::class_<PD> pd(m, "PDController",
@@ -310,15 +308,8 @@ void bind_controllers(py::module_& m) {
           "boundary-layer width (6,), > 0; theta: the nominal model (24,), e.g. "
           "regressor_parameters(vehicle).");
   def_common<SMC>(smc);
-  def_controller_snapshot<SMC>(
-      smc, "sliding-mode controller",
-      [](const SMC& c, py::dict& d) { d["model_output"] = Vec6(c.model_output()); },
-      [](SMC& c, const py::dict& d, const TrackingError<double>& e, Status s) {
-        return c.restore(e, s, py_args::vector<6>(snapshot_field(d, "model_output"), "model_output"));
-      });
-  smc.def_property_readonly(
-      "model_output", [](const SMC& c) { return Vec6(c.model_output()); },
-      "The nominal model's f of the last step, shape (6,).");
+  def_model_controller<SMC>(smc, "sliding-mode controller",
+                           "The nominal model's f of the last step, shape (6,).");
 
   // --- computed torque ---------------------------------------------------------
   py::class_<CT> ct(
@@ -337,14 +328,8 @@ void bind_controllers(py::module_& m) {
          "vehicle: the nominal model (its parameters are copied); lambda_: Lambda (6,), > 0; "
          "kd: K_d (6,), >= 0.");
   def_common<CT>(ct);
-  def_controller_snapshot<CT>(
+  def_model_controller<CT>(
       ct, "computed-torque controller",
-      [](const CT& c, py::dict& d) { d["model_output"] = Vec6(c.model_output()); },
-      [](CT& c, const py::dict& d, const TrackingError<double>& e, Status s) {
-        return c.restore(e, s, py_args::vector<6>(snapshot_field(d, "model_output"), "model_output"));
-      });
-  ct.def_property_readonly(
-      "model_output", [](const CT& c) { return Vec6(c.model_output()); },
       "M nu_r_dot + C(nu) nu_r + D(nu) nu_r + g(eta) of the last step, shape (6,).");
 }
 

@@ -87,4 +87,31 @@ void def_controller_snapshot(Class& cls, const char* what, Extra extra, Restore 
       }));
 }
 
+/// The snapshot's last model output f of a controller on ModelControllerBase.
+inline Vector6<double> model_output_from(const py::dict& d) {
+  return py_args::vector<6>(snapshot_field(d, "model_output"), "model_output");
+}
+
+/// The read-only property model_output of a controller on ModelControllerBase.
+template <typename Controller, typename Class>
+void def_model_output(Class& cls, const char* doc) {
+  cls.def_property_readonly(
+      "model_output", [](const Controller& c) { return Vector6<double>(c.model_output()); }, doc);
+}
+
+/// Snapshot and model_output of a controller whose only state of its own is
+/// the last model output (sliding mode, computed torque).
+template <typename Controller, typename Class>
+void def_model_controller(Class& cls, const char* what, const char* output_doc) {
+  def_controller_snapshot<Controller>(
+      cls, what,
+      [](const Controller& c, py::dict& d) {
+        d["model_output"] = Vector6<double>(c.model_output());
+      },
+      [](Controller& c, const py::dict& d, const TrackingError<double>& e, Status s) {
+        return c.restore(e, s, model_output_from(d));
+      });
+  def_model_output<Controller>(cls, output_doc);
+}
+
 }  // namespace neurov::bindings

@@ -15,7 +15,6 @@
 namespace neurov::bindings {
 
 namespace py = pybind11;
-using Vec3 = Vector3<double>;
 using Vec6 = Vector6<double>;
 using Vec12 = Eigen::Matrix<double, 12, 1>;
 
@@ -35,14 +34,6 @@ void raise_plant_status(Status s, const char* what) {
   throw py::value_error(std::string(what) + " failed: " + to_string(s));
 }
 
-Vec3 optional_vector3(const py::handle& obj, const char* name) {
-  return obj.is_none() ? Vec3::Zero() : py_args::vector<3>(obj, name);
-}
-
-Vec6 optional_vector6(const py::handle& obj, const char* name) {
-  return obj.is_none() ? Vec6::Zero() : py_args::vector<6>(obj, name);
-}
-
 }  // namespace
 
 void bind_linearization(py::module_& m) {
@@ -50,12 +41,10 @@ void bind_linearization(py::module_& m) {
       "plant_derivative",
       [](const Vehicle<double>& v, py::handle eta, py::handle nu, py::handle tau,
          py::handle current) {
-        const Vec6 e = py_args::vector<6>(eta, "eta");
-        const Vec6 n = py_args::vector<6>(nu, "nu");
-        const Vec6 t = py_args::vector<6>(tau, "tau");
-        const Vec3 c = optional_vector3(current, "current");
+        const auto a = py_args::plant_args(eta, nu, tau, current);
         Vec6 eta_dot, nu_dot;
-        raise_plant_status(v.derivative(e, n, t, c, eta_dot, nu_dot), "plant_derivative");
+        raise_plant_status(v.derivative(a.eta, a.nu, a.tau, a.current, eta_dot, nu_dot),
+                           "plant_derivative");
         Vec12 x_dot;
         x_dot << eta_dot, nu_dot;
         return x_dot;
@@ -71,13 +60,10 @@ void bind_linearization(py::module_& m) {
       "plant_jacobians",
       [](const Vehicle<double>& v, py::handle eta, py::handle nu, py::handle tau,
          py::handle current) {
-        const Vec6 e = py_args::vector<6>(eta, "eta");
-        const Vec6 n = py_args::vector<6>(nu, "nu");
-        const Vec6 t = optional_vector6(tau, "tau");
-        const Vec3 c = optional_vector3(current, "current");
+        const auto x = py_args::plant_args(eta, nu, tau, current, true);
         Matrix12<double> a;
         Matrix12x6<double> b;
-        raise_plant_status(linearize(v, e, n, t, c, a, b), "plant_jacobians");
+        raise_plant_status(linearize(v, x.eta, x.nu, x.tau, x.current, a, b), "plant_jacobians");
         return std::make_pair(a, b);
       },
       py::arg("vehicle"), py::arg("eta"), py::arg("nu"), py::arg("tau") = py::none(),

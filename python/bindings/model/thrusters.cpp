@@ -17,6 +17,17 @@ namespace neurov::bindings {
 
 namespace py = pybind11;
 
+namespace {
+
+/// The C++ curve of a configuration; ValueError from its validator.
+ThrusterCurve<double> curve_of(const ThrusterCurveConfig<double>& c) {
+  ThrusterCurve<double> curve;
+  py_args::raise_if_invalid(ThrusterCurve<double>::create(c, curve), "ThrusterCurveConfig");
+  return curve;
+}
+
+}  // namespace
+
 void bind_thrusters(py::module_& m) {
   py::enum_<Saturation>(m, "Saturation", "How thrusts beyond their limits are brought back.")
       .value("scale", Saturation::scale,
@@ -24,11 +35,10 @@ void bind_thrusters(py::module_& m) {
       .value("clip", Saturation::clip, "Each thruster clipped to its limits: the wrench turns.");
   {
     using T = ThrusterCurveConfig<double>;
-    py::class_<T> cls(m, "ThrusterCurveConfig",
-                      "One thruster from command to thrust: a table (linearly interpolated), a "
-                      "dead band around the neutral command, supply-voltage scaling, a "
-                      "first-order lag and a slew-rate limit.");
-    Fields<T>(cls, "ThrusterCurveConfig")
+    auto cls = Fields<T>(m, "ThrusterCurveConfig",
+                         "One thruster from command to thrust: a table (linearly interpolated), a "
+                         "dead band around the neutral command, supply-voltage scaling, a "
+                         "first-order lag and a slew-rate limit.")
         .field(
             "table",
             [](const T& c) {
@@ -66,18 +76,14 @@ void bind_thrusters(py::module_& m) {
     cls.def(
         "static_thrust",
         [](const T& c, double command, double voltage) {
-          ThrusterCurve<double> curve;
-          py_args::raise_if_invalid(ThrusterCurve<double>::create(c, curve), "ThrusterCurveConfig");
-          return curve.static_thrust(command, voltage);
+          return curve_of(c).static_thrust(command, voltage);
         },
         py::arg("command"), py::arg("voltage"),
         "Steady thrust [N] at a command and supply voltage (the C++ curve).");
     cls.def(
         "command_for",
         [](const T& c, double thrust, double voltage) {
-          ThrusterCurve<double> curve;
-          py_args::raise_if_invalid(ThrusterCurve<double>::create(c, curve), "ThrusterCurveConfig");
-          return curve.command_for(thrust, voltage);
+          return curve_of(c).command_for(thrust, voltage);
         },
         py::arg("thrust"), py::arg("voltage"),
         "The command whose steady thrust is `thrust` at `voltage` (the curve's inverse), "
@@ -85,10 +91,9 @@ void bind_thrusters(py::module_& m) {
   }
   {
     using T = ThrusterConfig<double>;
-    py::class_<T> cls(m, "ThrusterConfig",
-                      "n thrusters: tau = B u, allocated by the weighted pseudo-inverse, "
-                      "saturated, with a first-order lag.");
-    Fields<T>(cls, "ThrusterConfig")
+    Fields<T>(m, "ThrusterConfig",
+              "n thrusters: tau = B u, allocated by the weighted pseudo-inverse, saturated, with a "
+              "first-order lag.")
         .dynamic_matrix("matrix", &T::matrix, 6, -1, "B (6, n): the wrench of each thruster per unit thrust.")
         .dynamic_vector("min_thrust", &T::min_thrust, "Lower limits [N] (n,), <= 0.")
         .dynamic_vector("max_thrust", &T::max_thrust, "Upper limits [N] (n,), > min_thrust.")

@@ -69,10 +69,6 @@ void raise_status(Status s, const char* what) {
   }
 }
 
-Vec3 optional_current(const py::handle& current) {
-  return current.is_none() ? Vec3::Zero() : py_args::vector<3>(current, "current");
-}
-
 }  // namespace
 
 void bind_vehicle(py::module_& m) {
@@ -186,12 +182,9 @@ void bind_vehicle(py::module_& m) {
           "acceleration",
           [](const Vehicle<double>& v, py::handle eta, py::handle nu, py::handle tau,
              py::handle current) {
-            const Vec6 e = py_args::vector<6>(eta, "eta");
-            const Vec6 n = py_args::vector<6>(nu, "nu");
-            const Vec6 t = py_args::vector<6>(tau, "tau");
-            const Vec3 c = optional_current(current);
+            const auto a = py_args::plant_args(eta, nu, tau, current);
             Vec6 nu_dot;
-            raise_status(v.acceleration(e, n, t, c, nu_dot), "acceleration");
+            raise_status(v.acceleration(a.eta, a.nu, a.tau, a.current, nu_dot), "acceleration");
             return nu_dot;
           },
           py::arg("eta"), py::arg("nu"), py::arg("tau"), py::arg("current") = py::none(),
@@ -203,13 +196,10 @@ void bind_vehicle(py::module_& m) {
       "rk4_step",
       [](const Vehicle<double>& v, py::handle eta, py::handle nu, py::handle tau, py::handle dt,
          py::handle current) {
-        Vec6 e = py_args::vector<6>(eta, "eta");
-        Vec6 n = py_args::vector<6>(nu, "nu");
-        const Vec6 t = py_args::vector<6>(tau, "tau");
+        auto a = py_args::plant_args(eta, nu, tau, current);
         const double h = py_args::step(dt, "dt");
-        const Vec3 c = optional_current(current);
-        raise_status(rk4_step(v, e, n, t, h, c), "rk4_step");
-        return std::make_pair(e, n);
+        raise_status(rk4_step(v, a.eta, a.nu, a.tau, h, a.current), "rk4_step");
+        return std::make_pair(a.eta, a.nu);
       },
       py::arg("vehicle"), py::arg("eta"), py::arg("nu"), py::arg("tau"), py::arg("dt"),
       py::arg("current") = py::none(),

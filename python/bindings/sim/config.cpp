@@ -12,6 +12,20 @@ namespace neurov::bindings {
 
 namespace py = pybind11;
 
+namespace {
+
+/// A sensor's configuration: its rate and latency, the sensor's own fields
+/// to follow.
+template <typename T>
+Fields<T> sensor_fields(py::module_& m, const char* name, const char* doc,
+                        const char* latency_doc = "[s], >= 0.") {
+  Fields<T> f(m, name, doc);
+  f.value("rate", &T::rate, "[Hz], > 0.").value("latency", &T::latency, latency_doc);
+  return f;
+}
+
+}  // namespace
+
 void bind_sim_config(py::module_& m) {
   m.def(
       "buoyancy_in_water",
@@ -45,10 +59,9 @@ void bind_sim_config(py::module_& m) {
 
   {
     using T = GaussMarkovCurrentConfig<double>;
-    py::class_<T> cls(m, "GaussMarkovCurrentConfig",
-                      "A current whose speed, direction and vertical angle wander about their "
-                      "means as first-order Gauss-Markov processes (Fossen 2011, 8.3).");
-    Fields<T>(cls, "GaussMarkovCurrentConfig")
+    Fields<T>(m, "GaussMarkovCurrentConfig",
+              "A current whose speed, direction and vertical angle wander about their means as "
+              "first-order Gauss-Markov processes (Fossen 2011, 8.3).")
         .value("speed", &T::speed, "Mean speed [m/s], within [speed_min, speed_max].")
         .value("speed_std", &T::speed_std, "Stationary standard deviation [m/s], >= 0.")
         .value("time_constant", &T::time_constant, "Of all three processes [s], > 0.")
@@ -64,10 +77,9 @@ void bind_sim_config(py::module_& m) {
   }
   {
     using T = WaveConfig<double>;
-    py::class_<T> cls(m, "WaveConfig",
-                      "Linear deep-water waves realised from a spectrum as a sum of seeded "
-                      "components.");
-    Fields<T>(cls, "WaveConfig")
+    auto cls = Fields<T>(m, "WaveConfig",
+                         "Linear deep-water waves realised from a spectrum as a sum of seeded "
+                         "components.")
         .value("spectrum", &T::spectrum, "A WaveSpectrum.")
         .value("hs", &T::hs, "Significant wave height [m], > 0.")
         .value("tp", &T::tp, "Peak period [s], > 0.")
@@ -95,10 +107,9 @@ void bind_sim_config(py::module_& m) {
   }
   {
     using T = PayloadEvent<double>;
-    py::class_<T> cls(m, "PayloadEvent",
-                      "A change of the vehicle at `time` that the controller is not told "
-                      "about: mass, buoyancy, damping and added mass.");
-    Fields<T>(cls, "PayloadEvent")
+    Fields<T>(m, "PayloadEvent",
+              "A change of the vehicle at `time` that the controller is not told about: mass, "
+              "buoyancy, damping and added mass.")
         .value("time", &T::time, "When it happens [s], >= 0.")
         .value("mass", &T::mass, "Mass added [kg] (negative: dropped); weight mass * 9.81.")
         .optional("mass_position", &T::mass_position,
@@ -117,20 +128,15 @@ void bind_sim_config(py::module_& m) {
       .value("ekf", EstimatorType::ekf, "The extended Kalman filter's estimate.");
   {
     using T = UsblConfig<double>;
-    py::class_<T> cls(m, "UsblConfig", "An acoustic position fix (USBL-like): NED position.");
-    Fields<T>(cls, "UsblConfig")
-        .value("rate", &T::rate, "[Hz], > 0.")
-        .value("latency", &T::latency, "[s], >= 0 (acoustic travel and processing).")
+    sensor_fields<T>(m, "UsblConfig", "An acoustic position fix (USBL-like): NED position.",
+                     "[s], >= 0 (acoustic travel and processing).")
         .value("noise", &T::noise, "Standard deviation per axis [m], >= 0.")
         .vector("bias", &T::bias, "NED [m] (3,).")
         .finish();
   }
   {
     using T = DvlConfig<double>;
-    py::class_<T> cls(m, "DvlConfig", "A Doppler velocity log: body velocity over ground.");
-    Fields<T>(cls, "DvlConfig")
-        .value("rate", &T::rate, "[Hz], > 0.")
-        .value("latency", &T::latency, "[s], >= 0.")
+    sensor_fields<T>(m, "DvlConfig", "A Doppler velocity log: body velocity over ground.")
         .value("noise", &T::noise, "Standard deviation per axis [m/s], >= 0.")
         .value("dropout_rate", &T::dropout_rate,
                "Probability that a sample has no bottom lock, in [0, 1).")
@@ -139,20 +145,14 @@ void bind_sim_config(py::module_& m) {
   }
   {
     using T = DepthConfig<double>;
-    py::class_<T> cls(m, "DepthConfig", "A pressure depth sensor: z, down positive.");
-    Fields<T>(cls, "DepthConfig")
-        .value("rate", &T::rate, "[Hz], > 0.")
-        .value("latency", &T::latency, "[s], >= 0.")
+    sensor_fields<T>(m, "DepthConfig", "A pressure depth sensor: z, down positive.")
         .value("noise", &T::noise, "Standard deviation [m], >= 0.")
         .value("bias", &T::bias, "[m].")
         .finish();
   }
   {
     using T = ImuConfig<double>;
-    py::class_<T> cls(m, "ImuConfig", "An AHRS/IMU: attitude and gyro rates, the gyro's bias walking.");
-    Fields<T>(cls, "ImuConfig")
-        .value("rate", &T::rate, "[Hz], > 0.")
-        .value("latency", &T::latency, "[s], >= 0.")
+    sensor_fields<T>(m, "ImuConfig", "An AHRS/IMU: attitude and gyro rates, the gyro's bias walking.")
         .value("attitude_noise", &T::attitude_noise, "Standard deviation of the angles [rad], >= 0.")
         .value("gyro_noise", &T::gyro_noise, "Standard deviation of the rates [rad/s], >= 0.")
         .value("gyro_bias_walk", &T::gyro_bias_walk, "Bias random walk [rad/s/sqrt(s)], >= 0.")
@@ -161,9 +161,8 @@ void bind_sim_config(py::module_& m) {
   }
   {
     using T = SensorsConfig<double>;
-    py::class_<T> cls(m, "SensorsConfig",
-                      "The sensors of a run, each optional; none configured: ideal sensing.");
-    Fields<T>(cls, "SensorsConfig")
+    auto cls = Fields<T>(m, "SensorsConfig",
+                         "The sensors of a run, each optional; none configured: ideal sensing.")
         .optional("usbl", &T::usbl, "A UsblConfig, or None.")
         .optional("dvl", &T::dvl, "A DvlConfig, or None.")
         .optional("depth", &T::depth, "A DepthConfig, or None.")
@@ -173,10 +172,9 @@ void bind_sim_config(py::module_& m) {
   }
   {
     using T = EstimatorConfig<double>;
-    py::class_<T> cls(m, "EstimatorConfig",
-                      "What the controller is given from the sensors; the EKF's measurement "
-                      "noises are the sensors' own.");
-    Fields<T>(cls, "EstimatorConfig")
+    Fields<T>(m, "EstimatorConfig",
+              "What the controller is given from the sensors; the EKF's measurement noises are the "
+              "sensors' own.")
         .value("type", &T::type, "An EstimatorType.")
         .value("linear_acceleration_noise", &T::linear_acceleration_noise,
                "sqrt of the PSD of the velocities' random walk [m/s^2/sqrt(Hz)], >= 0.")
@@ -189,10 +187,9 @@ void bind_sim_config(py::module_& m) {
   }
   {
     using T = SinusoidalDisturbance<double>;
-    py::class_<T> cls(m, "SinusoidalDisturbance",
-                      "A force or moment in one body DOF: amplitude * sin(2 pi frequency "
-                      "(t - start) + phase) for t >= start.");
-    Fields<T>(cls, "SinusoidalDisturbance")
+    Fields<T>(m, "SinusoidalDisturbance",
+              "A force or moment in one body DOF: amplitude * sin(2 pi frequency (t - start) + "
+              "phase) for t >= start.")
         .value("dof", &T::dof, "0..5: surge, sway, heave, roll, pitch, yaw.")
         .value("amplitude", &T::amplitude, "[N] or [N m].")
         .value("frequency", &T::frequency, "[Hz].")
@@ -202,9 +199,8 @@ void bind_sim_config(py::module_& m) {
   }
   {
     using T = ThrusterFailure<double>;
-    py::class_<T> cls(m, "ThrusterFailure",
-                      "Thruster `index` works at `efficiency` (0: failed) from `time` on.");
-    Fields<T>(cls, "ThrusterFailure")
+    Fields<T>(m, "ThrusterFailure",
+              "Thruster `index` works at `efficiency` (0: failed) from `time` on.")
         .value("index", &T::index, "The thruster (a column of the thruster matrix).")
         .value("efficiency", &T::efficiency, "In [0, 1].")
         .value("time", &T::time, "[s].")
@@ -212,10 +208,9 @@ void bind_sim_config(py::module_& m) {
   }
   {
     using T = SensorFault<double>;
-    py::class_<T> cls(m, "SensorFault",
-                      "A sensor fault over [start, end): the measurement of eta and/or nu "
-                      "freezes, drops out (NaN) or gets extra white noise.");
-    Fields<T>(cls, "SensorFault")
+    Fields<T>(m, "SensorFault",
+              "A sensor fault over [start, end): the measurement of eta and/or nu freezes, drops "
+              "out (NaN) or gets extra white noise.")
         .value("kind", &T::kind, "A SensorFaultKind.")
         .value("start", &T::start, "[s].")
         .value("end", &T::end, "[s], >= start.")
@@ -227,18 +222,17 @@ void bind_sim_config(py::module_& m) {
   }
   {
     using T = CurrentStep<double>;
-    py::class_<T> cls(m, "CurrentStep", "From `time` on, the mean current is `velocity`.");
-    Fields<T>(cls, "CurrentStep")
+    Fields<T>(m, "CurrentStep",
+              "From `time` on, the mean current is `velocity`.")
         .value("time", &T::time, "[s].")
         .vector("velocity", &T::velocity, "NED [m/s] (3,).")
         .finish();
   }
   {
     using T = Command<double>;
-    py::class_<T> cls(m, "Command",
-                      "Commanded poses at increasing times; held before the first and after "
-                      "the last; between them linear or held.");
-    Fields<T>(cls, "Command")
+    auto cls = Fields<T>(m, "Command",
+                         "Commanded poses at increasing times; held before the first and after the "
+                         "last; between them linear or held.")
         .dynamic_vector("times", &T::times, "(K,) strictly increasing [s].")
         .dynamic_matrix("poses", &T::poses, -1, 6, "(K, 6) poses eta.")
         .value("linear", &T::linear, "Linear between the poses; False: piecewise constant.")
@@ -247,11 +241,10 @@ void bind_sim_config(py::module_& m) {
   }
   {
     using T = SimulationConfig<double>;
-    py::class_<T> cls(m, "SimulationConfig",
-                      "Everything of a closed-loop run but the vehicle and the controller. "
-                      "Rows of a run are at t_k = k dt; the force is held over each control "
-                      "period and the plant integrated by RK4 at dt / substeps.");
-    Fields<T>(cls, "SimulationConfig")
+    Fields<T>(m, "SimulationConfig",
+              "Everything of a closed-loop run but the vehicle and the controller. Rows of a run "
+              "are at t_k = k dt; the force is held over each control period and the plant "
+              "integrated by RK4 at dt / substeps.")
         .value("dt", &T::dt, "Control period [s].")
         .value("substeps", &T::substeps, "RK4 steps per control period.")
         .value("duration", &T::duration, "[s].")

@@ -6,12 +6,11 @@ the runs."""
 from __future__ import annotations
 
 import difflib
-import sys
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from neurov.files import read_text
+from neurov.files import read_toml
 from neurov.scenario import ControllerSpec, Scenario, ScenarioError, load_scenario
 from neurov.scenario_file import _controller, _Reader
 from neurov.study.factory import ControllerFactory, FactoryError
@@ -30,11 +29,6 @@ from neurov.study.spec import (
     metric_names,
     vehicle_key,
 )
-
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # pragma: no cover
-    import tomli as tomllib
 
 __all__ = ["load_study", "shipped_studies", "study_from_mapping", "study_path"]
 
@@ -323,10 +317,4 @@ def load_study(path: str | Path) -> Study:
     """Reads a study file (or a shipped study by name); raises
     :class:`StudyError` naming the file and the field."""
     path = study_path(path)
-    try:
-        data = tomllib.loads(read_text(path, StudyError))
-    except FileNotFoundError:
-        raise StudyError(f"{path}: no such study file") from None
-    except tomllib.TOMLDecodeError as e:
-        raise StudyError(f"{path}: not valid TOML: {e}") from None
-    return study_from_mapping(data, str(path))
+    return study_from_mapping(read_toml(path, StudyError, "study"), str(path))

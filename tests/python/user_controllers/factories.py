@@ -12,11 +12,11 @@ KP = [200.0, 200, 200, 50, 50, 50]
 KD = [200.0, 200, 200, 50, 50, 50]
 
 
-class PythonPD:
-    """The built-in PD law stepped from Python (a controller that is only Python glue)."""
+class Delegate:
+    """A Python controller that hands every step to a built-in one."""
 
-    def __init__(self) -> None:
-        self.inner = neurov.PDController(np.array(KP), np.array(KD))
+    def __init__(self, inner: Any) -> None:
+        self.inner = inner
 
     def step(self, eta: Any, nu: Any, eta_d: Any, eta_d_dot: Any, eta_d_ddot: Any) -> Any:
         return self.inner.step(eta, nu, eta_d, eta_d_dot, eta_d_ddot)
@@ -27,6 +27,13 @@ class PythonPD:
     @property
     def s(self) -> Any:
         return self.inner.s
+
+
+class PythonPD(Delegate):
+    """The built-in PD law stepped from Python (a controller that is only Python glue)."""
+
+    def __init__(self) -> None:
+        super().__init__(neurov.PDController(np.array(KP), np.array(KD)))
 
 
 def python_pd(scenario: neurov.Scenario) -> PythonPD:

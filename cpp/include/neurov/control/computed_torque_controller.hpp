@@ -11,10 +11,6 @@
 #pragma once
 
 #include "neurov/control/controller_base.hpp"
-#include "neurov/control/tracking_error.hpp"
-#include "neurov/core/status.hpp"
-#include "neurov/core/types.hpp"
-#include "neurov/core/validation.hpp"
 #include "neurov/model/vehicle.hpp"
 
 namespace neurov {
@@ -29,81 +25,54 @@ struct ComputedTorqueConfig {
 
 template <typename Scalar>
 inline ValidationError validate(const ComputedTorqueConfig<Scalar>& c) noexcept {
-  if (auto e = detail::check_positive("lambda", c.lambda)) return e;
-  if (auto e = detail::check_non_negative("kd", c.kd)) return e;
+  if (auto e = detail::check_sliding_gains(c)) return e;
   return validate(c.vehicle);
 }
 
 template <typename ScalarT>
 class ComputedTorqueController
-    : public ControllerBase<ComputedTorqueController<ScalarT>, ScalarT,
-                            ComputedTorqueConfig<ScalarT>> {
-  using Base =
-      ControllerBase<ComputedTorqueController<ScalarT>, ScalarT, ComputedTorqueConfig<ScalarT>>;
+    : public ModelControllerBase<ComputedTorqueController<ScalarT>, ScalarT,
+                                 ComputedTorqueConfig<ScalarT>> {
+  using Base = ModelControllerBase<ComputedTorqueController<ScalarT>, ScalarT,
+                                   ComputedTorqueConfig<ScalarT>>;
+  friend ControllerBase<ComputedTorqueController<ScalarT>, ScalarT, ComputedTorqueConfig<ScalarT>>;
 
  public:
-  using typename Base::Config;
-  using typename Base::Scalar;
   using typename Base::Vec6;
-  using Base::step;
 
   ComputedTorqueController() = default;
 
 #if NEUROV_HAS_EXCEPTIONS
-  explicit ComputedTorqueController(const Config& config) {
+  explicit ComputedTorqueController(const ComputedTorqueConfig<ScalarT>& config) {
     detail::throw_if_invalid(create(config, *this), "computed-torque controller");
   }
 #endif
 
   /// Validates the gains and the nominal vehicle and builds its M once.
   /// `out` is untouched on failure.
-  static ValidationError create(const Config& config, ComputedTorqueController& out) noexcept {
-    Vehicle<Scalar> model;
+  static ValidationError create(const ComputedTorqueConfig<ScalarT>& config,
+                                ComputedTorqueController& out) noexcept {
+    Vehicle<ScalarT> model;
     if (auto e = validate(config)) return e;
-    if (auto e = Vehicle<Scalar>::create(config.vehicle, model)) return e;
+    if (auto e = Vehicle<ScalarT>::create(config.vehicle, model)) return e;
     out.model_ = model;
     return Base::configure(config, out);
   }
 
-  /// tau from the nominal model and s; on any status but ok, tau = 0.
-  Status step(const Vec6& eta, const Vec6& nu, const Vec6& eta_d, const Vec6& eta_d_dot,
-              const Vec6& eta_d_ddot, Vec6& tau) noexcept {
-    const Config& c = this->config_;
-    TrackingError<Scalar> e;
-    if (const Status ts = this->track(eta, nu, eta_d, eta_d_dot, eta_d_ddot, c.lambda, e, tau);
-        ts != Status::ok)
-      return ts;
+  /// The nominal vehicle the law inverts.
+  const Vehicle<ScalarT>& model() const noexcept { return model_; }
+
+ private:
+  /// f = M nu_r_dot + C(nu) nu_r + D(nu) nu_r + g(eta) of the nominal model.
+  bool control(const TrackingError<ScalarT>& e, const Vec6& nu, Vec6& tau) noexcept {
     const auto& trig = e.kinematics.trig;
     const Vec6 f = model_.mass_matrix() * e.nu_r_dot + model_.coriolis(nu) * e.nu_r +
                    model_.damping_diagonal(nu).cwiseProduct(e.nu_r) +
                    model_.restoring(trig.sin_phi, trig.cos_phi, trig.sin_theta, trig.cos_theta);
-    const Vec6 tau_new = f - e.kinematics.apply_transpose(c.kd.cwiseProduct(e.s));
-    if (!tau_new.allFinite()) return this->refuse(Status::non_finite_output, tau);
-    f_ = f;
-    return this->accept(e, tau_new, tau);
+    return this->apply_model(e, f, this->config_.kd.cwiseProduct(e.s), tau);
   }
 
-  void reset() noexcept {
-    f_.setZero();
-    this->reset_common();
-  }
-
-  /// A snapshot's state put back (ControllerBase::restore) with the last
-  /// model output; false, and nothing changed, for a non-finite one.
-  bool restore(const TrackingError<Scalar>& e, Status s, const Vec6& model_output) noexcept {
-    if (!this->restorable(e, s) || !model_output.allFinite()) return false;
-    f_ = model_output;
-    return Base::restore(e, s);
-  }
-
-  /// The nominal vehicle the law inverts.
-  const Vehicle<Scalar>& model() const noexcept { return model_; }
-  /// M nu_r_dot + C(nu) nu_r + D(nu) nu_r + g(eta) of the last step, shape (6,).
-  const Vec6& model_output() const noexcept { return f_; }
-
- private:
-  Vehicle<Scalar> model_{};
-  Vec6 f_ = Vec6::Zero();
+  Vehicle<ScalarT> model_{};
 };
 
 }  // namespace neurov

@@ -1,19 +1,28 @@
 // The skeleton every controller follows (CRTP), so that what is the same in
-// all of them is written once: the refused step (tau = 0, state unchanged),
-// the DesiredState overload of step(), the shared tracking-error call, the
-// bookkeeping of an accepted step, create() for a controller that is its
-// configuration, reset(), and the diagnostics the closed loop logs.
+// all of them is written once: create() for a controller that is its
+// configuration, the step (refuse an unconfigured controller, compute the
+// tracking error, run the law, refuse a non-finite force or accept), its
+// DesiredState overload, reset(), restore() and the diagnostics the closed
+// loop logs. VectorStateControllerBase adds a state of one (6,) vector (the
+// PID's integrator); ModelControllerBase makes it the model output f of the
+// laws tau = f - J^T K_d s and the like.
 //
-// A controller Derived derives from ControllerBase<Derived, Scalar, Config>
-// and supplies
-//   Status step(eta, nu, eta_d, eta_d_dot, eta_d_ddot, tau) noexcept;
-// plus, when it has state of its own, reset() (calling reset_common()),
-// adaptive_norm() and logged_parameters() with kLoggedParameters. It brings
-// the base's step overload in with `using Base::step;`.
+// A controller Derived derives from one of them, befriends
+// ControllerBase<Derived, Scalar, Config> and supplies the law on the
+// tracking error, bool control(const TrackingError<Scalar>& e, const Vec6&
+// nu, Vec6& tau) noexcept, which writes tau, commits its own state only when
+// the step can be accepted and returns false for a non-finite result (the
+// step is then refused with non_finite_output). With more state it adds
+// reset() (calling its base's), adaptive_norm() and logged_parameters() with
+// kLoggedParameters. A controller whose step does more (the NN) writes
+// step() itself from track(), refuse() and accept().
 #pragma once
 
 #include <Eigen/Core>
+#include <type_traits>
 
+// What every controller uses, so that a controller's header includes this
+// one and what its law needs besides.
 #include "neurov/control/desired_state.hpp"
 #include "neurov/control/tracking_error.hpp"
 #include "neurov/core/config.hpp"
@@ -40,6 +49,20 @@ inline void throw_if_invalid(const ValidationError& e, const char* what) {
 }
 #endif
 
+/// Lambda > 0 and K_d >= 0: the gains of every law on s.
+template <typename Config>
+inline ValidationError check_sliding_gains(const Config& c) noexcept {
+  if (auto e = check_positive("lambda", c.lambda)) return e;
+  return check_non_negative("kd", c.kd);
+}
+
+/// Whether a configuration has a Lambda (the laws on s) or not (PD, PID).
+template <typename Config, typename = void>
+struct has_lambda : std::false_type {};
+template <typename Config>
+struct has_lambda<Config, std::void_t<decltype(std::declval<const Config&>().lambda)>>
+    : std::true_type {};
+
 }  // namespace detail
 
 template <typename Derived, typename ScalarT, typename ConfigT>
@@ -52,6 +75,24 @@ class ControllerBase {
   /// of SimulationResult::theta): none unless the controller says otherwise.
   static constexpr int kLoggedParameters = 0;
   using LoggedParameters = Eigen::Matrix<Scalar, kLoggedParameters, 1>;
+
+  /// Validates, copies and resets; `out` is untouched on failure.
+  static ValidationError create(const Config& config, Derived& out) noexcept {
+    return configure(config, out);
+  }
+
+  /// tau from the measurements and the desired trajectory. On any status but
+  /// ok, tau = 0 and the controller's state is exactly as before.
+  Status step(const Vec6& eta, const Vec6& nu, const Vec6& eta_d, const Vec6& eta_d_dot,
+              const Vec6& eta_d_ddot, Vec6& tau) noexcept {
+    TrackingError<Scalar> e;
+    if (const Status ts = track(eta, nu, eta_d, eta_d_dot, eta_d_ddot, lambda(), e, tau);
+        ts != Status::ok)
+      return ts;
+    Vec6 tau_new;
+    if (!derived().control(e, nu, tau_new)) return refuse(Status::non_finite_output, tau);
+    return accept(e, tau_new, tau);
+  }
 
   Status step(const Vec6& eta, const Vec6& nu, const DesiredState<Scalar>& d, Vec6& tau) noexcept {
     return derived().step(eta, nu, d.eta_d, d.eta_d_dot, d.eta_d_ddot, tau);
@@ -135,12 +176,74 @@ class ControllerBase {
     status_ = Status::ok;
   }
 
+  /// The Lambda of s: the configuration's; a law without one (PD, PID) does
+  /// not use s, and any positive value does.
+  Vec6 lambda() const noexcept {
+    if constexpr (detail::has_lambda<Config>::value)
+      return config_.lambda;
+    else
+      return Vec6::Ones();
+  }
+
   Derived& derived() noexcept { return static_cast<Derived&>(*this); }
 
   Config config_{};
   TrackingError<Scalar> tracking_{};
   Status status_ = Status::ok;
   bool configured_ = false;
+};
+
+/// The base of a controller whose own state is one (6,) vector (the PID's
+/// integrator, a model's last output): zero after reset(), put back by
+/// restore().
+template <typename Derived, typename ScalarT, typename ConfigT>
+class VectorStateControllerBase : public ControllerBase<Derived, ScalarT, ConfigT> {
+  using Base = ControllerBase<Derived, ScalarT, ConfigT>;
+
+ public:
+  using typename Base::Vec6;
+
+  void reset() noexcept {
+    state_.setZero();
+    this->reset_common();
+  }
+
+  /// A snapshot's state put back (ControllerBase::restore) with the vector;
+  /// false, and nothing changed, for a non-finite one.
+  bool restore(const TrackingError<ScalarT>& e, Status s, const Vec6& state) noexcept {
+    if (!this->restorable(e, s) || !state.allFinite()) return false;
+    state_ = state;
+    return Base::restore(e, s);
+  }
+
+ protected:
+  VectorStateControllerBase() = default;
+
+  Vec6 state_ = Vec6::Zero();
+};
+
+/// The base of the laws that run a nominal model or an estimate of one, f:
+/// their state is f of the last accepted step, for plots and snapshots.
+template <typename Derived, typename ScalarT, typename ConfigT>
+class ModelControllerBase : public VectorStateControllerBase<Derived, ScalarT, ConfigT> {
+ public:
+  using Vec6 = Vector6<ScalarT>;
+
+  /// The model's f of the last accepted step, shape (6,).
+  const Vec6& model_output() const noexcept { return this->state_; }
+
+ protected:
+  ModelControllerBase() = default;
+
+  /// The end of a law tau = f - J^T(eta) k: false for a non-finite tau, else
+  /// f kept.
+  bool apply_model(const TrackingError<ScalarT>& e, const Vec6& f, const Vec6& k,
+                   Vec6& tau) noexcept {
+    tau = f - e.kinematics.apply_transpose(k);
+    if (!tau.allFinite()) return false;
+    this->state_ = f;
+    return true;
+  }
 };
 
 }  // namespace neurov

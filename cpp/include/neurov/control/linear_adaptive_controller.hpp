@@ -4,13 +4,7 @@
 // It knows the structure of the model (regressor.hpp); only theta is unknown.
 #pragma once
 
-#include <cmath>
-
 #include "neurov/control/controller_base.hpp"
-#include "neurov/control/tracking_error.hpp"
-#include "neurov/core/status.hpp"
-#include "neurov/core/types.hpp"
-#include "neurov/core/validation.hpp"
 #include "neurov/model/regressor.hpp"
 
 namespace neurov {
@@ -28,8 +22,7 @@ struct LinearAdaptiveConfig {
 
 template <typename Scalar>
 inline ValidationError validate(const LinearAdaptiveConfig<Scalar>& c) noexcept {
-  if (auto e = detail::check_positive("lambda", c.lambda)) return e;
-  if (auto e = detail::check_non_negative("kd", c.kd)) return e;
+  if (auto e = detail::check_sliding_gains(c)) return e;
   if (auto e = detail::check_non_negative("gamma", c.gamma)) return e;
   if (auto e = detail::check_positive_scalar("dt", static_cast<double>(c.dt))) return e;
   if (auto e = detail::check_finite("theta0", c.theta0)) return e;
@@ -38,65 +31,35 @@ inline ValidationError validate(const LinearAdaptiveConfig<Scalar>& c) noexcept 
 
 template <typename ScalarT>
 class LinearAdaptiveController
-    : public ControllerBase<LinearAdaptiveController<ScalarT>, ScalarT,
-                            LinearAdaptiveConfig<ScalarT>> {
-  using Base =
-      ControllerBase<LinearAdaptiveController<ScalarT>, ScalarT, LinearAdaptiveConfig<ScalarT>>;
+    : public ModelControllerBase<LinearAdaptiveController<ScalarT>, ScalarT,
+                                 LinearAdaptiveConfig<ScalarT>> {
+  using Base = ModelControllerBase<LinearAdaptiveController<ScalarT>, ScalarT,
+                                   LinearAdaptiveConfig<ScalarT>>;
+  friend ControllerBase<LinearAdaptiveController<ScalarT>, ScalarT, LinearAdaptiveConfig<ScalarT>>;
+  using Parameters = ParameterVector<ScalarT>;
 
  public:
-  using typename Base::Config;
-  using typename Base::Scalar;
   using typename Base::Vec6;
-  using Base::step;
+
   /// theta_hat is what the closed loop logs per step.
   static constexpr int kLoggedParameters = kRegressorParameters;
 
   LinearAdaptiveController() = default;
 
 #if NEUROV_HAS_EXCEPTIONS
-  explicit LinearAdaptiveController(const Config& config) {
-    detail::throw_if_invalid(create(config, *this), "linear adaptive controller");
+  explicit LinearAdaptiveController(const LinearAdaptiveConfig<ScalarT>& config) {
+    detail::throw_if_invalid(Base::create(config, *this), "linear adaptive controller");
   }
 #endif
-
-  static ValidationError create(const Config& config, LinearAdaptiveController& out) noexcept {
-    return Base::configure(config, out);
-  }
-
-  /// Control law and one adaptation step. On any status but ok, tau = 0 and
-  /// theta_hat is exactly as before.
-  Status step(const Vec6& eta, const Vec6& nu, const Vec6& eta_d, const Vec6& eta_d_dot,
-              const Vec6& eta_d_ddot, Vec6& tau) noexcept {
-    const Config& c = this->config_;
-    TrackingError<Scalar> e;
-    if (const Status ts = this->track(eta, nu, eta_d, eta_d_dot, eta_d_ddot, c.lambda, e, tau);
-        ts != Status::ok)
-      return ts;
-    const auto& trig = e.kinematics.trig;
-    const RegressorMatrix<Scalar> phi =
-        regressor<Scalar>(e.nu_r_dot, e.nu_r, nu, trig.sin_phi, trig.cos_phi, trig.sin_theta,
-                          trig.cos_theta);
-    const Vec6 f_hat = phi * theta_hat_;
-    const Vec6 tau_new = f_hat - e.kinematics.apply_transpose(c.kd.cwiseProduct(e.s));
-    const ParameterVector<Scalar> theta_next =
-        theta_hat_ -
-        c.dt * c.gamma.cwiseProduct(phi.transpose() * e.kinematics.apply_inverse(e.s));
-    if (!(tau_new.allFinite() && theta_next.allFinite()))
-      return this->refuse(Status::non_finite_output, tau);
-    theta_hat_ = theta_next;
-    f_hat_ = f_hat;
-    return this->accept(e, tau_new, tau);
-  }
 
   /// Back to theta0 and a zero history.
   void reset() noexcept {
     theta_hat_ = this->config_.theta0;
-    f_hat_.setZero();
-    this->reset_common();
+    Base::reset();
   }
 
   /// Replaces theta_hat; false (unchanged) on a NaN/Inf.
-  bool set_theta(const ParameterVector<Scalar>& theta) noexcept {
+  bool set_theta(const Parameters& theta) noexcept {
     if (!this->configured_ || !theta.allFinite()) return false;
     theta_hat_ = theta;
     return true;
@@ -104,24 +67,38 @@ class LinearAdaptiveController
 
   /// A snapshot's state put back (ControllerBase::restore) with theta_hat
   /// and the last model output; false, and nothing changed, for non-finite ones.
-  bool restore(const TrackingError<Scalar>& e, Status s, const ParameterVector<Scalar>& theta,
+  bool restore(const TrackingError<ScalarT>& e, Status s, const Parameters& theta,
                const Vec6& model_output) noexcept {
     if (!this->restorable(e, s) || !theta.allFinite() || !model_output.allFinite()) return false;
     theta_hat_ = theta;
-    f_hat_ = model_output;
-    return Base::restore(e, s);
+    return Base::restore(e, s, model_output);
   }
 
-  const ParameterVector<Scalar>& theta() const noexcept { return theta_hat_; }
-  /// Phi theta_hat of the last accepted step: the model's estimate of f.
-  const Vec6& model_output() const noexcept { return f_hat_; }
+  const Parameters& theta() const noexcept { return theta_hat_; }
   /// ||theta_hat||.
-  Scalar adaptive_norm() const noexcept { return theta_hat_.norm(); }
-  const ParameterVector<Scalar>& logged_parameters() const noexcept { return theta_hat_; }
+  ScalarT adaptive_norm() const noexcept { return theta_hat_.norm(); }
+  const Parameters& logged_parameters() const noexcept { return theta_hat_; }
 
  private:
-  ParameterVector<Scalar> theta_hat_ = ParameterVector<Scalar>::Zero();
-  Vec6 f_hat_ = Vec6::Zero();
+  /// The law on f = Phi theta_hat and one adaptation step, kept only when
+  /// tau and theta_hat are finite.
+  bool control(const TrackingError<ScalarT>& e, const Vec6& nu, Vec6& tau) noexcept {
+    const auto& c = this->config_;
+    const auto& trig = e.kinematics.trig;
+    const RegressorMatrix<ScalarT> phi =
+        regressor<ScalarT>(e.nu_r_dot, e.nu_r, nu, trig.sin_phi, trig.cos_phi, trig.sin_theta,
+                           trig.cos_theta);
+    const Parameters theta_next =
+        theta_hat_ -
+        c.dt * c.gamma.cwiseProduct(phi.transpose() * e.kinematics.apply_inverse(e.s));
+    if (!theta_next.allFinite() ||
+        !this->apply_model(e, Vec6(phi * theta_hat_), c.kd.cwiseProduct(e.s), tau))
+      return false;
+    theta_hat_ = theta_next;
+    return true;
+  }
+
+  Parameters theta_hat_ = Parameters::Zero();
 };
 
 }  // namespace neurov

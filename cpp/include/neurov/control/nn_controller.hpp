@@ -17,10 +17,6 @@
 #include "neurov/control/controller_base.hpp"
 #include "neurov/control/rbf_kernels.hpp"
 #include "neurov/control/rbf_network.hpp"
-#include "neurov/control/tracking_error.hpp"
-#include "neurov/core/status.hpp"
-#include "neurov/core/types.hpp"
-#include "neurov/core/validation.hpp"
 
 namespace neurov {
 
@@ -65,38 +61,31 @@ struct NNAdaptiveConfig {
 
 template <typename Scalar>
 inline ValidationError validate(const NNAdaptiveConfig<Scalar>& c) noexcept {
-  if (auto e = detail::check_positive("lambda", c.lambda)) return e;
-  if (auto e = detail::check_non_negative("kd", c.kd)) return e;
+  if (auto e = detail::check_sliding_gains(c)) return e;
   if (auto e = detail::check_non_negative_scalar("gamma", static_cast<double>(c.gamma))) return e;
   if (auto e = detail::check_positive_scalar("dt", static_cast<double>(c.dt))) return e;
-  if (auto e = detail::check_non_negative_scalar("sigma_m", static_cast<double>(c.sigma_m)))
-    return e;
-  if (auto e = detail::check_non_negative_scalar("kappa", static_cast<double>(c.kappa))) return e;
-  if (auto e = detail::check_non_negative_scalar("w_max", static_cast<double>(c.w_max))) return e;
-  if (auto e = detail::check_non_negative_scalar("dead_zone", static_cast<double>(c.dead_zone)))
-    return e;
-  switch (c.modification) {
-    case RobustModification::none:
-      break;
-    case RobustModification::sigma:
-      if (!(c.sigma_m > Scalar(0)))
-        return detail::invalid("sigma_m", -1, static_cast<double>(c.sigma_m),
-                               "> 0 with modification 'sigma'");
-      break;
-    case RobustModification::e_modification:
-      if (!(c.kappa > Scalar(0)))
-        return detail::invalid("kappa", -1, static_cast<double>(c.kappa),
-                               "> 0 with modification 'e_modification'");
-      break;
-    case RobustModification::projection:
-      if (!(c.w_max > Scalar(0)))
-        return detail::invalid("w_max", -1, static_cast<double>(c.w_max),
-                               "> 0 with modification 'projection'");
-      break;
-    default:
-      return detail::invalid("modification", -1, static_cast<double>(c.modification),
-                             "none, sigma, e_modification or projection");
-  }
+  struct Gain {
+    const char* name;
+    Scalar value;
+    RobustModification needed_by;  ///< the modification that needs it > 0
+    const char* expected;
+  };
+  const Gain gains[] = {
+      {"sigma_m", c.sigma_m, RobustModification::sigma, "> 0 with modification 'sigma'"},
+      {"kappa", c.kappa, RobustModification::e_modification,
+       "> 0 with modification 'e_modification'"},
+      {"w_max", c.w_max, RobustModification::projection, "> 0 with modification 'projection'"},
+      {"dead_zone", c.dead_zone, RobustModification::none, nullptr},
+  };
+  for (const Gain& g : gains)
+    if (auto e = detail::check_non_negative_scalar(g.name, static_cast<double>(g.value)))
+      return e;
+  if (static_cast<int>(c.modification) > static_cast<int>(RobustModification::projection))
+    return detail::invalid("modification", -1, static_cast<double>(c.modification),
+                           "none, sigma, e_modification or projection");
+  for (const Gain& g : gains)
+    if (g.expected && c.modification == g.needed_by && !(g.value > Scalar(0)))
+      return detail::invalid(g.name, -1, static_cast<double>(g.value), g.expected);
   return {};
 }
 

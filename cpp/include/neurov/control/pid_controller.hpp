@@ -10,10 +10,6 @@
 #include <cmath>
 
 #include "neurov/control/controller_base.hpp"
-#include "neurov/control/tracking_error.hpp"
-#include "neurov/core/status.hpp"
-#include "neurov/core/types.hpp"
-#include "neurov/core/validation.hpp"
 
 namespace neurov {
 
@@ -39,77 +35,49 @@ inline ValidationError validate(const PIDConfig<Scalar>& c) noexcept {
 
 template <typename ScalarT>
 class PIDController
-    : public ControllerBase<PIDController<ScalarT>, ScalarT, PIDConfig<ScalarT>> {
-  using Base = ControllerBase<PIDController<ScalarT>, ScalarT, PIDConfig<ScalarT>>;
+    : public VectorStateControllerBase<PIDController<ScalarT>, ScalarT, PIDConfig<ScalarT>> {
+  using Base = VectorStateControllerBase<PIDController<ScalarT>, ScalarT, PIDConfig<ScalarT>>;
+  friend ControllerBase<PIDController<ScalarT>, ScalarT, PIDConfig<ScalarT>>;
 
  public:
-  using typename Base::Config;
   using typename Base::Scalar;
   using typename Base::Vec6;
-  using Base::step;
 
   PIDController() = default;
 
 #if NEUROV_HAS_EXCEPTIONS
-  explicit PIDController(const Config& config) {
-    detail::throw_if_invalid(create(config, *this), "PID controller");
+  explicit PIDController(const PIDConfig<ScalarT>& config) {
+    detail::throw_if_invalid(Base::create(config, *this), "PID controller");
   }
 #endif
 
-  static ValidationError create(const Config& config, PIDController& out) noexcept {
-    return Base::configure(config, out);
-  }
+  /// The integrator state z (the time integral of eta_tilde, limited).
+  const Vec6& integral() const noexcept { return this->state_; }
+  /// The integrator is the PID's only memory: ||z||.
+  Scalar adaptive_norm() const noexcept { return this->state_.norm(); }
 
-  /// tau from the errors, then one step of the integrator. On any status but
-  /// ok, tau = 0 and the integrator is exactly as before.
-  Status step(const Vec6& eta, const Vec6& nu, const Vec6& eta_d, const Vec6& eta_d_dot,
-              const Vec6& eta_d_ddot, Vec6& tau) noexcept {
-    TrackingError<Scalar> e;
-    // Lambda only shapes s, which the PID law does not use; any positive value.
-    if (const Status ts = this->track(eta, nu, eta_d, eta_d_dot, eta_d_ddot,
-                                      Vec6::Ones().eval(), e, tau);
-        ts != Status::ok)
-      return ts;
-    const Config& c = this->config_;
-    const Vec6 integral_term = c.ki.cwiseProduct(integral_);
-    const Vec6 tau_new = -e.kinematics.apply_transpose(c.kp.cwiseProduct(e.eta_tilde) +
-                                                        integral_term +
-                                                        c.kd.cwiseProduct(e.eta_tilde_dot));
-    Vec6 next = integral_;
+ private:
+  /// tau from the errors, then one step of the integrator, kept only when
+  /// both are finite.
+  bool control(const TrackingError<Scalar>& e, const Vec6&, Vec6& tau) noexcept {
+    const auto& c = this->config_;
+    Vec6& z = this->state_;
+    const Vec6 integral_term = c.ki.cwiseProduct(z);
+    tau = -e.kinematics.apply_transpose(c.kp.cwiseProduct(e.eta_tilde) + integral_term +
+                                        c.kd.cwiseProduct(e.eta_tilde_dot));
+    Vec6 next = z;
     for (int i = 0; i < 6; ++i) {
       if (c.ki(i) == Scalar(0)) continue;
       const Scalar limit = c.integral_limit(i) / c.ki(i);
-      const bool at_limit = std::abs(integral_(i)) >= limit;
-      const bool pushing_out = integral_(i) * e.eta_tilde(i) > Scalar(0);
+      const bool at_limit = std::abs(z(i)) >= limit;
+      const bool pushing_out = z(i) * e.eta_tilde(i) > Scalar(0);
       if (!(at_limit && pushing_out)) next(i) += c.dt * e.eta_tilde(i);
       next(i) = std::max(-limit, std::min(limit, next(i)));
     }
-    if (!(tau_new.allFinite() && next.allFinite()))
-      return this->refuse(Status::non_finite_output, tau);
-    integral_ = next;
-    return this->accept(e, tau_new, tau);
+    if (!(tau.allFinite() && next.allFinite())) return false;
+    z = next;
+    return true;
   }
-
-  void reset() noexcept {
-    integral_.setZero();
-    this->reset_common();
-  }
-
-  /// A snapshot's state put back (ControllerBase::restore) with the
-  /// integrator z; false, and nothing changed, for a non-finite one.
-  bool restore(const TrackingError<Scalar>& e, Status s, const Vec6& integral) noexcept {
-    if (!this->restorable(e, s) || !integral.allFinite()) return false;
-    integral_ = integral;
-    return Base::restore(e, s);
-  }
-
-  /// The integrator state z (the time integral of eta_tilde, limited).
-  const Vec6& integral() const noexcept { return integral_; }
-  /// The integrator is the PID's only memory: ||z||.
-  Scalar adaptive_norm() const noexcept { return integral_.norm(); }
-
- private:
-  Vec6 integral_ = Vec6::Zero();
 };
 
 }  // namespace neurov

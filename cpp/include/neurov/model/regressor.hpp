@@ -45,6 +45,23 @@ inline const char* theta_name(int i) noexcept {
   return (i >= 0 && i < kRegressorParameters) ? names[i] : "";
 }
 
+namespace detail {
+
+/// Adds the columns col0..col0 + 2 of x × (diag(y) theta) to rows
+/// row0..row0 + 2 of Phi, the form of every cross product in C(nu) nu_r:
+/// row i gets x_j y_k in column k and -x_k y_j in column j (i, j, k cyclic).
+template <typename Scalar, typename X, typename Y>
+inline void add_cross(RegressorMatrix<Scalar>& phi, int row0, const X& x, const Y& y,
+                      int col0) noexcept {
+  for (int i = 0; i < 3; ++i) {
+    const int j = (i + 1) % 3, k = (i + 2) % 3;
+    phi(row0 + i, col0 + k) += x(j) * y(k);
+    phi(row0 + i, col0 + j) += -x(k) * y(j);
+  }
+}
+
+}  // namespace detail
+
 /// Phi such that Phi theta = M nu_r_dot + C(nu) nu_r + D(nu) nu_r + g(eta).
 template <typename Scalar>
 inline RegressorMatrix<Scalar> regressor(const Vector6<Scalar>& nu_r_dot,
@@ -52,55 +69,28 @@ inline RegressorMatrix<Scalar> regressor(const Vector6<Scalar>& nu_r_dot,
                                          Scalar sin_phi, Scalar cos_phi, Scalar sin_theta,
                                          Scalar cos_theta) noexcept {
   namespace ti = theta_index;
-  const Scalar u = nu(0), v = nu(1), w = nu(2), p = nu(3), q = nu(4), r = nu(5);
+  const Scalar p = nu(3), q = nu(4), r = nu(5);
   const Scalar ur = nu_r(0), vr = nu_r(1), wr = nu_r(2);
-  const Scalar pr = nu_r(3), qr = nu_r(4), rr = nu_r(5);
+  // Linear and angular parts (Fossen's nu_1, nu_2).
+  const auto nu1 = nu.template head<3>(), nu2 = nu.template tail<3>();
+  const auto nu1_r = nu_r.template head<3>(), nu2_r = nu_r.template tail<3>();
   const Vector6<Scalar>& a = nu_r_dot;
   RegressorMatrix<Scalar> phi = RegressorMatrix<Scalar>::Zero();
-  constexpr int m = ti::mass, ix = ti::inertia, iy = ti::inertia + 1, iz = ti::inertia + 2;
-  constexpr int xa = ti::added_mass, ya = xa + 1, za = xa + 2, ka = xa + 3, ma = xa + 4,
-                na = xa + 5;
+  constexpr int m = ti::mass, ix = ti::inertia, xa = ti::added_mass, ka = xa + 3;
 
   // M nu_r_dot and C_RB(nu) nu_r = [m w x v_r; w_r x (I w)].
   phi(0, m) = a(0) + q * wr - r * vr;
   phi(1, m) = a(1) + r * ur - p * wr;
   phi(2, m) = a(2) + p * vr - q * ur;
-  phi(3, ix) = a(3);
-  phi(4, iy) = a(4);
-  phi(5, iz) = a(5);
-  phi(3, iz) += qr * r;
-  phi(3, iy) += -rr * q;
-  phi(4, ix) += rr * p;
-  phi(4, iz) += -pr * r;
-  phi(5, iy) += pr * q;
-  phi(5, ix) += -qr * p;
+  for (int i = 0; i < 3; ++i) phi(3 + i, ix + i) = a(3 + i);
+  detail::add_cross(phi, 3, nu2_r, nu2, ix);
 
   // Added mass: M_A nu_r_dot and C_A(nu) nu_r = [w_r x a1; v_r x a1 + w_r x a2],
   // a1 = (X u, Y v, Z w), a2 = (K p, M q, N r) with the positive coefficients.
-  phi(0, xa) = a(0);
-  phi(1, ya) = a(1);
-  phi(2, za) = a(2);
-  phi(3, ka) = a(3);
-  phi(4, ma) = a(4);
-  phi(5, na) = a(5);
-  phi(0, za) += qr * w;
-  phi(0, ya) += -rr * v;
-  phi(1, xa) += rr * u;
-  phi(1, za) += -pr * w;
-  phi(2, ya) += pr * v;
-  phi(2, xa) += -qr * u;
-  phi(3, za) += vr * w;
-  phi(3, ya) += -wr * v;
-  phi(3, na) += qr * r;
-  phi(3, ma) += -rr * q;
-  phi(4, xa) += wr * u;
-  phi(4, za) += -ur * w;
-  phi(4, ka) += rr * p;
-  phi(4, na) += -pr * r;
-  phi(5, ya) += ur * v;
-  phi(5, xa) += -vr * u;
-  phi(5, ma) += pr * q;
-  phi(5, ka) += -qr * p;
+  for (int i = 0; i < 6; ++i) phi(i, xa + i) = a(i);
+  detail::add_cross(phi, 0, nu2_r, nu1, xa);
+  detail::add_cross(phi, 3, nu1_r, nu1, xa);
+  detail::add_cross(phi, 3, nu2_r, nu2, ka);
 
   // D(nu) nu_r.
   for (int i = 0; i < 6; ++i) {

@@ -144,6 +144,57 @@ inline Scalar wrap_angle(Scalar a) noexcept {
   return a <= -pi ? a + Scalar(2) * pi : a;
 }
 
+/// What a sensor's truth is made of: it refuses a non-finite one.
+enum class SensedTruth { pose, velocity, both };
+
+/// What every sensor shares (CRTP): its configuration (with `rate` and
+/// `latency`), its channel, create(), sample(), read(), config() and reset().
+/// A sensor Derived supplies kRateField and kLatencyField (its fields' names
+/// in errors), `static ValidationError check(const Config&)` for its other
+/// fields and `bool measure(eta, nu, z)` (false: a dropout, delivered with
+/// valid = false and z = 0); with state of its own, reset() calling
+/// reset_channel().
+template <typename Derived, typename Config, typename Scalar, int Dim, RandomStream Stream,
+          SensedTruth Truth>
+class Sensor {
+ public:
+  using Reading = Measurement<Scalar, Dim>;
+
+  static ValidationError create(const Config& c, std::uint64_t seed, Derived& out) noexcept {
+    if (auto e = SensorChannel<Scalar, Dim>::check(Derived::kRateField, c.rate,
+                                                   Derived::kLatencyField, c.latency))
+      return e;
+    if (auto e = Derived::check(c)) return e;
+    out.c_ = c;
+    out.channel_.start(c.rate, c.latency, seed, Stream);
+    out.reset();
+    return {};
+  }
+
+  /// Takes a sample if one is due; a non-finite time or truth takes none.
+  Status sample(double time, const Vector6<Scalar>& eta, const Vector6<Scalar>& nu) noexcept {
+    const bool finite = (Truth == SensedTruth::velocity || all_finite(eta)) &&
+                        (Truth == SensedTruth::pose || all_finite(nu));
+    if (!std::isfinite(time) || !finite) return Status::non_finite_input;
+    if (!channel_.due(time)) return Status::ok;
+    Eigen::Matrix<Scalar, Dim, 1> z;
+    const bool valid = static_cast<Derived&>(*this).measure(eta, nu, z);
+    if (!valid) z.setZero();
+    channel_.emit(time, z, valid);
+    return Status::ok;
+  }
+
+  bool read(double time, Reading& out) noexcept { return channel_.read(time, out); }
+  const Config& config() const noexcept { return c_; }
+  void reset() noexcept { reset_channel(); }
+
+ protected:
+  void reset_channel() noexcept { channel_.reset(); }
+
+  Config c_{};
+  SensorChannel<Scalar, Dim> channel_{};
+};
+
 }  // namespace detail
 
 // ---------------------------------------------------------------- AHRS / IMU
@@ -160,52 +211,43 @@ struct ImuConfig {
 
 /// Measures [phi, theta, psi (wrapped to (-pi, pi]), p, q, r] + [0; bias] + noise.
 template <typename Scalar>
-class ImuSensor {
- public:
-  using Reading = Measurement<Scalar, 6>;
+class ImuSensor : public detail::Sensor<ImuSensor<Scalar>, ImuConfig<Scalar>, Scalar, 6,
+                                        sensor_stream::imu, detail::SensedTruth::both> {
+  using Base = detail::Sensor<ImuSensor<Scalar>, ImuConfig<Scalar>, Scalar, 6, sensor_stream::imu,
+                              detail::SensedTruth::both>;
+  friend Base;
 
-  static ValidationError create(const ImuConfig<Scalar>& c, std::uint64_t seed,
-                                ImuSensor& out) noexcept {
-    if (auto e = detail::SensorChannel<Scalar, 6>::check("sensors.imu.rate", c.rate,
-                                                          "sensors.imu.latency", c.latency))
-      return e;
+ public:
+  const Vector3<Scalar>& gyro_bias() const noexcept { return bias_; }
+  void reset() noexcept {
+    this->reset_channel();
+    bias_ = this->c_.gyro_bias;
+  }
+
+ private:
+  static constexpr const char* kRateField = "sensors.imu.rate";
+  static constexpr const char* kLatencyField = "sensors.imu.latency";
+
+  static ValidationError check(const ImuConfig<Scalar>& c) noexcept {
     if (auto e = detail::check_non_negative_scalar("sensors.imu.attitude_noise", c.attitude_noise))
       return e;
     if (auto e = detail::check_non_negative_scalar("sensors.imu.gyro_noise", c.gyro_noise)) return e;
     if (auto e = detail::check_non_negative_scalar("sensors.imu.gyro_bias_walk", c.gyro_bias_walk))
       return e;
-    if (auto e = detail::check_finite("sensors.imu.gyro_bias", c.gyro_bias)) return e;
-    out.c_ = c;
-    out.channel_.start(c.rate, c.latency, seed, sensor_stream::imu);
-    out.bias_ = c.gyro_bias;
-    return {};
+    return detail::check_finite("sensors.imu.gyro_bias", c.gyro_bias);
   }
 
-  /// Takes a sample if one is due; a non-finite truth takes none.
-  Status sample(double time, const Vector6<Scalar>& eta, const Vector6<Scalar>& nu) noexcept {
-    if (!std::isfinite(time) || !detail::all_finite(eta, nu)) return Status::non_finite_input;
-    if (!channel_.due(time)) return Status::ok;
-    const Scalar walk = c_.gyro_bias_walk * static_cast<Scalar>(std::sqrt(channel_.period()));
-    for (int i = 0; i < 3; ++i) bias_(i) += walk * channel_.normal();
-    Vector6<Scalar> z;
-    for (int i = 0; i < 3; ++i) z(i) = eta(3 + i) + c_.attitude_noise * channel_.normal();
-    for (int i = 0; i < 3; ++i) z(3 + i) = nu(3 + i) + bias_(i) + c_.gyro_noise * channel_.normal();
+  bool measure(const Vector6<Scalar>& eta, const Vector6<Scalar>& nu, Vector6<Scalar>& z) noexcept {
+    const auto& c = this->c_;
+    auto& channel = this->channel_;
+    const Scalar walk = c.gyro_bias_walk * static_cast<Scalar>(std::sqrt(channel.period()));
+    for (int i = 0; i < 3; ++i) bias_(i) += walk * channel.normal();
+    for (int i = 0; i < 3; ++i) z(i) = eta(3 + i) + c.attitude_noise * channel.normal();
+    for (int i = 0; i < 3; ++i) z(3 + i) = nu(3 + i) + bias_(i) + c.gyro_noise * channel.normal();
     for (int i = 0; i < 3; ++i) z(i) = detail::wrap_angle(z(i));
-    channel_.emit(time, z, true);
-    return Status::ok;
+    return true;
   }
 
-  bool read(double time, Reading& out) noexcept { return channel_.read(time, out); }
-  const Vector3<Scalar>& gyro_bias() const noexcept { return bias_; }
-  const ImuConfig<Scalar>& config() const noexcept { return c_; }
-  void reset() noexcept {
-    channel_.reset();
-    bias_ = c_.gyro_bias;
-  }
-
- private:
-  ImuConfig<Scalar> c_{};
-  detail::SensorChannel<Scalar, 6> channel_{};
   Vector3<Scalar> bias_ = Vector3<Scalar>::Zero();
 };
 
@@ -223,43 +265,29 @@ struct DvlConfig {
 /// Measures the body velocity over ground [u, v, w] + bias + noise; a
 /// dropout delivers a sample with valid = false.
 template <typename Scalar>
-class DvlSensor {
- public:
-  using Reading = Measurement<Scalar, 3>;
+class DvlSensor : public detail::Sensor<DvlSensor<Scalar>, DvlConfig<Scalar>, Scalar, 3,
+                                        sensor_stream::dvl, detail::SensedTruth::velocity> {
+  friend detail::Sensor<DvlSensor<Scalar>, DvlConfig<Scalar>, Scalar, 3, sensor_stream::dvl,
+                        detail::SensedTruth::velocity>;
 
-  static ValidationError create(const DvlConfig<Scalar>& c, std::uint64_t seed,
-                                DvlSensor& out) noexcept {
-    if (auto e = detail::SensorChannel<Scalar, 3>::check("sensors.dvl.rate", c.rate,
-                                                          "sensors.dvl.latency", c.latency))
-      return e;
+  static constexpr const char* kRateField = "sensors.dvl.rate";
+  static constexpr const char* kLatencyField = "sensors.dvl.latency";
+
+  static ValidationError check(const DvlConfig<Scalar>& c) noexcept {
     if (auto e = detail::check_non_negative_scalar("sensors.dvl.noise", c.noise)) return e;
     if (!(c.dropout_rate >= 0.0 && c.dropout_rate < 1.0))
       return detail::invalid("sensors.dvl.dropout_rate", -1, c.dropout_rate, ">= 0 and < 1");
-    if (auto e = detail::check_finite("sensors.dvl.bias", c.bias)) return e;
-    out.c_ = c;
-    out.channel_.start(c.rate, c.latency, seed, sensor_stream::dvl);
-    return {};
+    return detail::check_finite("sensors.dvl.bias", c.bias);
   }
 
-  Status sample(double time, const Vector6<Scalar>& /*eta*/, const Vector6<Scalar>& nu) noexcept {
-    if (!std::isfinite(time) || !detail::all_finite(nu)) return Status::non_finite_input;
-    if (!channel_.due(time)) return Status::ok;
+  bool measure(const Vector6<Scalar>&, const Vector6<Scalar>& nu, Vector3<Scalar>& z) noexcept {
     // Draw the noise whether or not the sample drops out, so a dropout does
     // not shift the noise of every later sample.
-    const bool lost = channel_.uniform() <= c_.dropout_rate;
-    Vector3<Scalar> z;
-    for (int i = 0; i < 3; ++i) z(i) = nu(i) + c_.bias(i) + c_.noise * channel_.normal();
-    channel_.emit(time, lost ? Vector3<Scalar>::Zero().eval() : z, !lost);
-    return Status::ok;
+    const bool lost = this->channel_.uniform() <= this->c_.dropout_rate;
+    for (int i = 0; i < 3; ++i)
+      z(i) = nu(i) + this->c_.bias(i) + this->c_.noise * this->channel_.normal();
+    return !lost;
   }
-
-  bool read(double time, Reading& out) noexcept { return channel_.read(time, out); }
-  const DvlConfig<Scalar>& config() const noexcept { return c_; }
-  void reset() noexcept { channel_.reset(); }
-
- private:
-  DvlConfig<Scalar> c_{};
-  detail::SensorChannel<Scalar, 3> channel_{};
 };
 
 // -------------------------------------------------------------------- depth
@@ -274,39 +302,26 @@ struct DepthConfig {
 
 /// Measures the depth z (NED, down positive) + bias + noise.
 template <typename Scalar>
-class DepthSensor {
- public:
-  using Reading = Measurement<Scalar, 1>;
+class DepthSensor : public detail::Sensor<DepthSensor<Scalar>, DepthConfig<Scalar>, Scalar, 1,
+                                          sensor_stream::depth, detail::SensedTruth::pose> {
+  friend detail::Sensor<DepthSensor<Scalar>, DepthConfig<Scalar>, Scalar, 1, sensor_stream::depth,
+                        detail::SensedTruth::pose>;
 
-  static ValidationError create(const DepthConfig<Scalar>& c, std::uint64_t seed,
-                                DepthSensor& out) noexcept {
-    if (auto e = detail::SensorChannel<Scalar, 1>::check("sensors.depth.rate", c.rate,
-                                                          "sensors.depth.latency", c.latency))
-      return e;
+  static constexpr const char* kRateField = "sensors.depth.rate";
+  static constexpr const char* kLatencyField = "sensors.depth.latency";
+
+  static ValidationError check(const DepthConfig<Scalar>& c) noexcept {
     if (auto e = detail::check_non_negative_scalar("sensors.depth.noise", c.noise)) return e;
     if (!std::isfinite(static_cast<double>(c.bias)))
       return detail::invalid("sensors.depth.bias", -1, c.bias, "finite");
-    out.c_ = c;
-    out.channel_.start(c.rate, c.latency, seed, sensor_stream::depth);
     return {};
   }
 
-  Status sample(double time, const Vector6<Scalar>& eta, const Vector6<Scalar>& /*nu*/) noexcept {
-    if (!std::isfinite(time) || !detail::all_finite(eta)) return Status::non_finite_input;
-    if (!channel_.due(time)) return Status::ok;
-    Eigen::Matrix<Scalar, 1, 1> z;
-    z(0) = eta(2) + c_.bias + c_.noise * channel_.normal();
-    channel_.emit(time, z, true);
-    return Status::ok;
+  bool measure(const Vector6<Scalar>& eta, const Vector6<Scalar>&,
+               Eigen::Matrix<Scalar, 1, 1>& z) noexcept {
+    z(0) = eta(2) + this->c_.bias + this->c_.noise * this->channel_.normal();
+    return true;
   }
-
-  bool read(double time, Reading& out) noexcept { return channel_.read(time, out); }
-  const DepthConfig<Scalar>& config() const noexcept { return c_; }
-  void reset() noexcept { channel_.reset(); }
-
- private:
-  DepthConfig<Scalar> c_{};
-  detail::SensorChannel<Scalar, 1> channel_{};
 };
 
 // --------------------------------------------------------------------- USBL
@@ -321,38 +336,24 @@ struct UsblConfig {
 
 /// Measures the position [x, y, z] (NED) + bias + noise, at the sample time.
 template <typename Scalar>
-class UsblSensor {
- public:
-  using Reading = Measurement<Scalar, 3>;
+class UsblSensor : public detail::Sensor<UsblSensor<Scalar>, UsblConfig<Scalar>, Scalar, 3,
+                                         sensor_stream::usbl, detail::SensedTruth::pose> {
+  friend detail::Sensor<UsblSensor<Scalar>, UsblConfig<Scalar>, Scalar, 3, sensor_stream::usbl,
+                        detail::SensedTruth::pose>;
 
-  static ValidationError create(const UsblConfig<Scalar>& c, std::uint64_t seed,
-                                UsblSensor& out) noexcept {
-    if (auto e = detail::SensorChannel<Scalar, 3>::check("sensors.usbl.rate", c.rate,
-                                                          "sensors.usbl.latency", c.latency))
-      return e;
+  static constexpr const char* kRateField = "sensors.usbl.rate";
+  static constexpr const char* kLatencyField = "sensors.usbl.latency";
+
+  static ValidationError check(const UsblConfig<Scalar>& c) noexcept {
     if (auto e = detail::check_non_negative_scalar("sensors.usbl.noise", c.noise)) return e;
-    if (auto e = detail::check_finite("sensors.usbl.bias", c.bias)) return e;
-    out.c_ = c;
-    out.channel_.start(c.rate, c.latency, seed, sensor_stream::usbl);
-    return {};
+    return detail::check_finite("sensors.usbl.bias", c.bias);
   }
 
-  Status sample(double time, const Vector6<Scalar>& eta, const Vector6<Scalar>& /*nu*/) noexcept {
-    if (!std::isfinite(time) || !detail::all_finite(eta)) return Status::non_finite_input;
-    if (!channel_.due(time)) return Status::ok;
-    Vector3<Scalar> z;
-    for (int i = 0; i < 3; ++i) z(i) = eta(i) + c_.bias(i) + c_.noise * channel_.normal();
-    channel_.emit(time, z, true);
-    return Status::ok;
+  bool measure(const Vector6<Scalar>& eta, const Vector6<Scalar>&, Vector3<Scalar>& z) noexcept {
+    for (int i = 0; i < 3; ++i)
+      z(i) = eta(i) + this->c_.bias(i) + this->c_.noise * this->channel_.normal();
+    return true;
   }
-
-  bool read(double time, Reading& out) noexcept { return channel_.read(time, out); }
-  const UsblConfig<Scalar>& config() const noexcept { return c_; }
-  void reset() noexcept { channel_.reset(); }
-
- private:
-  UsblConfig<Scalar> c_{};
-  detail::SensorChannel<Scalar, 3> channel_{};
 };
 
 }  // namespace neurov

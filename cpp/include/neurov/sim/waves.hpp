@@ -61,6 +61,27 @@ struct WaveMove {
   double hx, hy, hz;
 };
 
+/// v = p[i .. i + L) for each pair (v, p) given: the loads of one step of
+/// the loops below.
+template <int L>
+NEUROV_ALWAYS_INLINE void load_at(int) noexcept {}
+template <int L, typename... Rest>
+NEUROV_ALWAYS_INLINE void load_at(int i, Vec<double, L>& v, const double* p,
+                                  Rest&&... rest) noexcept {
+  load<double, L>(v, p + i);
+  load_at<L>(i, rest...);
+}
+
+/// p[i .. i + L) = v for each pair (p, v) given.
+template <int L>
+NEUROV_ALWAYS_INLINE void store_at(int) noexcept {}
+template <int L, typename... Rest>
+NEUROV_ALWAYS_INLINE void store_at(int i, double* p, const Vec<double, L>& v,
+                                   Rest&&... rest) noexcept {
+  store<double, L>(p + i, v);
+  store_at<L>(i, rest...);
+}
+
 // Elementwise loops on vectors of L doubles (the build's vector unit, and,
 // through the dispatch of rbf_kernels.hpp, AVX2+FMA or AVX-512 where the CPU
 // has them; the copies round differently in the last bits, as the
@@ -75,9 +96,7 @@ NEUROV_ALWAYS_INLINE void rotate_phasors_lanes(const WaveMove& m) noexcept {
   // terms left out are below 1e-19.
   for (int i = 0; i < n; i += L) {
     V kx, ky, k;
-    load<double, L>(kx, m.kx + i);
-    load<double, L>(ky, m.ky + i);
-    load<double, L>(k, m.k + i);
+    load_at<L>(i, kx, m.kx, ky, m.ky, k, m.k);
     const V a = kx * hx + ky * hy, x2 = a * a, x = k * hz;
     const V c = one + x2 * (-1.0 / 2 + x2 * (1.0 / 24 + x2 * (-1.0 / 720 + x2 * (1.0 / 40320 +
                                                               x2 * (-1.0 / 3628800)))));
@@ -86,37 +105,23 @@ NEUROV_ALWAYS_INLINE void rotate_phasors_lanes(const WaveMove& m) noexcept {
     const V e = one + x * (1.0 + x * (1.0 / 2 + x * (1.0 / 6 + x * (1.0 / 24 + x * (1.0 / 120 +
                 x * (1.0 / 720 + x * (1.0 / 5040 + x * (1.0 / 40320 + x * (1.0 / 362880 +
                 x * (1.0 / 3628800 + x * (1.0 / 39916800)))))))))));
-    store<double, L>(m.c + i, c);
-    store<double, L>(m.s + i, s);
-    store<double, L>(m.e + i, e);
+    store_at<L>(i, m.c, c, m.s, s, m.e, e);
   }
   for (int j = 0; j < m.squarings; ++j) {
     for (int i = 0; i < n; i += L) {
       V c, s, e;
-      load<double, L>(c, m.c + i);
-      load<double, L>(s, m.s + i);
-      load<double, L>(e, m.e + i);
+      load_at<L>(i, c, m.c, s, m.s, e, m.e);
       const V c2 = c * c - s * s, s2 = 2.0 * c * s, e2 = e * e;
-      store<double, L>(m.c + i, c2);
-      store<double, L>(m.s + i, s2);
-      store<double, L>(m.e + i, e2);
+      store_at<L>(i, m.c, c2, m.s, s2, m.e, e2);
     }
   }
   for (int i = 0; i < n; i += L) {
     V c, s, e, rr, ri, pr, pi, d;
-    load<double, L>(c, m.c + i);
-    load<double, L>(s, m.s + i);
-    load<double, L>(e, m.e + i);
-    load<double, L>(rr, m.rot_re + i);
-    load<double, L>(ri, m.rot_im + i);
-    load<double, L>(pr, m.pre + i);
-    load<double, L>(pi, m.pim + i);
-    load<double, L>(d, m.decay + i);
+    load_at<L>(i, c, m.c, s, m.s, e, m.e, rr, m.rot_re, ri, m.rot_im, pr, m.pre, pi, m.pim, d,
+               m.decay);
     const V wr = rr * c + ri * s, wi = ri * c - rr * s;  // e^(i w step) (c - i s)
     const V pr2 = pr * wr - pi * wi, pi2 = pr * wi + pi * wr, d2 = d * e;
-    store<double, L>(m.pre + i, pr2);
-    store<double, L>(m.pim + i, pi2);
-    store<double, L>(m.decay + i, d2);
+    store_at<L>(i, m.pre, pr2, m.pim, pi2, m.decay, d2);
   }
 }
 
@@ -141,14 +146,8 @@ NEUROV_ALWAYS_INLINE void wave_sums_lanes(WaveSums& w) noexcept {
   for (V& a : acc) a = V{} + 0.0;
   for (int i = 0; i < n; i += L) {
     V pr, pi, d, k, kx, ky, om, c;
-    load<double, L>(pr, w.pre + i);
-    load<double, L>(pi, w.pim + i);
-    load<double, L>(d, w.decay + i);
-    load<double, L>(k, w.k + i);
-    load<double, L>(kx, w.kx + i);
-    load<double, L>(ky, w.ky + i);
-    load<double, L>(om, w.omega + i);
-    load<double, L>(c, w.amp + i);
+    load_at<L>(i, pr, w.pre, pi, w.pim, d, w.decay, k, w.k, kx, w.kx, ky, w.ky, om, w.omega, c,
+               w.amp);
     acc[0] += c * pr;
     const V qr = pr * d, qi = pi * d;
     const V im = om - kx * un - ky * ue, re = -(k * ud);  // the rate, following u
