@@ -9,7 +9,6 @@
 #include <cmath>
 #include <limits>
 #include <string>
-#include <type_traits>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -44,16 +43,7 @@ TEST(ControllerAllocDetector, SeesOperatorNewAndEigenMallocFromThisFile) {
   EXPECT_GE(w.eigen_failures, 1);
 }
 
-template <typename S>
-class ControllerAllocTest : public ::testing::Test {};
-using Scalars = ::testing::Types<float, double>;
-struct ScalarName {
-  template <typename T>
-  static std::string GetName(int) {
-    return std::is_same<T, float>::value ? "float" : "double";
-  }
-};
-TYPED_TEST_SUITE(ControllerAllocTest, Scalars, ScalarName);
+NEUROV_SCALAR_SUITE(ControllerAllocTest);
 
 constexpr int kCentres = 24;
 

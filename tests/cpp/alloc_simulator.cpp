@@ -7,13 +7,12 @@
 // defined in alloc_foundation.cpp (there may be only one per executable).
 #include "alloc_probe.hpp"
 
-#include <string>
-#include <type_traits>
 
 #include <gtest/gtest.h>
 
 #include "neurov/neurov.hpp"
 #include "curve_tables.hpp"
+#include "sensor_suite.hpp"
 
 namespace {
 
@@ -22,16 +21,7 @@ using namespace neurov;
 using alloc_probe::watch;
 using alloc_probe::Window;
 
-template <typename S>
-class SimulatorAllocTest : public ::testing::Test {};
-using Scalars = ::testing::Types<float, double>;
-struct ScalarName {
-  template <typename T>
-  static std::string GetName(int) {
-    return std::is_same<T, float>::value ? "float" : "double";
-  }
-};
-TYPED_TEST_SUITE(SimulatorAllocTest, Scalars, ScalarName);
+NEUROV_SCALAR_SUITE(SimulatorAllocTest);
 
 template <typename S>
 SimulationConfig<S> busy_config(RefusedStepPolicy policy) {
@@ -94,22 +84,7 @@ SimulationConfig<S> sensed_config(RefusedStepPolicy policy, EstimatorType estima
   SimulationConfig<S> c = busy_config<S>(policy);
   c.noise_eta.setZero();
   c.noise_nu.setZero();
-  UsblConfig<S> usbl;
-  usbl.noise = S(0.5);
-  usbl.latency = 0.5;
-  DvlConfig<S> dvl;
-  dvl.noise = S(0.01);
-  dvl.dropout_rate = 0.1;
-  DepthConfig<S> depth;
-  depth.noise = S(0.02);
-  ImuConfig<S> imu;
-  imu.attitude_noise = S(0.005);
-  imu.gyro_noise = S(0.001);
-  imu.gyro_bias_walk = S(1e-5);
-  c.sensors.usbl = usbl;
-  c.sensors.dvl = dvl;
-  c.sensors.depth = depth;
-  c.sensors.imu = imu;
+  c.sensors = neurov_test::sensor_suite<S>();
   c.estimator.type = estimator;
   return c;
 }

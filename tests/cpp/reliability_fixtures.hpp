@@ -17,6 +17,16 @@
 
 namespace neurov_test {
 
+/// A hostile change to a valid Config, what it is, and the field its refusal
+/// names (where two names are right, either).
+template <typename Config>
+struct Refusal {
+  const char* what;
+  void (*mutate)(Config&);
+  const char* field;
+  const char* or_field = nullptr;
+};
+
 /// Values no sane sensor or caller produces but a broken one can.
 template <typename S>
 std::vector<S> hostile_values() {
