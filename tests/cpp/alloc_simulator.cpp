@@ -35,18 +35,11 @@ SimulationConfig<S> busy_config(RefusedStepPolicy policy) {
   c.noise_eta.setConstant(S(0.01));
   c.noise_nu.setConstant(S(0.005));
   c.refused_step_policy = policy;
-  SensorFault<S> freeze, dropout, burst;
-  freeze.kind = SensorFaultKind::freeze;
-  freeze.start = S(2);
-  freeze.end = S(4);
-  dropout.kind = SensorFaultKind::dropout;
-  dropout.start = S(6);
-  dropout.end = S(7);
-  burst.kind = SensorFaultKind::noise_burst;
-  burst.start = S(8);
-  burst.end = S(10);
+  using neurov_test::sensor_fault;
+  SensorFault<S> burst = sensor_fault<S>(SensorFaultKind::noise_burst, 8, 10);
   burst.noise_eta.setConstant(S(0.1));
-  c.sensor_faults = {freeze, dropout, burst};
+  c.sensor_faults = {sensor_fault<S>(SensorFaultKind::freeze, 2, 4),
+                     sensor_fault<S>(SensorFaultKind::dropout, 6, 7), burst};
   CurrentStep<S> step;
   step.time = S(12);
   step.velocity << S(0.2), S(0), S(0);

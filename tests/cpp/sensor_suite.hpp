@@ -1,9 +1,11 @@
 // A vehicle's sensor suite as the tests run it (an AHRS with its gyro, a DVL
 // that drops 10 % of its samples, a depth sensor and an acoustic fix 0.5 s
-// old) and the noise figures the EKF is told for such a suite.
+// old), the noise figures the EKF is told for such a suite, and faults of
+// the sensed state.
 #pragma once
 
 #include "neurov/estimation/ekf.hpp"
+#include "neurov/sim/config.hpp"
 #include "neurov/sim/sensing.hpp"
 
 namespace neurov_test {
@@ -40,6 +42,16 @@ neurov::EkfConfig<S> ekf_noise() {
   c.depth_noise = S(0.02);
   c.position_noise = S(0.5);
   return c;
+}
+
+/// A fault of the sensed state from start to end [s].
+template <typename S>
+neurov::SensorFault<S> sensor_fault(neurov::SensorFaultKind kind, double start, double end) {
+  neurov::SensorFault<S> f;
+  f.kind = kind;
+  f.start = S(start);
+  f.end = S(end);
+  return f;
 }
 
 }  // namespace neurov_test

@@ -12,6 +12,7 @@
 
 #include "neurov/neurov.hpp"
 #include "controller_state.hpp"
+#include "sensor_suite.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -59,20 +60,12 @@ std::vector<std::pair<std::string, SimulationConfig<S>>> configurations() {
 
   SimulationConfig<S> faults = noisy;
   faults.command.linear = true;
-  SensorFault<S> freeze, dropout, burst;
-  freeze.kind = SensorFaultKind::freeze;
-  freeze.start = S(3);
-  freeze.end = S(5);
+  SensorFault<S> freeze = sensor_fault<S>(SensorFaultKind::freeze, 3, 5);
   freeze.nu = false;
-  dropout.kind = SensorFaultKind::dropout;
-  dropout.start = S(9);
-  dropout.end = S(11.1);
-  burst.kind = SensorFaultKind::noise_burst;
-  burst.start = S(15);
-  burst.end = S(19);
+  SensorFault<S> burst = sensor_fault<S>(SensorFaultKind::noise_burst, 15, 19);
   burst.noise_eta.setConstant(S(0.1));
   burst.noise_nu.setConstant(S(0.05));
-  faults.sensor_faults = {freeze, dropout, burst};
+  faults.sensor_faults = {freeze, sensor_fault<S>(SensorFaultKind::dropout, 9, 11.1), burst};
   out.emplace_back("sensor faults, refused steps zero", faults);
   faults.refused_step_policy = RefusedStepPolicy::hold;
   out.emplace_back("sensor faults, refused steps held", faults);
