@@ -89,15 +89,22 @@ typename neurov::NNAdaptiveController<S, N>::Network network(int n) {
   return net;
 }
 
-/// The paper's controller settings (gamma 0.3, 5 Hz) with the K_d and Lambda
-/// of the project's Fig. 3 scenario.
-template <typename S>
-neurov::NNAdaptiveConfig<S> nn_config() {
-  neurov::NNAdaptiveConfig<S> c;
+/// A controller configuration at the paper's 5 Hz with the K_d and Lambda of
+/// the project's Fig. 3 scenario.
+template <template <typename> class Config, typename S>
+Config<S> fig3_gains() {
+  Config<S> c;
   c.lambda = V6<S>::Constant(S(0.5));
   c.kd << S(200), S(200), S(200), S(50), S(50), S(50);
-  c.gamma = S(0.3);
   c.dt = S(0.2);
+  return c;
+}
+
+/// The paper's controller settings: gamma 0.3 on the Fig. 3 gains.
+template <typename S>
+neurov::NNAdaptiveConfig<S> nn_config() {
+  auto c = fig3_gains<neurov::NNAdaptiveConfig, S>();
+  c.gamma = S(0.3);
   return c;
 }
 
@@ -110,11 +117,8 @@ neurov::NNAdaptiveController<S, N> nn_controller(int n) {
 
 template <typename S>
 neurov::LinearAdaptiveController<S> linear_controller() {
-  neurov::LinearAdaptiveConfig<S> c;
-  c.lambda = V6<S>::Constant(S(0.5));
-  c.kd << S(200), S(200), S(200), S(50), S(50), S(50);
+  auto c = fig3_gains<neurov::LinearAdaptiveConfig, S>();
   c.gamma = neurov::ParameterVector<S>::Constant(S(1));
-  c.dt = S(0.2);
   neurov::LinearAdaptiveController<S> ctl;
   (void)neurov::LinearAdaptiveController<S>::create(c, ctl);
   return ctl;

@@ -28,101 +28,100 @@ const std::vector<StepInput<S>>& ring() {
   return r;
 }
 
+/// Times f on the inputs of the ring in turn; f keeps what it computes alive
+/// with benchmark::DoNotOptimize.
+template <typename S, typename F>
+void over_ring(benchmark::State& state, F&& f) {
+  const auto& in = ring<S>();
+  std::size_t k = 0;
+  for (auto _ : state) {
+    f(in[k++ % kRing]);
+    benchmark::ClobberMemory();
+  }
+}
+
+/// A thrust the plant benchmarks apply, the same at every step.
+template <typename S>
+V6<S> tau_applied() {
+  return (V6<S>() << S(100), S(20), S(-30), S(2), S(-3), S(5)).finished();
+}
+
 // ---------------------------------------------------------------- kinematics
+
+/// A kinematic matrix (J, J^-1 or J_dot) written by kin(x, m) from the ring's
+/// inputs.
+template <typename S, typename Kin>
+void time_kinematics(benchmark::State& state, Kin kin) {
+  neurov::Matrix6<S> m;
+  over_ring<S>(state, [&](const StepInput<S>& x) {
+    benchmark::DoNotOptimize(kin(x, m));
+    benchmark::DoNotOptimize(m.data());
+  });
+}
 
 template <typename S>
 void BM_Jacobian(benchmark::State& state) {
-  const auto& in = ring<S>();
-  neurov::Matrix6<S> j;
-  std::size_t k = 0;
-  for (auto _ : state) {
-    benchmark::DoNotOptimize(neurov::jacobian(in[k++ % kRing].eta, j));
-    benchmark::DoNotOptimize(j.data());
-    benchmark::ClobberMemory();
-  }
+  time_kinematics<S>(state, [](const StepInput<S>& x, neurov::Matrix6<S>& m) {
+    return neurov::jacobian(x.eta, m);
+  });
 }
 
 template <typename S>
 void BM_JacobianInverse(benchmark::State& state) {
-  const auto& in = ring<S>();
-  neurov::Matrix6<S> j;
-  std::size_t k = 0;
-  for (auto _ : state) {
-    benchmark::DoNotOptimize(neurov::jacobian_inverse(in[k++ % kRing].eta, j));
-    benchmark::DoNotOptimize(j.data());
-    benchmark::ClobberMemory();
-  }
+  time_kinematics<S>(state, [](const StepInput<S>& x, neurov::Matrix6<S>& m) {
+    return neurov::jacobian_inverse(x.eta, m);
+  });
 }
 
 template <typename S>
 void BM_JacobianDot(benchmark::State& state) {
-  const auto& in = ring<S>();
-  neurov::Matrix6<S> j;
-  std::size_t k = 0;
-  for (auto _ : state) {
-    const auto& x = in[k++ % kRing];
-    benchmark::DoNotOptimize(neurov::jacobian_dot(x.eta, x.nu, j));
-    benchmark::DoNotOptimize(j.data());
-    benchmark::ClobberMemory();
-  }
+  time_kinematics<S>(state, [](const StepInput<S>& x, neurov::Matrix6<S>& m) {
+    return neurov::jacobian_dot(x.eta, x.nu, m);
+  });
 }
 
 // --------------------------------------------------------------------- plant
 
 template <typename S>
 void BM_Coriolis(benchmark::State& state) {
-  const auto& in = ring<S>();
   const auto vehicle = neurov_bench::nerov<S>();
-  std::size_t k = 0;
-  for (auto _ : state) {
-    neurov::Matrix6<S> c = vehicle.coriolis(in[k++ % kRing].nu);
+  over_ring<S>(state, [&](const StepInput<S>& x) {
+    neurov::Matrix6<S> c = vehicle.coriolis(x.nu);
     benchmark::DoNotOptimize(c.data());
-    benchmark::ClobberMemory();
-  }
+  });
 }
 
 /// C(nu) nu without forming C: what the plant uses.
 template <typename S>
 void BM_CoriolisForce(benchmark::State& state) {
-  const auto& in = ring<S>();
   const auto vehicle = neurov_bench::nerov<S>();
-  std::size_t k = 0;
-  for (auto _ : state) {
-    V6<S> f = vehicle.coriolis_force(in[k++ % kRing].nu);
+  over_ring<S>(state, [&](const StepInput<S>& x) {
+    V6<S> f = vehicle.coriolis_force(x.nu);
     benchmark::DoNotOptimize(f.data());
-    benchmark::ClobberMemory();
-  }
+  });
 }
 
 template <typename S>
 void BM_Acceleration(benchmark::State& state) {
-  const auto& in = ring<S>();
   const auto vehicle = neurov_bench::nerov<S>();
-  const V6<S> tau = (V6<S>() << S(100), S(20), S(-30), S(2), S(-3), S(5)).finished();
+  const V6<S> tau = tau_applied<S>();
   V6<S> nu_dot;
-  std::size_t k = 0;
-  for (auto _ : state) {
-    const auto& x = in[k++ % kRing];
+  over_ring<S>(state, [&](const StepInput<S>& x) {
     benchmark::DoNotOptimize(vehicle.acceleration(x.eta, x.nu, tau, nu_dot));
     benchmark::DoNotOptimize(nu_dot.data());
-    benchmark::ClobberMemory();
-  }
+  });
 }
 
 template <typename S>
 void BM_Rk4Step(benchmark::State& state) {
-  const auto& in = ring<S>();
   const auto vehicle = neurov_bench::nerov<S>();
-  const V6<S> tau = (V6<S>() << S(100), S(20), S(-30), S(2), S(-3), S(5)).finished();
-  std::size_t k = 0;
-  for (auto _ : state) {
-    const auto& x = in[k++ % kRing];
+  const V6<S> tau = tau_applied<S>();
+  over_ring<S>(state, [&](const StepInput<S>& x) {
     V6<S> eta = x.eta, nu = x.nu;
     benchmark::DoNotOptimize(neurov::rk4_step(vehicle, eta, nu, tau, S(0.02)));
     benchmark::DoNotOptimize(eta.data());
     benchmark::DoNotOptimize(nu.data());
-    benchmark::ClobberMemory();
-  }
+  });
 }
 
 // --------------------------------------------------------------- controllers
@@ -154,20 +153,22 @@ void BM_RbfBasis(benchmark::State& state) {
   state.counters["N"] = n;
 }
 
+/// Steps ctl through the ring: a controller's whole step.
+template <typename S, typename Ctl>
+void time_steps(benchmark::State& state, Ctl& ctl) {
+  V6<S> tau;
+  over_ring<S>(state, [&](const StepInput<S>& x) {
+    benchmark::DoNotOptimize(ctl.step(x.eta, x.nu, x.eta_d, x.eta_d_dot, x.eta_d_ddot, tau));
+    benchmark::DoNotOptimize(tau.data());
+  });
+}
+
 /// The whole NN step: tracking error, basis, output and weight update.
 template <typename S>
 void BM_NNStep(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
   auto ctl = neurov_bench::nn_controller<S>(n);
-  const auto& in = ring<S>();
-  V6<S> tau;
-  std::size_t k = 0;
-  for (auto _ : state) {
-    const auto& x = in[k++ % kRing];
-    benchmark::DoNotOptimize(ctl.step(x.eta, x.nu, x.eta_d, x.eta_d_dot, x.eta_d_ddot, tau));
-    benchmark::DoNotOptimize(tau.data());
-    benchmark::ClobberMemory();
-  }
+  time_steps<S>(state, ctl);
   state.counters["N"] = n;
 }
 
@@ -175,46 +176,26 @@ void BM_NNStep(benchmark::State& state) {
 template <typename S, int N>
 void BM_NNStepFixed(benchmark::State& state) {
   auto ctl = neurov_bench::nn_controller<S, N>(N);
-  const auto& in = ring<S>();
-  V6<S> tau;
-  std::size_t k = 0;
-  for (auto _ : state) {
-    const auto& x = in[k++ % kRing];
-    benchmark::DoNotOptimize(ctl.step(x.eta, x.nu, x.eta_d, x.eta_d_dot, x.eta_d_ddot, tau));
-    benchmark::DoNotOptimize(tau.data());
-    benchmark::ClobberMemory();
-  }
+  time_steps<S>(state, ctl);
   state.counters["N"] = N;
 }
 
 template <typename S>
 void BM_LinearAdaptiveStep(benchmark::State& state) {
   auto ctl = neurov_bench::linear_controller<S>();
-  const auto& in = ring<S>();
-  V6<S> tau;
-  std::size_t k = 0;
-  for (auto _ : state) {
-    const auto& x = in[k++ % kRing];
-    benchmark::DoNotOptimize(ctl.step(x.eta, x.nu, x.eta_d, x.eta_d_dot, x.eta_d_ddot, tau));
-    benchmark::DoNotOptimize(tau.data());
-    benchmark::ClobberMemory();
-  }
+  time_steps<S>(state, ctl);
 }
 
 /// The tracking error every controller computes first (J, J^-1, J_dot terms).
 template <typename S>
 void BM_TrackingError(benchmark::State& state) {
-  const auto& in = ring<S>();
   const V6<S> lambda = V6<S>::Constant(S(0.5));
   neurov::TrackingError<S> e;
-  std::size_t k = 0;
-  for (auto _ : state) {
-    const auto& x = in[k++ % kRing];
+  over_ring<S>(state, [&](const StepInput<S>& x) {
     benchmark::DoNotOptimize(
         neurov::compute_tracking_error(x.eta, x.nu, x.eta_d, x.eta_d_dot, x.eta_d_ddot, lambda, e));
     benchmark::DoNotOptimize(&e);
-    benchmark::ClobberMemory();
-  }
+  });
 }
 
 // ---------------------------------------------------------------- closed loop
@@ -245,7 +226,7 @@ template <typename S>
 void BM_ClosedLoopPlantOnly(benchmark::State& state) {
   const auto vehicle = neurov_bench::nerov<S>();
   const auto& in = ring<S>();
-  const V6<S> tau = (V6<S>() << S(100), S(20), S(-30), S(2), S(-3), S(5)).finished();
+  const V6<S> tau = tau_applied<S>();
   for (auto _ : state) {
     V6<S> eta = in[0].eta, nu = in[0].nu;
     for (int k = 0; k < 3000 * 10; ++k) {

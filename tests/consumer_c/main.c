@@ -5,6 +5,8 @@
 
 #include <neurov/c_api.h>
 
+#include "onboard_params.h"
+
 static _Alignas(NEUROV_STORAGE_ALIGN) unsigned char storage[NEUROV_NN_STORAGE_BYTES(NEUROV_C_CENTRES)];
 static float centres[NEUROV_C_CENTRES * NEUROV_C_INPUTS];
 static float widths[NEUROV_C_CENTRES];
@@ -19,12 +21,8 @@ static int allocate(const float tau[6]) {
     lo[i] = -100.0f;
     hi[i] = 100.0f;
   }
-  neurov_allocator_params p;
-  neurov_allocator_params_init(&p);
-  p.thrusters = 6;
+  neurov_allocator_params p = onboard_allocator_params(6, NULL, NULL, lo, hi, NULL);
   p.matrix = b;
-  p.min_thrust = lo;
-  p.max_thrust = hi;
   neurov_allocator* a = NULL;
   if (neurov_allocator_create(alloc_storage, sizeof alloc_storage, &p, &a, NULL) != NEUROV_STATUS_OK) return 5;
   if (neurov_allocator_step(a, tau, 0.0f, commands, NULL) != NEUROV_STATUS_OK) return 6;
@@ -32,8 +30,7 @@ static int allocate(const float tau[6]) {
 }
 
 static int estimate(float eta[6], float nu[6]) {
-  neurov_ekf_params p = {0.05f, 0.01f, 1e-4f, 0.005f, 0.001f, 0.01f, 0.02f, 0.5f, {0}};
-  for (int i = 0; i < NEUROV_EKF_STATES; ++i) p.initial_std[i] = 1.0f;
+  const neurov_ekf_params p = onboard_ekf_params(1.0f);
   neurov_ekf* f = NULL;
   const float zero[6] = {0}, dvl[3] = {0.1f, 0, 0};
   if (neurov_ekf_create(ekf_storage, sizeof ekf_storage, &p, zero, zero, &f, NULL) != NEUROV_STATUS_OK) return 8;

@@ -9,8 +9,6 @@
 
 #include <cmath>
 #include <memory>
-#include <string>
-#include <type_traits>
 
 #include <gtest/gtest.h>
 
@@ -19,6 +17,7 @@
 #include "neurov/model/thrust_allocation.hpp"
 #include "neurov/model/thruster_curve.hpp"
 #include "curve_tables.hpp"
+#include "onboard_params.h"
 
 namespace {
 
@@ -26,16 +25,7 @@ using namespace neurov;
 using alloc_probe::watch;
 using alloc_probe::Window;
 
-template <typename S>
-class OnboardAllocTest : public ::testing::Test {};
-using Scalars = ::testing::Types<float, double>;
-struct ScalarName {
-  template <typename T>
-  static std::string GetName(int) {
-    return std::is_same<T, float>::value ? "float" : "double";
-  }
-};
-TYPED_TEST_SUITE(OnboardAllocTest, Scalars, ScalarName);
+NEUROV_SCALAR_SUITE(OnboardAllocTest);
 
 const double kCommand[] = {-1, -0.1, 0.1, 1}, kThrust[] = {-30, 0, 0, 40};
 
@@ -96,25 +86,8 @@ TEST(OnboardAllocTestC, TheCAllocatorAndEstimatorDoNotCallOperatorNew) {
     thr[i] = static_cast<float>(kThrust[i]);
   }
   neurov_thruster_curve curve{4, cmd, thr, 0.0f, 0.1f, 16.0f, 2.0f};
-  neurov_allocator_params p;
-  neurov_allocator_params_init(&p);
-  p.thrusters = 8;
-  p.positions = pos;
-  p.directions = dir;
-  p.min_thrust = lo;
-  p.max_thrust = hi;
-  p.curve_count = 1;
-  p.curves = &curve;
-  neurov_ekf_params ep{};
-  ep.linear_acceleration_noise = 0.05f;
-  ep.angular_acceleration_noise = 0.01f;
-  ep.gyro_bias_walk = 1e-4f;
-  ep.attitude_noise = 0.005f;
-  ep.gyro_noise = 0.001f;
-  ep.dvl_noise = 0.01f;
-  ep.depth_noise = 0.02f;
-  ep.position_noise = 0.5f;
-  for (float& s : ep.initial_std) s = 0.5f;
+  const neurov_allocator_params p = onboard_allocator_params(8, pos, dir, lo, hi, &curve);
+  const neurov_ekf_params ep = onboard_ekf_params(0.5f);
   auto storage = std::make_unique<OnboardStorage>();
   neurov_allocator* alloc = nullptr;
   neurov_ekf* ekf = nullptr;

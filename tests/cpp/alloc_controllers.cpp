@@ -7,9 +7,10 @@
 #include "alloc_probe.hpp"
 
 #include <cmath>
+#include <cstddef>
+#include <initializer_list>
 #include <limits>
 #include <string>
-#include <type_traits>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -44,16 +45,18 @@ TEST(ControllerAllocDetector, SeesOperatorNewAndEigenMallocFromThisFile) {
   EXPECT_GE(w.eigen_failures, 1);
 }
 
-template <typename S>
-class ControllerAllocTest : public ::testing::Test {};
-using Scalars = ::testing::Types<float, double>;
-struct ScalarName {
-  template <typename T>
-  static std::string GetName(int) {
-    return std::is_same<T, float>::value ? "float" : "double";
+NEUROV_SCALAR_SUITE(ControllerAllocTest);
+
+/// What the calls of a window returned, in order, against what each must.
+template <std::size_t N>
+void expect_statuses(const Status (&st)[N], std::initializer_list<Status> expected) {
+  ASSERT_LE(expected.size(), N);
+  std::size_t i = 0;
+  for (const Status e : expected) {
+    EXPECT_EQ(st[i], e) << "call " << i;
+    ++i;
   }
-};
-TYPED_TEST_SUITE(ControllerAllocTest, Scalars, ScalarName);
+}
 
 constexpr int kCentres = 24;
 
@@ -139,14 +142,9 @@ void expect_nn_step_does_not_allocate(const typename Ctl::Network& net) {
     });
     EXPECT_EQ(w.new_calls, 0) << to_string(m);
     EXPECT_EQ(w.eigen_failures, 0) << to_string(m);
-    EXPECT_EQ(st[0], Status::ok);
-    EXPECT_EQ(st[1], Status::ok);
-    EXPECT_EQ(st[2], Status::ok);
-    EXPECT_EQ(st[3], Status::ok);
+    expect_statuses(st, {Status::ok, Status::ok, Status::ok, Status::ok, Status::non_finite_input,
+                         Status::near_singularity, Status::non_finite_output});
     EXPECT_FALSE(dead.adapted());
-    EXPECT_EQ(st[4], Status::non_finite_input);
-    EXPECT_EQ(st[5], Status::near_singularity);
-    EXPECT_EQ(st[6], Status::non_finite_output);
     EXPECT_TRUE(std::isfinite(static_cast<double>(sink)));
   }
 }
@@ -231,13 +229,8 @@ TYPED_TEST(ControllerAllocTest, LinearAndPDStepsDoNotAllocate) {
   EXPECT_EQ(w.eigen_failures, 0);
   EXPECT_TRUE(e1.ok());
   EXPECT_TRUE(e2.ok());
-  EXPECT_EQ(st[0], Status::ok);
-  EXPECT_EQ(st[1], Status::ok);
-  EXPECT_EQ(st[2], Status::non_finite_input);
-  EXPECT_EQ(st[3], Status::near_singularity);
-  EXPECT_EQ(st[4], Status::non_finite_input);
-  EXPECT_EQ(st[5], Status::near_singularity);
-  EXPECT_EQ(st[6], Status::ok);
+  expect_statuses(st, {Status::ok, Status::ok, Status::non_finite_input, Status::near_singularity,
+                       Status::non_finite_input, Status::near_singularity, Status::ok});
   EXPECT_TRUE(std::isfinite(static_cast<double>(sink)));
 }
 
@@ -271,10 +264,7 @@ void expect_fixed_size_controller_does_not_allocate(const typename Ctl::Config& 
   EXPECT_EQ(w.new_calls, 0);
   EXPECT_EQ(w.eigen_failures, 0);
   EXPECT_TRUE(e.ok());
-  EXPECT_EQ(st[0], Status::ok);
-  EXPECT_EQ(st[1], Status::ok);
-  EXPECT_EQ(st[2], Status::non_finite_input);
-  EXPECT_EQ(st[3], Status::near_singularity);
+  expect_statuses(st, {Status::ok, Status::ok, Status::non_finite_input, Status::near_singularity});
   EXPECT_TRUE(std::isfinite(static_cast<double>(sink)));
 }
 
@@ -322,11 +312,8 @@ TYPED_TEST(ControllerAllocTest, ReferenceModelAndTrackingErrorDoNotAllocate) {
   EXPECT_EQ(w.new_calls, 0);
   EXPECT_EQ(w.eigen_failures, 0);
   EXPECT_TRUE(e.ok());
-  EXPECT_EQ(st[0], Status::ok);
-  EXPECT_EQ(st[1], Status::non_finite_input);
-  EXPECT_EQ(st[2], Status::invalid_argument);
-  EXPECT_EQ(st[3], Status::ok);
-  EXPECT_EQ(st[4], Status::near_singularity);
+  expect_statuses(st, {Status::ok, Status::non_finite_input, Status::invalid_argument, Status::ok,
+                       Status::near_singularity});
   EXPECT_TRUE(std::isfinite(static_cast<double>(sink)));
 }
 
@@ -348,9 +335,7 @@ void expect_network_eval_does_not_allocate(const Net& net, const typename Net::I
   });
   EXPECT_EQ(w.new_calls, 0);
   EXPECT_EQ(w.eigen_failures, 0);
-  EXPECT_EQ(st[0], Status::ok);
-  EXPECT_EQ(st[1], Status::ok);
-  EXPECT_EQ(st[2], Status::non_finite_input);
+  expect_statuses(st, {Status::ok, Status::ok, Status::non_finite_input});
   EXPECT_TRUE(std::isfinite(static_cast<double>(sink)));
 }
 

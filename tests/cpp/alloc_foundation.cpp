@@ -6,8 +6,6 @@
 
 #include <cmath>
 #include <limits>
-#include <string>
-#include <type_traits>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -93,16 +91,7 @@ TEST(AllocDetector, QuietWindowCountsNothing) {
 
 // ------------------------------------------------------------- the hot path
 
-template <typename S>
-class HotPathAllocTest : public ::testing::Test {};
-using Scalars = ::testing::Types<float, double>;
-struct ScalarName {
-  template <typename T>
-  static std::string GetName(int) {
-    return std::is_same<T, float>::value ? "float" : "double";
-  }
-};
-TYPED_TEST_SUITE(HotPathAllocTest, Scalars, ScalarName);
+NEUROV_SCALAR_SUITE(HotPathAllocTest);
 
 /// Everything the hot path returns is folded in here so none of it is dead code.
 template <typename S, typename Derived>

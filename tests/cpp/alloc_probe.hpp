@@ -1,4 +1,5 @@
-// The allocation probe shared by the alloc_*.cpp tests (one executable).
+// The allocation probe shared by the alloc_*.cpp tests (one executable), with
+// the typed suites of scalar_suite.hpp.
 // Include it first, before any Eigen header. Two independent detectors watch
 // a window around the hot calls:
 //  * a counting replacement of the global operator new (every C++
@@ -30,6 +31,8 @@ inline void eigen_assert_failed(const char* expr, const char* file, int line) no
   ((x) ? static_cast<void>(0) : ::alloc_probe::eigen_assert_failed(#x, __FILE__, __LINE__))
 
 #include <Eigen/Core>
+
+#include "scalar_suite.hpp"
 
 #ifndef EIGEN_RUNTIME_NO_MALLOC
 #error "alloc_*.cpp must be built with EIGEN_RUNTIME_NO_MALLOC (see tests/cpp/CMakeLists.txt)"

@@ -6,8 +6,6 @@
 
 #include <cmath>
 #include <memory>
-#include <string>
-#include <type_traits>
 
 #include <gtest/gtest.h>
 
@@ -15,7 +13,9 @@
 #include "neurov/model/bluerov2_heavy.hpp"
 #include "neurov/model/thruster_curve.hpp"
 #include "curve_tables.hpp"
+#include "neurov/sim/sensing.hpp"
 #include "neurov/sim/sensors.hpp"
+#include "sensor_suite.hpp"
 
 namespace {
 
@@ -23,44 +23,16 @@ using namespace neurov;
 using alloc_probe::watch;
 using alloc_probe::Window;
 
-template <typename S>
-class RealismAllocTest : public ::testing::Test {};
-using Scalars = ::testing::Types<float, double>;
-struct ScalarName {
-  template <typename T>
-  static std::string GetName(int) {
-    return std::is_same<T, float>::value ? "float" : "double";
-  }
-};
-TYPED_TEST_SUITE(RealismAllocTest, Scalars, ScalarName);
+NEUROV_SCALAR_SUITE(RealismAllocTest);
 
 TYPED_TEST(RealismAllocTest, ThrusterCurveSensorsAndEkfDoNotAllocate) {
   using S = TypeParam;
   ThrusterCurveConfig<S> tc = neurov_test::unit_test_curve<S>(-30, 40);
   tc.time_constant = S(0.05);
   tc.slew_rate = S(200);
-  EkfConfig<S> ec;
-  ec.linear_acceleration_noise = S(0.02);
-  ec.angular_acceleration_noise = S(0.002);
-  ec.gyro_bias_walk = S(1e-4);
-  ec.attitude_noise = S(0.005);
-  ec.gyro_noise = S(0.001);
-  ec.dvl_noise = S(0.01);
-  ec.depth_noise = S(0.02);
-  ec.position_noise = S(0.5);
+  EkfConfig<S> ec = neurov_test::ekf_noise<S>();
   ec.initial_std.setConstant(S(0.1));
-  ImuConfig<S> ic;
-  ic.attitude_noise = S(0.005);
-  ic.gyro_noise = S(0.001);
-  ic.gyro_bias_walk = S(1e-5);
-  DvlConfig<S> dc;
-  dc.noise = S(0.01);
-  dc.dropout_rate = 0.1;
-  DepthConfig<S> pc;
-  pc.noise = S(0.02);
-  UsblConfig<S> uc;
-  uc.noise = S(0.5);
-  uc.latency = 0.5;
+  const SensorsConfig<S> suite = neurov_test::sensor_suite<S>();
   // Sensors and the EKF hold their state inline (delay lines included).
   auto curve = std::make_unique<ThrusterCurve<S>>();
   auto imu = std::make_unique<ImuSensor<S>>();
@@ -78,10 +50,10 @@ TYPED_TEST(RealismAllocTest, ThrusterCurveSensorsAndEkfDoNotAllocate) {
 
   const Window w = watch([&] {
     errors[0] = ThrusterCurve<S>::create(tc, *curve);
-    errors[1] = ImuSensor<S>::create(ic, 3, *imu);
-    errors[2] = DvlSensor<S>::create(dc, 3, *dvl);
-    errors[3] = DepthSensor<S>::create(pc, 3, *depth);
-    errors[4] = UsblSensor<S>::create(uc, 3, *usbl);
+    errors[1] = ImuSensor<S>::create(*suite.imu, 3, *imu);
+    errors[2] = DvlSensor<S>::create(*suite.dvl, 3, *dvl);
+    errors[3] = DepthSensor<S>::create(*suite.depth, 3, *depth);
+    errors[4] = UsblSensor<S>::create(*suite.usbl, 3, *usbl);
     errors[5] = Ekf<S>::create(ec, eta, nu, *ekf);
     Eigen::Matrix<S, 6, 8> b;
     errors[6] = allocation_matrix(bluerov2_heavy_layout<S>(), b);

@@ -6,8 +6,6 @@
 
 #include <cmath>
 #include <memory>
-#include <string>
-#include <type_traits>
 
 #include <gtest/gtest.h>
 
@@ -22,16 +20,7 @@ using namespace neurov;
 using alloc_probe::watch;
 using alloc_probe::Window;
 
-template <typename S>
-class SeaAllocTest : public ::testing::Test {};
-using Scalars = ::testing::Types<float, double>;
-struct ScalarName {
-  template <typename T>
-  static std::string GetName(int) {
-    return std::is_same<T, float>::value ? "float" : "double";
-  }
-};
-TYPED_TEST_SUITE(SeaAllocTest, Scalars, ScalarName);
+NEUROV_SCALAR_SUITE(SeaAllocTest);
 
 TYPED_TEST(SeaAllocTest, CurrentWavesAndPayloadDoNotAllocate) {
   using S = TypeParam;

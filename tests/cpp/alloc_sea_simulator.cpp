@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "neurov/neurov.hpp"
+#include "held_command.hpp"
 
 namespace {
 
@@ -12,19 +13,14 @@ using namespace neurov;
 using alloc_probe::watch;
 using alloc_probe::Window;
 
-template <typename S>
-class SeaSimulatorAllocTest : public ::testing::Test {};
-using Scalars = ::testing::Types<float, double>;
-TYPED_TEST_SUITE(SeaSimulatorAllocTest, Scalars);
+NEUROV_SCALAR_SUITE(SeaSimulatorAllocTest);
 
 TYPED_TEST(SeaSimulatorAllocTest, StepAndResetDoNotAllocate) {
   using S = TypeParam;
   SimulationConfig<S> c;
   c.duration = S(30);
   c.eta0 << S(0), S(0), S(8), S(0), S(0), S(0);
-  c.command.times.resize(1);
-  c.command.times << S(0);
-  c.command.poses = c.eta0.transpose();
+  c.command = neurov_test::held(c.eta0);
   c.noise_eta.setConstant(S(0.01));
   c.current_model = CurrentModel::gauss_markov;
   c.gauss_markov_current.direction_std = S(5);

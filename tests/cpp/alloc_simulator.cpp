@@ -7,13 +7,12 @@
 // defined in alloc_foundation.cpp (there may be only one per executable).
 #include "alloc_probe.hpp"
 
-#include <string>
-#include <type_traits>
 
 #include <gtest/gtest.h>
 
 #include "neurov/neurov.hpp"
 #include "curve_tables.hpp"
+#include "sensor_suite.hpp"
 
 namespace {
 
@@ -22,16 +21,7 @@ using namespace neurov;
 using alloc_probe::watch;
 using alloc_probe::Window;
 
-template <typename S>
-class SimulatorAllocTest : public ::testing::Test {};
-using Scalars = ::testing::Types<float, double>;
-struct ScalarName {
-  template <typename T>
-  static std::string GetName(int) {
-    return std::is_same<T, float>::value ? "float" : "double";
-  }
-};
-TYPED_TEST_SUITE(SimulatorAllocTest, Scalars, ScalarName);
+NEUROV_SCALAR_SUITE(SimulatorAllocTest);
 
 template <typename S>
 SimulationConfig<S> busy_config(RefusedStepPolicy policy) {
@@ -45,18 +35,11 @@ SimulationConfig<S> busy_config(RefusedStepPolicy policy) {
   c.noise_eta.setConstant(S(0.01));
   c.noise_nu.setConstant(S(0.005));
   c.refused_step_policy = policy;
-  SensorFault<S> freeze, dropout, burst;
-  freeze.kind = SensorFaultKind::freeze;
-  freeze.start = S(2);
-  freeze.end = S(4);
-  dropout.kind = SensorFaultKind::dropout;
-  dropout.start = S(6);
-  dropout.end = S(7);
-  burst.kind = SensorFaultKind::noise_burst;
-  burst.start = S(8);
-  burst.end = S(10);
+  using neurov_test::sensor_fault;
+  SensorFault<S> burst = sensor_fault<S>(SensorFaultKind::noise_burst, 8, 10);
   burst.noise_eta.setConstant(S(0.1));
-  c.sensor_faults = {freeze, dropout, burst};
+  c.sensor_faults = {sensor_fault<S>(SensorFaultKind::freeze, 2, 4),
+                     sensor_fault<S>(SensorFaultKind::dropout, 6, 7), burst};
   CurrentStep<S> step;
   step.time = S(12);
   step.velocity << S(0.2), S(0), S(0);
@@ -94,22 +77,7 @@ SimulationConfig<S> sensed_config(RefusedStepPolicy policy, EstimatorType estima
   SimulationConfig<S> c = busy_config<S>(policy);
   c.noise_eta.setZero();
   c.noise_nu.setZero();
-  UsblConfig<S> usbl;
-  usbl.noise = S(0.5);
-  usbl.latency = 0.5;
-  DvlConfig<S> dvl;
-  dvl.noise = S(0.01);
-  dvl.dropout_rate = 0.1;
-  DepthConfig<S> depth;
-  depth.noise = S(0.02);
-  ImuConfig<S> imu;
-  imu.attitude_noise = S(0.005);
-  imu.gyro_noise = S(0.001);
-  imu.gyro_bias_walk = S(1e-5);
-  c.sensors.usbl = usbl;
-  c.sensors.dvl = dvl;
-  c.sensors.depth = depth;
-  c.sensors.imu = imu;
+  c.sensors = neurov_test::sensor_suite<S>();
   c.estimator.type = estimator;
   return c;
 }

@@ -223,6 +223,18 @@ struct NNExpected {
 struct Modification {
   RobustModification kind = RobustModification::none;
   double sigma_m = 0, kappa = 0, w_max = 0, dead_zone = 0;
+
+  static Modification sigma(double sigma_m) { return {RobustModification::sigma, sigma_m, 0, 0, 0}; }
+  static Modification e_modification(double kappa) {
+    return {RobustModification::e_modification, 0, kappa, 0, 0};
+  }
+  static Modification projection(double w_max) {
+    return {RobustModification::projection, 0, 0, w_max, 0};
+  }
+  /// No robust modification, adaptation off while |s| < dead_zone.
+  static Modification with_dead_zone(double dead_zone) {
+    return {RobustModification::none, 0, 0, 0, dead_zone};
+  }
 };
 
 /// Eq. 30, 35 and 37 with plain loops. `w` is the weight matrix before the
@@ -284,20 +296,39 @@ typename NNAdaptiveController<S, N>::Network make_network(const MatXd& centres, 
   return net;
 }
 
+/// A configuration written in double, in S.
+template <typename S>
+NNAdaptiveConfig<S> cast_config(const NNAdaptiveConfig<double>& d) {
+  NNAdaptiveConfig<S> c;
+  c.lambda = d.lambda.cast<S>();
+  c.kd = d.kd.cast<S>();
+  c.gamma = static_cast<S>(d.gamma);
+  c.dt = static_cast<S>(d.dt);
+  c.modification = d.modification;
+  c.sigma_m = static_cast<S>(d.sigma_m);
+  c.kappa = static_cast<S>(d.kappa);
+  c.w_max = static_cast<S>(d.w_max);
+  c.dead_zone = static_cast<S>(d.dead_zone);
+  return c;
+}
+
 template <typename S>
 NNAdaptiveConfig<S> config_of(const NNCase& c, const Modification& mod = {}) {
-  NNAdaptiveConfig<S> cfg;
-  cfg.lambda = c.lambda.cast<S>();
-  cfg.kd = c.kd.cast<S>();
-  cfg.gamma = static_cast<S>(c.gamma);
-  cfg.dt = static_cast<S>(c.dt);
+  NNAdaptiveConfig<double> cfg;
+  cfg.lambda = c.lambda;
+  cfg.kd = c.kd;
+  cfg.gamma = c.gamma;
+  cfg.dt = c.dt;
   cfg.modification = mod.kind;
-  cfg.sigma_m = static_cast<S>(mod.sigma_m);
-  cfg.kappa = static_cast<S>(mod.kappa);
-  cfg.w_max = static_cast<S>(mod.w_max);
-  cfg.dead_zone = static_cast<S>(mod.dead_zone);
-  return cfg;
+  cfg.sigma_m = mod.sigma_m;
+  cfg.kappa = mod.kappa;
+  cfg.w_max = mod.w_max;
+  cfg.dead_zone = mod.dead_zone;
+  return cast_config<S>(cfg);
 }
+
+/// The learning rate of every centre when they all share gamma.
+inline VecXd uniform_rates(const NNCase& c) { return VecXd::Constant(c.centres.rows(), c.gamma); }
 
 template <typename S, int N = Eigen::Dynamic>
 NNAdaptiveController<S, N> make_nn(const NNCase& c, const Modification& mod = {}) {

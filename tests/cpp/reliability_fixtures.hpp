@@ -17,6 +17,29 @@
 
 namespace neurov_test {
 
+/// A hostile change to a valid Config, what it is, and the field its refusal
+/// names (where two names are right, either).
+template <typename Config>
+struct Refusal {
+  const char* what;
+  void (*mutate)(Config&);
+  const char* field;
+  const char* or_field = nullptr;
+
+  Config applied_to(Config c) const {
+    mutate(c);
+    return c;
+  }
+
+  /// e refuses, naming field (or or_field).
+  ::testing::AssertionResult named_by(const neurov::ValidationError& e) const {
+    if (e.ok()) return ::testing::AssertionFailure() << what << ": accepted";
+    const std::string f = e.field;
+    if (f == field || (or_field != nullptr && f == or_field)) return ::testing::AssertionSuccess();
+    return ::testing::AssertionFailure() << what << ": named " << f;
+  }
+};
+
 /// Values no sane sensor or caller produces but a broken one can.
 template <typename S>
 std::vector<S> hostile_values() {

@@ -16,12 +16,8 @@
 namespace {
 
 using namespace neurov;
-using neurov_test::ScalarName;
-using neurov_test::Scalars;
 
-template <typename S>
-class BlueRov2HeavyTest : public ::testing::Test {};
-TYPED_TEST_SUITE(BlueRov2HeavyTest, Scalars, ScalarName);
+NEUROV_SCALAR_SUITE(BlueRov2HeavyTest);
 
 TYPED_TEST(BlueRov2HeavyTest, EveryColumnIsDirectionAndMomentOfItsThruster) {
   using S = TypeParam;

@@ -16,6 +16,7 @@
 
 #include "neurov/c_api.h"
 #include "neurov/model/bluerov2_heavy.hpp"
+#include "onboard_params.h"
 
 namespace {
 
@@ -88,15 +89,9 @@ struct alignas(NEUROV_STORAGE_ALIGN) Storage {
   unsigned char bytes[NEUROV_ALLOCATOR_STORAGE_BYTES(kN)]{};  // zeroed: the tests compare bytes
 };
 
-neurov_allocator_params heavy_params(const Layout& l) {
-  neurov_allocator_params p;
-  neurov_allocator_params_init(&p);
-  p.thrusters = kN;
-  p.positions = l.positions;
-  p.directions = l.directions;
-  p.min_thrust = l.min_thrust;
-  p.max_thrust = l.max_thrust;
-  return p;
+/// The layout l, every thruster on `curve` (none: thrust is the command).
+neurov_allocator_params heavy_params(const Layout& l, const neurov_thruster_curve* curve = nullptr) {
+  return onboard_allocator_params(kN, l.positions, l.directions, l.min_thrust, l.max_thrust, curve);
 }
 
 neurov_allocator* make(Storage& s, const neurov_allocator_params& p) {
@@ -119,6 +114,16 @@ VecN step(neurov_allocator* a, const Vec6d& tau, float voltage, VecN* commands =
   }
   return out;
 }
+
+/// The Heavy's layout with one curve, the table's, for all eight thrusters,
+/// created in storage of its own.
+struct OnTheTable {
+  Layout l;
+  Table t;
+  neurov_thruster_curve curve = t.curve();
+  Storage s;
+  neurov_allocator* a = make(s, heavy_params(l, &curve));
+};
 
 Vec6d attainable_tau() {
   Vec6d tau;
@@ -209,14 +214,8 @@ TEST(CAllocation, ScaleSaturationKeepsTheDirectionAndClipFillsTheLimits) {
 }
 
 TEST(CAllocation, TheInverseCurveGivesCommandsWhoseThrustIsTheAllocation) {
-  Layout l;
-  Table t;
-  const neurov_thruster_curve curve = t.curve();
-  neurov_allocator_params p = heavy_params(l);
-  p.curve_count = 1;  // one curve for all eight
-  p.curves = &curve;
-  Storage s;
-  neurov_allocator* a = make(s, p);
+  OnTheTable on;
+  auto& [l, t, curve, s, a] = on;
   ASSERT_NE(a, nullptr);
   EXPECT_LE(neurov_allocator_storage_size(1), NEUROV_ALLOCATOR_STORAGE_BYTES(1));
   for (const float volts : {16.0f, 14.8f}) {
@@ -236,14 +235,8 @@ TEST(CAllocation, TheInverseCurveGivesCommandsWhoseThrustIsTheAllocation) {
 }
 
 TEST(CAllocation, ALowBatteryShrinksTheThrustsTheCurveCanGive) {
-  Layout l;
-  Table t;
-  const neurov_thruster_curve curve = t.curve();
-  neurov_allocator_params p = heavy_params(l);
-  p.curve_count = 1;
-  p.curves = &curve;
-  Storage s;
-  neurov_allocator* a = make(s, p);
+  OnTheTable on;
+  auto& [l, t, curve, s, a] = on;
   ASSERT_NE(a, nullptr);
   const double k = std::pow(12.0 / 16.0, 2.0);  // 51 N forward becomes 28.7 N
   const Vec6d tau = attainable_tau() * 20.0;
@@ -281,14 +274,8 @@ TEST(CAllocation, OneCurvePerThrusterThroughCurveOf) {
 }
 
 TEST(CAllocation, BadInputIsRefusedWithNeutralCommandsAndNothingChanged) {
-  Layout l;
-  Table t;
-  const neurov_thruster_curve curve = t.curve();
-  neurov_allocator_params p = heavy_params(l);
-  p.curve_count = 1;
-  p.curves = &curve;
-  Storage s;
-  neurov_allocator* a = make(s, p);
+  OnTheTable on;
+  auto& [l, t, curve, s, a] = on;
   ASSERT_NE(a, nullptr);
   VecN before_c;
   const VecN before = step(a, attainable_tau(), 16.0f, &before_c);
@@ -355,9 +342,7 @@ TEST(CAllocation, CreateNamesTheBadArgument) {
     Table table;
     neurov_thruster_curve curve = table.curve();
     std::vector<neurov_thruster_curve> curves(2, curve);
-    neurov_allocator_params p = heavy_params(layout);
-    p.curve_count = 1;
-    p.curves = curves.data();
+    neurov_allocator_params p = heavy_params(layout, curves.data());
     c.change(p, layout, curves[0]);
     Storage s;
     std::memset(s.bytes, 0xCD, sizeof s.bytes);
@@ -386,9 +371,7 @@ TEST(CAllocation, StorageTooSmallOrMisalignedIsRefused) {
   EXPECT_STREQ(e.field, "size");
   Table t;
   neurov_thruster_curve curve = t.curve();
-  neurov_allocator_params pc = p;
-  pc.curve_count = 1;
-  pc.curves = &curve;
+  const neurov_allocator_params pc = heavy_params(l, &curve);
   EXPECT_EQ(neurov_allocator_create(s.bytes, neurov_allocator_storage_size(0), &pc, &a, &e),
             NEUROV_STATUS_INVALID_ARGUMENT);  // room for the layout, not the curve
   EXPECT_STREQ(e.field, "size");

@@ -12,6 +12,7 @@
 
 #include "neurov/c_api.h"
 #include "neurov/estimation/ekf.hpp"
+#include "onboard_params.h"
 
 namespace {
 
@@ -21,19 +22,7 @@ struct alignas(NEUROV_STORAGE_ALIGN) Storage {
   unsigned char bytes[NEUROV_EKF_STORAGE_BYTES]{};  // zeroed: the tests compare bytes
 };
 
-neurov_ekf_params params() {
-  neurov_ekf_params p{};
-  p.linear_acceleration_noise = 0.05f;
-  p.angular_acceleration_noise = 0.01f;
-  p.gyro_bias_walk = 1e-4f;
-  p.attitude_noise = 0.005f;
-  p.gyro_noise = 0.001f;
-  p.dvl_noise = 0.01f;
-  p.depth_noise = 0.02f;
-  p.position_noise = 0.5f;
-  for (float& s : p.initial_std) s = 1.0f;
-  return p;
-}
+neurov_ekf_params params() { return onboard_ekf_params(1.0f); }
 
 neurov::EkfConfig<float> config_of(const neurov_ekf_params& p) {
   neurov::EkfConfig<float> c;

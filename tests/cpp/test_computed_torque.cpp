@@ -25,9 +25,7 @@ using neurov_test::max_abs;
 using neurov_test::Rng;
 using V6d = Eigen::Matrix<double, 6, 1>;
 
-template <typename S>
-class ComputedTorqueTest : public ::testing::Test {};
-TYPED_TEST_SUITE(ComputedTorqueTest, neurov_test::Scalars, neurov_test::ScalarName);
+NEUROV_SCALAR_SUITE(ComputedTorqueTest);
 
 /// Relative tolerance of a float or double step against a double reference.
 template <typename S>

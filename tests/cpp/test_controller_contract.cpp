@@ -4,7 +4,7 @@
 // accepted steps give a finite tau, reset() returns to the state create()
 // left, the DesiredState overload is the 5-vector step, an unconfigured
 // controller refuses, and the diagnostics hook reports the controller's own
-// memory. A new controller joins by one line in Controllers and a factory.
+// memory. A new controller joins by one line in Controllers and a draw_gains.
 // (test_reliability_*.cpp sweep every hostile value through every entry.)
 #include <cmath>
 #include <cstring>
@@ -27,89 +27,89 @@ using neurov_test::Rng;
 
 // ------------------------------------------------- a configured controller
 
+// Each controller is made from gains drawn from rng (draw_gains on its
+// Config); memory() is the part of its state a step changes.
+
+template <typename S>
+void draw_gains(PDConfig<S>& c, Rng& rng) {
+  c.kp = rng.vec6<S>(10, 100);
+  c.kd = rng.vec6<S>(10, 200);
+}
+
+template <typename S>
+void draw_gains(PIDConfig<S>& c, Rng& rng) {
+  c.kp = rng.vec6<S>(10, 100);
+  c.ki = rng.vec6<S>(1, 10);
+  c.kd = rng.vec6<S>(10, 200);
+}
+
+template <typename S>
+void draw_gains(SlidingModeConfig<S>& c, Rng& rng) {
+  c.kd = rng.vec6<S>(10, 200);
+  c.k = rng.vec6<S>(1, 20);
+  c.phi.setConstant(S(0.1));
+  EXPECT_TRUE(regressor_parameters(nerov_parameters<S>(), c.theta).ok());
+}
+
+template <typename S>
+void draw_gains(LinearAdaptiveConfig<S>& c, Rng& rng) {
+  c.kd = rng.vec6<S>(10, 200);
+  c.gamma.setConstant(S(2));
+  ParameterVector<S> theta;
+  EXPECT_TRUE(regressor_parameters(nerov_parameters<S>(), theta).ok());
+  c.theta0 = S(0.8) * theta;
+}
+
+template <typename S>
+void draw_gains(ComputedTorqueConfig<S>& c, Rng& rng) {
+  c.kd = rng.vec6<S>(10, 200);
+  c.vehicle = neurov_test::random_vehicle_parameters<S>(rng, CoriolisForm::kirchhoff);
+}
+
+template <typename S>
+void draw_gains(NNAdaptiveConfig<S>& c, Rng& rng) {
+  c.kd = rng.vec6<S>(10, 200);
+  c.gamma = S(2);
+  c.modification = RobustModification::sigma;
+  c.sigma_m = S(0.1);
+}
+
 template <typename Ctl>
-struct Factory;
-
-template <typename S>
-struct Factory<PDController<S>> {
-  static PDController<S> make(Rng& rng) {
-    PDConfig<S> c;
-    c.kp = rng.vec6<S>(10, 100);
-    c.kd = rng.vec6<S>(10, 200);
-    return PDController<S>(c);
-  }
-  static S memory(const PDController<S>&) { return S(0); }
-};
-
-template <typename S>
-struct Factory<PIDController<S>> {
-  static PIDController<S> make(Rng& rng) {
-    PIDConfig<S> c;
-    c.kp = rng.vec6<S>(10, 100);
-    c.ki = rng.vec6<S>(1, 10);
-    c.kd = rng.vec6<S>(10, 200);
-    return PIDController<S>(c);
-  }
-  static S memory(const PIDController<S>& c) { return c.integral().norm(); }
-};
-
-template <typename S>
-struct Factory<SlidingModeController<S>> {
-  static SlidingModeController<S> make(Rng& rng) {
-    SlidingModeConfig<S> c;
-    c.kd = rng.vec6<S>(10, 200);
-    c.k = rng.vec6<S>(1, 20);
-    c.phi.setConstant(S(0.1));
-    EXPECT_TRUE(regressor_parameters(nerov_parameters<S>(), c.theta).ok());
-    return SlidingModeController<S>(c);
-  }
-  static S memory(const SlidingModeController<S>&) { return S(0); }
-};
-
-template <typename S>
-struct Factory<LinearAdaptiveController<S>> {
-  static LinearAdaptiveController<S> make(Rng& rng) {
-    LinearAdaptiveConfig<S> c;
-    c.kd = rng.vec6<S>(10, 200);
-    c.gamma.setConstant(S(2));
-    ParameterVector<S> theta;
-    EXPECT_TRUE(regressor_parameters(nerov_parameters<S>(), theta).ok());
-    c.theta0 = S(0.8) * theta;
-    return LinearAdaptiveController<S>(c);
-  }
-  static S memory(const LinearAdaptiveController<S>& c) { return c.theta().norm(); }
-};
-
-template <typename S, int N>
-struct Factory<NNAdaptiveController<S, N>> {
-  using Ctl = NNAdaptiveController<S, N>;
-  static Ctl make(Rng& rng) {
-    const int n = N == Eigen::Dynamic ? 12 : N;
+Ctl make(Rng& rng) {
+  typename Ctl::Config c;
+  if constexpr (std::is_constructible_v<Ctl, const typename Ctl::Config&>) {
+    draw_gains(c, rng);
+    return Ctl(c);
+  } else {  // the NN controller, on a network of centres drawn first
+    using S = typename Ctl::Scalar;
+    const int n = Ctl::Network::kCentres == Eigen::Dynamic ? 12 : Ctl::Network::kCentres;
     typename Ctl::Network::CentreMatrix centres(n, kNNInputs);
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < kNNInputs; ++i) centres(j, i) = rng.uniform<S>(-1.5, 1.5);
     typename Ctl::Network net;
     EXPECT_TRUE(Ctl::Network::create(centres, Ctl::BasisVector::Constant(n, S(2)), net).ok());
-    NNAdaptiveConfig<S> c;
-    c.kd = rng.vec6<S>(10, 200);
-    c.gamma = S(2);
-    c.modification = RobustModification::sigma;
-    c.sigma_m = S(0.1);
+    draw_gains(c, rng);
     return Ctl(net, c);
   }
-  static S memory(const Ctl& c) { return c.weights().norm(); }
-};
+}
 
 template <typename S>
-struct Factory<ComputedTorqueController<S>> {
-  static ComputedTorqueController<S> make(Rng& rng) {
-    ComputedTorqueConfig<S> c;
-    c.kd = rng.vec6<S>(10, 200);
-    c.vehicle = neurov_test::random_vehicle_parameters<S>(rng, CoriolisForm::kirchhoff);
-    return ComputedTorqueController<S>(c);
-  }
-  static S memory(const ComputedTorqueController<S>&) { return S(0); }
-};
+S memory(const PIDController<S>& c) {
+  return c.integral().norm();
+}
+template <typename S>
+S memory(const LinearAdaptiveController<S>& c) {
+  return c.theta().norm();
+}
+template <typename S, int N>
+S memory(const NNAdaptiveController<S, N>& c) {
+  return c.weights().norm();
+}
+/// PD, sliding mode and computed torque keep none.
+template <typename Ctl>
+typename Ctl::Scalar memory(const Ctl&) {
+  return 0;
+}
 
 template <typename Ctl>
 class ControllerContract : public ::testing::Test {};
@@ -175,7 +175,7 @@ TYPED_TEST(ControllerContract, RefusedStepWritesZeroAndChangesNothing) {
   using Ctl = TypeParam;
   using S = typename Ctl::Scalar;
   Rng rng(700);
-  Ctl ctl = Factory<Ctl>::make(rng);
+  Ctl ctl = make<Ctl>(rng);
   Vector6<S> args[5], tau;
   for (int k = 0; k < 3; ++k) {  // a history, so "unchanged" means something
     draw(rng, args);
@@ -219,7 +219,7 @@ TYPED_TEST(ControllerContract, AcceptedStepsGiveFiniteTauAndFiniteState) {
   using Ctl = TypeParam;
   using S = typename Ctl::Scalar;
   Rng rng(701);
-  Ctl ctl = Factory<Ctl>::make(rng);
+  Ctl ctl = make<Ctl>(rng);
   Vector6<S> args[5], tau;
   for (int k = 0; k < neurov_test::kPoints; ++k) {
     draw(rng, args);
@@ -236,7 +236,7 @@ TYPED_TEST(ControllerContract, ResetReturnsToTheStateCreateLeft) {
   using Ctl = TypeParam;
   using S = typename Ctl::Scalar;
   Rng rng(702);
-  const Ctl fresh = Factory<Ctl>::make(rng);
+  const Ctl fresh = make<Ctl>(rng);
   Ctl ctl = fresh;
   Vector6<S> args[5], tau, tau_fresh;
   for (int k = 0; k < 10; ++k) {
@@ -260,7 +260,7 @@ TYPED_TEST(ControllerContract, DesiredStateOverloadIsTheFiveVectorStep) {
   using Ctl = TypeParam;
   using S = typename Ctl::Scalar;
   Rng rng(703);
-  Ctl a = Factory<Ctl>::make(rng);
+  Ctl a = make<Ctl>(rng);
   Ctl b = a;
   Vector6<S> args[5], tau_a, tau_b;
   for (int k = 0; k < 5; ++k) {
@@ -293,12 +293,12 @@ TYPED_TEST(ControllerContract, AdaptiveNormIsTheControllersOwnMemory) {
   using Ctl = TypeParam;
   using S = typename Ctl::Scalar;
   Rng rng(705);
-  Ctl ctl = Factory<Ctl>::make(rng);
+  Ctl ctl = make<Ctl>(rng);
   Vector6<S> args[5], tau;
   for (int k = 0; k < 5; ++k) {
     draw(rng, args);
     ASSERT_EQ(step(ctl, args, tau), Status::ok);
-    const S expected = Factory<Ctl>::memory(ctl);
+    const S expected = memory(ctl);
     EXPECT_NEAR(static_cast<double>(ctl.adaptive_norm()), static_cast<double>(expected),
                 1e-5 * (1.0 + static_cast<double>(expected)));
   }

@@ -14,9 +14,14 @@ namespace {
 using namespace neurov;
 using namespace neurov_test::nn;
 
+NEUROV_SCALAR_SUITE(NNControllerTest);
+
+/// Weights another law would give differ from the expected ones far beyond
+/// the tolerance, so the comparison with the reference tells the laws apart.
 template <typename S>
-class NNControllerTest : public ::testing::Test {};
-TYPED_TEST_SUITE(NNControllerTest, neurov_test::Scalars, neurov_test::ScalarName);
+void expect_distinguishable(const MatXd& other, const MatXd& expected) {
+  EXPECT_GT((other - expected).cwiseAbs().maxCoeff(), 100 * tol<S>(max_abs(expected)));
+}
 
 // The reference J_dot is itself a hand transcription: check it against a
 // central difference of the reference J along eta_dot = J nu before trusting it.
@@ -41,7 +46,7 @@ TYPED_TEST(NNControllerTest, StepMatchesPlainLoopEquationsWithWeightsFromBeforeT
     NNCase c = random_case<S>(rng);
     auto ctl = make_nn<S>(c);
     MatXd w = c.weights;
-    const VecXd rates = VecXd::Constant(c.centres.rows(), c.gamma);
+    const VecXd rates = uniform_rates(c);
     // Several steps in a row, so the weights the step starts from are the
     // ones the previous update produced.
     for (int step = 0; step < 3; ++step) {
@@ -109,9 +114,8 @@ TYPED_TEST(NNControllerTest, PerCentreLearningRatesScaleEachColumnOfTheUpdate) {
     const MatXd col = c.weights.col(1);
     EXPECT_TRUE(all_near(ctl.weights().col(1), col, 0.0));
     // The uniform-gamma law would have given something else.
-    const NNExpected uniform = nn_reference(c, c.weights, VecXd::Constant(rates.size(), c.gamma), {});
-    EXPECT_GT((uniform.weights - ex.weights).cwiseAbs().maxCoeff(),
-              100 * tol<S>(max_abs(ex.weights)));
+    const NNExpected uniform = nn_reference(c, c.weights, uniform_rates(c), {});
+    expect_distinguishable<S>(uniform.weights, ex.weights);
   }
 }
 
@@ -132,24 +136,30 @@ TYPED_TEST(NNControllerTest, SetLearningRatesRefusesBadVectorsAndKeepsTheOldOnes
   EXPECT_TRUE(all_near(ctl.learning_rates(), before, 0.0));
 }
 
+/// One step of case c under the modification `mod` by a controller made into
+/// `ctl`: its tau and weights against the reference's, which it returns.
+template <typename S>
+NNExpected step_against_reference(NNAdaptiveController<S>& ctl, const NNCase& c,
+                                  const Modification& mod) {
+  ctl = make_nn<S>(c, mod);
+  const NNExpected ex = nn_reference(c, c.weights, uniform_rates(c), mod);
+  Vector6<S> tau;
+  EXPECT_EQ(step_case<S>(ctl, c, tau), Status::ok);
+  EXPECT_TRUE(all_near(tau, ex.tau, tol<S>(max_abs(ex.tau) + max_abs(c.weights))));
+  EXPECT_TRUE(all_near(ctl.weights(), ex.weights, tol<S>(max_abs(ex.weights))));
+  return ex;
+}
+
 TYPED_TEST(NNControllerTest, SigmaModificationLeaksTheWeights) {
   using S = TypeParam;
   Rng rng(105);
   for (int k = 0; k < 20; ++k) {
     const NNCase c = random_case<S>(rng);
-    Modification mod;
-    mod.kind = RobustModification::sigma;
-    mod.sigma_m = draw<S>(rng, 0.2, 2.0);
-    auto ctl = make_nn<S>(c, mod);
-    const VecXd rates = VecXd::Constant(c.centres.rows(), c.gamma);
-    const NNExpected ex = nn_reference(c, c.weights, rates, mod);
-    Vector6<S> tau;
-    ASSERT_EQ(step_case<S>(ctl, c, tau), Status::ok);
-    EXPECT_TRUE(all_near(tau, ex.tau, tol<S>(max_abs(ex.tau) + max_abs(c.weights))));
-    EXPECT_TRUE(all_near(ctl.weights(), ex.weights, tol<S>(max_abs(ex.weights))));
-    const NNExpected plain = nn_reference(c, c.weights, rates, {});
-    EXPECT_GT((plain.weights - ex.weights).cwiseAbs().maxCoeff(),
-              100 * tol<S>(max_abs(ex.weights)));
+    const Modification mod = Modification::sigma(draw<S>(rng, 0.2, 2.0));
+    NNAdaptiveController<S> ctl;
+    const NNExpected ex = step_against_reference(ctl, c, mod);
+    const NNExpected plain = nn_reference(c, c.weights, uniform_rates(c), {});
+    expect_distinguishable<S>(plain.weights, ex.weights);
   }
 }
 
@@ -158,21 +168,13 @@ TYPED_TEST(NNControllerTest, EModificationLeaksInProportionToTheError) {
   Rng rng(106);
   for (int k = 0; k < 20; ++k) {
     const NNCase c = random_case<S>(rng);
-    Modification mod;
-    mod.kind = RobustModification::e_modification;
-    mod.kappa = draw<S>(rng, 0.1, 1.0);
-    auto ctl = make_nn<S>(c, mod);
-    const VecXd rates = VecXd::Constant(c.centres.rows(), c.gamma);
-    const NNExpected ex = nn_reference(c, c.weights, rates, mod);
-    Vector6<S> tau;
-    ASSERT_EQ(step_case<S>(ctl, c, tau), Status::ok);
-    EXPECT_TRUE(all_near(ctl.weights(), ex.weights, tol<S>(max_abs(ex.weights))));
+    const Modification mod = Modification::e_modification(draw<S>(rng, 0.1, 1.0));
+    NNAdaptiveController<S> ctl;
+    const NNExpected ex = step_against_reference(ctl, c, mod);
     // A sigma-modification with sigma_m = kappa would leak by a different amount.
-    Modification as_sigma;
-    as_sigma.kind = RobustModification::sigma;
-    as_sigma.sigma_m = mod.kappa;
-    const NNExpected sigma = nn_reference(c, c.weights, rates, as_sigma);
-    EXPECT_GT((sigma.weights - ex.weights).cwiseAbs().maxCoeff(), 100 * tol<S>(max_abs(ex.weights)));
+    const NNExpected sigma =
+        nn_reference(c, c.weights, uniform_rates(c), Modification::sigma(mod.kappa));
+    expect_distinguishable<S>(sigma.weights, ex.weights);
   }
 }
 
@@ -181,27 +183,20 @@ TYPED_TEST(NNControllerTest, ProjectionKeepsTheFrobeniusNormWithinTheBound) {
   Rng rng(107);
   for (int k = 0; k < 20; ++k) {
     const NNCase c = random_case<S>(rng);
-    const VecXd rates = VecXd::Constant(c.centres.rows(), c.gamma);
+    const VecXd rates = uniform_rates(c);
     const double unprojected = nn_reference(c, c.weights, rates, {}).weights.norm();
     // Active: the bound is below the norm the plain step would reach.
-    Modification active;
-    active.kind = RobustModification::projection;
-    active.w_max = 0.5 * unprojected;
-    auto ctl = make_nn<S>(c, active);
-    const NNExpected ex = nn_reference(c, c.weights, rates, active);
-    Vector6<S> tau;
-    ASSERT_EQ(step_case<S>(ctl, c, tau), Status::ok);
-    EXPECT_TRUE(all_near(tau, ex.tau, tol<S>(max_abs(ex.tau) + max_abs(c.weights))));
-    EXPECT_TRUE(all_near(ctl.weights(), ex.weights, tol<S>(max_abs(ex.weights))));
+    const Modification active = Modification::projection(0.5 * unprojected);
+    NNAdaptiveController<S> ctl;
+    step_against_reference(ctl, c, active);
     const double norm = ctl.weights().template cast<double>().norm();
     EXPECT_LE(norm, static_cast<double>(static_cast<S>(active.w_max)) * (1 + 16 * eps<S>()));
     EXPECT_NEAR(norm, active.w_max, tol<S>(active.w_max));
     EXPECT_NEAR(static_cast<double>(ctl.weight_norm()), active.w_max, tol<S>(active.w_max));
 
     // Inactive: a bound above the new norm leaves the plain step alone.
-    Modification loose = active;
-    loose.w_max = 2.0 * unprojected;
-    auto ctl2 = make_nn<S>(c, loose);
+    auto ctl2 = make_nn<S>(c, Modification::projection(2.0 * unprojected));
+    Vector6<S> tau;
     ASSERT_EQ(step_case<S>(ctl2, c, tau), Status::ok);
     const NNExpected plain = nn_reference(c, c.weights, rates, {});
     EXPECT_TRUE(all_near(ctl2.weights(), plain.weights, tol<S>(max_abs(plain.weights))));
@@ -213,11 +208,10 @@ TYPED_TEST(NNControllerTest, DeadZoneStopsAdaptationWhileTheErrorIsSmall) {
   Rng rng(108);
   for (int k = 0; k < 20; ++k) {
     const NNCase c = random_case<S>(rng);
-    const VecXd rates = VecXd::Constant(c.centres.rows(), c.gamma);
+    const VecXd rates = uniform_rates(c);
     const double s_norm = spec_tracking(c.eta, c.nu, c.eta_d, c.eta_d_dot, c.eta_d_ddot, c.lambda)
                               .s.norm();
-    Modification inside;
-    inside.dead_zone = 1.5 * s_norm;
+    const Modification inside = Modification::with_dead_zone(1.5 * s_norm);
     auto ctl = make_nn<S>(c, inside);
     Vector6<S> tau;
     ASSERT_EQ(step_case<S>(ctl, c, tau), Status::ok);
@@ -230,8 +224,7 @@ TYPED_TEST(NNControllerTest, DeadZoneStopsAdaptationWhileTheErrorIsSmall) {
     // The control law still runs.
     EXPECT_TRUE(all_near(tau, ex.tau, tol<S>(max_abs(ex.tau) + max_abs(c.weights))));
 
-    Modification outside;
-    outside.dead_zone = 0.5 * s_norm;
+    const Modification outside = Modification::with_dead_zone(0.5 * s_norm);
     auto ctl2 = make_nn<S>(c, outside);
     ASSERT_EQ(step_case<S>(ctl2, c, tau), Status::ok);
     const NNExpected ex2 = nn_reference(c, c.weights, rates, outside);

@@ -12,13 +12,12 @@
 #include "neurov/core/random.hpp"
 #include "neurov/estimation/ekf.hpp"
 #include "neurov/sim/sensors.hpp"
+#include "sensor_suite.hpp"
 #include "test_support.hpp"
 
 namespace {
 
 using namespace neurov;
-using neurov_test::ScalarName;
-using neurov_test::Scalars;
 
 /// Chi-square quantile by Wilson and Hilferty (relative error < 1e-3 for
 /// k >= 100): k (1 - 2/(9k) + z sqrt(2/(9k)))^3.
@@ -64,15 +63,8 @@ struct Rig {
 template <typename S>
 Rig<S> make_rig(std::uint64_t seed, double usbl_latency, double dvl_dropout, const Truth& truth) {
   Rig<S> r;
+  r.config = neurov_test::ekf_noise<S>();
   auto& c = r.config;
-  c.linear_acceleration_noise = S(0.02);
-  c.angular_acceleration_noise = S(0.002);
-  c.gyro_bias_walk = S(1e-4);
-  c.attitude_noise = S(0.005);
-  c.gyro_noise = S(0.001);
-  c.dvl_noise = S(0.01);
-  c.depth_noise = S(0.02);
-  c.position_noise = S(0.5);
   for (int i = 0; i < 3; ++i) {
     c.initial_std(i) = S(1);
     c.initial_std(3 + i) = S(0.02);
@@ -162,9 +154,7 @@ double nees(const Rig<S>& r, const Truth& truth) {
   return e.dot(p.ldlt().solve(e));
 }
 
-template <typename S>
-class EkfTest : public ::testing::Test {};
-TYPED_TEST_SUITE(EkfTest, Scalars, ScalarName);
+NEUROV_SCALAR_SUITE(EkfTest);
 
 TYPED_TEST(EkfTest, ErrorIsConsistentWithItsCovariance) {
   using S = TypeParam;

@@ -112,9 +112,7 @@ void expect_paths_agree(int n) {
   }
 }
 
-template <typename S>
-class KernelPathsTest : public ::testing::Test {};
-TYPED_TEST_SUITE(KernelPathsTest, neurov_test::Scalars, neurov_test::ScalarName);
+NEUROV_SCALAR_SUITE(KernelPathsTest);
 
 // N = 64 (the C interface's), 37 (a tail shorter than a vector) and N fixed.
 TYPED_TEST(KernelPathsTest, EveryPathGivesTheSameStepsToTheStatedTolerance) {

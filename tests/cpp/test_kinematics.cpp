@@ -21,9 +21,7 @@ using neurov_test::kPoints;
 using neurov_test::max_abs;
 using neurov_test::Rng;
 
-template <typename S>
-class KinematicsTest : public ::testing::Test {};
-TYPED_TEST_SUITE(KinematicsTest, neurov_test::Scalars, neurov_test::ScalarName);
+NEUROV_SCALAR_SUITE(KinematicsTest);
 
 template <typename S>
 Vector6<S> pose_with_angles(S phi, S theta, S psi) {

@@ -19,6 +19,7 @@
 #include "neurov/control/reference_model.hpp"
 #include "neurov/model/regressor.hpp"
 #include "neurov/model/vehicle.hpp"
+#include "nerov_paper.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -33,46 +34,9 @@ using neurov_test::Rng;
 using V6d = Eigen::Matrix<double, 6, 1>;
 using M6d = Eigen::Matrix<double, 6, 6>;
 using Theta = Eigen::Matrix<double, kRegressorParameters, 1>;
+using namespace neurov_test::nerov_paper;
 
-template <typename S>
-class RegressorTest : public ::testing::Test {};
-TYPED_TEST_SUITE(RegressorTest, neurov_test::Scalars, neurov_test::ScalarName);
-
-// NEROV's model exactly as docs/model.md prints it (the paper's section 5, eq. 39).
-constexpr double kM = 185, kIx = 25, kIy = 50, kIz = 50;
-constexpr double kXu = -30, kYv = -80, kZw = -80, kKp = -15, kMq = -30, kNr = -30;
-
-M6d nerov_m() {
-  V6d d;
-  d << kM - kXu, kM - kYv, kM - kZw, kIx - kKp, kIy - kMq, kIz - kNr;
-  return d.asDiagonal();
-}
-
-M6d nerov_c_eq39(const V6d& nu) {
-  const double u = nu(0), v = nu(1), w = nu(2), p = nu(3), q = nu(4), r = nu(5), m = kM;
-  M6d c;
-  c << 0, -m * r, m * q, 0, -kZw * w, kYv * v,          //
-      m * r, 0, -m * p, kZw * w, 0, -kXu * u,           //
-      -m * q, m * p, 0, -kYv * v, kXu * u, 0,           //
-      0, -kZw * w, kYv * v, 0, (kIz - kNr) * r, -(kIy - kMq) * q,  //
-      kZw * w, 0, -kXu * u, -(kIz - kNr) * r, 0, (kIx - kKp) * p,  //
-      -kYv * v, kXu * u, 0, (kIy - kMq) * q, -(kIx - kKp) * p, 0;
-  return c;
-}
-
-M6d nerov_d(const V6d& nu) {
-  V6d d;
-  d << 70 + 100 * std::abs(nu(0)), 100 + 200 * std::abs(nu(1)), 100 + 200 * std::abs(nu(2)),
-      30 + 50 * std::abs(nu(3)), 50 + 100 * std::abs(nu(4)), 50 + 100 * std::abs(nu(5));
-  return d.asDiagonal();
-}
-
-V6d nerov_g(const V6d& eta) {
-  const double b = 1800;
-  V6d g;
-  g << 0, 0, 0, 0.02 * b * std::cos(eta(4)) * std::sin(eta(3)), 0.02 * b * std::sin(eta(4)), 0;
-  return g;
-}
+NEUROV_SCALAR_SUITE(RegressorTest);
 
 TYPED_TEST(RegressorTest, NerovParametersAreThePapersNumbers) {
   using S = TypeParam;
@@ -141,10 +105,7 @@ TYPED_TEST(RegressorTest, PhiTimesThetaMatchesTheVehicleModelForAnyDiagonalVehic
 
 TYPED_TEST(RegressorTest, ParametersRefuseAVehicleOutsideTheStructureNamingTheField) {
   using S = TypeParam;
-  struct Case {
-    const char* field;
-    void (*mutate)(VehicleParameters<S>&);
-  };
+  using Case = neurov_test::BadField<VehicleParameters<S>>;
   const Case cases[] = {
       {"centre_of_gravity", [](VehicleParameters<S>& p) { p.centre_of_gravity.z() = S(0.01); }},
       {"coriolis_form", [](VehicleParameters<S>& p) { p.coriolis_form = CoriolisForm::kirchhoff; }},
@@ -286,9 +247,7 @@ TEST(LinearAdaptiveLyapunov, VDoesNotIncreaseFromAPerturbedEstimateWithPerParame
   EXPECT_GT(max_increase(wrong.v), 100 * 1e-9 * v0);
 }
 
-template <typename S>
-class LinearAdaptiveTest : public ::testing::Test {};
-TYPED_TEST_SUITE(LinearAdaptiveTest, neurov_test::Scalars, neurov_test::ScalarName);
+NEUROV_SCALAR_SUITE(LinearAdaptiveTest);
 
 /// NEROV driven by the frozen controller (gamma = 0) with theta_hat fixed at
 /// theta0, following the reference model towards a pose with roll and pitch
@@ -345,10 +304,7 @@ TYPED_TEST(LinearAdaptiveTest, TrueParametersFrozenTrackExactly) {
 
 TYPED_TEST(LinearAdaptiveTest, InvalidConfigurationNamesTheParameter) {
   using S = TypeParam;
-  struct Case {
-    const char* field;
-    void (*mutate)(LinearAdaptiveConfig<S>&);
-  };
+  using Case = neurov_test::BadField<LinearAdaptiveConfig<S>>;
   const Case cases[] = {
       {"lambda", [](LinearAdaptiveConfig<S>& c) { c.lambda(1) = S(0); }},
       {"lambda", [](LinearAdaptiveConfig<S>& c) { c.lambda(4) = S(-2); }},

@@ -14,9 +14,7 @@ using namespace neurov_test::nn;
 
 // ---------------------------------------------------- linear adaptive step
 
-template <typename S>
-class LinearStepTest : public ::testing::Test {};
-TYPED_TEST_SUITE(LinearStepTest, neurov_test::Scalars, neurov_test::ScalarName);
+NEUROV_SCALAR_SUITE(LinearStepTest);
 
 // tau = Phi theta_hat - J^T K_d s with the theta_hat from before the update,
 // then theta_hat <- theta_hat - dt Gamma Phi^T J^-1 s. s, nu_r, nu_r_dot and J
@@ -64,9 +62,7 @@ TYPED_TEST(LinearStepTest, StepMatchesEquations26And28) {
 
 // ------------------------------------------------------------------------ PD
 
-template <typename S>
-class PDControllerTest : public ::testing::Test {};
-TYPED_TEST_SUITE(PDControllerTest, neurov_test::Scalars, neurov_test::ScalarName);
+NEUROV_SCALAR_SUITE(PDControllerTest);
 
 TYPED_TEST(PDControllerTest, TauIsMinusJTransposeOfThePdTermsInTheEarthFrame) {
   using S = TypeParam;

@@ -13,9 +13,7 @@ namespace {
 using namespace neurov;
 using namespace neurov_test::nn;
 
-template <typename S>
-class NNBadInputTest : public ::testing::Test {};
-TYPED_TEST_SUITE(NNBadInputTest, neurov_test::Scalars, neurov_test::ScalarName);
+NEUROV_SCALAR_SUITE(NNBadInputTest);
 
 // ------------------------------------------------------------------ bad input
 
@@ -104,10 +102,7 @@ TYPED_TEST(NNBadInputTest, BadInputIsRefusedWithZeroTauAndUnchangedWeights) {
   const NNCase c = random_case<S>(rng);
   expect_refuses_bad_inputs(make_nn<S>(c), rng);
   expect_refuses_bad_inputs(make_nn<S, 12>(c), rng);
-  Modification sigma;
-  sigma.kind = RobustModification::sigma;
-  sigma.sigma_m = 0.3;
-  expect_refuses_bad_inputs(make_nn<S>(c, sigma), rng);
+  expect_refuses_bad_inputs(make_nn<S>(c, Modification::sigma(0.3)), rng);
 }
 
 // ---------------------------------------------------------- configuration
@@ -148,21 +143,6 @@ std::vector<BadConfig> bad_nn_configs() {
       {"dead_zone", [](auto& c) { c.dead_zone = -0.01; }},
       {"modification", [](auto& c) { c.modification = static_cast<RobustModification>(9); }},
   };
-}
-
-template <typename S>
-NNAdaptiveConfig<S> cast_config(const NNAdaptiveConfig<double>& d) {
-  NNAdaptiveConfig<S> c;
-  c.lambda = d.lambda.cast<S>();
-  c.kd = d.kd.cast<S>();
-  c.gamma = static_cast<S>(d.gamma);
-  c.dt = static_cast<S>(d.dt);
-  c.modification = d.modification;
-  c.sigma_m = static_cast<S>(d.sigma_m);
-  c.kappa = static_cast<S>(d.kappa);
-  c.w_max = static_cast<S>(d.w_max);
-  c.dead_zone = static_cast<S>(d.dead_zone);
-  return c;
 }
 
 TYPED_TEST(NNBadInputTest, InvalidConfigurationNamesTheParameter) {

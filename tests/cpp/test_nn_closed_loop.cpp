@@ -14,9 +14,7 @@ namespace {
 using namespace neurov;
 using namespace neurov_test::nn;
 
-template <typename S>
-class NNClosedLoopTest : public ::testing::Test {};
-TYPED_TEST_SUITE(NNClosedLoopTest, neurov_test::Scalars, neurov_test::ScalarName);
+NEUROV_SCALAR_SUITE(NNClosedLoopTest);
 
 // -------------------------------------------------------- closed loop, NEROV
 
@@ -194,11 +192,8 @@ double max_of(const std::vector<double>& v) { return *std::max_element(v.begin()
 // weights keep growing for the whole run; it must end well above both.
 TYPED_TEST(NNClosedLoopTest, RobustModificationsKeepWeightsBoundedUnderDisturbance) {
   using S = TypeParam;
-  Modification none, sigma, projection;
-  sigma.kind = RobustModification::sigma;
-  sigma.sigma_m = 0.05;
-  projection.kind = RobustModification::projection;
-  projection.w_max = 5.0;
+  const Modification none{}, sigma = Modification::sigma(0.05),
+                          projection = Modification::projection(5.0);
   const DriftRun free_run = run_drift<S>(none);
   const DriftRun sigma_run = run_drift<S>(sigma);
   const DriftRun proj_run = run_drift<S>(projection);

@@ -10,7 +10,8 @@
 // than against itself.
 //
 // This file keeps its own helpers rather than sharing test_support.hpp, so it
-// builds on its own whatever that header grows.
+// builds on its own whatever that header grows (only the typed-suite macro of
+// scalar_suite.hpp is shared).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -27,6 +28,7 @@
 #include "neurov/model/regressor.hpp"
 #include "neurov/control/sliding_mode_controller.hpp"
 #include "neurov/model/vehicle.hpp"
+#include "scalar_suite.hpp"
 
 namespace {
 
@@ -35,14 +37,6 @@ using namespace neurov;
 using V6d = Eigen::Matrix<double, 6, 1>;
 using M3d = Eigen::Matrix3d;
 using M6d = Eigen::Matrix<double, 6, 6>;
-
-using Scalars = ::testing::Types<float, double>;
-struct ScalarName {
-  template <typename T>
-  static std::string GetName(int) {
-    return std::is_same<T, float>::value ? "float" : "double";
-  }
-};
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -140,9 +134,7 @@ Vector6<S> to(const V6d& v) {
 
 // ----------------------------------------------------------------------- PID
 
-template <typename S>
-class PIDTest : public ::testing::Test {};
-TYPED_TEST_SUITE(PIDTest, Scalars, ScalarName);
+NEUROV_SCALAR_SUITE(PIDTest);
 
 template <typename S>
 PIDConfig<S> pid_config(Draw& d, double limit) {
@@ -256,9 +248,7 @@ TYPED_TEST(PIDTest, BadConfigurationNamesTheField) {
 
 // ----------------------------------------------------------------- sliding mode
 
-template <typename S>
-class SlidingModeTest : public ::testing::Test {};
-TYPED_TEST_SUITE(SlidingModeTest, Scalars, ScalarName);
+NEUROV_SCALAR_SUITE(SlidingModeTest);
 
 TYPED_TEST(SlidingModeTest, TauWithTheTrueThetaIsTheModelMinusJTransposeOfKdSPlusKSat) {
   using S = TypeParam;

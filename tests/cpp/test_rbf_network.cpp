@@ -16,17 +16,12 @@
 namespace {
 
 using namespace neurov;
-using neurov_test::all_near;
-using neurov_test::eps;
-using neurov_test::max_abs;
-using neurov_test::Rng;
+using namespace neurov_test;
 
 using MatXd = Eigen::MatrixXd;
 using VecXd = Eigen::VectorXd;
 
-template <typename S>
-class RbfNetworkTest : public ::testing::Test {};
-TYPED_TEST_SUITE(RbfNetworkTest, neurov_test::Scalars, neurov_test::ScalarName);
+NEUROV_SCALAR_SUITE(RbfNetworkTest);
 
 template <typename S>
 using DynNet = RbfNetwork<S>;

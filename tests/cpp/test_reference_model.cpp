@@ -25,9 +25,7 @@ using neurov_test::eps;
 using neurov_test::kPi;
 using neurov_test::record;
 
-template <typename S>
-class ReferenceModelTest : public ::testing::Test {};
-TYPED_TEST_SUITE(ReferenceModelTest, neurov_test::Scalars, neurov_test::ScalarName);
+NEUROV_SCALAR_SUITE(ReferenceModelTest);
 
 /// x'' + lambda x' + omega (x - r) = 0 from rest at x0: position, velocity and
 /// acceleration at t, for any damping ratio zeta = lambda / (2 sqrt(omega)).

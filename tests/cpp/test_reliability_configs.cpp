@@ -15,6 +15,7 @@
 
 #include "neurov/neurov.hpp"
 #include "controller_state.hpp"
+#include "held_command.hpp"
 #include "reliability_fixtures.hpp"
 #include "test_support.hpp"
 
@@ -26,62 +27,45 @@ using namespace neurov_test;
 NEUROV_SCALAR_SUITE(ReliabilityTest);
 
 
+/// Sets one parameter of a default Config to `bad` with `set` and expects
+/// validate() to refuse it, naming `field`.
+template <typename Config, typename S, typename Set>
+void expect_refused(const char* what, S bad, Set set, const char* field) {
+  Config c;
+  set(c, bad);
+  const ValidationError e = validate(c);
+  ASSERT_FALSE(e.ok()) << what << " = " << bad;
+  EXPECT_STREQ(e.field, field) << what << " = " << bad;
+}
+
 // Zero or negative gains and time steps, for every controller's config.
 TYPED_TEST(ReliabilityTest, ControllerConfigurationsRefuseZeroOrNegativeGainsAndDt) {
   using S = TypeParam;
+  using NN = NNAdaptiveConfig<S>;
+  using Linear = LinearAdaptiveConfig<S>;
+  using PID = PIDConfig<S>;
+  using SMC = SlidingModeConfig<S>;
   const S nan = std::numeric_limits<S>::quiet_NaN();
-  auto expect_field = [](const ValidationError& e, const char* field, const char* what) {
-    ASSERT_FALSE(e.ok()) << what;
-    EXPECT_STREQ(e.field, field) << what;
-  };
   for (const S bad : {S(0), S(-1), nan}) {
-    NNAdaptiveConfig<S> n;
-    n.dt = bad;
-    expect_field(validate(n), "dt", "NN dt");
-    n = {};
-    n.lambda(1) = bad;
-    expect_field(validate(n), "lambda", "NN lambda");
-    LinearAdaptiveConfig<S> l;
-    l.dt = bad;
-    expect_field(validate(l), "dt", "linear dt");
-    l = {};
-    l.lambda(5) = bad;
-    expect_field(validate(l), "lambda", "linear lambda");
-    PIDConfig<S> p;
-    p.dt = bad;
-    expect_field(validate(p), "dt", "PID dt");
-    p = {};
-    p.integral_limit(0) = bad;
-    expect_field(validate(p), "integral_limit", "PID integral_limit");
-    SlidingModeConfig<S> s;
-    s.phi(2) = bad;
-    expect_field(validate(s), "phi", "SMC phi");
-    s = {};
-    s.lambda(0) = bad;
-    expect_field(validate(s), "lambda", "SMC lambda");
+    expect_refused<NN>("NN dt", bad, [](NN& c, S v) { c.dt = v; }, "dt");
+    expect_refused<NN>("NN lambda", bad, [](NN& c, S v) { c.lambda(1) = v; }, "lambda");
+    expect_refused<Linear>("linear dt", bad, [](Linear& c, S v) { c.dt = v; }, "dt");
+    expect_refused<Linear>("linear lambda", bad, [](Linear& c, S v) { c.lambda(5) = v; }, "lambda");
+    expect_refused<PID>("PID dt", bad, [](PID& c, S v) { c.dt = v; }, "dt");
+    expect_refused<PID>("PID integral_limit", bad, [](PID& c, S v) { c.integral_limit(0) = v; },
+                        "integral_limit");
+    expect_refused<SMC>("SMC phi", bad, [](SMC& c, S v) { c.phi(2) = v; }, "phi");
+    expect_refused<SMC>("SMC lambda", bad, [](SMC& c, S v) { c.lambda(0) = v; }, "lambda");
   }
   for (const S bad : {S(-1), nan, -std::numeric_limits<S>::infinity()}) {
-    NNAdaptiveConfig<S> n;
-    n.kd(4) = bad;
-    expect_field(validate(n), "kd", "NN kd");
-    n = {};
-    n.gamma = bad;
-    expect_field(validate(n), "gamma", "NN gamma");
-    LinearAdaptiveConfig<S> l;
-    l.gamma(7) = bad;
-    expect_field(validate(l), "gamma", "linear gamma");
-    PDConfig<S> d;
-    d.kp(0) = bad;
-    expect_field(validate(d), "kp", "PD kp");
-    d = {};
-    d.kd(5) = bad;
-    expect_field(validate(d), "kd", "PD kd");
-    PIDConfig<S> p;
-    p.ki(2) = bad;
-    expect_field(validate(p), "ki", "PID ki");
-    SlidingModeConfig<S> s;
-    s.k(1) = bad;
-    expect_field(validate(s), "k", "SMC k");
+    expect_refused<NN>("NN kd", bad, [](NN& c, S v) { c.kd(4) = v; }, "kd");
+    expect_refused<NN>("NN gamma", bad, [](NN& c, S v) { c.gamma = v; }, "gamma");
+    expect_refused<Linear>("linear gamma", bad, [](Linear& c, S v) { c.gamma(7) = v; }, "gamma");
+    using PD = PDConfig<S>;
+    expect_refused<PD>("PD kp", bad, [](PD& c, S v) { c.kp(0) = v; }, "kp");
+    expect_refused<PD>("PD kd", bad, [](PD& c, S v) { c.kd(5) = v; }, "kd");
+    expect_refused<PID>("PID ki", bad, [](PID& c, S v) { c.ki(2) = v; }, "ki");
+    expect_refused<SMC>("SMC k", bad, [](SMC& c, S v) { c.k(1) = v; }, "k");
   }
   ReferenceModel<S> r;
   EXPECT_STREQ(ReferenceModel<S>::create(Vector6<S>::Zero(), Vector6<S>::Ones(),
@@ -99,12 +83,7 @@ TYPED_TEST(ReliabilityTest, ControllerConfigurationsRefuseZeroOrNegativeGainsAnd
 // ("mass_matrix"); either names what is wrong.
 TYPED_TEST(ReliabilityTest, VehicleRefusesNonSymmetricOrIndefiniteMassMatrices) {
   using S = TypeParam;
-  struct Case {
-    const char* what;
-    void (*mutate)(VehicleParameters<S>&);
-    const char* field;
-    const char* or_field = nullptr;
-  };
+  using Case = Refusal<VehicleParameters<S>>;
   const Case cases[] = {
       {"non-symmetric inertia", [](auto& p) { p.inertia(0, 2) = S(3); }, "inertia"},
       {"non-symmetric added mass", [](auto& p) { p.added_mass(5, 1) = S(-4); }, "added_mass"},
@@ -126,13 +105,8 @@ TYPED_TEST(ReliabilityTest, VehicleRefusesNonSymmetricOrIndefiniteMassMatrices) 
        [](auto& p) { p.added_mass(3, 3) = std::numeric_limits<S>::infinity(); }, "added_mass"},
   };
   for (const Case& c : cases) {
-    VehicleParameters<S> p = nerov_parameters<S>();
-    c.mutate(p);
     Vehicle<S> v;
-    const ValidationError e = Vehicle<S>::create(p, v);
-    ASSERT_FALSE(e.ok()) << c.what;
-    const std::string field = e.field;
-    EXPECT_TRUE(field == c.field || (c.or_field && field == c.or_field)) << c.what << ": " << field;
+    EXPECT_TRUE(c.named_by(Vehicle<S>::create(c.applied_to(nerov_parameters<S>()), v)));
     EXPECT_FALSE(v.valid()) << c.what;
   }
 }
@@ -172,11 +146,7 @@ TYPED_TEST(ReliabilityTest, ThrusterCommandsStayWithinLimitsForHugeFiniteWrenche
 
 TYPED_TEST(ReliabilityTest, ThrusterConfigurationNamesTheBadField) {
   using S = TypeParam;
-  struct Case {
-    const char* what;
-    void (*mutate)(ThrusterConfig<S>&);
-    const char* field;
-  };
+  using Case = Refusal<ThrusterConfig<S>>;
   const Case cases[] = {
       {"five thrusters", [](auto& c) { c.matrix.conservativeResize(6, 5); }, "thrusters.matrix"},
       {"NaN in B", [](auto& c) { c.matrix(2, 3) = std::numeric_limits<S>::quiet_NaN(); },
@@ -198,12 +168,8 @@ TYPED_TEST(ReliabilityTest, ThrusterConfigurationNamesTheBadField) {
        "thrusters.time_constant"},
   };
   for (const Case& k : cases) {
-    ThrusterConfig<S> cfg = nerov_thrusters<S>();
-    k.mutate(cfg);
     Thrusters<S> t;
-    const ValidationError e = Thrusters<S>::create(cfg, t);
-    ASSERT_FALSE(e.ok()) << k.what;
-    EXPECT_STREQ(e.field, k.field) << k.what;
+    EXPECT_TRUE(k.named_by(Thrusters<S>::create(k.applied_to(nerov_thrusters<S>()), t)));
   }
 }
 
@@ -213,10 +179,15 @@ template <typename S>
 SimulationConfig<S> loop_config() {
   SimulationConfig<S> c;
   c.duration = S(2);
-  c.command.times.resize(1);
-  c.command.times << S(0);
-  c.command.poses.setZero(1, 6);
-  c.command.poses(0, 0) = S(1);
+  c.command = held<S>(Vector6<S>::UnitX());
+  return c;
+}
+
+/// The run on NEROV's thrusters.
+template <typename S>
+SimulationConfig<S>& on_thrusters(SimulationConfig<S>& c) {
+  c.use_thrusters = true;
+  c.thrusters = nerov_thrusters<S>();
   return c;
 }
 
@@ -289,25 +260,12 @@ TYPED_TEST(ReliabilityTest, SimulationConfigurationNamesTheBadField) {
       {"thruster failure without thrusters",
        [](auto& c) { c.failures.push_back({0, S(0), S(1)}); }, "thruster_failures"},
       {"thruster failure of thruster 6",
-       [](auto& c) {
-         c.use_thrusters = true;
-         c.thrusters = nerov_thrusters<S>();
-         c.failures.push_back({6, S(0), S(1)});
-       },
+       [](auto& c) { on_thrusters(c).failures.push_back({6, S(0), S(1)}); },
        "thruster_failures.index"},
       {"efficiency above one",
-       [](auto& c) {
-         c.use_thrusters = true;
-         c.thrusters = nerov_thrusters<S>();
-         c.failures.push_back({0, S(1.5), S(1)});
-       },
+       [](auto& c) { on_thrusters(c).failures.push_back({0, S(1.5), S(1)}); },
        "thruster_failures.efficiency"},
-      {"bad thruster layout",
-       [](auto& c) {
-         c.use_thrusters = true;
-         c.thrusters = nerov_thrusters<S>();
-         c.thrusters.matrix.col(1).setZero();
-       },
+      {"bad thruster layout", [](auto& c) { on_thrusters(c).thrusters.matrix.col(1).setZero(); },
        "thrusters.matrix"},
   };
   for (const Case& k : cases) {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "neurov/neurov.hpp"
+#include "held_command.hpp"
 
 namespace {
 
@@ -26,9 +27,7 @@ SimulationConfig<double> still(double duration, double dt, int substeps, double 
   c.substeps = substeps;
   c.duration = duration;
   c.eta0 << 0, 0, depth, 0, 0, 0;
-  c.command.times.resize(1);
-  c.command.times << 0;
-  c.command.poses = c.eta0.transpose();
+  c.command = neurov_test::held(c.eta0);
   return c;
 }
 

@@ -18,6 +18,7 @@
 #include <string>
 
 #include "neurov/neurov.hpp"
+#include "held_command.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -89,9 +90,7 @@ TEST_P(WaveFollowingError, AgainstTheDirectSumAtEveryStage) {
   target(0.0, eta_d, eta_d_dot);
   c.eta0 = eta_d;
   c.nu0 << 1, 0, 0.05, 0, 0, 1.0 / 30;
-  c.command.times.resize(1);
-  c.command.times << 0;
-  c.command.poses = c.eta0.transpose();
+  c.command = neurov_test::held(c.eta0);
   c.waves = waves_of(sea);
 
   // The fast path: the Simulator.

@@ -319,9 +319,7 @@ TEST(Waves, OrbitalVelocityAndAccelerationVarianceAtDepthFollowLinearTheory) {
 // record's largest value is recorded. (An hour is 72 resyncs, one every
 // 1000 steps; the largest error is over every checked step, so it includes
 // the end of each stretch between two resyncs.)
-template <typename S>
-class WaveTracking : public ::testing::Test {};
-TYPED_TEST_SUITE(WaveTracking, neurov_test::Scalars, neurov_test::ScalarName);
+NEUROV_SCALAR_SUITE(WaveTracking);
 
 TYPED_TEST(WaveTracking, RecursiveEvaluationMatchesTheDirectSumOverALongMovingRun) {
   using S = TypeParam;

@@ -13,12 +13,8 @@
 namespace {
 
 using namespace neurov;
-using neurov_test::ScalarName;
-using neurov_test::Scalars;
 
-template <typename S>
-class SensorsTest : public ::testing::Test {};
-TYPED_TEST_SUITE(SensorsTest, Scalars, ScalarName);
+NEUROV_SCALAR_SUITE(SensorsTest);
 
 template <typename S>
 Vector6<S> pose_at(double t) {
@@ -176,42 +172,34 @@ TYPED_TEST(SensorsTest, ANonFiniteTruthTakesNoSample) {
   EXPECT_TRUE(depth.read(0.0, m));
 }
 
+/// What Sensor::create names for a default Config changed by `change`
+/// ("ok" when it accepts it).
+template <typename Sensor, typename Config, typename Change>
+std::string named_error(Change change) {
+  Config c;
+  change(c);
+  Sensor sensor;
+  const ValidationError e = Sensor::create(c, 0, sensor);
+  return e.ok() ? "ok" : e.field;
+}
+
 TYPED_TEST(SensorsTest, BadConfigurationsAreNamedErrors) {
   using S = TypeParam;
-  const auto name = [](const ValidationError& e) { return std::string(e.ok() ? "ok" : e.field); };
-  UsblSensor<S> usbl;
-  UsblConfig<S> uc;
-  uc.rate = -1.0;
-  EXPECT_EQ(name(UsblSensor<S>::create(uc, 0, usbl)), "sensors.usbl.rate");
-  uc = {};
-  uc.latency = -0.1;
-  EXPECT_EQ(name(UsblSensor<S>::create(uc, 0, usbl)), "sensors.usbl.latency");
-  uc = {};
-  uc.latency = 100.0;  // 100 samples in flight: more than the delay line holds
-  EXPECT_EQ(name(UsblSensor<S>::create(uc, 0, usbl)), "sensors.usbl.latency");
-  uc = {};
-  uc.noise = S(-0.5);
-  EXPECT_EQ(name(UsblSensor<S>::create(uc, 0, usbl)), "sensors.usbl.noise");
-  DvlSensor<S> dvl;
-  DvlConfig<S> dc;
-  dc.dropout_rate = 1.0;
-  EXPECT_EQ(name(DvlSensor<S>::create(dc, 0, dvl)), "sensors.dvl.dropout_rate");
-  dc = {};
-  dc.noise = S(-1);
-  EXPECT_EQ(name(DvlSensor<S>::create(dc, 0, dvl)), "sensors.dvl.noise");
-  DepthSensor<S> depth;
-  DepthConfig<S> pc;
-  pc.rate = 0.0;
-  EXPECT_EQ(name(DepthSensor<S>::create(pc, 0, depth)), "sensors.depth.rate");
-  ImuSensor<S> imu;
-  ImuConfig<S> ic;
-  ic.gyro_bias_walk = S(-1e-5);
-  EXPECT_EQ(name(ImuSensor<S>::create(ic, 0, imu)), "sensors.imu.gyro_bias_walk");
-  ic = {};
-  ic.attitude_noise = S(-1);
-  EXPECT_EQ(name(ImuSensor<S>::create(ic, 0, imu)), "sensors.imu.attitude_noise");
-  ic = {};
-  EXPECT_EQ(name(ImuSensor<S>::create(ic, 0, imu)), "ok");
+  const auto usbl = [](auto change) { return named_error<UsblSensor<S>, UsblConfig<S>>(change); };
+  EXPECT_EQ(usbl([](auto& c) { c.rate = -1.0; }), "sensors.usbl.rate");
+  EXPECT_EQ(usbl([](auto& c) { c.latency = -0.1; }), "sensors.usbl.latency");
+  // 100 samples in flight: more than the delay line holds.
+  EXPECT_EQ(usbl([](auto& c) { c.latency = 100.0; }), "sensors.usbl.latency");
+  EXPECT_EQ(usbl([](auto& c) { c.noise = S(-0.5); }), "sensors.usbl.noise");
+  const auto dvl = [](auto change) { return named_error<DvlSensor<S>, DvlConfig<S>>(change); };
+  EXPECT_EQ(dvl([](auto& c) { c.dropout_rate = 1.0; }), "sensors.dvl.dropout_rate");
+  EXPECT_EQ(dvl([](auto& c) { c.noise = S(-1); }), "sensors.dvl.noise");
+  EXPECT_EQ((named_error<DepthSensor<S>, DepthConfig<S>>([](auto& c) { c.rate = 0.0; })),
+            "sensors.depth.rate");
+  const auto imu = [](auto change) { return named_error<ImuSensor<S>, ImuConfig<S>>(change); };
+  EXPECT_EQ(imu([](auto& c) { c.gyro_bias_walk = S(-1e-5); }), "sensors.imu.gyro_bias_walk");
+  EXPECT_EQ(imu([](auto& c) { c.attitude_noise = S(-1); }), "sensors.imu.attitude_noise");
+  EXPECT_EQ(imu([](auto&) {}), "ok");
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 
 #include "neurov/neurov.hpp"
 #include "controller_state.hpp"
+#include "sensor_suite.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -59,20 +60,12 @@ std::vector<std::pair<std::string, SimulationConfig<S>>> configurations() {
 
   SimulationConfig<S> faults = noisy;
   faults.command.linear = true;
-  SensorFault<S> freeze, dropout, burst;
-  freeze.kind = SensorFaultKind::freeze;
-  freeze.start = S(3);
-  freeze.end = S(5);
+  SensorFault<S> freeze = sensor_fault<S>(SensorFaultKind::freeze, 3, 5);
   freeze.nu = false;
-  dropout.kind = SensorFaultKind::dropout;
-  dropout.start = S(9);
-  dropout.end = S(11.1);
-  burst.kind = SensorFaultKind::noise_burst;
-  burst.start = S(15);
-  burst.end = S(19);
+  SensorFault<S> burst = sensor_fault<S>(SensorFaultKind::noise_burst, 15, 19);
   burst.noise_eta.setConstant(S(0.1));
   burst.noise_nu.setConstant(S(0.05));
-  faults.sensor_faults = {freeze, dropout, burst};
+  faults.sensor_faults = {freeze, sensor_fault<S>(SensorFaultKind::dropout, 9, 11.1), burst};
   out.emplace_back("sensor faults, refused steps zero", faults);
   faults.refused_step_policy = RefusedStepPolicy::hold;
   out.emplace_back("sensor faults, refused steps held", faults);
@@ -132,11 +125,20 @@ std::vector<std::pair<std::string, SimulationConfig<S>>> configurations() {
   return out;
 }
 
+/// Per-DOF gains of the controllers below: one for surge, sway and heave, one
+/// for roll and pitch, one for yaw.
+template <typename S>
+Vector6<S> gains(double translation, double roll_pitch, double yaw) {
+  Vector6<S> g;
+  g << S(translation), S(translation), S(translation), S(roll_pitch), S(roll_pitch), S(yaw);
+  return g;
+}
+
 template <typename S>
 PDController<S> make_pd() {
   PDConfig<S> cfg;
-  cfg.kp << S(200), S(200), S(200), S(50), S(50), S(100);
-  cfg.kd << S(300), S(300), S(300), S(60), S(60), S(120);
+  cfg.kp = gains<S>(200, 50, 100);
+  cfg.kd = gains<S>(300, 60, 120);
   return PDController<S>(cfg);
 }
 
@@ -144,7 +146,7 @@ template <typename S>
 LinearAdaptiveController<S> make_linear() {
   LinearAdaptiveConfig<S> cfg;
   cfg.lambda.setConstant(S(0.5));
-  cfg.kd << S(200), S(200), S(200), S(50), S(50), S(100);
+  cfg.kd = gains<S>(200, 50, 100);
   cfg.gamma.setConstant(S(0.5));
   ParameterVector<S> theta;
   EXPECT_TRUE(regressor_parameters(nerov_parameters<S>(), theta).ok());
@@ -155,16 +157,16 @@ LinearAdaptiveController<S> make_linear() {
 template <typename S>
 PIDController<S> make_pid() {
   PIDConfig<S> cfg;
-  cfg.kp << S(200), S(200), S(200), S(50), S(50), S(100);
+  cfg.kp = gains<S>(200, 50, 100);
   cfg.ki.setConstant(S(5));
-  cfg.kd << S(300), S(300), S(300), S(60), S(60), S(120);
+  cfg.kd = gains<S>(300, 60, 120);
   return PIDController<S>(cfg);
 }
 
 template <typename S>
 SlidingModeController<S> make_smc() {
   SlidingModeConfig<S> cfg;
-  cfg.kd << S(200), S(200), S(200), S(50), S(50), S(100);
+  cfg.kd = gains<S>(200, 50, 100);
   cfg.k.setConstant(S(10));
   EXPECT_TRUE(regressor_parameters(nerov_parameters<S>(), cfg.theta).ok());
   return SlidingModeController<S>(cfg);
@@ -182,7 +184,7 @@ NNAdaptiveController<S> make_nn() {
   EXPECT_TRUE(Ctl::Network::create(centres, Ctl::BasisVector::Constant(n, S(2)), net).ok());
   NNAdaptiveConfig<S> cfg;
   cfg.lambda.setConstant(S(0.8));
-  cfg.kd << S(200), S(200), S(200), S(50), S(50), S(100);
+  cfg.kd = gains<S>(200, 50, 100);
   cfg.gamma = S(0.5);
   cfg.dt = S(0.2);
   Ctl c;

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "neurov/neurov.hpp"
+#include "held_command.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -23,9 +24,7 @@ template <typename S>
 SimulationConfig<S> drift() {
   SimulationConfig<S> c;
   c.duration = S(12);
-  c.command.times.resize(1);
-  c.command.times << S(0);
-  c.command.poses.setZero(1, 6);
+  c.command = held<S>(Vector6<S>::Zero());
   c.eta0 << S(1), S(-2), S(3), S(0), S(0), S(0.3);
   return c;
 }

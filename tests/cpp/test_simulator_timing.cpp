@@ -8,6 +8,7 @@
 
 #include "neurov/neurov.hpp"
 #include "controller_state.hpp"
+#include "held_command.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -21,9 +22,7 @@ template <typename S>
 SimulationConfig<S> hover(int delay, bool thrusters) {
   SimulationConfig<S> c;
   c.duration = S(8);
-  c.command.times.resize(1);
-  c.command.times << S(0);
-  c.command.poses.setZero(1, 6);
+  c.command = held<S>(Vector6<S>::Zero());
   c.control_delay = delay;
   c.use_thrusters = thrusters;
   if (thrusters) {

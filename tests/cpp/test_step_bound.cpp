@@ -22,9 +22,7 @@ using neurov::Status;
 using neurov::Vector6;
 using neurov::Vehicle;
 
-template <typename S>
-class StepBoundTest : public ::testing::Test {};
-TYPED_TEST_SUITE(StepBoundTest, neurov_test::Scalars, neurov_test::ScalarName);
+NEUROV_SCALAR_SUITE(StepBoundTest);
 
 template <typename S>
 S above_the_bound(int k) {

@@ -1,5 +1,5 @@
-// Shared helpers for the neurov C++ tests: the scalar types the typed tests run
-// over, a seeded random source, tolerances that scale with the scalar's epsilon
+// Shared helpers for the neurov C++ tests: the typed suites of scalar_suite.hpp,
+// a seeded random source, tolerances that scale with the scalar's epsilon
 // and random but physically valid vehicles.
 #pragma once
 
@@ -16,22 +16,9 @@
 
 #include "neurov/core/types.hpp"
 #include "neurov/model/vehicle.hpp"
+#include "scalar_suite.hpp"
 
 namespace neurov_test {
-
-using Scalars = ::testing::Types<float, double>;
-
-/// The fixture of every test typed on the scalar (NEUROV_SCALAR_SUITE).
-template <typename S>
-class ScalarTest : public ::testing::Test {};
-
-/// Readable test names in ctest ("KinematicsTest/float.Foo" rather than "/0").
-struct ScalarName {
-  template <typename T>
-  static std::string GetName(int) {
-    return std::is_same<T, float>::value ? "float" : "double";
-  }
-};
 
 template <typename S>
 constexpr S eps() {
@@ -153,6 +140,14 @@ template <typename A, typename B>
   return ::testing::AssertionFailure() << os.str();
 }
 
+/// A case of a validation test: a change that makes a valid Config invalid,
+/// and the field the refusal must name.
+template <typename Config>
+struct BadField {
+  const char* field;
+  void (*mutate)(Config&);
+};
+
 /// Stores a measured number (error, drift, ratio) in the XML report, so the
 /// margin to a tolerance can be read from `--gtest_output=xml`.
 inline void record(const std::string& key, double value) {
@@ -178,10 +173,3 @@ neurov::Vehicle<S> make_vehicle(const neurov::VehicleParameters<S>& p) {
 }
 
 }  // namespace neurov_test
-
-/// Declares the test suite `Name`, typed on float and double, with readable
-/// names ("Name/float.Test").
-#define NEUROV_SCALAR_SUITE(Name)            \
-  template <typename S>                      \
-  using Name = ::neurov_test::ScalarTest<S>; \
-  TYPED_TEST_SUITE(Name, ::neurov_test::Scalars, ::neurov_test::ScalarName)

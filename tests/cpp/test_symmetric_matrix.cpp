@@ -17,10 +17,7 @@ using neurov_test::eps;
 using neurov_test::kPoints;
 using neurov_test::Rng;
 
-template <typename S>
-class SymmetricMatrixTest : public ::testing::Test {};
-using Scalars = ::testing::Types<float, double>;
-TYPED_TEST_SUITE(SymmetricMatrixTest, Scalars);
+NEUROV_SCALAR_SUITE(SymmetricMatrixTest);
 
 template <typename S, int n>
 Eigen::Matrix<S, n, n> random_spd(Rng& rng) {

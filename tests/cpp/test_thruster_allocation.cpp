@@ -17,9 +17,7 @@
 namespace {
 
 using namespace neurov;
-using neurov_test::ScalarName;
 using neurov_test::pwm_test_curve;
-using neurov_test::Scalars;
 
 template <typename S>
 ThrusterConfig<S> curved_layout(S voltage) {
@@ -38,9 +36,7 @@ S tol(double scale) {
   return static_cast<S>(std::is_same<S, float>::value ? 2e-5 * scale : 1e-9 * scale);
 }
 
-template <typename S>
-class ThrusterAllocationTest : public ::testing::Test {};
-TYPED_TEST_SUITE(ThrusterAllocationTest, Scalars, ScalarName);
+NEUROV_SCALAR_SUITE(ThrusterAllocationTest);
 
 TYPED_TEST(ThrusterAllocationTest, LimitsComeFromTheCurvesAtTheSupplyVoltage) {
   using S = TypeParam;

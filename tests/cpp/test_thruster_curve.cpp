@@ -14,18 +14,14 @@
 namespace {
 
 using namespace neurov;
-using neurov_test::ScalarName;
 using neurov_test::pwm_test_curve;
-using neurov_test::Scalars;
 
 template <typename S>
 S tol(double scale) {
   return static_cast<S>(std::is_same<S, float>::value ? 1e-5 * scale : 1e-12 * scale);
 }
 
-template <typename S>
-class ThrusterCurveTest : public ::testing::Test {};
-TYPED_TEST_SUITE(ThrusterCurveTest, Scalars, ScalarName);
+NEUROV_SCALAR_SUITE(ThrusterCurveTest);
 
 TYPED_TEST(ThrusterCurveTest, ReproducesTheTablePointsAndInterpolatesBetweenThem) {
   using S = TypeParam;

@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "neurov/model/vehicle.hpp"
+#include "nerov_paper.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -148,12 +149,9 @@ TYPED_TEST(VehicleTest, CoriolisForceEqualsCoriolisMatrixTimesVelocity) {
   });
 }
 
-// The paper's eq. 39 typed in from docs/model.md with the hydrodynamic derivatives
-// (negative numbers) rather than the added-mass magnitudes the header stores.
+// The paper's eq. 39 (nerov_paper.hpp) in both Coriolis forms.
 TYPED_TEST(VehicleTest, NerovCoriolisIsThePapersEquation39) {
   using S = TypeParam;
-  const double m = 185, Ix = 25, Iy = 50, Iz = 50;
-  const double Xu = -30, Yv = -80, Zw = -80, Kp = -15, Mq = -30, Nr = -30;
   const Vehicle<S> v = make_vehicle(nerov_parameters<S>());
   auto pk = nerov_parameters<S>();
   pk.coriolis_form = CoriolisForm::kirchhoff;
@@ -161,14 +159,7 @@ TYPED_TEST(VehicleTest, NerovCoriolisIsThePapersEquation39) {
   Rng rng(25);
   for (int i = 0; i < kPoints; ++i) {
     const Vector6<S> nu = rng.velocity<S>();
-    const double u = nu(0), vv = nu(1), w = nu(2), p = nu(3), q = nu(4), r = nu(5);
-    Eigen::Matrix<double, 6, 6> c;
-    c << 0, -m * r, m * q, 0, -Zw * w, Yv * vv,                          //
-        m * r, 0, -m * p, Zw * w, 0, -Xu * u,                             //
-        -m * q, m * p, 0, -Yv * vv, Xu * u, 0,                            //
-        0, -Zw * w, Yv * vv, 0, (Iz - Nr) * r, -(Iy - Mq) * q,            //
-        Zw * w, 0, -Xu * u, -(Iz - Nr) * r, 0, (Ix - Kp) * p,             //
-        -Yv * vv, Xu * u, 0, (Iy - Mq) * q, -(Ix - Kp) * p, 0;
+    const Eigen::Matrix<double, 6, 6> c = nerov_paper::nerov_c_eq39(nu.template cast<double>());
     const double tol = 4 * eps<S>() * max_abs(c);
     EXPECT_TRUE(all_near(v.coriolis(nu), c, tol)) << "at point " << i;
     // The kirchhoff form is another matrix with the same product.
@@ -185,10 +176,8 @@ TYPED_TEST(VehicleTest, NerovDampingIsThePapersDiagonal) {
   Rng rng(26);
   for (int i = 0; i < kPoints; ++i) {
     const Vector6<S> nu = rng.vec6<S>(-2, 2);
-    const Eigen::Matrix<double, 6, 1> a = nu.template cast<double>().cwiseAbs();
-    Eigen::Matrix<double, 6, 1> d;
-    d << 70 + 100 * a(0), 100 + 200 * a(1), 100 + 200 * a(2), 30 + 50 * a(3), 50 + 100 * a(4),
-        50 + 100 * a(5);
+    const Eigen::Matrix<double, 6, 1> d =
+        nerov_paper::nerov_d(nu.template cast<double>()).diagonal();
     const Matrix6<S> dm = v.damping(nu);
     EXPECT_TRUE(all_near(dm, Eigen::Matrix<double, 6, 6>(d.asDiagonal()), 4 * eps<S>() * 500))
         << "at point " << i;
@@ -202,9 +191,7 @@ TYPED_TEST(VehicleTest, NerovRestoringIsThePapersPendulum) {
   Rng rng(27);
   for (int i = 0; i < kPoints; ++i) {
     const Vector6<S> eta = rng.pose<S>(neurov_test::kPi / 2);
-    const double phi = eta(3), theta = eta(4);
-    Eigen::Matrix<double, 6, 1> g;
-    g << 0, 0, 0, 0.02 * 1800 * std::cos(theta) * std::sin(phi), 0.02 * 1800 * std::sin(theta), 0;
+    const Eigen::Matrix<double, 6, 1> g = nerov_paper::nerov_g(eta.template cast<double>());
     EXPECT_TRUE(all_near(v.restoring(eta), g, 64 * eps<S>() * 36)) << "at point " << i;
   }
 }

@@ -112,32 +112,54 @@ void validation_returns_errors() {
 
 /// NEROV under the NN controller, fixed N, everything on the stack: tracks a
 /// step in pose, and a NaN measurement is refused without touching the state.
+/// The pose both closed loops are commanded to.
 template <typename S>
-void closed_loop_and_bad_input() {
+Vector6<S> pose_step() {
+  Vector6<S> r;
+  r << S(2), S(1), S(0.5), S(0), S(0), S(0.5);
+  return r;
+}
+
+/// 60 s of `ctrl` on NEROV from rest at the origin, every dt following the
+/// reference model's response to pose_step(), the plant integrated by RK4 in
+/// steps of `substep`; eta, nu, tau and d are left as the last step left
+/// them. True if every step was taken.
+template <typename S, typename Ctl>
+bool track_pose_step(Ctl& ctrl, S dt, S substep, Vector6<S>& eta, Vector6<S>& nu, Vector6<S>& tau,
+                     DesiredState<S>& d) {
   using V6 = Vector6<S>;
-  using C = NNAdaptiveController<S, kCentres>;
   Vehicle<S> plant;
   CHECK(Vehicle<S>::create(nerov_parameters<S>(), plant).ok());
   ReferenceModel<S> ref;
   CHECK(ReferenceModel<S>::create(V6::Ones(), V6::Constant(S(0.25)), V6::Zero(), ref).ok());
+  const V6 r = pose_step<S>();
+  eta.setZero();
+  nu.setZero();
+  tau.setZero();
+  int bad = 0;
+  for (int k = 0; k < 300; ++k) {  // 60 s at 5 Hz
+    if (ref.step(r, dt, d) != Status::ok) ++bad;
+    if (ctrl.step(eta, nu, d, tau) != Status::ok) ++bad;
+    for (int i = 0; i < 10; ++i)
+      if (rk4_step(plant, eta, nu, tau, substep) != Status::ok) ++bad;
+  }
+  return bad == 0;
+}
+
+template <typename S>
+void closed_loop_and_bad_input() {
+  using V6 = Vector6<S>;
+  using C = NNAdaptiveController<S, kCentres>;
   NNAdaptiveConfig<S> cfg;
   cfg.kd << S(200), S(200), S(200), S(50), S(50), S(50);
   C ctrl;
   CHECK(C::create(make_centres<S>(), C::BasisVector::Constant(S(30)), C::InputVector::Zero(),
                   C::InputVector::Ones(), cfg, ctrl)
             .ok());
-  V6 r;
-  r << S(2), S(1), S(0.5), S(0), S(0), S(0.5);
-  V6 eta = V6::Zero(), nu = V6::Zero(), tau = V6::Zero();
+  const V6 r = pose_step<S>();
+  V6 eta, nu, tau;
   DesiredState<S> d;
-  int bad = 0;
-  for (int k = 0; k < 300; ++k) {  // 60 s at 5 Hz
-    if (ref.step(r, cfg.dt, d) != Status::ok) ++bad;
-    if (ctrl.step(eta, nu, d, tau) != Status::ok) ++bad;
-    for (int i = 0; i < 10; ++i)
-      if (rk4_step(plant, eta, nu, tau, cfg.dt / S(10)) != Status::ok) ++bad;
-  }
-  CHECK(bad == 0);
+  CHECK(track_pose_step(ctrl, cfg.dt, cfg.dt / S(10), eta, nu, tau, d));
   CHECK((eta - r).norm() < S(0.05));
 
   const typename C::WeightMatrix w = ctrl.weights();
@@ -172,22 +194,10 @@ void computed_torque() {
   CHECK(!ctrl.configured());
   cfg.kd(2) = S(200);
   CHECK(ComputedTorqueController<S>::create(cfg, ctrl).ok());
-  Vehicle<S> plant;
-  CHECK(Vehicle<S>::create(nerov_parameters<S>(), plant).ok());
-  ReferenceModel<S> ref;
-  CHECK(ReferenceModel<S>::create(V6::Ones(), V6::Constant(S(0.25)), V6::Zero(), ref).ok());
-  V6 r;
-  r << S(2), S(1), S(0.5), S(0), S(0), S(0.5);
-  V6 eta = V6::Zero(), nu = V6::Zero(), tau = V6::Zero();
+  const V6 r = pose_step<S>();
+  V6 eta, nu, tau;
   DesiredState<S> d;
-  int bad = 0;
-  for (int k = 0; k < 300; ++k) {  // 60 s at 5 Hz
-    if (ref.step(r, S(0.2), d) != Status::ok) ++bad;
-    if (ctrl.step(eta, nu, d, tau) != Status::ok) ++bad;
-    for (int i = 0; i < 10; ++i)
-      if (rk4_step(plant, eta, nu, tau, S(0.02)) != Status::ok) ++bad;
-  }
-  CHECK(bad == 0);
+  CHECK(track_pose_step(ctrl, S(0.2), S(0.02), eta, nu, tau, d));
   CHECK((eta - r).norm() < S(0.05));
   std::printf("%s: computed torque, |eta - r| after 60 s = %.2e m/rad\n",
               std::is_same<S, float>::value ? "float" : "double",

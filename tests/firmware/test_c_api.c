@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "c_check.h"
 #include "neurov/c_api.h"
 
 #define N NEUROV_C_CENTRES
@@ -15,15 +16,6 @@ static _Alignas(NEUROV_STORAGE_ALIGN) unsigned char ref_storage[NEUROV_REFERENCE
 static float centres[N * NEUROV_C_INPUTS];
 static float widths[N];
 static float weights_before[6 * N], weights_after[6 * N];
-
-static int failures = 0;
-#define CHECK(cond)                                                       \
-  do {                                                                    \
-    if (!(cond)) {                                                        \
-      printf("FAILED %s:%d: %s\n", __FILE__, __LINE__, #cond);            \
-      ++failures;                                                         \
-    }                                                                     \
-  } while (0)
 
 static int field_is(const neurov_validation_error* e, const char* field) {
   return e->field != NULL && strcmp(e->field, field) == 0;
@@ -41,6 +33,15 @@ static void fill_centres(void) {
   }
 }
 
+/* The controller's default parameters on the centres of fill_centres(). */
+static neurov_nn_params params_on_centres(void) {
+  neurov_nn_params p;
+  neurov_nn_params_init(&p);
+  p.centres = centres;
+  p.widths = widths;
+  return p;
+}
+
 static void sizes(void) {
   CHECK(neurov_nn_centres() == N);
   CHECK(neurov_nn_storage_size() <= sizeof nn_storage);
@@ -53,10 +54,7 @@ static void sizes(void) {
 }
 
 static void create_refuses_bad_arguments(void) {
-  neurov_nn_params p;
-  neurov_nn_params_init(&p);
-  p.centres = centres;
-  p.widths = widths;
+  neurov_nn_params p = params_on_centres();
   neurov_nn* nn = (neurov_nn*)&p; /* must be overwritten with NULL */
   neurov_validation_error e;
 
@@ -131,10 +129,7 @@ static void plant_step(float eta[6], float nu[6], const float tau[6], float dt) 
 }
 
 static void closed_loop(void) {
-  neurov_nn_params p;
-  neurov_nn_params_init(&p);
-  p.centres = centres;
-  p.widths = widths;
+  neurov_nn_params p = params_on_centres();
   const float kd[6] = {200, 200, 200, 50, 50, 50};
   memcpy(p.kd, kd, sizeof kd);
   neurov_nn* nn = NULL;
@@ -214,10 +209,7 @@ static void uncreated_objects_are_refused(void) {
       fill_pattern(nn_storage, sizeof nn_storage, pattern);
       fill_pattern(ref_storage, sizeof ref_storage, pattern);
     } else { /* a create refused for its parameters, on a buffer that held an object */
-      neurov_nn_params p;
-      neurov_nn_params_init(&p);
-      p.centres = centres;
-      p.widths = widths;
+      neurov_nn_params p = params_on_centres();
       neurov_nn* made = NULL;
       neurov_reference* made_ref = NULL;
       CHECK(neurov_nn_create(nn_storage, sizeof nn_storage, &p, &made, NULL) == NEUROV_STATUS_OK);
@@ -258,10 +250,7 @@ static void uncreated_objects_are_refused(void) {
           NEUROV_STATUS_INVALID_ARGUMENT);
   }
   /* A real object of each kind is still refused in the other's calls. */
-  neurov_nn_params p;
-  neurov_nn_params_init(&p);
-  p.centres = centres;
-  p.widths = widths;
+  neurov_nn_params p = params_on_centres();
   neurov_nn* nn = NULL;
   neurov_reference* ref = NULL;
   CHECK(neurov_nn_create(nn_storage, sizeof nn_storage, &p, &nn, NULL) == NEUROV_STATUS_OK);

@@ -9,21 +9,14 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "c_check.h"
 #include "neurov/c_api.h"
+#include "onboard_params.h"
 
 #define THRUSTERS 8
 
 static _Alignas(NEUROV_STORAGE_ALIGN) unsigned char alloc_storage[NEUROV_ALLOCATOR_STORAGE_BYTES(1)];
 static _Alignas(NEUROV_STORAGE_ALIGN) unsigned char ekf_storage[NEUROV_EKF_STORAGE_BYTES];
-
-static int failures = 0;
-#define CHECK(cond)                                                       \
-  do {                                                                    \
-    if (!(cond)) {                                                        \
-      printf("FAILED %s:%d: %s\n", __FILE__, __LINE__, #cond);            \
-      ++failures;                                                         \
-    }                                                                     \
-  } while (0)
 
 /* An eight-thruster vectored layout (the BlueROV2 Heavy's topology). */
 #define H 0.70710678f
@@ -53,15 +46,8 @@ static void wrench(const float* u, double w[6]) {
 }
 
 static neurov_allocator* make_allocator(const neurov_thruster_curve* curve) {
-  neurov_allocator_params p;
-  neurov_allocator_params_init(&p);
-  p.thrusters = THRUSTERS;
-  p.positions = positions;
-  p.directions = directions;
-  p.min_thrust = min_thrust;
-  p.max_thrust = max_thrust;
-  p.curve_count = curve != NULL ? 1u : 0u;
-  p.curves = curve;
+  const neurov_allocator_params p =
+      onboard_allocator_params(THRUSTERS, positions, directions, min_thrust, max_thrust, curve);
   neurov_allocator* a = NULL;
   neurov_validation_error e;
   CHECK(neurov_allocator_create(alloc_storage, sizeof alloc_storage, &p, &a, &e) == NEUROV_STATUS_OK);
@@ -108,13 +94,8 @@ static void allocation(void) {
   }
   CHECK(dot / sqrt(nw * nt) > 1.0 - 1e-6);
   /* A bad layout is named. */
-  neurov_allocator_params p;
-  neurov_allocator_params_init(&p);
-  p.thrusters = THRUSTERS;
-  p.positions = positions;
-  p.directions = positions; /* not unit vectors */
-  p.min_thrust = min_thrust;
-  p.max_thrust = max_thrust;
+  const neurov_allocator_params p = onboard_allocator_params(
+      THRUSTERS, positions, positions /* not unit vectors */, min_thrust, max_thrust, NULL);
   neurov_validation_error e;
   CHECK(neurov_allocator_create(alloc_storage, sizeof alloc_storage, &p, &a, &e) ==
         NEUROV_STATUS_INVALID_ARGUMENT);
@@ -136,15 +117,7 @@ static void estimator(void) {
   CHECK(neurov_ekf_create(ekf_storage, sizeof ekf_storage, &p, zero, zero, &f, &e) ==
         NEUROV_STATUS_INVALID_ARGUMENT);
   CHECK(f == NULL && e.field != NULL && strcmp(e.field, "estimator.attitude_noise") == 0);
-  p.linear_acceleration_noise = 0.05f;
-  p.angular_acceleration_noise = 0.01f;
-  p.gyro_bias_walk = 1e-4f;
-  p.attitude_noise = 0.005f;
-  p.gyro_noise = 0.001f;
-  p.dvl_noise = 0.01f;
-  p.depth_noise = 0.02f;
-  p.position_noise = 0.5f;
-  for (int i = 0; i < NEUROV_EKF_STATES; ++i) p.initial_std[i] = 1.0f;
+  p = onboard_ekf_params(1.0f);
   CHECK(neurov_ekf_create(ekf_storage, sizeof ekf_storage, &p, zero, zero, &f, &e) == NEUROV_STATUS_OK);
   if (f == NULL) return;
   /* A vehicle moving at 0.5 m/s in surge, 2 m deep: DVL and depth at 5 Hz. */

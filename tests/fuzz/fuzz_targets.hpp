@@ -63,18 +63,22 @@ S number(FuzzedDataProvider& p) {
   return p.ConsumeFloatingPointInRange<S>(-scale, scale);
 }
 
-template <typename S>
-Vector6<S> vec6(FuzzedDataProvider& p) {
-  Vector6<S> v;
-  for (int i = 0; i < 6; ++i) v(i) = number<S>(p);
+/// A vector whose entries draw() gives, first to last.
+template <typename S, int Rows, typename Draw>
+Eigen::Matrix<S, Rows, 1> drawn(Draw draw) {
+  Eigen::Matrix<S, Rows, 1> v;
+  for (int i = 0; i < Rows; ++i) v(i) = draw();
   return v;
 }
 
 template <typename S>
+Vector6<S> vec6(FuzzedDataProvider& p) {
+  return drawn<S, 6>([&] { return number<S>(p); });
+}
+
+template <typename S>
 Vector3<S> vec3(FuzzedDataProvider& p) {
-  Vector3<S> v;
-  for (int i = 0; i < 3; ++i) v(i) = number<S>(p);
-  return v;
+  return drawn<S, 3>([&] { return number<S>(p); });
 }
 
 /// Positive gains mostly, anything sometimes: configuration must validate.
@@ -85,9 +89,7 @@ S gain(FuzzedDataProvider& p) {
 
 template <typename S>
 Vector6<S> gains6(FuzzedDataProvider& p) {
-  Vector6<S> v;
-  for (int i = 0; i < 6; ++i) v(i) = gain<S>(p);
-  return v;
+  return drawn<S, 6>([&] { return gain<S>(p); });
 }
 
 // --------------------------------------------------------------- controllers
@@ -116,6 +118,15 @@ void drive(Ctl& c, FuzzedDataProvider& p) {
       FUZZ_CHECK(state_finite(c));
     }
   }
+}
+
+/// A controller made from a fuzzed configuration (a refusal names a field
+/// and leaves it unconfigured), then driven either way.
+template <typename Ctl>
+void create_and_drive(const typename Ctl::Config& cfg, FuzzedDataProvider& p) {
+  Ctl c;
+  if (const ValidationError e = Ctl::create(cfg, c)) FUZZ_CHECK(e.field != nullptr && !c.configured());
+  drive(c, p);
 }
 
 template <typename S, int N>
@@ -161,13 +172,10 @@ void fuzz_linear(FuzzedDataProvider& p) {
   LinearAdaptiveConfig<S> cfg;
   cfg.lambda = gains6<S>(p);
   cfg.kd = gains6<S>(p);
-  for (int i = 0; i < kRegressorParameters; ++i) cfg.gamma(i) = gain<S>(p);
+  cfg.gamma = drawn<S, kRegressorParameters>([&] { return gain<S>(p); });
   cfg.dt = gain<S>(p);
-  for (int i = 0; i < kRegressorParameters; ++i) cfg.theta0(i) = number<S>(p);
-  LinearAdaptiveController<S> c;
-  if (const ValidationError e = LinearAdaptiveController<S>::create(cfg, c))
-    FUZZ_CHECK(e.field != nullptr && !c.configured());
-  drive(c, p);
+  cfg.theta0 = drawn<S, kRegressorParameters>([&] { return number<S>(p); });
+  create_and_drive<LinearAdaptiveController<S>>(cfg, p);
 }
 
 template <typename S>
@@ -176,10 +184,7 @@ void fuzz_pd_pid_smc(FuzzedDataProvider& p, int which) {
     PDConfig<S> cfg;
     cfg.kp = gains6<S>(p);
     cfg.kd = gains6<S>(p);
-    PDController<S> c;
-    if (const ValidationError e = PDController<S>::create(cfg, c))
-      FUZZ_CHECK(e.field != nullptr && !c.configured());
-    drive(c, p);
+    create_and_drive<PDController<S>>(cfg, p);
   } else if (which == 1) {
     PIDConfig<S> cfg;
     cfg.kp = gains6<S>(p);
@@ -187,21 +192,15 @@ void fuzz_pd_pid_smc(FuzzedDataProvider& p, int which) {
     cfg.kd = gains6<S>(p);
     cfg.integral_limit = gains6<S>(p);
     cfg.dt = gain<S>(p);
-    PIDController<S> c;
-    if (const ValidationError e = PIDController<S>::create(cfg, c))
-      FUZZ_CHECK(e.field != nullptr && !c.configured());
-    drive(c, p);
+    create_and_drive<PIDController<S>>(cfg, p);
   } else {
     SlidingModeConfig<S> cfg;
     cfg.lambda = gains6<S>(p);
     cfg.kd = gains6<S>(p);
     cfg.k = gains6<S>(p);
     cfg.phi = gains6<S>(p);
-    for (int i = 0; i < kRegressorParameters; ++i) cfg.theta(i) = number<S>(p);
-    SlidingModeController<S> c;
-    if (const ValidationError e = SlidingModeController<S>::create(cfg, c))
-      FUZZ_CHECK(e.field != nullptr && !c.configured());
-    drive(c, p);
+    cfg.theta = drawn<S, kRegressorParameters>([&] { return number<S>(p); });
+    create_and_drive<SlidingModeController<S>>(cfg, p);
   }
 }
 

@@ -13,6 +13,7 @@
 #include <stdint.h>
 
 #include "neurov/c_api.h"
+#include "nerov_task.h"
 
 #ifndef LOOP
 #define LOOP 2
@@ -20,7 +21,6 @@
 #ifndef STEPS
 #define STEPS 20
 #endif
-#define N NEUROV_C_CENTRES
 
 static _Alignas(NEUROV_STORAGE_ALIGN) unsigned char nn_storage[NEUROV_NN_STORAGE_BYTES(N)];
 static _Alignas(NEUROV_STORAGE_ALIGN) unsigned char ref_storage[NEUROV_REFERENCE_STORAGE_BYTES];
@@ -38,47 +38,20 @@ static void sys_exit(int code) {
 }
 
 static int run(void) {
-  uint32_t state = 1u;
-  for (int k = 0; k < N * NEUROV_C_INPUTS; ++k) {
-    state = state * 1664525u + 1013904223u;
-    centres[k] = (float)(state >> 8) * (2.0f / 16777216.0f) - 1.0f;
-  }
-  for (int j = 0; j < N; ++j) widths[j] = 30.0f;
-  neurov_nn_params p;
-  neurov_nn_params_init(&p);
-  p.centres = centres;
-  p.widths = widths;
-  for (int i = 0; i < 6; ++i) p.kd[i] = i < 3 ? 200.0f : 50.0f;
+  const neurov_nn_params p = nerov_nn_params(centres, widths);
   neurov_nn* nn;
   neurov_reference* ref;
   if (neurov_nn_create(nn_storage, sizeof nn_storage, &p, &nn, 0) != NEUROV_STATUS_OK) return 2;
-  const float lambda_d[6] = {0.4f, 0.4f, 0.4f, 0.4f, 0.4f, 0.4f};
-  const float omega[6] = {0.04f, 0.04f, 0.04f, 0.04f, 0.04f, 0.04f};
   float eta[6] = {0}, nu[6] = {0}, tau[6] = {0};
-  if (neurov_reference_create(ref_storage, sizeof ref_storage, lambda_d, omega, eta, &ref, 0) !=
+  if (neurov_reference_create(ref_storage, sizeof ref_storage, kLambdaD, kOmega, eta, &ref, 0) !=
       NEUROV_STATUS_OK)
     return 3;
 
-  /* NEROV's six thrusters (as in main.c) with one command curve. */
-  static const float pos[18] = {-0.5f, 0.3f, 0, -0.5f, -0.3f, 0, 0.4f, 0, 0, 0.4f, 0, 0, -0.4f, 0.3f, 0, -0.4f, -0.3f, 0};
-  static const float dir[18] = {1, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 1, 0, 0, 1};
-  static const float lo[6] = {-250, -250, -250, -250, -250, -250}, hi[6] = {250, 250, 250, 250, 250, 250};
-  static const float cc[6] = {-1.0f, -0.5f, -0.05f, 0.05f, 0.5f, 1.0f}, ct[6] = {-200, -70, 0, 0, 90, 250};
-  const neurov_thruster_curve curve = {6, cc, ct, 0.0f, 0.05f, 16.0f, 2.0f};
-  neurov_allocator_params ap;
-  neurov_allocator_params_init(&ap);
-  ap.thrusters = 6;
-  ap.positions = pos;
-  ap.directions = dir;
-  ap.min_thrust = lo;
-  ap.max_thrust = hi;
-  ap.curve_count = 1;
-  ap.curves = &curve;
+  const neurov_allocator_params ap = nerov_allocator_params();
   neurov_allocator* alloc;
   if (neurov_allocator_create(alloc_storage, sizeof alloc_storage, &ap, &alloc, 0) != NEUROV_STATUS_OK)
     return 5;
-  neurov_ekf_params ep = {0.05f, 0.01f, 1e-4f, 0.005f, 0.001f, 0.01f, 0.02f, 0.5f, {0}};
-  for (int i = 0; i < NEUROV_EKF_STATES; ++i) ep.initial_std[i] = 0.5f;
+  const neurov_ekf_params ep = onboard_ekf_params(0.5f);
   neurov_ekf* ekf;
   if (neurov_ekf_create(ekf_storage, sizeof ekf_storage, &ep, eta, nu, &ekf, 0) != NEUROV_STATUS_OK)
     return 6;
@@ -87,8 +60,6 @@ static int run(void) {
   /* A command with every DOF moving, so no branch takes a shortcut. */
   const float command[6] = {2.0f, 1.0f, 0.5f, 0.05f, -0.05f, 0.5f};
   neurov_desired desired = {{0}, {0}, {0}};
-  static const float m[6] = {215, 265, 265, 40, 80, 80};
-  static const float d[6] = {70, 100, 100, 30, 50, 50};
   int bad = 0;
   for (int k = 0; k < STEPS; ++k) {
 #if LOOP >= 1
@@ -108,10 +79,7 @@ static int run(void) {
     bad += neurov_ekf_update_depth(ekf, eta[2]) != NEUROV_STATUS_OK;
     bad += neurov_ekf_update_position(ekf, eta, 0.4f) != NEUROV_STATUS_OK;
 #endif
-    for (int i = 0; i < 6; ++i) {
-      nu[i] += p.dt * (tau[i] - d[i] * nu[i]) / m[i];
-      eta[i] += p.dt * nu[i];
-    }
+    plant_step(tau, p.dt, eta, nu);
   }
   return bad == 0 ? 0 : 4;
 }

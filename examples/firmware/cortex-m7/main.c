@@ -9,9 +9,8 @@
 #include <stdint.h>
 
 #include "neurov/c_api.h"
+#include "nerov_task.h"
 
-#define N NEUROV_C_CENTRES
-#define THRUSTERS 6
 #define DT 0.2f
 
 static _Alignas(NEUROV_STORAGE_ALIGN) unsigned char nn_storage[NEUROV_NN_STORAGE_BYTES(N)];
@@ -19,25 +18,12 @@ static _Alignas(NEUROV_STORAGE_ALIGN) unsigned char ref_storage[NEUROV_REFERENCE
 static _Alignas(NEUROV_STORAGE_ALIGN) unsigned char ekf_storage[NEUROV_EKF_STORAGE_BYTES];
 static _Alignas(NEUROV_STORAGE_ALIGN) unsigned char alloc_storage[NEUROV_ALLOCATOR_STORAGE_BYTES(1)];
 
-/* NEROV's six thrusters as neurov's vehicle file assumes them (positions in
- * m, body axes), 250 N each way, and one normalised command curve (-1..1)
- * with a dead band and weaker reverse thrust, in flash. */
-static const float kPositions[3 * THRUSTERS] = {-0.5f, 0.3f, 0, -0.5f, -0.3f, 0, 0.4f, 0, 0,
-                                                0.4f,  0,    0, -0.4f, 0.3f,  0, -0.4f, -0.3f, 0};
-static const float kDirections[3 * THRUSTERS] = {1, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 1, 0, 0, 1};
-static const float kMinThrust[THRUSTERS] = {-250, -250, -250, -250, -250, -250};
-static const float kMaxThrust[THRUSTERS] = {250, 250, 250, 250, 250, 250};
-static const float kCurveCommand[] = {-1.0f, -0.5f, -0.05f, 0.05f, 0.5f, 1.0f};
-static const float kCurveThrust[] = {-200.0f, -70.0f, 0.0f, 0.0f, 90.0f, 250.0f};
-
 /* The stand-in vehicle: its true state, and what the thrusters receive. */
 static float eta[6], nu[6];
 static volatile float command_out[THRUSTERS];
 static volatile neurov_status last_status;
 
 static void write_thrusters(const float commands[THRUSTERS], const float thrusts[THRUSTERS]) {
-  static const float m[6] = {215, 265, 265, 40, 80, 80};
-  static const float d[6] = {70, 100, 100, 30, 50, 50};
   float tau[6] = {0};
   for (int j = 0; j < THRUSTERS; ++j) {
     const float* r = kPositions + 3 * j;
@@ -50,55 +36,27 @@ static void write_thrusters(const float commands[THRUSTERS], const float thrusts
     tau[4] += (r[2] * e[0] - r[0] * e[2]) * thrusts[j];
     tau[5] += (r[0] * e[1] - r[1] * e[0]) * thrusts[j];
   }
-  for (int i = 0; i < 6; ++i) {
-    nu[i] += DT * (tau[i] - d[i] * nu[i]) / m[i];
-    eta[i] += DT * nu[i];
-  }
+  plant_step(tau, DT, eta, nu);
 }
 
-/* Centres on a deterministic pseudo-random pattern; a vehicle would keep a
- * table in flash. Filled on the stack and copied by neurov_nn_create(). */
 static int configure_controller(neurov_nn** nn, neurov_reference** ref) {
-  float centres[N * NEUROV_C_INPUTS];
+  float centres[N * NEUROV_C_INPUTS]; /* on the stack: copied by neurov_nn_create() */
   float widths[N];
-  uint32_t state = 1u;
-  for (int k = 0; k < N * NEUROV_C_INPUTS; ++k) {
-    state = state * 1664525u + 1013904223u;
-    centres[k] = (float)(state >> 8) * (2.0f / 16777216.0f) - 1.0f;
-  }
-  for (int j = 0; j < N; ++j) widths[j] = 30.0f;
-
-  neurov_nn_params p;
-  neurov_nn_params_init(&p);
-  p.centres = centres;
-  p.widths = widths;
-  for (int i = 0; i < 6; ++i) p.kd[i] = i < 3 ? 200.0f : 50.0f;
+  const neurov_nn_params p = nerov_nn_params(centres, widths);
   neurov_validation_error error;
   if (neurov_nn_create(nn_storage, sizeof nn_storage, &p, nn, &error) != NEUROV_STATUS_OK)
     return 0;
-  const float lambda_d[6] = {0.4f, 0.4f, 0.4f, 0.4f, 0.4f, 0.4f};
-  const float omega[6] = {0.04f, 0.04f, 0.04f, 0.04f, 0.04f, 0.04f};
   const float eta0[6] = {0};
-  return neurov_reference_create(ref_storage, sizeof ref_storage, lambda_d, omega, eta0, ref,
+  return neurov_reference_create(ref_storage, sizeof ref_storage, kLambdaD, kOmega, eta0, ref,
                                  &error) == NEUROV_STATUS_OK;
 }
 
 static int configure_onboard(neurov_ekf** ekf, neurov_allocator** alloc) {
-  neurov_ekf_params e = {0.05f, 0.01f, 1e-4f, 0.005f, 0.001f, 0.01f, 0.02f, 0.5f, {0}};
-  for (int i = 0; i < NEUROV_EKF_STATES; ++i) e.initial_std[i] = 0.5f;
+  const neurov_ekf_params e = onboard_ekf_params(0.5f);
   const float zero[6] = {0};
   if (neurov_ekf_create(ekf_storage, sizeof ekf_storage, &e, zero, zero, ekf, 0) != NEUROV_STATUS_OK)
     return 0;
-  const neurov_thruster_curve curve = {6, kCurveCommand, kCurveThrust, 0.0f, 0.05f, 16.0f, 2.0f};
-  neurov_allocator_params a;
-  neurov_allocator_params_init(&a);
-  a.thrusters = THRUSTERS;
-  a.positions = kPositions;
-  a.directions = kDirections;
-  a.min_thrust = kMinThrust;
-  a.max_thrust = kMaxThrust;
-  a.curve_count = 1;
-  a.curves = &curve;
+  const neurov_allocator_params a = nerov_allocator_params();
   return neurov_allocator_create(alloc_storage, sizeof alloc_storage, &a, alloc, 0) == NEUROV_STATUS_OK;
 }
 
