@@ -108,7 +108,6 @@ class NNAdaptiveController
   using typename Base::Config;
   using typename Base::Scalar;
   using typename Base::Vec6;
-  using Base::step;
   using Network = RbfNetwork<Scalar, kNNInputs, CentresT, 6>;
   using InputVector = typename Network::InputVector;
   using BasisVector = typename Network::BasisVector;
@@ -158,6 +157,13 @@ class NNAdaptiveController
     // Delegating keeps one place that initialises the rest of the state; the
     // network's copy onto itself is a no-op.
     return create(out.network_, config, out);
+  }
+
+  /// The step on a DesiredState (the reference model's output). Written out
+  /// rather than brought in with `using Base::step`, which would also bring
+  /// the base's six-argument step that this class's own step replaces.
+  Status step(const Vec6& eta, const Vec6& nu, const DesiredState<Scalar>& d, Vec6& tau) noexcept {
+    return Base::step(eta, nu, d, tau);
   }
 
   /// The control law and one step of the adaptive law. Writes tau; on any
