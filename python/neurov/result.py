@@ -63,6 +63,11 @@ class Result:
         """eta - eta_d, shape (K, 6)."""
         return self.eta - self.eta_d
 
+    @property
+    def met_sea(self) -> bool:
+        """True if the run met a current, waves or a payload change."""
+        return bool(np.any(self.current) or np.any(self.wave_elevation) or np.any(self.payload_mass))
+
     def metrics(self, after: float | None = None) -> dict[str, Any]:
         """Tracking and effort metrics over t >= `after` [s]: RMS error per DOF
         and of the 3-D position, maximum errors, mean and maximum ``|tau|`` per

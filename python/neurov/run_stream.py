@@ -65,8 +65,7 @@ class _Sinks:
         chunk = Result(scenario=self.scenario, controller=self.label, diverged=diverged, **raw)
         self.metrics.add(chunk)
         self.plot_rows.add(chunk)
-        self.sea = self.sea or bool(np.any(chunk.current) or np.any(chunk.wave_elevation)
-                                    or np.any(chunk.payload_mass))
+        self.sea = self.sea or chunk.met_sea
         if self.elevation is not None:
             self.elevation.append((chunk.t, chunk.wave_elevation))
         if self.out is not None and self.npz is not None:
@@ -149,7 +148,7 @@ def stream_run(scenario: Scenario, out_dir: str | Path | None = None, *, quiet: 
         drawn.extra["controller_errors"] = sinks.errors
     elevation = None
     if sinks.elevation is not None:
-        t, eta = (np.concatenate(parts) for parts in zip(*sinks.elevation))
-        elevation = dataclasses.replace(drawn, t=t, wave_elevation=eta)
+        t, surface = (np.concatenate(parts) for parts in zip(*sinks.elevation))
+        elevation = dataclasses.replace(drawn, t=t, wave_elevation=surface)
     return StreamedRun(drawn=drawn, metrics=sinks.metrics.value(), elevation=elevation, sea=sinks.sea,
                        written=written)

@@ -28,7 +28,7 @@ _SHALLOW_BIT = 32  # fault_bits::shallow
 
 def has_sea(result: Result) -> bool:
     """True if the run met a current, waves or a payload change."""
-    return bool(np.any(result.current) or np.any(result.wave_elevation) or np.any(result.payload_mass))
+    return result.met_sea
 
 
 def target_spectrum(waves: _core.WaveConfig, omega: NDArray[np.float64]) -> NDArray[np.float64]:
