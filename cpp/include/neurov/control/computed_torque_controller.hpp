@@ -16,9 +16,7 @@
 namespace neurov {
 
 template <typename Scalar>
-struct ComputedTorqueConfig {
-  Vector6<Scalar> lambda = Vector6<Scalar>::Constant(Scalar(0.5));  ///< Lambda (> 0)
-  Vector6<Scalar> kd = Vector6<Scalar>::Zero();                     ///< K_d (>= 0)
+struct ComputedTorqueConfig : SlidingGains<Scalar> {
   /// The nominal model (e.g. the parameters of the vehicle file).
   VehicleParameters<Scalar> vehicle{};
 };
@@ -40,13 +38,7 @@ class ComputedTorqueController
  public:
   using typename Base::Vec6;
 
-  ComputedTorqueController() = default;
-
-#if NEUROV_HAS_EXCEPTIONS
-  explicit ComputedTorqueController(const ComputedTorqueConfig<ScalarT>& config) {
-    detail::throw_if_invalid(create(config, *this), "computed-torque controller");
-  }
-#endif
+  NEUROV_CONTROLLER_CONSTRUCTORS(ComputedTorqueController, "computed-torque controller")
 
   /// Validates the gains and the nominal vehicle and builds its M once.
   /// `out` is untouched on failure.

@@ -30,38 +30,45 @@
 #include "neurov/core/types.hpp"
 #include "neurov/core/validation.hpp"
 
+/// A controller's two constructors, written once: the default one
+/// (unconfigured: every step refuses until create()) and, where exceptions
+/// exist, the one that validates the configuration through the controller's
+/// create() and throws std::invalid_argument "what: message". A constructor
+/// inherited from the base cannot do this: it would run create() before the
+/// controller's own members are initialised, which would then overwrite it.
 #if NEUROV_HAS_EXCEPTIONS
-#include <stdexcept>
-#include <string>
+#define NEUROV_CONTROLLER_CONSTRUCTORS(Controller, what)                  \
+  Controller() = default;                                                 \
+  explicit Controller(const typename Controller::Config& config) {        \
+    ::neurov::throw_if_invalid(Controller::create(config, *this), what);  \
+  }
+#else
+#define NEUROV_CONTROLLER_CONSTRUCTORS(Controller, what) Controller() = default;
 #endif
 
 namespace neurov {
 
+/// The gains every law on the filtered error s shares: Lambda in
+/// s = eta_tilde_dot + Lambda eta_tilde and the damping K_d of its
+/// -J^T(eta) K_d s. The configurations of the sliding-mode, linear adaptive,
+/// computed-torque and NN controllers start with them (one default, one
+/// validator: detail::check_sliding_gains).
+template <typename Scalar>
+struct SlidingGains {
+  /// Lambda (diagonal, > 0).
+  Vector6<Scalar> lambda = Vector6<Scalar>::Constant(Scalar(0.5));
+  /// K_d (diagonal, >= 0; for the NN, 0 leaves the network alone in the loop).
+  Vector6<Scalar> kd = Vector6<Scalar>::Zero();
+};
+
 namespace detail {
 
-#if NEUROV_HAS_EXCEPTIONS
-/// The throwing constructors' one check: std::invalid_argument "what: message".
-inline void throw_if_invalid(const ValidationError& e, const char* what) {
-  if (!e) return;
-  char buf[256];
-  e.format(buf, sizeof buf);
-  throw std::invalid_argument(std::string(what) + ": " + buf);
-}
-#endif
-
 /// Lambda > 0 and K_d >= 0: the gains of every law on s.
-template <typename Config>
-inline ValidationError check_sliding_gains(const Config& c) noexcept {
+template <typename Scalar>
+inline ValidationError check_sliding_gains(const SlidingGains<Scalar>& c) noexcept {
   if (auto e = check_positive("lambda", c.lambda)) return e;
   return check_non_negative("kd", c.kd);
 }
-
-/// Whether a configuration has a Lambda (the laws on s) or not (PD, PID).
-template <typename Config, typename = void>
-struct has_lambda : std::false_type {};
-template <typename Config>
-struct has_lambda<Config, std::void_t<decltype(std::declval<const Config&>().lambda)>>
-    : std::true_type {};
 
 }  // namespace detail
 
@@ -179,7 +186,7 @@ class ControllerBase {
   /// The Lambda of s: the configuration's; a law without one (PD, PID) does
   /// not use s, and any positive value does.
   Vec6 lambda() const noexcept {
-    if constexpr (detail::has_lambda<Config>::value)
+    if constexpr (std::is_base_of<SlidingGains<Scalar>, Config>::value)
       return config_.lambda;
     else
       return Vec6::Ones();

@@ -10,9 +10,7 @@
 namespace neurov {
 
 template <typename Scalar>
-struct LinearAdaptiveConfig {
-  Vector6<Scalar> lambda = Vector6<Scalar>::Constant(Scalar(0.5));  ///< Lambda (> 0)
-  Vector6<Scalar> kd = Vector6<Scalar>::Zero();                     ///< K_d (>= 0)
+struct LinearAdaptiveConfig : SlidingGains<Scalar> {
   /// Diagonal of Gamma (>= 0; 0 freezes that parameter).
   ParameterVector<Scalar> gamma = ParameterVector<Scalar>::Constant(Scalar(1));
   Scalar dt = Scalar(0.2);                                          ///< control period [s]
@@ -44,13 +42,7 @@ class LinearAdaptiveController
   /// theta_hat is what the closed loop logs per step.
   static constexpr int kLoggedParameters = kRegressorParameters;
 
-  LinearAdaptiveController() = default;
-
-#if NEUROV_HAS_EXCEPTIONS
-  explicit LinearAdaptiveController(const LinearAdaptiveConfig<ScalarT>& config) {
-    detail::throw_if_invalid(Base::create(config, *this), "linear adaptive controller");
-  }
-#endif
+  NEUROV_CONTROLLER_CONSTRUCTORS(LinearAdaptiveController, "linear adaptive controller")
 
   /// Back to theta0 and a zero history.
   void reset() noexcept {

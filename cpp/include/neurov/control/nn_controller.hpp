@@ -42,11 +42,7 @@ constexpr const char* to_string(RobustModification m) noexcept {
 }
 
 template <typename Scalar>
-struct NNAdaptiveConfig {
-  /// Lambda in s = eta_tilde_dot + Lambda eta_tilde (diagonal, > 0).
-  Vector6<Scalar> lambda = Vector6<Scalar>::Constant(Scalar(0.5));
-  /// K_d (diagonal, >= 0; 0 leaves the network alone in the loop).
-  Vector6<Scalar> kd = Vector6<Scalar>::Zero();
+struct NNAdaptiveConfig : SlidingGains<Scalar> {
   /// Gamma_w = gamma * I (the paper: 0.3); per-centre values via set_learning_rates().
   Scalar gamma = Scalar(0.3);
   /// Control period [s] (the paper: 0.2 s, 5 Hz).
@@ -117,7 +113,7 @@ class NNAdaptiveController
 
 #if NEUROV_HAS_EXCEPTIONS
   NNAdaptiveController(const Network& network, const Config& config) {
-    detail::throw_if_invalid(create(network, config, *this), "NN controller");
+    throw_if_invalid(create(network, config, *this), "NN controller");
   }
 #endif
 

@@ -27,13 +27,7 @@ class PDController : public ControllerBase<PDController<ScalarT>, ScalarT, PDCon
   friend Base;
 
  public:
-  PDController() = default;
-
-#if NEUROV_HAS_EXCEPTIONS
-  explicit PDController(const PDConfig<ScalarT>& config) {
-    detail::throw_if_invalid(Base::create(config, *this), "PD controller");
-  }
-#endif
+  NEUROV_CONTROLLER_CONSTRUCTORS(PDController, "PD controller")
 
  private:
   bool control(const TrackingError<ScalarT>& e, const Vector6<ScalarT>&,

@@ -43,13 +43,7 @@ class PIDController
   using typename Base::Scalar;
   using typename Base::Vec6;
 
-  PIDController() = default;
-
-#if NEUROV_HAS_EXCEPTIONS
-  explicit PIDController(const PIDConfig<ScalarT>& config) {
-    detail::throw_if_invalid(Base::create(config, *this), "PID controller");
-  }
-#endif
+  NEUROV_CONTROLLER_CONSTRUCTORS(PIDController, "PID controller")
 
   /// The integrator state z (the time integral of eta_tilde, limited).
   const Vec6& integral() const noexcept { return this->state_; }

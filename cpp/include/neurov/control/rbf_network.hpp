@@ -17,11 +17,6 @@
 #include "neurov/core/types.hpp"
 #include "neurov/core/validation.hpp"
 
-#if NEUROV_HAS_EXCEPTIONS
-#include <stdexcept>
-#include <string>
-#endif
-
 namespace neurov {
 
 template <typename ScalarT, int InputsT = Eigen::Dynamic, int CentresT = Eigen::Dynamic,
@@ -50,11 +45,11 @@ class RbfNetwork {
 
 #if NEUROV_HAS_EXCEPTIONS
   RbfNetwork(const CentreMatrix& centres, const BasisVector& widths) {
-    throw_if(create(centres, widths, *this));
+    throw_if_invalid(create(centres, widths, *this), "RBF network");
   }
   RbfNetwork(const CentreMatrix& centres, const BasisVector& widths, const InputVector& input_offset,
              const InputVector& input_scale) {
-    throw_if(create(centres, widths, input_offset, input_scale, *this));
+    throw_if_invalid(create(centres, widths, input_offset, input_scale, *this), "RBF network");
   }
 #endif
 
@@ -173,15 +168,6 @@ class RbfNetwork {
     else
       return {centres_.data(), centres_.rows(), false};  // column-major: one panel of N
   }
-
-#if NEUROV_HAS_EXCEPTIONS
-  static void throw_if(const ValidationError& e) {
-    if (!e) return;
-    char buf[256];
-    e.format(buf, sizeof buf);
-    throw std::invalid_argument(std::string("RBF network: ") + buf);
-  }
-#endif
 
   /// Inputs of x_hat held on the stack in basis() (exactly n_in when it is
   /// fixed, so firmware stacks stay small); more take a slower loop.

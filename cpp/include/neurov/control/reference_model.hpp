@@ -48,11 +48,6 @@
 #include "neurov/core/types.hpp"
 #include "neurov/core/validation.hpp"
 
-#if NEUROV_HAS_EXCEPTIONS
-#include <stdexcept>
-#include <string>
-#endif
-
 namespace neurov {
 
 template <typename Scalar>
@@ -72,11 +67,7 @@ class ReferenceModel {
 #if NEUROV_HAS_EXCEPTIONS
   /// lambda_d: damping diagonal (> 0); omega: stiffness diagonal (> 0).
   ReferenceModel(const Vec6& lambda_d, const Vec6& omega, const Vec6& eta0 = Vec6::Zero()) {
-    if (const ValidationError e = create(lambda_d, omega, eta0, *this)) {
-      char buf[256];
-      e.format(buf, sizeof buf);
-      throw std::invalid_argument(std::string("reference model: ") + buf);
-    }
+    throw_if_invalid(create(lambda_d, omega, eta0, *this), "reference model");
   }
 #endif
 

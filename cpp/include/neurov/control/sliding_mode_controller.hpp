@@ -16,9 +16,7 @@
 namespace neurov {
 
 template <typename Scalar>
-struct SlidingModeConfig {
-  Vector6<Scalar> lambda = Vector6<Scalar>::Constant(Scalar(0.5));  ///< Lambda (> 0)
-  Vector6<Scalar> kd = Vector6<Scalar>::Zero();                     ///< K_d (>= 0)
+struct SlidingModeConfig : SlidingGains<Scalar> {
   Vector6<Scalar> k = Vector6<Scalar>::Zero();    ///< switching gain K (>= 0) [N, N m]
   Vector6<Scalar> phi = Vector6<Scalar>::Ones();  ///< boundary-layer width (> 0), units of s
   /// The nominal model's theta (e.g. regressor_parameters of the vehicle file).
@@ -45,13 +43,7 @@ class SlidingModeController
  public:
   using typename Base::Vec6;
 
-  SlidingModeController() = default;
-
-#if NEUROV_HAS_EXCEPTIONS
-  explicit SlidingModeController(const SlidingModeConfig<ScalarT>& config) {
-    detail::throw_if_invalid(Base::create(config, *this), "sliding-mode controller");
-  }
-#endif
+  NEUROV_CONTROLLER_CONSTRUCTORS(SlidingModeController, "sliding-mode controller")
 
  private:
   /// f = Phi theta_nominal, then the switching term on sat(s / phi).

@@ -9,6 +9,13 @@
 
 #include <Eigen/Core>
 
+#include "neurov/core/config.hpp"
+
+#if NEUROV_HAS_EXCEPTIONS
+#include <stdexcept>
+#include <string>
+#endif
+
 namespace neurov {
 
 struct ValidationError {
@@ -53,6 +60,17 @@ struct ValidationError {
 /// corrupt value, whose "result" would be finite nonsense (1e43 after a step
 /// of 1e6 s) or an overflow reported as if the input were not finite.
 inline constexpr double kMaxStep = 10.0;
+
+#if NEUROV_HAS_EXCEPTIONS
+/// The throwing constructors' one check (vehicle, network, reference model,
+/// controllers): std::invalid_argument "what: message".
+inline void throw_if_invalid(const ValidationError& e, const char* what) {
+  if (!e) return;
+  char buf[256];
+  e.format(buf, sizeof buf);
+  throw std::invalid_argument(std::string(what) + ": " + buf);
+}
+#endif
 
 namespace detail {
 

@@ -13,11 +13,6 @@
 #include "neurov/core/types.hpp"
 #include "neurov/core/validation.hpp"
 
-#if NEUROV_HAS_EXCEPTIONS
-#include <stdexcept>
-#include <string>
-#endif
-
 namespace neurov {
 
 /// Which skew-symmetric C(nu) the vehicle uses. Both give the same C(nu) nu,
@@ -134,12 +129,7 @@ class Vehicle {
 #if NEUROV_HAS_EXCEPTIONS
   /// Validates and builds; throws std::invalid_argument naming the field.
   explicit Vehicle(const VehicleParameters<Scalar>& p) {
-    const ValidationError e = create(p, *this);
-    if (e) {
-      char buf[256];
-      e.format(buf, sizeof buf);
-      throw std::invalid_argument(std::string("vehicle parameter ") + buf);
-    }
+    throw_if_invalid(create(p, *this), "vehicle parameter");
   }
 #endif
 

@@ -40,60 +40,47 @@ struct SimulationResult {
 
   /// `rows` zero rows, with `thrusters` and `parameters` columns where these vary.
   void allocate(Eigen::Index rows, Eigen::Index thrusters, Eigen::Index parameters) {
-    t.setZero(rows);
-    for (Rows6* m : {&eta, &nu, &eta_d, &eta_d_dot, &tau_demanded, &tau_applied, &disturbance, &s,
-                     &eta_estimate, &nu_estimate})
-      m->setZero(rows, 6);
-    thrusts.setZero(rows, thrusters);
-    theta.setZero(rows, parameters);
-    adaptive_norm.setZero(rows);
-    controller_status.setZero(rows);
-    plant_status.setZero(rows);
-    faults.setZero(rows);
-    current.setZero(rows, 3);
-    wave_velocity.setZero(rows, 3);
-    wave_elevation.setZero(rows);
-    payload_mass.setZero(rows);
+    for_each_series(thrusters, parameters,
+                    [rows](auto& series, Eigen::Index cols) { series.setZero(rows, cols); });
     steps = 0;
     diverged = false;
   }
 
   /// Zeroes every row in place: same sizes, no allocation.
   void clear() noexcept {
-    t.setZero();
-    for (Rows6* m : {&eta, &nu, &eta_d, &eta_d_dot, &tau_demanded, &tau_applied, &disturbance, &s,
-                     &eta_estimate, &nu_estimate})
-      m->setZero();
-    thrusts.setZero();
-    theta.setZero();
-    adaptive_norm.setZero();
-    controller_status.setZero();
-    plant_status.setZero();
-    faults.setZero();
-    current.setZero();
-    wave_velocity.setZero();
-    wave_elevation.setZero();
-    payload_mass.setZero();
+    for_each_series(thrusts.cols(), theta.cols(), [](auto& series, Eigen::Index) {
+      series.setZero();
+    });
     steps = 0;
     diverged = false;
   }
 
   /// Only the first `rows` rows (the ones simulated) are kept.
   void truncate(Eigen::Index rows) {
-    t.conservativeResize(rows);
+    for_each_series(thrusts.cols(), theta.cols(), [rows](auto& series, Eigen::Index cols) {
+      series.conservativeResize(rows, cols);
+    });
+  }
+
+ private:
+  /// Calls f(series, columns) on every logged series: the one list of them,
+  /// so that a new series cannot be left out of allocate, clear or truncate.
+  template <typename F>
+  void for_each_series(Eigen::Index thrusters, Eigen::Index parameters, F&& f) {
+    f(t, 1);
     for (Rows6* m : {&eta, &nu, &eta_d, &eta_d_dot, &tau_demanded, &tau_applied, &disturbance, &s,
                      &eta_estimate, &nu_estimate})
-      m->conservativeResize(rows, 6);
-    thrusts.conservativeResize(rows, thrusts.cols());
-    theta.conservativeResize(rows, theta.cols());
-    adaptive_norm.conservativeResize(rows);
-    controller_status.conservativeResize(rows);
-    plant_status.conservativeResize(rows);
-    faults.conservativeResize(rows);
-    current.conservativeResize(rows, 3);
-    wave_velocity.conservativeResize(rows, 3);
-    wave_elevation.conservativeResize(rows);
-    payload_mass.conservativeResize(rows);
+      f(*m, 6);
+    f(thrusts, thrusters);
+    f(theta, parameters);
+    f(adaptive_norm, 1);
+    f(controller_status, 1);
+    f(plant_status, 1);
+    f(faults, 1);
+    f(current, 3);
+    f(wave_velocity, 3);
+    f(wave_elevation, 1);
+    f(payload_mass, 1);
   }
 };
 
