@@ -91,7 +91,8 @@ _FIELDS: dict[str, tuple[bool, tuple[Any, ...]]] = {
     "name": (False, ("str",)),
     "source": (False, ("str",)),
 }
-# Tables other readers own (the simulation reads [thrusters], neurov.gym [limits]).
+# Tables read apart from the parameters ([thrusters] for the simulation,
+# [limits] for neurov.gym's action scale).
 _OTHER_TABLES = {"thrusters", "limits"}
 _CORIOLIS_FORMS = ("velocity_independent", "kirchhoff")
 
@@ -155,6 +156,9 @@ class VehicleFile:
     thrusters: dict[str, Any] | None
     displaced_volume: float | None = None
     """[m^3] when the file gives it: the buoyancy follows the water."""
+    tau_max: Any = None
+    """``[limits] tau_max`` as a (6,) array, or None when the file has no
+    ``[limits]`` table."""
 
     def in_water(self, water_density: float) -> VehicleFile:
         """The file as the vehicle is in water of `water_density` [kg/m^3]:
@@ -195,7 +199,8 @@ def read_vehicle_file(path: str | Path) -> VehicleFile:
     table = data.get("thrusters")
     thrusters = None if table is None else thrusters_from_mapping(table, f"{where}: thrusters")
     file = VehicleFile(path=path, parameters=parameters, thrusters=thrusters,
-                       displaced_volume=None if volume is None else float(volume))
+                       displaced_volume=None if volume is None else float(volume),
+                       tau_max=_limits_from_mapping(data.get("limits"), f"{where}: limits"))
     if volume is None:
         return file
     # Standing alone (Vehicle.from_file, a preset), the vehicle is in the
@@ -271,13 +276,14 @@ def load_vehicle(path: str | Path) -> Any:
 def load_limits(path: str | Path) -> Any:
     """``tau_max`` of a vehicle file's ``[limits]`` table as a (6,) array, or
     None if the file has no such table. Errors name the file and the field."""
+    return read_vehicle_file(path).tau_max
+
+
+def _limits_from_mapping(table: Any, where: str) -> Any:
     import numpy as np
 
-    path = Path(path)
-    table = tomllib.loads(read_text(path, VehicleFileError)).get("limits")
     if table is None:
         return None
-    where = f"{path}: limits"
     if not isinstance(table, dict):
         raise VehicleFileError(f"{where}: expected a table")
     for key in table:

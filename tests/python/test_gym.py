@@ -238,7 +238,8 @@ def test_limits_table_errors_name_the_field(tmp_path: Path) -> None:
         path.write_text(base + "\n[limits]\n" + extra + "\n")
         with pytest.raises(VehicleFileError, match=message):
             load_limits(path)
-        load_vehicle(path)  # the parameters' reader accepts the table
+        with pytest.raises(VehicleFileError, match=message):  # checked whenever the file is read
+            load_vehicle(path)
     assert load_limits(PACKAGE / "vehicles" / "nerov.toml") is None
 
 

@@ -21,7 +21,7 @@ from neurov import _core
 from neurov.gym.limits import single_dof_limits
 from neurov.scenario import Scenario, load_scenario
 from neurov.simulation import build_vehicle, simulation_config
-from neurov.vehicle_file import load_limits, load_thrusters
+from neurov.vehicle_file import VehicleFile, read_vehicle_file
 
 __all__ = ["TrackingEnv", "resolve_scenario"]
 
@@ -47,12 +47,13 @@ def resolve_scenario(scenario: Scenario | str | Path) -> Scenario:
                      f"that name (shipped: {', '.join(names)})")
 
 
-def _thruster_data(scenario: Scenario) -> dict[str, Any] | None:
-    """The vehicle's thruster table (matrix (6, n), min_thrust, max_thrust) or None."""
+def _vehicle_file(scenario: Scenario) -> VehicleFile:
+    """The vehicle file the scenario read, or read now (a scenario object
+    that does not keep one)."""
     vehicle_data = getattr(scenario, "vehicle_data", None)
     if vehicle_data is not None:
-        return vehicle_data().thrusters
-    return load_thrusters(scenario.vehicle_path())
+        return vehicle_data()
+    return read_vehicle_file(scenario.vehicle_path())
 
 
 def _wrap(angle: float) -> float:
@@ -135,7 +136,8 @@ class TrackingEnv(gymnasium.Env):
         self._track: list[tuple[float, float, float, float]] = []
 
     def _set_action_scale(self, action: str) -> None:
-        thrusters = _thruster_data(self.scenario)
+        vehicle = _vehicle_file(self.scenario)
+        thrusters = vehicle.thrusters
         if action == "thrusters":
             if thrusters is None:
                 raise ValueError(f"argument 'action': 'thrusters' needs a thruster layout, and vehicle file "
@@ -149,7 +151,7 @@ class TrackingEnv(gymnasium.Env):
                 self._pos, self._neg = single_dof_limits(thrusters["matrix"], thrusters["min_thrust"],
                                                          thrusters["max_thrust"])
             else:
-                tau_max = load_limits(self.scenario.vehicle_path())
+                tau_max = vehicle.tau_max
                 if tau_max is None:
                     raise ValueError(f"vehicle file {self.scenario.vehicle_path()} has neither a [thrusters] "
                                      "table nor [limits] tau_max, so the action cannot be normalised")
