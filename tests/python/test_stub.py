@@ -14,6 +14,8 @@ import ast
 import importlib.resources
 import inspect
 import re
+import subprocess
+import sys
 from typing import Any, NamedTuple
 
 import pytest
@@ -355,3 +357,48 @@ def test_enum_members_match(enum: str) -> None:
         if isinstance(node, ast.AnnAssign) and ast.unparse(node.annotation) == f"ClassVar[{enum}]"
     }
     assert members == set(getattr(core, enum).__members__)
+
+
+# A user's script: mypy must report an error on exactly the lines marked
+# "error" (what the compiled module refuses or a wrong use of what it returns).
+USER_SCRIPT = """\
+import numpy as np
+import numpy.typing as npt
+from typing_extensions import assert_type
+
+from neurov._core import PDConfig, PIDConfig, RbfNetwork, SimulationConfig, ThrusterFailure, Vehicle
+
+pd = PDConfig()
+assert_type(pd.kp, npt.NDArray[np.float64])
+pd.kp = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0]
+assert_type(pd.kp, npt.NDArray[np.float64])
+Vehicle.nerov().mass = 2.0  # error: read-only
+pid = PIDConfig()
+pid.dt = 0.1
+pid.dt = "0.1"  # error: a str for a float
+assert_type(pid.dt, float)
+config = SimulationConfig()
+assert_type(config.seed, int)
+config.seed = 3
+config.seed = 1.5  # error: a float for an int
+assert_type(RbfNetwork([[0.0] * 24], 1.0).n_centres, int)
+config.failures = [ThrusterFailure(index=1)]
+assert_type(config.failures, tuple[ThrusterFailure, ...])
+config.failures = [1]  # error: an int for a ThrusterFailure
+config.waves = None
+config.sensors = None  # error: not optional
+wrong: str = pd.kp  # error: an array is not a str
+"""
+
+
+def test_a_type_checker_reads_the_fields_as_the_module_has_them(tmp_path: Any) -> None:
+    script = tmp_path / "user.py"
+    script.write_text(USER_SCRIPT, encoding="utf-8")
+    run = subprocess.run(
+        [sys.executable, "-m", "mypy", "--strict", "--no-incremental", "--cache-dir", str(tmp_path / "cache"),
+         "--no-error-summary", str(script)],
+        capture_output=True, text=True, cwd=tmp_path, check=False,
+    )
+    reported = {int(m) for m in re.findall(r"^\S*user\.py:(\d+): error", run.stdout, flags=re.M)}
+    marked = {i for i, line in enumerate(USER_SCRIPT.splitlines(), 1) if "# error" in line}
+    assert reported == marked, run.stdout + run.stderr
