@@ -130,13 +130,7 @@ class RobustModification(_Enum):
     __members__: ClassVar[dict[str, RobustModification]]
 
 class PDConfig(_ValidatedFields):
-    """Configuration of :class:`PDController`.
-
-    Every field has the C++ default; ``PDConfig(**fields)`` sets some by
-    keyword (an unknown one raises ``TypeError``), and a value of the wrong
-    shape or type raises naming its field. The controller's constructor and
-    :meth:`validate` run the one C++ validator.
-    """
+    """Configuration of :class:`PDController`."""
 
     kp: _ArrayField = ...
     """K_p, diagonal (6,), >= 0."""
@@ -144,13 +138,7 @@ class PDConfig(_ValidatedFields):
     """K_d, diagonal (6,), >= 0."""
 
 class PIDConfig(_ValidatedFields):
-    """Configuration of :class:`PIDController`.
-
-    Every field has the C++ default; ``PIDConfig(**fields)`` sets some by
-    keyword (an unknown one raises ``TypeError``), and a value of the wrong
-    shape or type raises naming its field. The controller's constructor and
-    :meth:`validate` run the one C++ validator.
-    """
+    """Configuration of :class:`PIDController`."""
 
     kp: _ArrayField = ...
     """K_p, diagonal (6,), >= 0."""
@@ -164,13 +152,7 @@ class PIDConfig(_ValidatedFields):
     """Control period [s], > 0."""
 
 class SlidingModeConfig(_SlidingConfig):
-    """Configuration of :class:`SlidingModeController`.
-
-    Every field has the C++ default; ``SlidingModeConfig(**fields)`` sets some by
-    keyword (an unknown one raises ``TypeError``), and a value of the wrong
-    shape or type raises naming its field. The controller's constructor and
-    :meth:`validate` run the one C++ validator.
-    """
+    """Configuration of :class:`SlidingModeController`."""
 
     k: _ArrayField = ...
     """Switching gain K (6,), >= 0 [N, N m]."""
@@ -180,13 +162,7 @@ class SlidingModeConfig(_SlidingConfig):
     """The nominal model's theta (24,), e.g. ``regressor_parameters(vehicle)``."""
 
 class LinearAdaptiveConfig(_SlidingConfig):
-    """Configuration of :class:`LinearAdaptiveController`.
-
-    Every field has the C++ default; ``LinearAdaptiveConfig(**fields)`` sets some by
-    keyword (an unknown one raises ``TypeError``), and a value of the wrong
-    shape or type raises naming its field. The controller's constructor and
-    :meth:`validate` run the one C++ validator.
-    """
+    """Configuration of :class:`LinearAdaptiveController`."""
 
     gamma: _Field[_Array, SupportsFloat | _ArrayLike] = ...
     """Diagonal of Gamma (24,), >= 0 (0 freezes that parameter); a number sets every entry."""
@@ -196,13 +172,7 @@ class LinearAdaptiveConfig(_SlidingConfig):
     """theta_hat(0) (24,): zero, or a nominal guess such as ``regressor_parameters(vehicle)``."""
 
 class NNAdaptiveConfig(_SlidingConfig):
-    """Configuration of :class:`NNAdaptiveController`.
-
-    Every field has the C++ default; ``NNAdaptiveConfig(**fields)`` sets some by
-    keyword (an unknown one raises ``TypeError``), and a value of the wrong
-    shape or type raises naming its field. The controller's constructor and
-    :meth:`validate` run the one C++ validator.
-    """
+    """Configuration of :class:`NNAdaptiveController`."""
 
     kd: _ArrayField = ...
     """K_d, diagonal (6,), >= 0 (0 leaves the network alone)."""
@@ -222,13 +192,7 @@ class NNAdaptiveConfig(_SlidingConfig):
     """No adaptation while ||s|| < dead_zone (0 disables), >= 0."""
 
 class ComputedTorqueConfig(_SlidingConfig):
-    """Configuration of :class:`ComputedTorqueController`.
-
-    Every field has the C++ default; ``ComputedTorqueConfig(**fields)`` sets some by
-    keyword (an unknown one raises ``TypeError``), and a value of the wrong
-    shape or type raises naming its field. The controller's constructor and
-    :meth:`validate` run the one C++ validator.
-    """
+    """Configuration of :class:`ComputedTorqueController`."""
 
     vehicle: _Field[Vehicle | None, Vehicle] = ...
     """The nominal model, a Vehicle (None until set)."""

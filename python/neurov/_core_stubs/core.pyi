@@ -88,7 +88,14 @@ class _Fields:
 
 @type_check_only
 class _ValidatedFields(_Fields):
-    """A configuration struct with the C++ validator."""
+    """A configuration struct with the C++ validator.
+
+    Every field has the C++ default; ``Config(**fields)`` sets some by keyword
+    (an unknown one raises ``TypeError``), and a value of the wrong shape or
+    type raises naming its field. :meth:`validate` and whatever takes the
+    struct (a controller's constructor, the simulator, :func:`run_closed_loop`)
+    run the one C++ validator.
+    """
 
     def validate(self) -> None:
         """``ValueError`` naming the first bad field and what it must be; None when valid."""
