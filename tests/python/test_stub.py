@@ -198,8 +198,6 @@ def fields_of(body: list[ast.stmt]) -> dict[str, Field]:
         root = annotation.value if isinstance(annotation, ast.Subscript) else annotation
         if not isinstance(root, ast.Name) or root.id not in {"_Field", *FIELD_ALIASES}:
             continue
-        # Without "= ..." pyright takes it for an instance variable, not a descriptor.
-        assert node.value is not None, f"field {node.target.id} needs '= ...'"
         if root.id == "_Field":
             assert isinstance(annotation, ast.Subscript)
             writable = has_setter(annotation)

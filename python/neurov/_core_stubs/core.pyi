@@ -33,6 +33,9 @@ _G = TypeVar("_G")
 _S = TypeVar("_S")
 _T = TypeVar("_T")
 
+# One class for both kinds, with __get__ and __set__ on it: pyright takes a
+# descriptor whose __get__ comes from a base for a symmetric one, and after
+# `config.kp = [...]` would type `config.kp` as the list.
 @final
 @type_check_only
 class _Field(Generic[_G, _S]):
