@@ -1,7 +1,12 @@
 """The type stub neurov/_core.pyi matches the compiled module: the same names,
 the same parameters (read from pybind11's signatures), static methods,
 properties and property setters where the module has them. mypy's stubtest
-checks names but cannot see a pybind11 function's parameters; this test can."""
+checks names but cannot see a pybind11 function's parameters; this test can.
+
+The stub re-exports its names from stub-only pieces, neurov/_core_stubs/*.pyi
+(``from ._core_stubs.model import Vehicle as Vehicle``), and writes a property
+as a descriptor: ``kp: _ArrayField = ...`` (an alias of ``_Field[get, set]``)
+has a setter, ``mass: _ReadOnly[float] = ...`` (``_Field[get, Never]``) none."""
 
 from __future__ import annotations
 
@@ -9,7 +14,9 @@ import ast
 import importlib.resources
 import inspect
 import re
-from typing import Any
+import subprocess
+import sys
+from typing import Any, NamedTuple
 
 import pytest
 
@@ -17,6 +24,43 @@ import neurov._core as core
 
 STUB_FILE = importlib.resources.files("neurov") / "_core.pyi"
 STUB = ast.parse(STUB_FILE.read_text(encoding="utf-8"))
+PIECES = importlib.resources.files("neurov") / "_core_stubs"
+
+
+def reexports(tree: ast.Module) -> dict[str, list[str]]:
+    """Names the stub re-exports (``import X as X``), by the piece they come from."""
+    out: dict[str, list[str]] = {}
+    for node in tree.body:
+        if isinstance(node, ast.ImportFrom) and node.level == 1 and (node.module or "").startswith("_core_stubs."):
+            piece = node.module.removeprefix("_core_stubs.")
+            out.setdefault(piece, []).extend(a.name for a in node.names if a.asname == a.name)
+    return out
+
+
+REEXPORTS = reexports(STUB)
+PIECE_TREES = {
+    path.name.removesuffix(".pyi"): ast.parse(path.read_text(encoding="utf-8"))
+    for path in PIECES.iterdir()
+    if path.name.endswith(".pyi") and path.name != "__init__.pyi"
+}
+
+
+def defined_name(node: ast.stmt) -> str | None:
+    if isinstance(node, (ast.FunctionDef, ast.ClassDef)):
+        return node.name
+    if isinstance(node, ast.AnnAssign) and isinstance(node.target, ast.Name):
+        return node.target.id
+    return None
+
+
+# What `import neurov._core` gives a type checker: the stub's own statements
+# and the re-exported ones, as one module body.
+MODULE_BODY = [n for n in STUB.body if defined_name(n)] + [
+    node
+    for piece, names in REEXPORTS.items()
+    for node in PIECE_TREES[piece].body
+    if defined_name(node) in names
+]
 
 
 def public(name: str) -> bool:
@@ -74,7 +118,37 @@ def runtime_signatures(obj: Any) -> list[list[str]]:
     return [parse_signature(p) for p in found]
 
 
-STUB_CLASSES = {n.name: n for n in STUB.body if isinstance(n, ast.ClassDef)}
+STUB_CLASSES = {
+    n.name: n for tree in [STUB, *PIECE_TREES.values()] for n in tree.body if isinstance(n, ast.ClassDef)
+}
+
+
+def field_aliases() -> dict[str, bool]:
+    """The descriptor types a field is annotated with, and whether each has a setter:
+    ``_Field`` itself and the core piece's aliases of it (``_ReadOnly = _Field[_G, Never]``)."""
+    out = {}
+    for node in PIECE_TREES["core"].body:
+        if (
+            isinstance(node, ast.Assign)
+            and isinstance(node.value, ast.Subscript)
+            and ast.unparse(node.value.value) == "_Field"
+        ):
+            out[ast.unparse(node.targets[0])] = has_setter(node.value)
+    return out
+
+
+def has_setter(annotation: ast.Subscript) -> bool:
+    """Whether ``_Field[get, set]`` takes a value: not when set is Never."""
+    args = annotation.slice
+    assert isinstance(args, ast.Tuple) and len(args.elts) == 2, ast.unparse(annotation)
+    return ast.unparse(args.elts[1]) != "Never"
+
+
+class Field(NamedTuple):
+    """A property written as a descriptor-annotated class attribute."""
+
+    writable: bool
+    doc: str | None
 
 
 def stub_parameters(node: ast.FunctionDef) -> list[str]:
@@ -111,25 +185,43 @@ def functions_of(body: list[ast.stmt]) -> dict[str, list[ast.FunctionDef]]:
     return out
 
 
-def class_functions(name: str) -> dict[str, list[ast.FunctionDef]]:
-    """Methods of a stub class including those of its stub-only bases."""
+FIELD_ALIASES = field_aliases()
+
+
+def fields_of(body: list[ast.stmt]) -> dict[str, Field]:
+    """Class attributes annotated with _Field or an alias of it, with the docstring below each."""
+    out = {}
+    for node, after in zip(body, [*body[1:], None]):
+        if not (isinstance(node, ast.AnnAssign) and isinstance(node.target, ast.Name)):
+            continue
+        annotation = node.annotation
+        root = annotation.value if isinstance(annotation, ast.Subscript) else annotation
+        if not isinstance(root, ast.Name) or root.id not in {"_Field", *FIELD_ALIASES}:
+            continue
+        if root.id == "_Field":
+            assert isinstance(annotation, ast.Subscript)
+            writable = has_setter(annotation)
+        else:
+            writable = FIELD_ALIASES[root.id]
+        doc = after.value.value if isinstance(after, ast.Expr) and isinstance(after.value, ast.Constant) else None
+        out[node.target.id] = Field(writable, doc if isinstance(doc, str) else None)
+    return out
+
+
+def class_members(name: str) -> dict[str, list[ast.FunctionDef] | Field]:
+    """Methods and fields of a stub class including those of its stub-only bases."""
     cls = STUB_CLASSES[name]
-    out: dict[str, list[ast.FunctionDef]] = {}
+    out: dict[str, list[ast.FunctionDef] | Field] = {}
     for base in cls.bases:
         if isinstance(base, ast.Name) and base.id in STUB_CLASSES:
-            out.update(class_functions(base.id))
+            out.update(class_members(base.id))
     out.update(functions_of(cls.body))
+    out.update(fields_of(cls.body))
     return out
 
 
 def module_names() -> set[str]:
-    names: set[str] = set()
-    for node in STUB.body:
-        if isinstance(node, (ast.FunctionDef, ast.ClassDef)):
-            names.add(node.name)
-        elif isinstance(node, ast.AnnAssign) and isinstance(node.target, ast.Name):
-            names.add(node.target.id)
-    return names
+    return {name for node in MODULE_BODY if (name := defined_name(node))}
 
 
 RUNTIME_FUNCTIONS = sorted(n for n in dir(core) if public(n) and inspect.isroutine(getattr(core, n)))
@@ -139,6 +231,17 @@ RUNTIME_CLASSES = sorted(n for n in dir(core) if public(n) and inspect.isclass(g
 def test_stub_and_marker_are_installed() -> None:
     assert STUB_FILE.is_file()
     assert (importlib.resources.files("neurov") / "py.typed").is_file()
+    assert (PIECES / "__init__.pyi").is_file()
+    assert set(PIECE_TREES) == {"core", "model", "control", "sim"}
+
+
+@pytest.mark.parametrize("piece", ["core", "model", "control", "sim"])
+def test_pieces_are_stub_only_and_each_name_stands_once(piece: str) -> None:
+    assert "for type checkers" in (ast.get_docstring(PIECE_TREES[piece]) or ""), piece
+    names = [defined_name(n) for n in PIECE_TREES[piece].body if defined_name(n)]
+    others = {defined_name(n) for p, t in PIECE_TREES.items() if p != piece for n in t.body}
+    assert not (set(names) & others), "a name defined in two pieces"
+    assert set(REEXPORTS.get(piece, [])) <= set(names), "a re-export of a name the piece does not define"
 
 
 def test_module_names_match() -> None:
@@ -152,7 +255,7 @@ def test_constants() -> None:
 
 @pytest.mark.parametrize("name", RUNTIME_FUNCTIONS)
 def test_function_parameters_match(name: str) -> None:
-    stub = functions_of(STUB.body)[name]
+    stub = functions_of(MODULE_BODY)[name]
     runtime = runtime_signatures(getattr(core, name))
     if len(runtime) > 1:
         stub = [f for f in stub if "overload" in decorators(f)]
@@ -163,16 +266,21 @@ def test_function_parameters_match(name: str) -> None:
 @pytest.mark.parametrize("cls_name", RUNTIME_CLASSES)
 def test_class_members_match(cls_name: str) -> None:
     cls = getattr(core, cls_name)
-    methods = class_functions(cls_name)
+    members = class_members(cls_name)
     if hasattr(cls, "__members__"):  # an enum: its members are values, not members to match
         runtime = {n for n in vars(cls) if public(n) and not isinstance(vars(cls)[n], cls)}
-        assert {n for n in methods if public(n)} == runtime
+        assert {n for n in members if public(n)} == runtime
     else:
-        assert {n for n in methods if public(n)} == {n for n in vars(cls) if public(n)}
-    for name, nodes in methods.items():
+        assert {n for n in members if public(n)} == {n for n in vars(cls) if public(n)}
+    for name, nodes in members.items():
         if not public(name):
             continue
         raw = inspect.getattr_static(cls, name)
+        if isinstance(nodes, Field):
+            assert isinstance(raw, property), f"{cls_name}.{name} is a field in the stub, not a property"
+            assert nodes.doc, f"{cls_name}.{name} has no docstring in the stub"
+            assert (raw.fset is not None) == nodes.writable, f"{cls_name}.{name} setter"
+            continue
         kinds = decorators(nodes[0])
         assert isinstance(raw, staticmethod) == ("staticmethod" in kinds), name
         assert isinstance(raw, property) == ("property" in kinds), name
@@ -247,3 +355,48 @@ def test_enum_members_match(enum: str) -> None:
         if isinstance(node, ast.AnnAssign) and ast.unparse(node.annotation) == f"ClassVar[{enum}]"
     }
     assert members == set(getattr(core, enum).__members__)
+
+
+# A user's script: mypy must report an error on exactly the lines marked
+# "error" (what the compiled module refuses or a wrong use of what it returns).
+USER_SCRIPT = """\
+import numpy as np
+import numpy.typing as npt
+from typing_extensions import assert_type
+
+from neurov._core import PDConfig, PIDConfig, RbfNetwork, SimulationConfig, ThrusterFailure, Vehicle
+
+pd = PDConfig()
+assert_type(pd.kp, npt.NDArray[np.float64])
+pd.kp = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0]
+assert_type(pd.kp, npt.NDArray[np.float64])
+Vehicle.nerov().mass = 2.0  # error: read-only
+pid = PIDConfig()
+pid.dt = 0.1
+pid.dt = "0.1"  # error: a str for a float
+assert_type(pid.dt, float)
+config = SimulationConfig()
+assert_type(config.seed, int)
+config.seed = 3
+config.seed = 1.5  # error: a float for an int
+assert_type(RbfNetwork([[0.0] * 24], 1.0).n_centres, int)
+config.failures = [ThrusterFailure(index=1)]
+assert_type(config.failures, tuple[ThrusterFailure, ...])
+config.failures = [1]  # error: an int for a ThrusterFailure
+config.waves = None
+config.sensors = None  # error: not optional
+wrong: str = pd.kp  # error: an array is not a str
+"""
+
+
+def test_a_type_checker_reads_the_fields_as_the_module_has_them(tmp_path: Any) -> None:
+    script = tmp_path / "user.py"
+    script.write_text(USER_SCRIPT, encoding="utf-8")
+    run = subprocess.run(
+        [sys.executable, "-m", "mypy", "--strict", "--no-incremental", "--cache-dir", str(tmp_path / "cache"),
+         "--no-error-summary", str(script)],
+        capture_output=True, text=True, cwd=tmp_path, check=False,
+    )
+    reported = {int(m) for m in re.findall(r"^\S*user\.py:(\d+): error", run.stdout, flags=re.M)}
+    marked = {i for i, line in enumerate(USER_SCRIPT.splitlines(), 1) if "# error" in line}
+    assert reported == marked, run.stdout + run.stderr
