@@ -1,7 +1,8 @@
 // What the bindings of every controller share: the refused step as a Python
 // error, the tracking error as a dict, the checked step, and the members
 // every controller class has (step, reset, s, tracking, config, and the
-// constructor from its bound configuration).
+// constructor from its bound configuration), and the keyword constructor
+// that fills the configuration from its arguments.
 #pragma once
 
 #include <pybind11/eigen.h>
@@ -159,6 +160,8 @@ DefaultedConfigArg<Config, D> config_arg_or(const char* name, D Config::*member,
   return {{name, member, convert}, std::move(default_value)};
 }
 
+// Every argument of a keyword constructor arrives as a handle: one per
+// ConfigArg, so that the constructor's parameters can be a pack.
 template <typename>
 struct python_argument {
   using type = py::handle;
