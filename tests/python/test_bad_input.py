@@ -101,14 +101,18 @@ VEHICLE_KEYS = list(ref.general_parameters())
 @dataclass(frozen=True)
 class Site:
     """A public callable, the keyword arguments of a valid call, which of them
-    are arrays and which accept None."""
+    are arrays (by default all) and which accept None."""
 
     name: str
     func: Callable[..., Any]
     args: tuple[str, ...]
-    arrays: tuple[str, ...]
+    arrays: tuple[str, ...] | None = None
     optional: tuple[str, ...] = ()
     fixed: dict[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        if self.arrays is None:
+            object.__setattr__(self, "arrays", self.args)
 
     def call(self, **changes: Any) -> Any:
         kwargs = {k: GOOD[k] for k in self.args}
@@ -117,29 +121,20 @@ class Site:
         return self.func(**kwargs)
 
 
+# The arguments of the plant: Vehicle.acceleration and rk4_step.
+PLANT_ARGS = ("eta", "nu", "tau", "current")
+
 SITES = [
-    Site("is_near_singularity", neurov.is_near_singularity, ("eta",), ("eta",)),
-    Site("jacobian", neurov.jacobian, ("eta",), ("eta",)),
-    Site("jacobian_inverse", neurov.jacobian_inverse, ("eta",), ("eta",)),
-    Site("jacobian_dot", neurov.jacobian_dot, ("eta", "nu"), ("eta", "nu")),
-    Site("Vehicle.coriolis", VEHICLE.coriolis, ("nu",), ("nu",)),
-    Site("Vehicle.damping", VEHICLE.damping, ("nu",), ("nu",)),
-    Site("Vehicle.restoring", VEHICLE.restoring, ("eta",), ("eta",)),
-    Site(
-        "Vehicle.acceleration",
-        VEHICLE.acceleration,
-        ("eta", "nu", "tau", "current"),
-        ("eta", "nu", "tau", "current"),
-        optional=("current",),
-    ),
-    Site(
-        "rk4_step",
-        neurov.rk4_step,
-        ("eta", "nu", "tau", "current"),
-        ("eta", "nu", "tau", "current"),
-        optional=("current",),
-        fixed={"vehicle": VEHICLE, "dt": 0.1},
-    ),
+    Site("is_near_singularity", neurov.is_near_singularity, ("eta",)),
+    Site("jacobian", neurov.jacobian, ("eta",)),
+    Site("jacobian_inverse", neurov.jacobian_inverse, ("eta",)),
+    Site("jacobian_dot", neurov.jacobian_dot, ("eta", "nu")),
+    Site("Vehicle.coriolis", VEHICLE.coriolis, ("nu",)),
+    Site("Vehicle.damping", VEHICLE.damping, ("nu",)),
+    Site("Vehicle.restoring", VEHICLE.restoring, ("eta",)),
+    Site("Vehicle.acceleration", VEHICLE.acceleration, PLANT_ARGS, optional=("current",)),
+    Site("rk4_step", neurov.rk4_step, PLANT_ARGS, optional=("current",),
+         fixed={"vehicle": VEHICLE, "dt": 0.1}),
     Site(
         "Vehicle",
         neurov.Vehicle,
@@ -185,49 +180,27 @@ def reset_reference(**kwargs: Any) -> neurov.ReferenceModel:
 
 
 SITES += [
-    Site("tracking_error", neurov.tracking_error, (*STEP_ARGS, "lambda_"), (*STEP_ARGS, "lambda_")),
-    Site("regressor", neurov.regressor, ("nu_r_dot", "nu_r", "nu", "eta"), ("nu_r_dot", "nu_r", "nu", "eta")),
-    Site("ReferenceModel", neurov.ReferenceModel, ("lambda_d", "omega", "eta0"), ("lambda_d", "omega", "eta0"), ("eta0",)),
-    Site("ReferenceModel.step", lambda **kw: new_reference().step(**kw), ("r",), ("r",), fixed={"dt": 0.2}),
-    Site("ReferenceModel.reset", reset_reference, ("eta0",), ("eta0",)),
-    Site("RbfNetwork.basis", NETWORK.basis, ("x",), ("x",)),
-    Site("RbfNetwork.output", NETWORK.output, ("x",), ("x",)),
-    Site("PDController", neurov.PDController, ("kp", "kd"), ("kp", "kd")),
-    Site("PDController.step", lambda **kw: new_pd().step(**kw), STEP_ARGS, STEP_ARGS),
-    Site(
-        "NNAdaptiveController",
-        neurov.NNAdaptiveController,
-        ("lambda_", "kd"),
-        ("lambda_", "kd"),
-        fixed={"network": NETWORK},
-    ),
-    Site("NNAdaptiveController.step", lambda **kw: new_nn().step(**kw), STEP_ARGS, STEP_ARGS),
-    Site(
-        "LinearAdaptiveController",
-        neurov.LinearAdaptiveController,
-        ("lambda_", "kd", "gamma", "theta0"),
-        ("lambda_", "kd", "gamma", "theta0"),
-        ("theta0",),
-    ),
-    Site("LinearAdaptiveController.step", lambda **kw: new_linear().step(**kw), STEP_ARGS, STEP_ARGS),
-    Site(
-        "PIDController",
-        neurov.PIDController,
-        ("kp", "ki", "kd", "integral_limit"),
-        ("kp", "ki", "kd", "integral_limit"),
-    ),
-    Site("PIDController.step", lambda **kw: new_pid().step(**kw), STEP_ARGS, STEP_ARGS),
-    Site(
-        "SlidingModeController",
-        neurov.SlidingModeController,
-        ("lambda_", "kd", "k", "phi", "theta"),
-        ("lambda_", "kd", "k", "phi", "theta"),
-    ),
-    Site("SlidingModeController.step", lambda **kw: new_smc().step(**kw), STEP_ARGS, STEP_ARGS),
+    Site("tracking_error", neurov.tracking_error, (*STEP_ARGS, "lambda_")),
+    Site("regressor", neurov.regressor, ("nu_r_dot", "nu_r", "nu", "eta")),
+    Site("ReferenceModel", neurov.ReferenceModel, ("lambda_d", "omega", "eta0"), optional=("eta0",)),
+    Site("ReferenceModel.step", lambda **kw: new_reference().step(**kw), ("r",), fixed={"dt": 0.2}),
+    Site("ReferenceModel.reset", reset_reference, ("eta0",)),
+    Site("RbfNetwork.basis", NETWORK.basis, ("x",)),
+    Site("RbfNetwork.output", NETWORK.output, ("x",)),
+    Site("PDController", neurov.PDController, ("kp", "kd")),
+    Site("PDController.step", lambda **kw: new_pd().step(**kw), STEP_ARGS),
+    Site("NNAdaptiveController", neurov.NNAdaptiveController, ("lambda_", "kd"), fixed={"network": NETWORK}),
+    Site("NNAdaptiveController.step", lambda **kw: new_nn().step(**kw), STEP_ARGS),
+    Site("LinearAdaptiveController", neurov.LinearAdaptiveController, ("lambda_", "kd", "gamma", "theta0"),
+         optional=("theta0",)),
+    Site("LinearAdaptiveController.step", lambda **kw: new_linear().step(**kw), STEP_ARGS),
+    Site("PIDController", neurov.PIDController, ("kp", "ki", "kd", "integral_limit")),
+    Site("PIDController.step", lambda **kw: new_pid().step(**kw), STEP_ARGS),
+    Site("SlidingModeController", neurov.SlidingModeController, ("lambda_", "kd", "k", "phi", "theta")),
+    Site("SlidingModeController.step", lambda **kw: new_smc().step(**kw), STEP_ARGS),
     Site(
         "allocate_thrust",
         neurov._core.allocate_thrust,
-        ("tau",),
         ("tau",),
         fixed={"matrix": np.vstack([np.eye(6), np.ones((2, 6))]).T, "max_thrust": np.full(8, 100.0)},
     ),

@@ -143,66 +143,43 @@ def test_kirchhoff_form_from_file(tmp_path: Path) -> None:
 
 # --------------------------------------------------------------- bad files
 
+def bad_value(key: str, value: str, detail: str) -> tuple[str, str, str]:
+    """A BAD_FILES case: GOOD with `key = value`, the message naming `key` and holding `detail`."""
+    return replace_line(key, f"{key} = {value}"), key, detail
+
+
 BAD_FILES = {
     # case: (file text, field the message must name, further text it must hold)
     "missing field": (replace_line("mass", None), "mass", "missing"),
     "missing damping": (replace_line("linear_damping", None), "linear_damping", "missing"),
-    "misspelt field": (
-        replace_line("mass", "mas = 185.0"),
-        "mass",
-        "did you mean",
-    ),
+    "misspelt field": (replace_line("mass", "mas = 185.0"), "mass", "did you mean"),
     "misspelt damping": (
         replace_line("linear_damping", "linear_dampin = [70.0, 100.0, 100.0, 30.0, 50.0, 50.0]"),
         "linear_damping",
         "did you mean",
     ),
-    "string for mass": (replace_line("mass", 'mass = "heavy"'), "mass", "a number"),
-    "bool for mass": (replace_line("mass", "mass = true"), "mass", "a number"),
-    "list for mass": (replace_line("mass", "mass = [185.0]"), "mass", "a number"),
-    "five damping entries": (
-        replace_line("linear_damping", "linear_damping = [70.0, 100.0, 100.0, 30.0, 50.0]"),
-        "linear_damping",
-        "6",
+    "string for mass": bad_value("mass", '"heavy"', "a number"),
+    "bool for mass": bad_value("mass", "true", "a number"),
+    "list for mass": bad_value("mass", "[185.0]", "a number"),
+    "five damping entries": bad_value("linear_damping", "[70.0, 100.0, 100.0, 30.0, 50.0]", "6"),
+    "string in damping": bad_value("quadratic_damping", '[100.0, 200.0, "x", 50.0, 100.0, 100.0]', "6"),
+    "ragged inertia": bad_value("inertia", "[[25.0, 0.0, 0.0], [0.0, 50.0], [0.0, 0.0, 50.0]]", "3"),
+    "infinite mass": bad_value("mass", "inf", "finite"),
+    "nan inertia": bad_value("inertia", "[25.0, nan, 50.0]", "finite"),
+    "infinite centre of buoyancy": bad_value("centre_of_buoyancy", "[0.0, 0.0, -inf]", "finite"),
+    "negative mass": bad_value("mass", "-185.0", "> 0"),
+    "zero mass": bad_value("mass", "0.0", "> 0"),
+    "negative weight": bad_value("weight", "-1.0", ">= 0"),
+    "negative damping": bad_value("quadratic_damping", "[100.0, 200.0, 200.0, 50.0, -100.0, 100.0]", ">= 0"),
+    "non-symmetric inertia": bad_value(
+        "inertia", "[[25.0, 1.0, 0.0], [0.0, 50.0, 0.0], [0.0, 0.0, 50.0]]", "symmetric"
     ),
-    "string in damping": (
-        replace_line("quadratic_damping", 'quadratic_damping = [100.0, 200.0, "x", 50.0, 100.0, 100.0]'),
-        "quadratic_damping",
-        "6",
-    ),
-    "ragged inertia": (
-        replace_line("inertia", "inertia = [[25.0, 0.0, 0.0], [0.0, 50.0], [0.0, 0.0, 50.0]]"),
-        "inertia",
-        "3",
-    ),
-    "infinite mass": (replace_line("mass", "mass = inf"), "mass", "finite"),
-    "nan inertia": (replace_line("inertia", "inertia = [25.0, nan, 50.0]"), "inertia", "finite"),
-    "infinite centre of buoyancy": (
-        replace_line("centre_of_buoyancy", "centre_of_buoyancy = [0.0, 0.0, -inf]"),
-        "centre_of_buoyancy",
-        "finite",
-    ),
-    "negative mass": (replace_line("mass", "mass = -185.0"), "mass", "> 0"),
-    "zero mass": (replace_line("mass", "mass = 0.0"), "mass", "> 0"),
-    "negative weight": (replace_line("weight", "weight = -1.0"), "weight", ">= 0"),
-    "negative damping": (
-        replace_line("quadratic_damping", "quadratic_damping = [100.0, 200.0, 200.0, 50.0, -100.0, 100.0]"),
-        "quadratic_damping",
-        ">= 0",
-    ),
-    "non-symmetric inertia": (
-        replace_line("inertia", "inertia = [[25.0, 1.0, 0.0], [0.0, 50.0, 0.0], [0.0, 0.0, 50.0]]"),
-        "inertia",
-        "symmetric",
-    ),
-    "indefinite added mass": (
-        replace_line("added_mass", "added_mass = [-300.0, 80.0, 80.0, 15.0, 30.0, 30.0]"),
-        "added_mass",
-        "positive semidefinite",
+    "indefinite added mass": bad_value(
+        "added_mass", "[-300.0, 80.0, 80.0, 15.0, 30.0, 30.0]", "positive semidefinite"
     ),
     "bad coriolis form": (GOOD + 'coriolis_form = "m2c"\n', "coriolis_form", "kirchhoff"),
     "number for coriolis form": (GOOD + "coriolis_form = 1\n", "coriolis_form", "string"),
-    "number for name": (replace_line("name", "name = 3"), "name", "string"),
+    "number for name": bad_value("name", "3", "string"),
 }
 
 

@@ -1,13 +1,16 @@
 // What the bindings of every controller share: the refused step as a Python
 // error, the tracking error as a dict, the checked step, and the members
 // every controller class has (step, reset, s, tracking, config, and the
-// constructor from its bound configuration).
+// constructor from its bound configuration), and the keyword constructor
+// that fills the configuration from its arguments.
 #pragma once
 
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
 
 #include <string>
+#include <type_traits>
+#include <utility>
 
 #include "neurov/control/nn_controller.hpp"
 #include "neurov/control/tracking_error.hpp"
@@ -112,6 +115,72 @@ void def_init_from_config(Class& cls, const char* what) {
           }),
           py::arg("config"),
           "Builds the controller from its configuration object; ValueError names a bad field.");
+}
+
+/// A configuration member from a Python argument named `name` in its
+/// errors: a real number, or a vector of the member's length.
+template <typename D>
+D converted(py::handle v, const char* name) {
+  if constexpr (std::is_same_v<D, double>)
+    return py_args::scalar(v, name);
+  else
+    return py_args::vector<D::RowsAtCompileTime>(v, name);
+}
+
+/// An argument of a controller's keyword constructor: it sets `member` of
+/// the configuration, converted by `convert`.
+template <typename Config, typename D>
+struct ConfigArg {
+  const char* name;
+  D Config::*member;
+  D (*convert)(py::handle, const char*);
+
+  void apply(Config& config, py::handle v) const { config.*member = convert(v, name); }
+  py::arg declared() const { return py::arg(name); }
+};
+
+/// The same with a default value, shown in the signature.
+template <typename Config, typename D>
+struct DefaultedConfigArg : ConfigArg<Config, D> {
+  py::object default_value;
+
+  py::arg_v declared() const { return py::arg(this->name) = default_value; }
+};
+
+template <typename Config, typename D>
+ConfigArg<Config, D> config_arg(const char* name, D Config::*member,
+                                D (*convert)(py::handle, const char*) = &converted<D>) {
+  return {name, member, convert};
+}
+
+template <typename Config, typename D>
+DefaultedConfigArg<Config, D> config_arg_or(const char* name, D Config::*member,
+                                            py::object default_value,
+                                            D (*convert)(py::handle, const char*) = &converted<D>) {
+  return {{name, member, convert}, std::move(default_value)};
+}
+
+// Every argument of a keyword constructor arrives as a handle: one per
+// ConfigArg, so that the constructor's parameters can be a pack.
+template <typename>
+struct python_argument {
+  using type = py::handle;
+};
+
+/// The constructor from a configuration object, then the keyword
+/// constructor whose arguments, in order, are `args` (each setting one member
+/// of the configuration). The C++ validator's message is a ValueError
+/// prefixed with `what`.
+template <typename Controller, typename... Args>
+void def_constructors(py::class_<Controller>& cls, const char* what, const char* doc,
+                      Args... args) {
+  def_init_from_config<Controller>(cls, what);
+  cls.def(py::init([what, args...](typename python_argument<Args>::type... values) {
+            typename Controller::Config config;
+            (args.apply(config, values), ...);
+            return from_config<Controller>(config, what);
+          }),
+          args.declared()..., doc);
 }
 
 }  // namespace neurov::bindings

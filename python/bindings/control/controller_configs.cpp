@@ -25,6 +25,7 @@ namespace py = pybind11;
 namespace {
 
 constexpr const char* kLambdaDoc = "Lambda in s = eta_tilde_dot + Lambda eta_tilde, diagonal (6,), > 0.";
+constexpr const char* kKpDoc = "K_p, diagonal (6,), >= 0.";
 constexpr const char* kKdDoc = "K_d, diagonal (6,), >= 0.";
 constexpr const char* kDtDoc = "Control period [s], > 0.";
 
@@ -67,14 +68,14 @@ void bind_controller_configs(py::module_& m) {
 
   using PD = PDConfig<double>;
   config_fields<PD>(m, "PDConfig", "PDController")
-      .vector("kp", &PD::kp, "K_p, diagonal (6,), >= 0.")
+      .vector("kp", &PD::kp, kKpDoc)
       .vector("kd", &PD::kd, kKdDoc)
       .validator("PD controller")
       .finish();
 
   using PID = PIDConfig<double>;
   config_fields<PID>(m, "PIDConfig", "PIDController")
-      .vector("kp", &PID::kp, "K_p, diagonal (6,), >= 0.")
+      .vector("kp", &PID::kp, kKpDoc)
       .vector("ki", &PID::ki, "K_i, diagonal (6,), >= 0.")
       .vector("kd", &PID::kd, kKdDoc)
       .vector("integral_limit", &PID::integral_limit, "Largest |K_i z| per DOF (6,), > 0 [N, N m].")

@@ -32,6 +32,9 @@ using PD = PDController<double>;
 using PID = PIDController<double>;
 using SMC = SlidingModeController<double>;
 using CT = ComputedTorqueController<double>;
+using LinConfig = LinearAdaptiveConfig<double>;
+using PIDConfigD = PIDConfig<double>;
+using SMCConfig = SlidingModeConfig<double>;
 
 namespace {
 
@@ -108,6 +111,19 @@ NNController nn_from_state(const py::dict& d) {
                     snapshot_field(d, "adapted").cast<bool>()),
       "NN controller");
   return c;
+}
+
+/// Gamma of the linear adaptive controller: (24,), or one number for every entry.
+ParameterVector<double> gamma_from(py::handle gamma, const char* name) {
+  if (py::isinstance<py::float_>(gamma) || py::isinstance<py::int_>(gamma))
+    return ParameterVector<double>::Constant(py_args::scalar(gamma, name));
+  return py_args::vector<kRegressorParameters>(gamma, name);
+}
+
+/// theta_hat(0) of the linear adaptive controller: (24,), None for zero.
+ParameterVector<double> theta0_from(py::handle theta0, const char* name) {
+  return theta0.is_none() ? ParameterVector<double>::Zero()
+                          : py_args::vector<kRegressorParameters>(theta0, name);
 }
 
 }  // namespace
@@ -197,26 +213,15 @@ void bind_controllers(py::module_& m) {
       "Linearly parameterised adaptive controller (eq. 26, 28; Fossen and Sagatun): tau = Phi "
       "theta_hat - J^T K_d s, theta_hat <- theta_hat - dt Gamma Phi^T J^-1 s. Knows NEROV's "
       "model structure (see regressor), not its parameters.");
-  def_init_from_config<LinController>(lin, "linear adaptive controller");
-  lin.def(py::init([](py::handle lambda_, py::handle kd, py::handle gamma, py::handle dt,
-                      py::handle theta0) {
-            LinearAdaptiveConfig<double> cfg;
-            cfg.lambda = py_args::vector<6>(lambda_, "lambda_");
-            cfg.kd = py_args::vector<6>(kd, "kd");
-            if (py::isinstance<py::float_>(gamma) || py::isinstance<py::int_>(gamma))
-              cfg.gamma.setConstant(py_args::scalar(gamma, "gamma"));
-            else
-              cfg.gamma = py_args::vector<kRegressorParameters>(gamma, "gamma");
-            cfg.dt = py_args::scalar(dt, "dt");
-            cfg.theta0 = theta0.is_none() ? ParameterVector<double>::Zero()
-                                          : py_args::vector<kRegressorParameters>(theta0, "theta0");
-            return from_config<LinController>(cfg, "linear adaptive controller");
-          }),
-          py::arg("lambda_"), py::arg("kd"), py::arg("gamma"), py::arg("dt") = 0.2,
-          py::arg("theta0") = py::none(),
-          "lambda_: Lambda diagonal (6,), > 0; kd: K_d diagonal (6,), >= 0; gamma: Gamma "
-          "diagonal, a number or (24,), >= 0; dt: control period [s]; theta0: theta_hat(0) "
-          "(24,), default zero (regressor_parameters(vehicle) gives the true one).");
+  def_constructors(
+      lin, "linear adaptive controller",
+      "lambda_: Lambda diagonal (6,), > 0; kd: K_d diagonal (6,), >= 0; gamma: Gamma "
+      "diagonal, a number or (24,), >= 0; dt: control period [s]; theta0: theta_hat(0) "
+      "(24,), default zero (regressor_parameters(vehicle) gives the true one).",
+      config_arg("lambda_", &LinConfig::lambda), config_arg("kd", &LinConfig::kd),
+      config_arg("gamma", &LinConfig::gamma, &gamma_from),
+      config_arg_or("dt", &LinConfig::dt, py::float_(LinConfig{}.dt)),
+      config_arg_or("theta0", &LinConfig::theta0, py::none(), &theta0_from));
   def_common<LinController>(lin);
   def_controller_snapshot<LinController>(
       lin, "linear adaptive controller",
@@ -240,14 +245,8 @@ void bind_controllers(py::module_& m) {
   // --- PD ------------------------------------------------------------------
   py::class_<PD> pd(m, "PDController",
                     "PD baseline in the earth frame: tau = -J^T (K_p eta_tilde + K_d eta_tilde_dot).");
-  def_init_from_config<PD>(pd, "PD controller");
-  pd.def(py::init([](py::handle kp, py::handle kd) {
-           PDConfig<double> cfg;
-           cfg.kp = py_args::vector<6>(kp, "kp");
-           cfg.kd = py_args::vector<6>(kd, "kd");
-           return from_config<PD>(cfg, "PD controller");
-         }),
-         py::arg("kp"), py::arg("kd"), "kp, kd: diagonal gains (6,), >= 0.");
+  def_constructors(pd, "PD controller", "kp, kd: diagonal gains (6,), >= 0.",
+                   config_arg("kp", &PDConfig<double>::kp), config_arg("kd", &PDConfig<double>::kd));
   def_common<PD>(pd);
   def_controller_snapshot<PD>(
       pd, "PD controller", [](const PD&, py::dict&) {},
@@ -261,21 +260,13 @@ void bind_controllers(py::module_& m) {
       "PID baseline in the earth frame with anti-windup: tau = -J^T (K_p eta_tilde + K_i z + "
       "K_d eta_tilde_dot), z the integral of eta_tilde, |K_i z| <= integral_limit per DOF and "
       "no integration further into the limit.");
-  def_init_from_config<PID>(pid, "PID controller");
-  pid.def(py::init([](py::handle kp, py::handle ki, py::handle kd, py::handle integral_limit,
-                      py::handle dt) {
-            PIDConfig<double> cfg;
-            cfg.kp = py_args::vector<6>(kp, "kp");
-            cfg.ki = py_args::vector<6>(ki, "ki");
-            cfg.kd = py_args::vector<6>(kd, "kd");
-            cfg.integral_limit = py_args::vector<6>(integral_limit, "integral_limit");
-            cfg.dt = py_args::scalar(dt, "dt");
-            return from_config<PID>(cfg, "PID controller");
-          }),
-          py::arg("kp"), py::arg("ki"), py::arg("kd"), py::arg("integral_limit"),
-          py::arg("dt") = 0.2,
-          "kp, ki, kd: diagonal gains (6,), >= 0; integral_limit: largest |K_i z| per DOF (6,), "
-          "> 0 [N, N m]; dt: control period [s].");
+  def_constructors(
+      pid, "PID controller",
+      "kp, ki, kd: diagonal gains (6,), >= 0; integral_limit: largest |K_i z| per DOF (6,), "
+      "> 0 [N, N m]; dt: control period [s].",
+      config_arg("kp", &PIDConfigD::kp), config_arg("ki", &PIDConfigD::ki),
+      config_arg("kd", &PIDConfigD::kd), config_arg("integral_limit", &PIDConfigD::integral_limit),
+      config_arg_or("dt", &PIDConfigD::dt, py::float_(PIDConfigD{}.dt)));
   def_common<PID>(pid);
   def_controller_snapshot<PID>(
       pid, "PID controller",
@@ -292,21 +283,14 @@ void bind_controllers(py::module_& m) {
       m, "SlidingModeController",
       "Sliding-mode controller with a boundary layer: tau = Phi theta - J^T (K_d s + K "
       "sat(s / phi)), with theta the nominal model's parameters (regressor).");
-  def_init_from_config<SMC>(smc, "sliding-mode controller");
-  smc.def(py::init([](py::handle lambda_, py::handle kd, py::handle k, py::handle phi,
-                      py::handle theta) {
-            SlidingModeConfig<double> cfg;
-            cfg.lambda = py_args::vector<6>(lambda_, "lambda_");
-            cfg.kd = py_args::vector<6>(kd, "kd");
-            cfg.k = py_args::vector<6>(k, "k");
-            cfg.phi = py_args::vector<6>(phi, "phi");
-            cfg.theta = py_args::vector<kRegressorParameters>(theta, "theta");
-            return from_config<SMC>(cfg, "sliding-mode controller");
-          }),
-          py::arg("lambda_"), py::arg("kd"), py::arg("k"), py::arg("phi"), py::arg("theta"),
-          "lambda_: Lambda (6,), > 0; kd: K_d (6,), >= 0; k: switching gain (6,), >= 0; phi: "
-          "boundary-layer width (6,), > 0; theta: the nominal model (24,), e.g. "
-          "regressor_parameters(vehicle).");
+  def_constructors(
+      smc, "sliding-mode controller",
+      "lambda_: Lambda (6,), > 0; kd: K_d (6,), >= 0; k: switching gain (6,), >= 0; phi: "
+      "boundary-layer width (6,), > 0; theta: the nominal model (24,), e.g. "
+      "regressor_parameters(vehicle).",
+      config_arg("lambda_", &SMCConfig::lambda), config_arg("kd", &SMCConfig::kd),
+      config_arg("k", &SMCConfig::k), config_arg("phi", &SMCConfig::phi),
+      config_arg("theta", &SMCConfig::theta));
   def_common<SMC>(smc);
   def_model_controller<SMC>(smc, "sliding-mode controller",
                            "The nominal model's f of the last step, shape (6,).");

@@ -26,6 +26,14 @@ void require_regular(const EulerTrig<double>& trig, const Vec6& eta, const char*
   }
 }
 
+/// `name(eta)`: f of the pose eta, checked as (6,) and named in its errors.
+template <typename F>
+void def_of_pose(py::module_& m, const char* name, F f, const char* doc) {
+  m.def(
+      name, [f](py::handle eta) { return f(py_args::vector<6>(eta, "eta")); }, py::arg("eta"),
+      doc);
+}
+
 }  // namespace
 
 void bind_kinematics(py::module_& m) {
@@ -44,34 +52,26 @@ void bind_kinematics(py::module_& m) {
         "|cos(theta)| below which the Euler-angle transform counts as singular "
         "(sqrt of machine epsilon).");
 
-  m.def(
-      "is_near_singularity",
-      [](py::handle eta) {
-        const Vec6 e = py_args::vector<6>(eta, "eta");
+  def_of_pose(
+      m, "is_near_singularity",
+      [](const Vec6& e) {
         return EulerTrig<double>::from_pose(e).status == Status::near_singularity;
       },
-      py::arg("eta"),
       "True if the pose eta (6,) has its pitch at the Euler-angle singularity.");
 
-  m.def(
-      "jacobian",
-      [](py::handle eta) {
-        const Vec6 e = py_args::vector<6>(eta, "eta");
+  def_of_pose(
+      m, "jacobian",
+      [](const Vec6& e) {
         const auto k = EulerKinematics<double>::from_pose(e);
         require_regular(k.trig, e, "eta");
         return Mat6(k.jacobian());
       },
-      py::arg("eta"),
       "J(eta) = blockdiag(R, T), shape (6, 6), so that eta_dot = J(eta) @ nu. "
       "Raises ValueError at the pitch singularity (cos(theta) = 0).");
 
-  m.def(
-      "jacobian_inverse",
-      [](py::handle eta) {
-        const Vec6 e = py_args::vector<6>(eta, "eta");
-        return Mat6(EulerKinematics<double>::from_pose(e).jacobian_inverse());
-      },
-      py::arg("eta"),
+  def_of_pose(
+      m, "jacobian_inverse",
+      [](const Vec6& e) { return Mat6(EulerKinematics<double>::from_pose(e).jacobian_inverse()); },
       "J(eta)^-1 = blockdiag(R^T, T^-1) in closed form, shape (6, 6). T^-1 has no "
       "division, so this is defined (but rank deficient) at the singularity.");
 

@@ -69,15 +69,35 @@ void raise_status(Status s, const char* what) {
   }
 }
 
+/// A read-only property: a copy of the vehicle's parameter `member`.
+template <typename D>
+void def_parameter(py::class_<Vehicle<double>>& cls, const char* name, D Params::*member,
+                   const char* doc) {
+  cls.def_property_readonly(
+      name, [member](const Vehicle<double>& v) { return D(v.parameters().*member); }, doc);
+}
+
+/// `name(arg)`: f of the vehicle and one (6,) argument, checked and named
+/// `arg` in its errors.
+template <typename F>
+void def_of_vector6(py::class_<Vehicle<double>>& cls, const char* name, const char* arg, F f,
+                    const char* doc) {
+  cls.def(
+      name,
+      [arg, f](const Vehicle<double>& v, py::handle x) { return f(v, py_args::vector<6>(x, arg)); },
+      py::arg(arg), doc);
+}
+
 }  // namespace
 
 void bind_vehicle(py::module_& m) {
-  py::class_<Vehicle<double>>(
+  py::class_<Vehicle<double>> vehicle(
       m, "Vehicle",
       "A 6-DOF vehicle in Fossen's form, M nu_dot + C(nu) nu + D(nu) nu + g(eta) = tau.\n\n"
       "Build one with Vehicle.nerov(), Vehicle.preset('bluerov2_heavy'), Vehicle.from_file(path) "
       "or Vehicle(mass=..., ...). Parameters are validated: a bad one raises ValueError "
-      "naming the field.")
+      "naming the field.");
+  vehicle
       .def(py::init([](py::handle mass, py::handle inertia, py::handle weight, py::handle buoyancy,
                        py::handle added_mass, py::handle linear_damping,
                        py::handle quadratic_damping, py::handle centre_of_gravity,
@@ -124,73 +144,50 @@ void bind_vehicle(py::module_& m) {
           }))
       .def("parameters", [](const Vehicle<double>& v) { return parameters_dict(v.parameters()); },
            "The parameters as a dict of keyword arguments: Vehicle(**v.parameters()) "
-           "rebuilds the vehicle, so a perturbed copy is one dict edit away.")
-      .def_property_readonly("mass", [](const Vehicle<double>& v) { return v.parameters().mass; },
-                             "m [kg].")
-      .def_property_readonly(
-          "inertia", [](const Vehicle<double>& v) { return Matrix3<double>(v.parameters().inertia); },
-          "I_o about the body origin (3, 3) [kg m^2].")
-      .def_property_readonly(
-          "centre_of_gravity",
-          [](const Vehicle<double>& v) { return Vec3(v.parameters().centre_of_gravity); },
-          "r_g (3,) [m], body axes.")
-      .def_property_readonly(
-          "centre_of_buoyancy",
-          [](const Vehicle<double>& v) { return Vec3(v.parameters().centre_of_buoyancy); },
-          "r_b (3,) [m], body axes (z down).")
-      .def_property_readonly("weight", [](const Vehicle<double>& v) { return v.parameters().weight; },
-                             "W [N].")
-      .def_property_readonly("buoyancy",
-                             [](const Vehicle<double>& v) { return v.parameters().buoyancy; },
-                             "B [N].")
-      .def_property_readonly(
-          "added_mass", [](const Vehicle<double>& v) { return Mat6(v.parameters().added_mass); },
-          "M_A (6, 6), positive definite.")
-      .def_property_readonly(
-          "linear_damping",
-          [](const Vehicle<double>& v) { return Vec6(v.parameters().linear_damping); },
-          "D_L (6,).")
-      .def_property_readonly(
-          "quadratic_damping",
-          [](const Vehicle<double>& v) { return Vec6(v.parameters().quadratic_damping); },
-          "D_Q (6,).")
+           "rebuilds the vehicle, so a perturbed copy is one dict edit away.");
+  def_parameter(vehicle, "mass", &Params::mass, "m [kg].");
+  def_parameter(vehicle, "inertia", &Params::inertia, "I_o about the body origin (3, 3) [kg m^2].");
+  def_parameter(vehicle, "centre_of_gravity", &Params::centre_of_gravity,
+                "r_g (3,) [m], body axes.");
+  def_parameter(vehicle, "centre_of_buoyancy", &Params::centre_of_buoyancy,
+                "r_b (3,) [m], body axes (z down).");
+  def_parameter(vehicle, "weight", &Params::weight, "W [N].");
+  def_parameter(vehicle, "buoyancy", &Params::buoyancy, "B [N].");
+  def_parameter(vehicle, "added_mass", &Params::added_mass, "M_A (6, 6), positive definite.");
+  def_parameter(vehicle, "linear_damping", &Params::linear_damping, "D_L (6,).");
+  def_parameter(vehicle, "quadratic_damping", &Params::quadratic_damping, "D_Q (6,).");
+  vehicle
       .def_property_readonly(
           "coriolis_form",
           [](const Vehicle<double>& v) { return coriolis_form_name(v.parameters().coriolis_form); },
           "'velocity_independent' (the paper's eq. 39) or 'kirchhoff'.")
       .def("mass_matrix", [](const Vehicle<double>& v) { return Mat6(v.mass_matrix()); },
-           "M = M_RB + M_A, shape (6, 6).")
-      .def(
-          "coriolis",
-          [](const Vehicle<double>& v, py::handle nu) {
-            return Mat6(v.coriolis(py_args::vector<6>(nu, "nu")));
-          },
-          py::arg("nu"), "C(nu) = C_RB(nu) + C_A(nu), skew-symmetric, shape (6, 6).")
-      .def(
-          "damping",
-          [](const Vehicle<double>& v, py::handle nu) {
-            return Mat6(v.damping(py_args::vector<6>(nu, "nu")));
-          },
-          py::arg("nu"), "D(nu) = diag(D_L + D_Q |nu|), shape (6, 6).")
-      .def(
-          "restoring",
-          [](const Vehicle<double>& v, py::handle eta) {
-            return Vec6(v.restoring(py_args::vector<6>(eta, "eta")));
-          },
-          py::arg("eta"), "g(eta): gravity and buoyancy forces and moments, shape (6,).")
-      .def(
-          "acceleration",
-          [](const Vehicle<double>& v, py::handle eta, py::handle nu, py::handle tau,
-             py::handle current) {
-            const auto a = py_args::plant_args(eta, nu, tau, current);
-            Vec6 nu_dot;
-            raise_status(v.acceleration(a.eta, a.nu, a.tau, a.current, nu_dot), "acceleration");
-            return nu_dot;
-          },
-          py::arg("eta"), py::arg("nu"), py::arg("tau"), py::arg("current") = py::none(),
-          "nu_dot = M^-1 (tau - C(nu) nu - D(nu) nu - g(eta)), shape (6,). With `current` "
-          "(3,), a constant NED current velocity [m/s], the hydrodynamic terms use the "
-          "relative velocity nu - nu_c.");
+           "M = M_RB + M_A, shape (6, 6).");
+  def_of_vector6(
+      vehicle, "coriolis", "nu",
+      [](const Vehicle<double>& v, const Vec6& nu) { return Mat6(v.coriolis(nu)); },
+      "C(nu) = C_RB(nu) + C_A(nu), skew-symmetric, shape (6, 6).");
+  def_of_vector6(
+      vehicle, "damping", "nu",
+      [](const Vehicle<double>& v, const Vec6& nu) { return Mat6(v.damping(nu)); },
+      "D(nu) = diag(D_L + D_Q |nu|), shape (6, 6).");
+  def_of_vector6(
+      vehicle, "restoring", "eta",
+      [](const Vehicle<double>& v, const Vec6& eta) { return Vec6(v.restoring(eta)); },
+      "g(eta): gravity and buoyancy forces and moments, shape (6,).");
+  vehicle.def(
+      "acceleration",
+      [](const Vehicle<double>& v, py::handle eta, py::handle nu, py::handle tau,
+         py::handle current) {
+        const auto a = py_args::plant_args(eta, nu, tau, current);
+        Vec6 nu_dot;
+        raise_status(v.acceleration(a.eta, a.nu, a.tau, a.current, nu_dot), "acceleration");
+        return nu_dot;
+      },
+      py::arg("eta"), py::arg("nu"), py::arg("tau"), py::arg("current") = py::none(),
+      "nu_dot = M^-1 (tau - C(nu) nu - D(nu) nu - g(eta)), shape (6,). With `current` "
+      "(3,), a constant NED current velocity [m/s], the hydrodynamic terms use the "
+      "relative velocity nu - nu_c.");
 
   m.def(
       "rk4_step",

@@ -53,18 +53,8 @@ from neurov.study.reading import load_study, shipped_studies, study_from_mapping
 from neurov.study.report import league_markdown
 from neurov.study.running import StudyInterrupted, StudyOutcome, main_study, run_study
 from neurov.study.sampling import draw_sample, sample_plant, sample_seeds
-from neurov.study.spec import (
-    ENVIRONMENT_PARAMETERS,
-    NORMAL_TRUNCATION,
-    SCENARIO_DIR,
-    STUDY_DIR,
-    VEHICLE_PARAMETERS,
-    Perturbation,
-    Study,
-    StudyError,
-    metric_names,
-    vehicle_key,
-)
+# What a study is: every public name of spec (its __all__, listed there once).
+from neurov.study.spec import *  # noqa: F403
 from neurov.study.tables import (
     Summary,
     failed,
