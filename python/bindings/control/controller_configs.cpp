@@ -40,7 +40,9 @@ template <typename T>
 Fields<T> sliding_fields(py::module_& m, const char* name, const char* controller,
                          const char* kd_doc = kKdDoc) {
   Fields<T> f = config_fields<T>(m, name, controller);
-  f.vector("lambda_", &T::lambda, kLambdaDoc).vector("kd", &T::kd, kd_doc);
+  // Members of SlidingGains, T's base: named as T's for the field binder.
+  using Gain = Vector6<double> T::*;
+  f.vector("lambda_", Gain{&T::lambda}, kLambdaDoc).vector("kd", Gain{&T::kd}, kd_doc);
   return f;
 }
 
