@@ -207,7 +207,7 @@ SIMULATION_FIELDS: dict[str, str] = {
     "current_period": "current_period", "noise_eta": "noise_eta", "noise_nu": "noise_nu",
     "sensor_faults": "sensor_faults", "current_steps": "current_steps",
     "refused_step_policy": "refused_step_policy", "use_thrusters": "use_thrusters",
-    "thruster_failures": "failures", "control_delay": "control_delay", "water_density": "water_density",
+    "thruster_failures": "thruster_failures", "control_delay": "control_delay", "water_density": "water_density",
     "current_model": "current_model", "gauss_markov_current": "gauss_markov_current",
     "waves": "waves", "payload": "payload",
 }

@@ -265,7 +265,7 @@ _SIMULATION_KEYS = {
     "eta0": "initial.eta", "nu0": "initial.nu", "lambda_d": "reference.lambda_d",
     "omega": "reference.omega", "current": "current.velocity", "current_amplitude": "current.amplitude",
     "current_period": "current.period", "noise_eta": "noise.eta", "noise_nu": "noise.nu",
-    "failures": "thruster_failures", "command.times": "command", "command.poses": "command",
+    "command.times": "command", "command.poses": "command",
 }
 _LISTS = ("disturbances", "thruster_failures", "sensor_faults", "current_steps")
 
@@ -350,7 +350,7 @@ def scenario_from_mapping(data: Mapping[str, Any], origin: str = "<scenario>") -
         failures.append(_core.ThrusterFailure(index=fr.integer("index", minimum=-(2**31)),
                                               efficiency=fr.number("efficiency", 0.0), time=fr.number("time", 0.0)))
         fr.finish()
-    c.failures = failures
+    c.thruster_failures = failures
     faults = []
     for fr in _tables(r, "sensor_faults"):
         kind = fr.string("kind", choices=tuple(_core.SensorFaultKind.__members__))

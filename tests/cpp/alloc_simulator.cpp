@@ -66,7 +66,7 @@ SimulationConfig<S> busy_config(RefusedStepPolicy policy) {
   f.index = 1;
   f.efficiency = S(0.5);
   f.time = S(15);
-  c.failures = {f};
+  c.thruster_failures = {f};
   c.control_delay = 2;  // the pending forces' ring
   return c;
 }

@@ -80,7 +80,7 @@ std::vector<std::pair<std::string, SimulationConfig<S>>> configurations() {
   f2.index = 4;
   f2.efficiency = S(0);
   f2.time = S(20);
-  thr.failures = {f1, f2};
+  thr.thruster_failures = {f1, f2};
   thr.noise_eta.setConstant(S(0.01));
   thr.seed = 3;
   out.emplace_back("thrusters with failures", thr);
@@ -511,7 +511,7 @@ TYPED_TEST(SimulatorTest, ComparisonConfigurationsReachTheirFeatures) {
           << label;
       EXPECT_GT((r.controller_status.array() != 0).count(), 5) << label;
     }
-    if (!cfg.failures.empty()) {
+    if (!cfg.thruster_failures.empty()) {
       EXPECT_TRUE(bits & fault_bits::thruster) << label;
     }
     EXPECT_EQ(r.diverged, label == std::string("divergence")) << label;

@@ -340,7 +340,7 @@ void fuzz_loop(FuzzedDataProvider& p) {
   if (p.ConsumeBool()) {
     c.use_thrusters = true;
     c.thrusters = nerov_thrusters<S>();
-    c.failures.push_back({p.ConsumeIntegralInRange<int>(-1, 6), number<S>(p), number<S>(p)});
+    c.thruster_failures.push_back({p.ConsumeIntegralInRange<int>(-1, 6), number<S>(p), number<S>(p)});
   }
   c.refused_step_policy = p.ConsumeBool() ? RefusedStepPolicy::hold : RefusedStepPolicy::zero;
   PDConfig<S> pd;

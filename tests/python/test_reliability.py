@@ -134,7 +134,7 @@ def with_thrusters(c: _core.SimulationConfig, limit: Any = np.full(6, 100.0)) ->
 def thruster_failure(**changes: Any) -> Callable[[_core.SimulationConfig], None]:
     def change(c: _core.SimulationConfig) -> None:
         with_thrusters(c)
-        c.failures = [_core.ThrusterFailure(**{"index": 0, "efficiency": 0.0, "time": 1.0, **changes})]
+        c.thruster_failures = [_core.ThrusterFailure(**{"index": 0, "efficiency": 0.0, "time": 1.0, **changes})]
     return change
 
 
@@ -179,7 +179,7 @@ BAD_LOOPS: dict[str, tuple[Callable[[_core.SimulationConfig], Any], type[Excepti
     "unknown field": (lambda c: _core.SimulationConfig(dtt=0.1), TypeError, "dtt"),
     "failure of thruster 6 of 6": (thruster_failure(index=6), ValueError, "thruster_failures.index"),
     "efficiency above one": (thruster_failure(efficiency=1.5), ValueError, "efficiency"),
-    "failure without thrusters": (setter("failures", [_core.ThrusterFailure()]), ValueError,
+    "failure without thrusters": (setter("thruster_failures", [_core.ThrusterFailure()]), ValueError,
                                   "thruster_failures"),
     "rank-deficient thrusters": (lambda c: (with_thrusters(c), setattr(c.thrusters, "matrix",
                                                                        np.eye(6)[:, [0, 1, 2, 3, 4, 4]])),

@@ -380,9 +380,9 @@ assert_type(config.seed, int)
 config.seed = 3
 config.seed = 1.5  # error: a float for an int
 assert_type(RbfNetwork([[0.0] * 24], 1.0).n_centres, int)
-config.failures = [ThrusterFailure(index=1)]
-assert_type(config.failures, tuple[ThrusterFailure, ...])
-config.failures = [1]  # error: an int for a ThrusterFailure
+config.thruster_failures = [ThrusterFailure(index=1)]
+assert_type(config.thruster_failures, tuple[ThrusterFailure, ...])
+config.thruster_failures = [1]  # error: an int for a ThrusterFailure
 config.waves = None
 config.sensors = None  # error: not optional
 wrong: str = pd.kp  # error: an array is not a str

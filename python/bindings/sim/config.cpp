@@ -267,7 +267,7 @@ void bind_sim_config(py::module_& m) {
         .value("use_thrusters", &T::use_thrusters,
                "Allocate the force to `thrusters`; False: the force acts directly.")
         .value("thrusters", &T::thrusters, "The thruster layout (a ThrusterConfig).")
-        .list("failures", &T::failures, "ThrusterFailure",
+        .list("thruster_failures", &T::thruster_failures, "ThrusterFailure",
               "Thruster failures (a tuple; assign a list).")
         .list("sensor_faults", &T::sensor_faults, "SensorFault",
               "Sensor faults (a tuple; assign a list).")

@@ -141,7 +141,7 @@ struct SimulationConfig {
   std::uint64_t seed = 0;
   bool use_thrusters = false;
   ThrusterConfig<Scalar> thrusters;
-  std::vector<ThrusterFailure<Scalar>> failures;
+  std::vector<ThrusterFailure<Scalar>> thruster_failures;
   std::vector<SensorFault<Scalar>> sensor_faults;
   std::vector<CurrentStep<Scalar>> current_steps;  ///< in increasing time
   RefusedStepPolicy refused_step_policy = RefusedStepPolicy::zero;
@@ -239,8 +239,8 @@ inline ValidationError validate(const SimulationConfig<Scalar>& c) {
   if (c.sensors.any() && !(c.noise_eta.isZero(Scalar(0)) && c.noise_nu.isZero(Scalar(0))))
     return detail::invalid("noise_eta", -1, static_cast<double>(c.noise_eta.norm() + c.noise_nu.norm()),
                            "zero noise_eta and noise_nu with sensors (their own noise replaces it)");
-  for (std::size_t i = 0; i < c.failures.size(); ++i) {
-    const auto& f = c.failures[i];
+  for (std::size_t i = 0; i < c.thruster_failures.size(); ++i) {
+    const auto& f = c.thruster_failures[i];
     if (!c.use_thrusters)
       return detail::invalid("thruster_failures", static_cast<int>(i), std::nan(""),
                              "a thruster configuration");

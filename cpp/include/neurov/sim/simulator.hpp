@@ -126,7 +126,7 @@ class Simulator {
     s.parameter_count_ = logged_parameters;
     s.noisy_ = !(config.noise_eta.isZero(Scalar(0)) && config.noise_nu.isZero(Scalar(0)));
     s.h_ = config.dt / static_cast<Scalar>(config.substeps);
-    s.failure_applied_.assign(config.failures.size(), false);
+    s.failure_applied_.assign(config.thruster_failures.size(), false);
     Sensing<Scalar>::create(config.sensors, config.estimator, config.seed, s.sensing_);
     s.log_rows_ = log_rows > 0 ? std::min(log_rows, s.rows_) : s.rows_;
     s.result_.allocate(s.log_rows_, s.thruster_count_, logged_parameters);
@@ -252,9 +252,9 @@ class Simulator {
       apply_payload_events(ts);
       Vec6 applied = acting_tau;
       if (config_.use_thrusters) {
-        for (std::size_t f = 0; f < config_.failures.size(); ++f) {
-          if (!failure_applied_[f] && ts >= config_.failures[f].time) {
-            thrusters_.set_efficiency(config_.failures[f].index, config_.failures[f].efficiency);
+        for (std::size_t f = 0; f < config_.thruster_failures.size(); ++f) {
+          if (!failure_applied_[f] && ts >= config_.thruster_failures[f].time) {
+            thrusters_.set_efficiency(config_.thruster_failures[f].index, config_.thruster_failures[f].efficiency);
             failure_applied_[f] = true;
           }
         }
