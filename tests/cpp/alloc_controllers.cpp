@@ -79,6 +79,18 @@ struct Inputs {
     huge_nu = nu;
     huge_nu(0) = std::numeric_limits<S>::max() / S(4);
   }
+
+  /// c's step on these inputs.
+  template <typename Ctl>
+  Status step(Ctl& c, Vector6<S>& tau) const {
+    return step_at(c, eta, nu, tau);
+  }
+
+  /// c's step with the measurements swapped (bad_eta, singular_eta, huge_nu).
+  template <typename Ctl>
+  Status step_at(Ctl& c, const Vector6<S>& eta_at, const Vector6<S>& nu_at, Vector6<S>& tau) const {
+    return c.step(eta_at, nu_at, eta_d, eta_d_dot, eta_d_ddot, tau);
+  }
 };
 
 /// Centres around the inputs so g(x) is not all zeros and the update does work.
@@ -87,6 +99,16 @@ void fill_centres(CentreMatrix& c) {
   for (int j = 0; j < c.rows(); ++j)
     for (int i = 0; i < c.cols(); ++i)
       c(j, i) = static_cast<S>(0.1 * std::sin(1.3 * j + 0.7 * i));
+}
+
+/// kCentres centres from fill_centres, every width 2, whether the network's
+/// centre count is fixed at compile time or not (built outside any window).
+template <typename Net>
+Net network_of_width_2() {
+  using S = typename Net::Scalar;
+  typename Net::CentreMatrix c(kCentres, kNNInputs);
+  fill_centres<S>(c);
+  return Net(c, Net::BasisVector::Constant(kCentres, S(2)));
 }
 
 template <typename Ctl>
@@ -125,17 +147,17 @@ void expect_nn_step_does_not_allocate(const typename Ctl::Network& net) {
     volatile double sink = 0;
     Vector6<S> tau;
     const Window w = watch([&] {
-      st[0] = ctl.step(in.eta, in.nu, in.eta_d, in.eta_d_dot, in.eta_d_ddot, tau);
+      st[0] = in.step(ctl, tau);
       consume(sink, tau);
       st[1] = ctl.set_learning_rates(rates) ? Status::ok : Status::invalid_argument;
       for (int k = 0; k < 100; ++k) {
-        st[2] = worst(st[2], ctl.step(in.eta, in.nu, in.eta_d, in.eta_d_dot, in.eta_d_ddot, tau));
+        st[2] = worst(st[2], in.step(ctl, tau));
         consume(sink, tau);
       }
-      st[3] = dead.step(in.eta, in.nu, in.eta_d, in.eta_d_dot, in.eta_d_ddot, tau);
-      st[4] = ctl.step(in.bad_eta, in.nu, in.eta_d, in.eta_d_dot, in.eta_d_ddot, tau);
-      st[5] = ctl.step(in.singular_eta, in.nu, in.eta_d, in.eta_d_dot, in.eta_d_ddot, tau);
-      st[6] = ctl.step(in.eta, in.huge_nu, in.eta_d, in.eta_d_dot, in.eta_d_ddot, tau);
+      st[3] = in.step(dead, tau);
+      st[4] = in.step_at(ctl, in.bad_eta, in.nu, tau);
+      st[5] = in.step_at(ctl, in.singular_eta, in.nu, tau);
+      st[6] = in.step_at(ctl, in.eta, in.huge_nu, tau);
       consume(sink, ctl.weights());
       consume(sink, ctl.basis());
       ctl.reset();
@@ -150,21 +172,13 @@ void expect_nn_step_does_not_allocate(const typename Ctl::Network& net) {
 }
 
 TYPED_TEST(ControllerAllocTest, NNStepWithDynamicCentresDoesNotAllocateAfterCreate) {
-  using S = TypeParam;
-  using Ctl = NNAdaptiveController<S>;
-  typename Ctl::Network::CentreMatrix c(kCentres, kNNInputs);
-  fill_centres<S>(c);
-  const typename Ctl::Network net(c, Eigen::Matrix<S, Eigen::Dynamic, 1>::Constant(kCentres, S(2)));
-  expect_nn_step_does_not_allocate<Ctl>(net);
+  using Ctl = NNAdaptiveController<TypeParam>;
+  expect_nn_step_does_not_allocate<Ctl>(network_of_width_2<typename Ctl::Network>());
 }
 
 TYPED_TEST(ControllerAllocTest, NNStepWithCompileTimeCentresDoesNotAllocate) {
-  using S = TypeParam;
-  using Ctl = NNAdaptiveController<S, kCentres>;
-  typename Ctl::Network::CentreMatrix c;
-  fill_centres<S>(c);
-  const typename Ctl::Network net(c, Eigen::Matrix<S, kCentres, 1>::Constant(S(2)));
-  expect_nn_step_does_not_allocate<Ctl>(net);
+  using Ctl = NNAdaptiveController<TypeParam, kCentres>;
+  expect_nn_step_does_not_allocate<Ctl>(network_of_width_2<typename Ctl::Network>());
 }
 
 // Firmware with a fixed N may build everything after start-up.
@@ -208,15 +222,15 @@ TYPED_TEST(ControllerAllocTest, LinearAndPDStepsDoNotAllocate) {
     e2 = PDController<S>::create(pcfg, pd);
     Vector6<S> tau;
     for (int k = 0; k < 100; ++k) {
-      st[0] = worst(st[0], lin.step(in.eta, in.nu, in.eta_d, in.eta_d_dot, in.eta_d_ddot, tau));
+      st[0] = worst(st[0], in.step(lin, tau));
       consume(sink, tau);
-      st[1] = worst(st[1], pd.step(in.eta, in.nu, in.eta_d, in.eta_d_dot, in.eta_d_ddot, tau));
+      st[1] = worst(st[1], in.step(pd, tau));
       consume(sink, tau);
     }
-    st[2] = lin.step(in.bad_eta, in.nu, in.eta_d, in.eta_d_dot, in.eta_d_ddot, tau);
-    st[3] = lin.step(in.singular_eta, in.nu, in.eta_d, in.eta_d_dot, in.eta_d_ddot, tau);
-    st[4] = pd.step(in.bad_eta, in.nu, in.eta_d, in.eta_d_dot, in.eta_d_ddot, tau);
-    st[5] = pd.step(in.singular_eta, in.nu, in.eta_d, in.eta_d_dot, in.eta_d_ddot, tau);
+    st[2] = in.step_at(lin, in.bad_eta, in.nu, tau);
+    st[3] = in.step_at(lin, in.singular_eta, in.nu, tau);
+    st[4] = in.step_at(pd, in.bad_eta, in.nu, tau);
+    st[5] = in.step_at(pd, in.singular_eta, in.nu, tau);
     consume(sink, lin.theta());
     ParameterVector<S> theta;
     st[6] = regressor_parameters(nerov_parameters<S>(), theta).ok() ? Status::ok
@@ -250,13 +264,13 @@ void expect_fixed_size_controller_does_not_allocate(const typename Ctl::Config& 
     DesiredState<S> d;
     d.eta_d = in.eta_d;
     for (int k = 0; k < 100; ++k) {
-      st[0] = worst(st[0], ctl.step(in.eta, in.nu, in.eta_d, in.eta_d_dot, in.eta_d_ddot, tau));
+      st[0] = worst(st[0], in.step(ctl, tau));
       consume(sink, tau);
     }
     st[1] = ctl.step(in.eta, in.nu, d, tau);
     consume(sink, tau);
-    st[2] = ctl.step(in.bad_eta, in.nu, in.eta_d, in.eta_d_dot, in.eta_d_ddot, tau);
-    st[3] = ctl.step(in.singular_eta, in.nu, in.eta_d, in.eta_d_dot, in.eta_d_ddot, tau);
+    st[2] = in.step_at(ctl, in.bad_eta, in.nu, tau);
+    st[3] = in.step_at(ctl, in.singular_eta, in.nu, tau);
     sink = sink + static_cast<double>(ctl.adaptive_norm());
     consume(sink, ctl.logged_parameters());
     ctl.reset();

@@ -6,6 +6,7 @@
 // The detectors are in alloc_probe.hpp; the counting global operator new is
 // defined in alloc_foundation.cpp (there may be only one per executable).
 #include "alloc_probe.hpp"
+#include "alloc_closed_loop.hpp"
 
 
 #include <gtest/gtest.h>
@@ -18,8 +19,7 @@ namespace {
 
 using namespace neurov;
 
-using alloc_probe::watch;
-using alloc_probe::Window;
+using alloc_probe::expect_run_does_not_allocate;
 
 NEUROV_SCALAR_SUITE(SimulatorAllocTest);
 
@@ -103,41 +103,9 @@ SimulationConfig<S> curved_config(RefusedStepPolicy policy) {
   return config;
 }
 
-/// Runs a whole closed loop (controller, report, simulator step) and a
-/// reset in the watch window.
-template <typename S, typename Controller>
-void expect_run_does_not_allocate(Controller& controller, RefusedStepPolicy policy,
-                                  const SimulationConfig<S>* config = nullptr) {
-  const Vehicle<S> vehicle(nerov_parameters<S>());
-  Eigen::Matrix<S, 1, kMaxLoggedParameters> parameters;
-  const int logged = controller_report<S>(controller, Status::ok, parameters).parameter_count;
-  Simulator<S> sim;
-  ASSERT_TRUE(
-      Simulator<S>::create(vehicle, config ? *config : busy_config<S>(policy), sim, logged).ok());
-  Vector6<S> tau;
-  long refused = 0;
-  Status worst_plant = Status::ok;
-  const Window w = watch([&] {
-    for (int run = 0; run < 2; ++run) {
-      while (!sim.done()) {
-        const Observation<S>& o = sim.observation();
-        const Status cs = controller.step(o.eta, o.nu, o.desired, tau);
-        refused += cs != Status::ok;
-        worst_plant = worst(worst_plant, sim.step(tau, controller_report<S>(controller, cs, parameters)));
-      }
-      // Rejected calls change nothing and allocate nothing either.
-      worst_plant = worst(worst_plant, sim.step(tau, ControllerReport<S>{}) == Status::invalid_argument
-                                           ? Status::ok
-                                           : Status::non_finite_output);
-      sim.reset(static_cast<std::uint64_t>(run + 5));
-      controller.reset();
-    }
-  });
-  EXPECT_EQ(w.new_calls, 0);
-  EXPECT_EQ(w.eigen_failures, 0);
-  EXPECT_EQ(worst_plant, Status::ok);
-  EXPECT_GE(refused, 2 * 5);  // the dropout: 1 s at 5 Hz, in each of the two runs
-}
+/// Every configuration here has a sensor dropout: 1 s at 5 Hz, in each of the
+/// two runs, refused by the controller.
+constexpr long kDropoutRefusals = 2 * 5;
 
 /// The PD gains of the runs below (the controller is not what they test).
 template <typename S>
@@ -152,8 +120,8 @@ TYPED_TEST(SimulatorAllocTest, StepAndResetDoNotAllocateWithAPDController) {
   using S = TypeParam;
   PDController<S> pd;
   ASSERT_TRUE(PDController<S>::create(pd_gains<S>(), pd).ok());
-  expect_run_does_not_allocate<S>(pd, RefusedStepPolicy::zero);
-  expect_run_does_not_allocate<S>(pd, RefusedStepPolicy::hold);
+  expect_run_does_not_allocate<S>(pd, busy_config<S>(RefusedStepPolicy::zero), kDropoutRefusals);
+  expect_run_does_not_allocate<S>(pd, busy_config<S>(RefusedStepPolicy::hold), kDropoutRefusals);
 }
 
 TYPED_TEST(SimulatorAllocTest, StepAndResetDoNotAllocateWithThrusterCurves) {
@@ -161,7 +129,7 @@ TYPED_TEST(SimulatorAllocTest, StepAndResetDoNotAllocateWithThrusterCurves) {
   PDController<S> pd;
   ASSERT_TRUE(PDController<S>::create(pd_gains<S>(), pd).ok());
   const SimulationConfig<S> c = curved_config<S>(RefusedStepPolicy::hold);
-  expect_run_does_not_allocate<S>(pd, RefusedStepPolicy::hold, &c);
+  expect_run_does_not_allocate<S>(pd, c, kDropoutRefusals);
 }
 
 TYPED_TEST(SimulatorAllocTest, StepAndResetDoNotAllocateWithSensorsAndAnEstimator) {
@@ -170,7 +138,7 @@ TYPED_TEST(SimulatorAllocTest, StepAndResetDoNotAllocateWithSensorsAndAnEstimato
   ASSERT_TRUE(PDController<S>::create(pd_gains<S>(), pd).ok());
   for (EstimatorType e : {EstimatorType::none, EstimatorType::ekf}) {
     const SimulationConfig<S> c = sensed_config<S>(RefusedStepPolicy::hold, e);
-    expect_run_does_not_allocate<S>(pd, RefusedStepPolicy::hold, &c);
+    expect_run_does_not_allocate<S>(pd, c, kDropoutRefusals);
   }
 }
 
@@ -181,7 +149,8 @@ TYPED_TEST(SimulatorAllocTest, StepAndResetDoNotAllocateWhileLoggingParameters) 
   ASSERT_TRUE(regressor_parameters(nerov_parameters<S>(), cfg.theta0).ok());
   LinearAdaptiveController<S> linear;
   ASSERT_TRUE(LinearAdaptiveController<S>::create(cfg, linear).ok());
-  expect_run_does_not_allocate<S>(linear, RefusedStepPolicy::hold);
+  expect_run_does_not_allocate<S>(linear, busy_config<S>(RefusedStepPolicy::hold),
+                                  kDropoutRefusals);
 }
 
 }  // namespace

@@ -235,6 +235,16 @@ struct Modification {
   static Modification with_dead_zone(double dead_zone) {
     return {RobustModification::none, 0, 0, 0, dead_zone};
   }
+
+  /// Writes this modification into a controller's configuration, in S.
+  template <typename S>
+  void apply_to(NNAdaptiveConfig<S>& cfg) const {
+    cfg.modification = kind;
+    cfg.sigma_m = static_cast<S>(sigma_m);
+    cfg.kappa = static_cast<S>(kappa);
+    cfg.w_max = static_cast<S>(w_max);
+    cfg.dead_zone = static_cast<S>(dead_zone);
+  }
 };
 
 /// Eq. 30, 35 and 37 with plain loops. `w` is the weight matrix before the
@@ -314,17 +324,13 @@ NNAdaptiveConfig<S> cast_config(const NNAdaptiveConfig<double>& d) {
 
 template <typename S>
 NNAdaptiveConfig<S> config_of(const NNCase& c, const Modification& mod = {}) {
-  NNAdaptiveConfig<double> cfg;
-  cfg.lambda = c.lambda;
-  cfg.kd = c.kd;
-  cfg.gamma = c.gamma;
-  cfg.dt = c.dt;
-  cfg.modification = mod.kind;
-  cfg.sigma_m = mod.sigma_m;
-  cfg.kappa = mod.kappa;
-  cfg.w_max = mod.w_max;
-  cfg.dead_zone = mod.dead_zone;
-  return cast_config<S>(cfg);
+  NNAdaptiveConfig<S> cfg;
+  cfg.lambda = c.lambda.cast<S>();
+  cfg.kd = c.kd.cast<S>();
+  cfg.gamma = static_cast<S>(c.gamma);
+  cfg.dt = static_cast<S>(c.dt);
+  mod.apply_to(cfg);
+  return cfg;
 }
 
 /// The learning rate of every centre when they all share gamma.

@@ -98,20 +98,24 @@ neurov::LinearAdaptiveController<S> linear() {
   return neurov::LinearAdaptiveController<S>(cfg);
 }
 
-template <typename S>
-neurov::PDController<S> pd() {
-  neurov::PDConfig<S> cfg;
+/// The PD's gains: the PID keeps them and adds an integral.
+template <template <typename> class Config, typename S>
+Config<S> with_pd_gains() {
+  Config<S> cfg;
   cfg.kp.setConstant(S(100));
   cfg.kd.setConstant(S(200));
-  return neurov::PDController<S>(cfg);
+  return cfg;
+}
+
+template <typename S>
+neurov::PDController<S> pd() {
+  return neurov::PDController<S>(with_pd_gains<neurov::PDConfig, S>());
 }
 
 template <typename S>
 neurov::PIDController<S> pid() {
-  neurov::PIDConfig<S> cfg;
-  cfg.kp.setConstant(S(100));
+  auto cfg = with_pd_gains<neurov::PIDConfig, S>();
   cfg.ki.setConstant(S(10));
-  cfg.kd.setConstant(S(200));
   return neurov::PIDController<S>(cfg);
 }
 

@@ -17,12 +17,14 @@
 #include <gtest/gtest.h>
 
 #include "neurov/neurov.hpp"
+#include "step_inputs.hpp"
 #include "test_support.hpp"
 
 namespace {
 
 using namespace neurov;
-using neurov_test::kPi;
+using neurov_test::draw_step_inputs;
+using neurov_test::expect_bad_inputs_refused;
 using neurov_test::Rng;
 
 // ------------------------------------------------- a configured controller
@@ -148,15 +150,6 @@ std::vector<unsigned char> observable(const Ctl& c) {
   return b;
 }
 
-template <typename S>
-void draw(Rng& rng, Vector6<S> (&v)[5]) {
-  v[0] = rng.pose<S>(1.0);
-  v[1] = rng.velocity<S>();
-  v[2] = v[0] + rng.vec6<S>(-0.3, 0.3);
-  v[3] = rng.vec6<S>(-0.5, 0.5);
-  v[4] = rng.vec6<S>(-0.5, 0.5);
-}
-
 template <typename Ctl, typename S>
 Status step(Ctl& c, const Vector6<S> (&v)[5], Vector6<S>& tau) {
   return c.step(v[0], v[1], v[2], v[3], v[4], tau);
@@ -167,111 +160,97 @@ bool same_bits(const Vector6<S>& a, const Vector6<S>& b) {
   return std::memcmp(a.data(), b.data(), sizeof(S) * 6) == 0;
 }
 
-const char* const kArg[5] = {"eta", "nu", "eta_d", "eta_d_dot", "eta_d_ddot"};
+/// A controller with gains drawn from the test's own stream, which then draws
+/// the inputs of its steps: args are the last drawn, tau the last output.
+template <typename Ctl>
+struct UnderTest {
+  using S = typename Ctl::Scalar;
+
+  explicit UnderTest(std::uint32_t seed) : rng(seed), ctl(make<Ctl>(rng)) {}
+
+  /// c (ctl or a copy of it) steps on newly drawn inputs.
+  Status step_on_new_inputs(Ctl& c) {
+    draw_step_inputs(rng, args);
+    return step(c, args, tau);
+  }
+
+  /// n accepted steps of ctl: a history, so "unchanged" means something.
+  ::testing::AssertionResult history(int n) {
+    for (int k = 0; k < n; ++k)
+      if (const Status st = step_on_new_inputs(ctl); st != Status::ok)
+        return ::testing::AssertionFailure() << "step " << k << " of the history: " << to_string(st);
+    return ::testing::AssertionSuccess();
+  }
+
+  Rng rng;
+  Ctl ctl;
+  Vector6<S> args[5], tau;
+};
 
 // ------------------------------------------------------------------- tests
 
 TYPED_TEST(ControllerContract, RefusedStepWritesZeroAndChangesNothing) {
   using Ctl = TypeParam;
   using S = typename Ctl::Scalar;
-  Rng rng(700);
-  Ctl ctl = make<Ctl>(rng);
-  Vector6<S> args[5], tau;
-  for (int k = 0; k < 3; ++k) {  // a history, so "unchanged" means something
-    draw(rng, args);
-    ASSERT_EQ(step(ctl, args, tau), Status::ok);
-  }
-  Ctl twin = ctl;
-  const auto before = observable(ctl);
-  const S bad_values[3] = {std::numeric_limits<S>::quiet_NaN(), std::numeric_limits<S>::infinity(),
-                           -std::numeric_limits<S>::infinity()};
-  for (int a = 0; a < 5; ++a)
-    for (const S bad : bad_values)
-      for (const int index : {0, 4}) {
-        Vector6<S> in[5] = {args[0], args[1], args[2], args[3], args[4]};
-        in[a](index) = bad;
-        tau.setConstant(S(7));
-        EXPECT_EQ(step(ctl, in, tau), Status::non_finite_input) << kArg[a] << "[" << index << "]";
-        EXPECT_EQ(ctl.last_status(), Status::non_finite_input);
-        EXPECT_TRUE((tau.array() == S(0)).all()) << kArg[a];
-        EXPECT_TRUE(observable(ctl) == before) << "state changed by a bad " << kArg[a];
-      }
-  for (const double pitch : {kPi / 2, -kPi / 2}) {
-    Vector6<S> in[5] = {args[0], args[1], args[2], args[3], args[4]};
-    in[0](4) = static_cast<S>(pitch);
-    tau.setConstant(S(7));
-    EXPECT_EQ(step(ctl, in, tau), Status::near_singularity);
-    EXPECT_TRUE((tau.array() == S(0)).all());
-    EXPECT_TRUE(observable(ctl) == before) << "state changed at the singularity";
-  }
+  UnderTest<Ctl> t(700);
+  ASSERT_TRUE(t.history(3));
+  Ctl twin = t.ctl;
+  expect_bad_inputs_refused(t.ctl, t.args, observable<Ctl>);
   // Whatever a refusal might have touched unobserved shows in the next steps.
   for (int k = 0; k < 3; ++k) {
-    draw(rng, args);
     Vector6<S> tau_twin;
-    ASSERT_EQ(step(ctl, args, tau), Status::ok);
-    ASSERT_EQ(step(twin, args, tau_twin), Status::ok);
-    EXPECT_TRUE(same_bits(tau, tau_twin)) << "step " << k;
+    ASSERT_EQ(t.step_on_new_inputs(t.ctl), Status::ok);
+    ASSERT_EQ(step(twin, t.args, tau_twin), Status::ok);
+    EXPECT_TRUE(same_bits(t.tau, tau_twin)) << "step " << k;
   }
-  EXPECT_TRUE(observable(ctl) == observable(twin));
+  EXPECT_TRUE(observable(t.ctl) == observable(twin));
 }
 
 TYPED_TEST(ControllerContract, AcceptedStepsGiveFiniteTauAndFiniteState) {
-  using Ctl = TypeParam;
-  using S = typename Ctl::Scalar;
-  Rng rng(701);
-  Ctl ctl = make<Ctl>(rng);
-  Vector6<S> args[5], tau;
+  UnderTest<TypeParam> t(701);
   for (int k = 0; k < neurov_test::kPoints; ++k) {
-    draw(rng, args);
-    ASSERT_EQ(step(ctl, args, tau), Status::ok) << k;
-    EXPECT_EQ(ctl.last_status(), Status::ok);
-    EXPECT_TRUE(tau.allFinite()) << k;
-    EXPECT_TRUE(ctl.tracking().s.allFinite());
-    EXPECT_TRUE(ctl.logged_parameters().allFinite());
-    EXPECT_TRUE(std::isfinite(ctl.adaptive_norm()));
+    ASSERT_EQ(t.step_on_new_inputs(t.ctl), Status::ok) << k;
+    EXPECT_EQ(t.ctl.last_status(), Status::ok);
+    EXPECT_TRUE(t.tau.allFinite()) << k;
+    EXPECT_TRUE(t.ctl.tracking().s.allFinite());
+    EXPECT_TRUE(t.ctl.logged_parameters().allFinite());
+    EXPECT_TRUE(std::isfinite(t.ctl.adaptive_norm()));
   }
 }
 
 TYPED_TEST(ControllerContract, ResetReturnsToTheStateCreateLeft) {
   using Ctl = TypeParam;
   using S = typename Ctl::Scalar;
-  Rng rng(702);
-  const Ctl fresh = make<Ctl>(rng);
-  Ctl ctl = fresh;
-  Vector6<S> args[5], tau, tau_fresh;
-  for (int k = 0; k < 10; ++k) {
-    draw(rng, args);
-    ASSERT_EQ(step(ctl, args, tau), Status::ok);
-  }
-  ctl.reset();
-  EXPECT_EQ(ctl.last_status(), Status::ok);
-  EXPECT_TRUE(ctl.tracking().s.isZero(S(0)));
-  EXPECT_TRUE(observable(ctl) == observable(fresh));
+  UnderTest<Ctl> t(702);
+  const Ctl fresh = t.ctl;
+  ASSERT_TRUE(t.history(10));
+  t.ctl.reset();
+  EXPECT_EQ(t.ctl.last_status(), Status::ok);
+  EXPECT_TRUE(t.ctl.tracking().s.isZero(S(0)));
+  EXPECT_TRUE(observable(t.ctl) == observable(fresh));
   Ctl again = fresh;
   for (int k = 0; k < 3; ++k) {
-    draw(rng, args);
-    ASSERT_EQ(step(ctl, args, tau), Status::ok);
-    ASSERT_EQ(step(again, args, tau_fresh), Status::ok);
-    EXPECT_TRUE(same_bits(tau, tau_fresh)) << "step " << k;
+    Vector6<S> tau_fresh;
+    ASSERT_EQ(t.step_on_new_inputs(t.ctl), Status::ok);
+    ASSERT_EQ(step(again, t.args, tau_fresh), Status::ok);
+    EXPECT_TRUE(same_bits(t.tau, tau_fresh)) << "step " << k;
   }
 }
 
 TYPED_TEST(ControllerContract, DesiredStateOverloadIsTheFiveVectorStep) {
   using Ctl = TypeParam;
   using S = typename Ctl::Scalar;
-  Rng rng(703);
-  Ctl a = make<Ctl>(rng);
-  Ctl b = a;
-  Vector6<S> args[5], tau_a, tau_b;
+  UnderTest<Ctl> t(703);
+  Ctl b = t.ctl;
   for (int k = 0; k < 5; ++k) {
-    draw(rng, args);
+    ASSERT_EQ(t.step_on_new_inputs(t.ctl), Status::ok);
     DesiredState<S> d;
-    d.eta_d = args[2];
-    d.eta_d_dot = args[3];
-    d.eta_d_ddot = args[4];
-    ASSERT_EQ(step(a, args, tau_a), Status::ok);
-    ASSERT_EQ(b.step(args[0], args[1], d, tau_b), Status::ok);
-    EXPECT_TRUE(same_bits(tau_a, tau_b));
+    d.eta_d = t.args[2];
+    d.eta_d_dot = t.args[3];
+    d.eta_d_ddot = t.args[4];
+    Vector6<S> tau_b;
+    ASSERT_EQ(b.step(t.args[0], t.args[1], d, tau_b), Status::ok);
+    EXPECT_TRUE(same_bits(t.tau, tau_b));
   }
 }
 
@@ -282,7 +261,7 @@ TYPED_TEST(ControllerContract, UnconfiguredControllerRefusesEveryStep) {
   Ctl ctl;
   EXPECT_FALSE(ctl.configured());
   Vector6<S> args[5], tau;
-  draw(rng, args);
+  draw_step_inputs(rng, args);
   tau.setConstant(S(3));
   EXPECT_EQ(step(ctl, args, tau), Status::invalid_argument);
   EXPECT_EQ(ctl.last_status(), Status::invalid_argument);
@@ -292,12 +271,10 @@ TYPED_TEST(ControllerContract, UnconfiguredControllerRefusesEveryStep) {
 TYPED_TEST(ControllerContract, AdaptiveNormIsTheControllersOwnMemory) {
   using Ctl = TypeParam;
   using S = typename Ctl::Scalar;
-  Rng rng(705);
-  Ctl ctl = make<Ctl>(rng);
-  Vector6<S> args[5], tau;
+  UnderTest<Ctl> t(705);
+  Ctl& ctl = t.ctl;
   for (int k = 0; k < 5; ++k) {
-    draw(rng, args);
-    ASSERT_EQ(step(ctl, args, tau), Status::ok);
+    ASSERT_EQ(t.step_on_new_inputs(ctl), Status::ok);
     const S expected = memory(ctl);
     EXPECT_NEAR(static_cast<double>(ctl.adaptive_norm()), static_cast<double>(expected),
                 1e-5 * (1.0 + static_cast<double>(expected)));

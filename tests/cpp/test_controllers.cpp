@@ -150,39 +150,45 @@ NNExpected step_against_reference(NNAdaptiveController<S>& ctl, const NNCase& c,
   return ex;
 }
 
-TYPED_TEST(NNControllerTest, SigmaModificationLeaksTheWeights) {
-  using S = TypeParam;
-  Rng rng(105);
-  for (int k = 0; k < 20; ++k) {
-    const NNCase c = random_case<S>(rng);
-    const Modification mod = Modification::sigma(draw<S>(rng, 0.2, 2.0));
+/// `check(c, rng)` on 20 random cases drawn from seed (rng goes on after each case).
+template <typename S, typename Check>
+void for_random_cases(std::uint32_t seed, Check check) {
+  Rng rng(seed);
+  for (int k = 0; k < 20; ++k) check(random_case<S>(rng), rng);
+}
+
+/// A leaking modification drawn by draw_mod(rng) on 20 random cases: the step
+/// matches the reference, and the reference under rival(mod), the law a
+/// mistake would most likely give instead, is told apart from it.
+template <typename S, typename DrawMod, typename Rival>
+void expect_leak_told_apart(std::uint32_t seed, DrawMod draw_mod, Rival rival) {
+  for_random_cases<S>(seed, [&](const NNCase& c, Rng& rng) {
+    const Modification mod = draw_mod(rng);
     NNAdaptiveController<S> ctl;
     const NNExpected ex = step_against_reference(ctl, c, mod);
-    const NNExpected plain = nn_reference(c, c.weights, uniform_rates(c), {});
-    expect_distinguishable<S>(plain.weights, ex.weights);
-  }
+    const NNExpected other = nn_reference(c, c.weights, uniform_rates(c), rival(mod));
+    expect_distinguishable<S>(other.weights, ex.weights);
+  });
+}
+
+TYPED_TEST(NNControllerTest, SigmaModificationLeaksTheWeights) {
+  using S = TypeParam;
+  expect_leak_told_apart<S>(
+      105, [](Rng& rng) { return Modification::sigma(draw<S>(rng, 0.2, 2.0)); },
+      [](const Modification&) { return Modification{}; });  // no modification at all
 }
 
 TYPED_TEST(NNControllerTest, EModificationLeaksInProportionToTheError) {
   using S = TypeParam;
-  Rng rng(106);
-  for (int k = 0; k < 20; ++k) {
-    const NNCase c = random_case<S>(rng);
-    const Modification mod = Modification::e_modification(draw<S>(rng, 0.1, 1.0));
-    NNAdaptiveController<S> ctl;
-    const NNExpected ex = step_against_reference(ctl, c, mod);
-    // A sigma-modification with sigma_m = kappa would leak by a different amount.
-    const NNExpected sigma =
-        nn_reference(c, c.weights, uniform_rates(c), Modification::sigma(mod.kappa));
-    expect_distinguishable<S>(sigma.weights, ex.weights);
-  }
+  // A sigma-modification with sigma_m = kappa would leak by a different amount.
+  expect_leak_told_apart<S>(
+      106, [](Rng& rng) { return Modification::e_modification(draw<S>(rng, 0.1, 1.0)); },
+      [](const Modification& mod) { return Modification::sigma(mod.kappa); });
 }
 
 TYPED_TEST(NNControllerTest, ProjectionKeepsTheFrobeniusNormWithinTheBound) {
   using S = TypeParam;
-  Rng rng(107);
-  for (int k = 0; k < 20; ++k) {
-    const NNCase c = random_case<S>(rng);
+  for_random_cases<S>(107, [](const NNCase& c, Rng&) {
     const VecXd rates = uniform_rates(c);
     const double unprojected = nn_reference(c, c.weights, rates, {}).weights.norm();
     // Active: the bound is below the norm the plain step would reach.
@@ -200,14 +206,12 @@ TYPED_TEST(NNControllerTest, ProjectionKeepsTheFrobeniusNormWithinTheBound) {
     ASSERT_EQ(step_case<S>(ctl2, c, tau), Status::ok);
     const NNExpected plain = nn_reference(c, c.weights, rates, {});
     EXPECT_TRUE(all_near(ctl2.weights(), plain.weights, tol<S>(max_abs(plain.weights))));
-  }
+  });
 }
 
 TYPED_TEST(NNControllerTest, DeadZoneStopsAdaptationWhileTheErrorIsSmall) {
   using S = TypeParam;
-  Rng rng(108);
-  for (int k = 0; k < 20; ++k) {
-    const NNCase c = random_case<S>(rng);
+  for_random_cases<S>(108, [](const NNCase& c, Rng&) {
     const VecXd rates = uniform_rates(c);
     const double s_norm = spec_tracking(c.eta, c.nu, c.eta_d, c.eta_d_dot, c.eta_d_ddot, c.lambda)
                               .s.norm();
@@ -231,7 +235,7 @@ TYPED_TEST(NNControllerTest, DeadZoneStopsAdaptationWhileTheErrorIsSmall) {
     EXPECT_TRUE(ex2.adapted);
     EXPECT_TRUE(ctl2.adapted());
     EXPECT_TRUE(all_near(ctl2.weights(), ex2.weights, tol<S>(max_abs(ex2.weights))));
-  }
+  });
 }
 
 TYPED_TEST(NNControllerTest, ResetRestoresTheInitialWeights) {

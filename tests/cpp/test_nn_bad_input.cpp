@@ -6,7 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include "controller_state.hpp"
 #include "nn_reference.hpp"
+#include "step_inputs.hpp"
 
 namespace {
 
@@ -17,83 +19,26 @@ NEUROV_SCALAR_SUITE(NNBadInputTest);
 
 // ------------------------------------------------------------------ bad input
 
-template <typename Derived>
-void append_bytes(std::vector<unsigned char>& out, const Eigen::MatrixBase<Derived>& m) {
-  const auto e = m.eval();
-  const auto* p = reinterpret_cast<const unsigned char*>(e.data());
-  out.insert(out.end(), p, p + sizeof(typename Derived::Scalar) * e.size());
-}
-
-template <typename T>
-void append_value(std::vector<unsigned char>& out, const T& v) {
-  const auto* p = reinterpret_cast<const unsigned char*>(&v);
-  out.insert(out.end(), p, p + sizeof v);
-}
-
-template <typename S, int N>
-std::vector<unsigned char> snapshot(const NNAdaptiveController<S, N>& c) {
-  std::vector<unsigned char> b;
-  append_bytes(b, c.weights());
-  append_value(b, c.weight_norm());
-  append_bytes(b, c.tracking().s);
-  append_bytes(b, c.tracking().nu_r_dot);
-  append_bytes(b, c.network_output());
-  append_bytes(b, c.basis());
-  append_bytes(b, c.learning_rates());
-  append_value(b, c.adapted());
-  return b;
-}
-
-const char* const kArgNames[5] = {"eta", "nu", "eta_d", "eta_d_dot", "eta_d_ddot"};
-
-/// Every argument of step() with NaN, +Inf and -Inf in two positions, then
-/// the pitch singularity: each call is refused with tau = 0 and the
-/// controller's state untouched, and afterwards the controller steps exactly
-/// as a twin that never saw the bad calls.
+/// After a history, every bad input of step() is refused
+/// (expect_bad_inputs_refused, on all the NN's state), and afterwards the
+/// controller steps exactly as a twin that never saw the bad calls.
 template <typename Ctl>
 void expect_refuses_bad_inputs(Ctl ctl, Rng& rng) {
   using S = typename Ctl::Scalar;
   using V = Vector6<S>;
   V args[5];
-  args[0] = rng.pose<S>(1.0);
-  args[1] = rng.velocity<S>();
-  args[2] = args[0] + rng.vec6<S>(-0.3, 0.3);
-  args[3] = rng.vec6<S>(-0.5, 0.5);
-  args[4] = rng.vec6<S>(-0.5, 0.5);
+  neurov_test::draw_step_inputs(rng, args);
   V tau;
   for (int i = 0; i < 2; ++i)  // a history, so "unchanged" means something
     ASSERT_EQ(ctl.step(args[0], args[1], args[2], args[3], args[4], tau), Status::ok);
   Ctl twin = ctl;
-  const auto before = snapshot(ctl);
-  const S bad_values[3] = {std::numeric_limits<S>::quiet_NaN(), std::numeric_limits<S>::infinity(),
-                           -std::numeric_limits<S>::infinity()};
-  for (int a = 0; a < 5; ++a)
-    for (const S bad : bad_values)
-      for (const int index : {0, 4}) {
-        V in[5] = {args[0], args[1], args[2], args[3], args[4]};
-        in[a](index) = bad;
-        tau.setConstant(S(7));
-        const Status st = ctl.step(in[0], in[1], in[2], in[3], in[4], tau);
-        EXPECT_EQ(st, Status::non_finite_input) << kArgNames[a] << "[" << index << "] = " << bad;
-        EXPECT_EQ(ctl.last_status(), Status::non_finite_input);
-        EXPECT_TRUE((tau.array() == S(0)).all()) << kArgNames[a];
-        EXPECT_TRUE(snapshot(ctl) == before) << "state changed by a bad " << kArgNames[a];
-      }
-  for (const double pitch : {kPi / 2, -kPi / 2}) {
-    V eta = args[0];
-    eta(4) = static_cast<S>(pitch);
-    tau.setConstant(S(7));
-    EXPECT_EQ(ctl.step(eta, args[1], args[2], args[3], args[4], tau), Status::near_singularity);
-    EXPECT_EQ(ctl.last_status(), Status::near_singularity);
-    EXPECT_TRUE((tau.array() == S(0)).all());
-    EXPECT_TRUE(snapshot(ctl) == before) << "state changed at the singularity";
-  }
+  neurov_test::expect_bad_inputs_refused(ctl, args, [](const Ctl& c) { return neurov_test::state_of(c); });
   V tau_twin;
   ASSERT_EQ(ctl.step(args[0], args[1], args[2], args[3], args[4], tau), Status::ok);
   ASSERT_EQ(twin.step(args[0], args[1], args[2], args[3], args[4], tau_twin), Status::ok);
   EXPECT_EQ(ctl.last_status(), Status::ok);
   EXPECT_TRUE(all_near(tau, tau_twin, 0.0));
-  EXPECT_TRUE(snapshot(ctl) == snapshot(twin));
+  EXPECT_TRUE(neurov_test::state_of(ctl) == neurov_test::state_of(twin));
 }
 
 TYPED_TEST(NNBadInputTest, BadInputIsRefusedWithZeroTauAndUnchangedWeights) {

@@ -148,9 +148,7 @@ DriftRun run_drift(const Modification& mod) {
   cfg.kd << S(100), S(100), S(100), S(20), S(20), S(20);
   cfg.gamma = S(5);
   cfg.dt = static_cast<S>(dt);
-  cfg.modification = mod.kind;
-  cfg.sigma_m = static_cast<S>(mod.sigma_m);
-  cfg.w_max = static_cast<S>(mod.w_max);
+  mod.apply_to(cfg);
   NNAdaptiveController<S> ctl(net, cfg);
   const Vehicle<S> plant(nerov_parameters<S>());
   std::mt19937 noise_source(17);

@@ -19,6 +19,7 @@
 #include <random>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 #include <gtest/gtest.h>
@@ -134,6 +135,28 @@ Vector6<S> to(const V6d& v) {
 
 // ----------------------------------------------------------------------- PID
 
+/// A change that makes a default Config invalid, and the field its refusal must name.
+template <typename Config>
+struct BadField {
+  const char* field;
+  void (*mutate)(Config&);
+};
+
+/// Every bad field: create() names it and leaves the controller unconfigured,
+/// and the throwing constructor refuses it.
+template <typename Ctl>
+void expect_each_refused(const std::vector<BadField<typename Ctl::Config>>& bad_fields) {
+  for (const auto& bad : bad_fields) {
+    typename Ctl::Config c;
+    bad.mutate(c);
+    Ctl out;
+    const ValidationError e = Ctl::create(c, out);
+    EXPECT_EQ(std::string(e.field ? e.field : ""), bad.field);
+    EXPECT_FALSE(out.configured()) << bad.field;
+    EXPECT_THROW(Ctl{c}, std::invalid_argument) << bad.field;
+  }
+}
+
 NEUROV_SCALAR_SUITE(PIDTest);
 
 template <typename S>
@@ -216,28 +239,13 @@ TYPED_TEST(PIDTest, AntiWindupLimitsTheIntegralTermAndStopsIntegratingIntoTheLim
 
 TYPED_TEST(PIDTest, BadConfigurationNamesTheField) {
   using S = TypeParam;
-  const auto field_of = [](const PIDConfig<S>& c) {
-    PIDController<S> out;
-    const ValidationError e = PIDController<S>::create(c, out);
-    EXPECT_FALSE(out.configured());
-    return std::string(e.field ? e.field : "");
-  };
-  PIDConfig<S> c;
-  c.kp(2) = S(-1);
-  EXPECT_EQ(field_of(c), "kp");
-  c = PIDConfig<S>{};
-  c.ki(0) = std::numeric_limits<S>::quiet_NaN();
-  EXPECT_EQ(field_of(c), "ki");
-  c = PIDConfig<S>{};
-  c.kd(5) = S(-3);
-  EXPECT_EQ(field_of(c), "kd");
-  c = PIDConfig<S>{};
-  c.integral_limit(1) = S(0);
-  EXPECT_EQ(field_of(c), "integral_limit");
-  c = PIDConfig<S>{};
-  c.dt = S(0);
-  EXPECT_EQ(field_of(c), "dt");
-  EXPECT_THROW(PIDController<S>{c}, std::invalid_argument);
+  expect_each_refused<PIDController<S>>({
+      {"kp", [](PIDConfig<S>& c) { c.kp(2) = S(-1); }},
+      {"ki", [](PIDConfig<S>& c) { c.ki(0) = std::numeric_limits<S>::quiet_NaN(); }},
+      {"kd", [](PIDConfig<S>& c) { c.kd(5) = S(-3); }},
+      {"integral_limit", [](PIDConfig<S>& c) { c.integral_limit(1) = S(0); }},
+      {"dt", [](PIDConfig<S>& c) { c.dt = S(0); }},
+  });
   // An unconfigured controller refuses to step.
   PIDController<S> empty;
   Vector6<S> tau = Vector6<S>::Ones();
@@ -334,28 +342,13 @@ TEST(SlidingModeClosedLoop, BoundaryLayerShrinksTheErrorFromAnUnmodelledForce) {
 
 TYPED_TEST(SlidingModeTest, BadConfigurationNamesTheField) {
   using S = TypeParam;
-  const auto field_of = [](const SlidingModeConfig<S>& c) {
-    SlidingModeController<S> out;
-    const ValidationError e = SlidingModeController<S>::create(c, out);
-    EXPECT_FALSE(out.configured());
-    return std::string(e.field ? e.field : "");
-  };
-  SlidingModeConfig<S> c;
-  c.lambda(0) = S(0);
-  EXPECT_EQ(field_of(c), "lambda");
-  c = SlidingModeConfig<S>{};
-  c.kd(3) = S(-1);
-  EXPECT_EQ(field_of(c), "kd");
-  c = SlidingModeConfig<S>{};
-  c.k(2) = S(-5);
-  EXPECT_EQ(field_of(c), "k");
-  c = SlidingModeConfig<S>{};
-  c.phi(4) = S(0);
-  EXPECT_EQ(field_of(c), "phi");
-  c = SlidingModeConfig<S>{};
-  c.theta(7) = std::numeric_limits<S>::infinity();
-  EXPECT_EQ(field_of(c), "theta");
-  EXPECT_THROW(SlidingModeController<S>{c}, std::invalid_argument);
+  expect_each_refused<SlidingModeController<S>>({
+      {"lambda", [](SlidingModeConfig<S>& c) { c.lambda(0) = S(0); }},
+      {"kd", [](SlidingModeConfig<S>& c) { c.kd(3) = S(-1); }},
+      {"k", [](SlidingModeConfig<S>& c) { c.k(2) = S(-5); }},
+      {"phi", [](SlidingModeConfig<S>& c) { c.phi(4) = S(0); }},
+      {"theta", [](SlidingModeConfig<S>& c) { c.theta(7) = std::numeric_limits<S>::infinity(); }},
+  });
 }
 
 }  // namespace

@@ -134,12 +134,18 @@ Vector6<S> gains(double translation, double roll_pitch, double yaw) {
   return g;
 }
 
-template <typename S>
-PDController<S> make_pd() {
-  PDConfig<S> cfg;
+/// The PD's gains: the PID keeps them and adds an integral.
+template <template <typename> class Config, typename S>
+Config<S> with_pd_gains() {
+  Config<S> cfg;
   cfg.kp = gains<S>(200, 50, 100);
   cfg.kd = gains<S>(300, 60, 120);
-  return PDController<S>(cfg);
+  return cfg;
+}
+
+template <typename S>
+PDController<S> make_pd() {
+  return PDController<S>(with_pd_gains<PDConfig, S>());
 }
 
 template <typename S>
@@ -156,10 +162,8 @@ LinearAdaptiveController<S> make_linear() {
 
 template <typename S>
 PIDController<S> make_pid() {
-  PIDConfig<S> cfg;
-  cfg.kp = gains<S>(200, 50, 100);
+  auto cfg = with_pd_gains<PIDConfig, S>();
   cfg.ki.setConstant(S(5));
-  cfg.kd = gains<S>(300, 60, 120);
   return PIDController<S>(cfg);
 }
 
@@ -242,16 +246,27 @@ void drive(Simulator<S>& sim, Controller& controller) {
   }
 }
 
+/// For each configuration above, on NEROV: its whole closed-loop run by a
+/// controller from make(), then check(label, cfg, vehicle, whole).
+template <typename S, typename Make, typename Check>
+void for_each_run(Make make, Check check) {
+  const Vehicle<S> vehicle(nerov_parameters<S>());
+  for (const auto& [label, cfg] : configurations<S>()) {
+    auto c = make();
+    SimulationResult<S> whole;
+    ASSERT_TRUE(simulate(vehicle, c, cfg, whole).ok()) << label;
+    check(label, cfg, vehicle, whole);
+  }
+}
+
 /// simulate() and a run stepped by hand agree, and reset() replays the run.
 template <typename S, typename Make>
 void expect_stepped_run_is_simulate(Make make, const char* name) {
-  const Vehicle<S> vehicle(nerov_parameters<S>());
-  for (const auto& [label, cfg] : configurations<S>()) {
+  SCOPED_TRACE(name);
+  for_each_run<S>(make, [&](const std::string& label, const SimulationConfig<S>& cfg,
+                            const Vehicle<S>& vehicle, const SimulationResult<S>& whole) {
     const std::string what = std::string(name) + ", " + label;
-    auto c1 = make();
     auto c2 = make();
-    SimulationResult<S> whole;
-    ASSERT_TRUE(simulate(vehicle, c1, cfg, whole).ok()) << what;
     Simulator<S> sim;
     Eigen::Matrix<S, 1, kMaxLoggedParameters> buffer;
     const int logged = controller_report<S>(c2, Status::ok, buffer).parameter_count;
@@ -262,7 +277,7 @@ void expect_stepped_run_is_simulate(Make make, const char* name) {
     c2.reset();
     drive(sim, c2);
     expect_same_run(sim.result(), whole, what + ", after reset()");
-  }
+  });
 }
 
 TYPED_TEST(SimulatorTest, ARunSteppedByHandIsTheClosedLoop) {
@@ -299,11 +314,8 @@ SimulationResult<S> rows_of(const SimulationResult<S>& whole, Eigen::Index first
 // only the last chunk says that the run diverged.
 TYPED_TEST(SimulatorTest, ChunksTogetherAreTheWholeRun) {
   using S = TypeParam;
-  const Vehicle<S> vehicle(nerov_parameters<S>());
-  for (const auto& [label, cfg] : configurations<S>()) {
-    auto reference = make_linear<S>();
-    SimulationResult<S> whole;
-    ASSERT_TRUE(simulate(vehicle, reference, cfg, whole).ok()) << label;
+  for_each_run<S>(make_linear<S>, [](const std::string& label, const SimulationConfig<S>& cfg,
+                                     const Vehicle<S>& vehicle, const SimulationResult<S>& whole) {
     for (const Eigen::Index chunk_rows : {Eigen::Index(1), Eigen::Index(13), whole.steps,
                                           Eigen::Index(1000)}) {
       const std::string what = label + ", chunks of " + std::to_string(chunk_rows);
@@ -331,7 +343,7 @@ TYPED_TEST(SimulatorTest, ChunksTogetherAreTheWholeRun) {
     const auto e = simulate_in_chunks(vehicle, controller, cfg, Eigen::Index(0),
                                       [](const SimulationResult<S>&) { FAIL() << "a chunk"; });
     EXPECT_EQ(std::string(e.field), "chunk_rows") << label;
-  }
+  });
 }
 
 // A full log window refuses the step and changes nothing; drain() hands the
@@ -498,11 +510,8 @@ TYPED_TEST(SimulatorTest, ANewSeedChangesTheNoiseOnly) {
 // comparison would prove little.
 TYPED_TEST(SimulatorTest, ComparisonConfigurationsReachTheirFeatures) {
   using S = TypeParam;
-  const Vehicle<S> vehicle(nerov_parameters<S>());
-  for (const auto& [label, cfg] : configurations<S>()) {
-    auto c = make_pd<S>();
-    SimulationResult<S> r;
-    ASSERT_TRUE(simulate(vehicle, c, cfg, r).ok()) << label;
+  for_each_run<S>(make_pd<S>, [](const std::string& label, const SimulationConfig<S>& cfg,
+                                  const Vehicle<S>&, const SimulationResult<S>& r) {
     std::uint8_t bits = 0;
     for (Eigen::Index k = 0; k < r.steps; ++k) bits |= r.faults(k);
     if (!cfg.sensor_faults.empty()) {
@@ -518,7 +527,7 @@ TYPED_TEST(SimulatorTest, ComparisonConfigurationsReachTheirFeatures) {
     if (r.diverged) {
       EXPECT_LT(r.steps, 40) << label;
     }
-  }
+  });
 }
 
 }  // namespace
