@@ -91,10 +91,12 @@ TYPED_TEST(BlueRov2HeavyTest, ColumnsHaveTheSignsOfArduSubsMotorFactors) {
                          factors[i][0], factors[i][1], factors[i][2]};
     for (int k = 0; k < 6; ++k) {
       const double v = static_cast<double>(b(k, i));
-      if (sign[k] != 0)
+      // Braced: EXPECT_* expand to an if-else of their own.
+      if (sign[k] != 0) {
         EXPECT_GT(v * sign[k], 0.0) << "motor " << i + 1 << ", DOF " << k;
-      else if (k < 3 || i >= 4)
+      } else if (k < 3 || i >= 4) {
         EXPECT_EQ(v, 0.0) << "motor " << i + 1 << ", DOF " << k;
+      }
     }
   }
 }
