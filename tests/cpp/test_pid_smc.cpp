@@ -30,6 +30,7 @@
 #include "neurov/control/sliding_mode_controller.hpp"
 #include "neurov/model/vehicle.hpp"
 #include "scalar_suite.hpp"
+#include "test_support.hpp"
 
 namespace {
 
@@ -39,7 +40,7 @@ using V6d = Eigen::Matrix<double, 6, 1>;
 using M3d = Eigen::Matrix3d;
 using M6d = Eigen::Matrix<double, 6, 6>;
 
-constexpr double kPi = 3.14159265358979323846;
+using neurov_test::kPi;
 
 // A seeded source whose mapping from mt19937 words to doubles is written out,
 // so a seed gives the same points on every standard library.
@@ -135,12 +136,7 @@ Vector6<S> to(const V6d& v) {
 
 // ----------------------------------------------------------------------- PID
 
-/// A change that makes a default Config invalid, and the field its refusal must name.
-template <typename Config>
-struct BadField {
-  const char* field;
-  void (*mutate)(Config&);
-};
+using neurov_test::BadField;
 
 /// Every bad field: create() names it and leaves the controller unconfigured,
 /// and the throwing constructor refuses it.

@@ -219,36 +219,31 @@ std::string field_of(const ValidationError& e) { return e.field ? e.field : "(ok
 TEST(GaussMarkovCurrent, BadInputIsNamed) {
   const auto good = wandering_current();
   EXPECT_TRUE(validate(good).ok());
-  const double nan = std::nan("");
-  const struct {
-    void (*change)(GaussMarkovCurrentConfig<double>&, double);
-    double value;
-    const char* field;
-  } cases[] = {
-      {[](auto& c, double v) { c.time_constant = v; }, 0.0, "time_constant"},
-      {[](auto& c, double v) { c.time_constant = v; }, -5.0, "time_constant"},
-      {[](auto& c, double v) { c.time_constant = v; }, nan, "time_constant"},
-      {[](auto& c, double v) { c.speed_std = v; }, -0.1, "speed_std"},
-      {[](auto& c, double v) { c.direction_std = v; }, -1.0, "direction_std"},
-      {[](auto& c, double v) { c.vertical_angle_std = v; }, nan, "vertical_angle_std"},
-      {[](auto& c, double v) { c.speed_min = v; }, -0.5, "speed_min"},
-      {[](auto& c, double v) { c.speed_max = v; }, 0.4, "speed"},  // mean above max
-      {[](auto& c, double v) { c.speed_min = v; }, 1.0, "speed"},   // mean below min
-      {[](auto& c, double v) {
-         c.speed_min = v;
-         c.speed_max = 0.5 * v;
-       },
-       1.0, "speed_max"},  // min > max
-      {[](auto& c, double v) { c.speed_max = v; }, INFINITY, "speed_max"},
-      {[](auto& c, double v) { c.direction = v; }, nan, "direction"},
-      {[](auto& c, double v) { c.vertical_angle = v; }, 95.0, "vertical_angle"},
+  const neurov_test::BadField<GaussMarkovCurrentConfig<double>> cases[] = {
+      {"time_constant", [](auto& c) { c.time_constant = 0.0; }},
+      {"time_constant", [](auto& c) { c.time_constant = -5.0; }},
+      {"time_constant", [](auto& c) { c.time_constant = std::nan(""); }},
+      {"speed_std", [](auto& c) { c.speed_std = -0.1; }},
+      {"direction_std", [](auto& c) { c.direction_std = -1.0; }},
+      {"vertical_angle_std", [](auto& c) { c.vertical_angle_std = std::nan(""); }},
+      {"speed_min", [](auto& c) { c.speed_min = -0.5; }},
+      {"speed", [](auto& c) { c.speed_max = 0.4; }},  // mean above max
+      {"speed", [](auto& c) { c.speed_min = 1.0; }},   // mean below min
+      {"speed_max",
+       [](auto& c) {
+         c.speed_min = 1.0;
+         c.speed_max = 0.5;
+       }},  // min > max
+      {"speed_max", [](auto& c) { c.speed_max = INFINITY; }},
+      {"direction", [](auto& c) { c.direction = std::nan(""); }},
+      {"vertical_angle", [](auto& c) { c.vertical_angle = 95.0; }},
   };
   for (const auto& k : cases) {
     auto c = good;
-    k.change(c, k.value);
+    k.mutate(c);
     GaussMarkovCurrent<double> g;
     const ValidationError e = GaussMarkovCurrent<double>::create(c, 1, g);
-    EXPECT_EQ(field_of(e), k.field) << "value " << k.value;
+    EXPECT_EQ(field_of(e), k.field) << "case " << (&k - cases);
     EXPECT_FALSE(g.valid());
     char buf[160];
     e.format(buf, sizeof buf);

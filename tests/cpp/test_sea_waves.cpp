@@ -429,31 +429,25 @@ TEST(Waves, SpreadingFollowsCosNAndLeavesFrequenciesAndPhasesAlone) {
 }
 
 TEST(Waves, BadInputIsNamed) {
-  const double nan = std::nan("");
-  const struct {
-    void (*change)(WaveConfig<double>&, double);
-    double value;
-    const char* field;
-  } cases[] = {
-      {[](auto& c, double v) { c.hs = v; }, 0.0, "hs"},
-      {[](auto& c, double v) { c.hs = v; }, -1.0, "hs"},
-      {[](auto& c, double v) { c.tp = v; }, 0.0, "tp"},
-      {[](auto& c, double v) { c.tp = v; }, nan, "tp"},
-      {[](auto& c, double v) { c.gamma = v; }, 0.9, "gamma"},
-      {[](auto& c, double v) { c.gamma = v; }, INFINITY, "gamma"},
-      {[](auto& c, double v) { c.direction = v; }, nan, "direction"},
-      {[](auto& c, double v) { c.spreading = v; }, -2.0, "spreading"},
-      {[](auto& c, double v) { c.components = static_cast<int>(v); }, 0.0, "components"},
-      {[](auto& c, double v) { c.components = static_cast<int>(v); }, 513.0, "components"},
-      {[](auto& c, double v) { c.spectrum = static_cast<WaveSpectrum>(static_cast<int>(v)); }, 7.0,
-       "spectrum"},
+  const neurov_test::BadField<WaveConfig<double>> cases[] = {
+      {"hs", [](auto& c) { c.hs = 0.0; }},
+      {"hs", [](auto& c) { c.hs = -1.0; }},
+      {"tp", [](auto& c) { c.tp = 0.0; }},
+      {"tp", [](auto& c) { c.tp = std::nan(""); }},
+      {"gamma", [](auto& c) { c.gamma = 0.9; }},
+      {"gamma", [](auto& c) { c.gamma = INFINITY; }},
+      {"direction", [](auto& c) { c.direction = std::nan(""); }},
+      {"spreading", [](auto& c) { c.spreading = -2.0; }},
+      {"components", [](auto& c) { c.components = 0; }},
+      {"components", [](auto& c) { c.components = 513; }},
+      {"spectrum", [](auto& c) { c.spectrum = static_cast<WaveSpectrum>(7); }},
   };
   auto w = std::make_unique<Waves<double>>();
   for (const auto& k : cases) {
     WaveConfig<double> c;
-    k.change(c, k.value);
+    k.mutate(c);
     const ValidationError e = Waves<double>::create(c, 1, *w);
-    EXPECT_STREQ(e.field ? e.field : "(ok)", k.field) << k.value;
+    EXPECT_STREQ(e.field ? e.field : "(ok)", k.field) << "case " << (&k - cases);
     EXPECT_FALSE(w->valid());
   }
   WaveKinematics<double> out;
@@ -461,6 +455,7 @@ TEST(Waves, BadInputIsNamed) {
   EXPECT_EQ(w->advance(Eigen::Vector3d::Zero()), Status::invalid_argument);
   ASSERT_TRUE(Waves<double>::create(WaveConfig<double>{}, 1, *w).ok());
   EXPECT_EQ(w->start(0.0, Eigen::Vector3d::Zero(), 0.0), Status::invalid_argument);
+  const double nan = std::nan("");
   EXPECT_EQ(w->start(nan, Eigen::Vector3d::Zero(), 0.1), Status::non_finite_input);
   EXPECT_EQ(w->evaluate(0.0, Eigen::Vector3d(nan, 0, 0), out), Status::non_finite_input);
   EXPECT_EQ(out.velocity, Eigen::Vector3d::Zero());
