@@ -7,7 +7,6 @@
 // memory. A new controller joins by one line in Controllers and a draw_gains.
 // (test_reliability_*.cpp sweep every hostile value through every entry.)
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <string>
 #include <type_traits>
@@ -26,6 +25,7 @@ using namespace neurov;
 using neurov_test::draw_step_inputs;
 using neurov_test::expect_bad_inputs_refused;
 using neurov_test::Rng;
+using neurov_test::same_bits;
 
 // ------------------------------------------------- a configured controller
 
@@ -153,11 +153,6 @@ std::vector<unsigned char> observable(const Ctl& c) {
 template <typename Ctl, typename S>
 Status step(Ctl& c, const Vector6<S> (&v)[5], Vector6<S>& tau) {
   return c.step(v[0], v[1], v[2], v[3], v[4], tau);
-}
-
-template <typename S>
-bool same_bits(const Vector6<S>& a, const Vector6<S>& b) {
-  return std::memcmp(a.data(), b.data(), sizeof(S) * 6) == 0;
 }
 
 /// A controller with gains drawn from the test's own stream, which then draws

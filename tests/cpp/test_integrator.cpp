@@ -2,7 +2,6 @@
 // it), its order of accuracy, and its all-or-nothing update contract.
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <string>
 #include <type_traits>
@@ -35,11 +34,6 @@ double nerov_potential(const Vector6<S>& eta) {
   const double phi = eta(3), theta = eta(4);
   const double sp = std::sin(phi / 2), st = std::sin(theta / 2);
   return 0.02 * 1800 * (2 * sp * sp * std::cos(theta) + 2 * st * st);
-}
-
-template <typename S>
-bool same_bits(const Vector6<S>& a, const Vector6<S>& b) {
-  return std::memcmp(a.data(), b.data(), sizeof(S) * 6) == 0;
 }
 
 template <typename S>

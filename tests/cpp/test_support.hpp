@@ -4,7 +4,9 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <sstream>
@@ -147,6 +149,14 @@ struct BadField {
   const char* field;
   void (*mutate)(Config&);
 };
+
+/// The same bits, NaN payloads and signed zeros included: "nothing changed"
+/// for a refused step, "the same arithmetic" for two paths.
+template <typename S, int R, int C>
+bool same_bits(const Eigen::Matrix<S, R, C>& a, const Eigen::Matrix<S, R, C>& b) {
+  return a.size() == b.size() &&
+         std::memcmp(a.data(), b.data(), sizeof(S) * static_cast<std::size_t>(a.size())) == 0;
+}
 
 /// Stores a measured number (error, drift, ratio) in the XML report, so the
 /// margin to a tolerance can be read from `--gtest_output=xml`.
