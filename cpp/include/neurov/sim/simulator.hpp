@@ -253,8 +253,9 @@ class Simulator {
       Vec6 applied = acting_tau;
       if (config_.use_thrusters) {
         for (std::size_t f = 0; f < config_.thruster_failures.size(); ++f) {
-          if (!failure_applied_[f] && ts >= config_.thruster_failures[f].time) {
-            thrusters_.set_efficiency(config_.thruster_failures[f].index, config_.thruster_failures[f].efficiency);
+          const ThrusterFailure<Scalar>& failure = config_.thruster_failures[f];
+          if (!failure_applied_[f] && ts >= failure.time) {
+            thrusters_.set_efficiency(failure.index, failure.efficiency);
             failure_applied_[f] = true;
           }
         }
