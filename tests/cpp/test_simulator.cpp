@@ -487,6 +487,28 @@ TYPED_TEST(SimulatorTest, RejectedCallsChangeNothing) {
   EXPECT_EQ(sim.steps(), 6);  // a failed create leaves the simulator as it was
 }
 
+// A finite force near the scalar's largest value is logged finite: the row's
+// tau_applied is the mean of its substeps, not their sum divided afterwards
+// (four substeps of 0.7 max summed first are inf; libFuzzer found it in float).
+TYPED_TEST(SimulatorTest, TheMeanOfHugeFiniteForcesIsFinite) {
+  using S = TypeParam;
+  SimulationConfig<S> cfg = square<S>();
+  cfg.substeps = 4;
+  // Short enough that the force moves the plant by a finite amount.
+  cfg.dt = S(1000) / std::numeric_limits<S>::max();
+  cfg.duration = cfg.dt;
+  Simulator<S> sim;
+  const ValidationError e = Simulator<S>::create(Vehicle<S>(nerov_parameters<S>()), cfg, sim);
+  ASSERT_TRUE(e.ok()) << e.field << " " << e.expected;
+  Vector6<S> tau = Vector6<S>::Zero();
+  tau(0) = S(0.7) * std::numeric_limits<S>::max();
+  tau(1) = -tau(0);
+  ASSERT_EQ(sim.step(tau, ControllerReport<S>{}), Status::ok);
+  const SimulationResult<S> r = sim.result();
+  EXPECT_EQ(r.tau_applied.row(0).transpose(), tau);
+  EXPECT_TRUE(r.eta.allFinite() && r.nu.allFinite());
+}
+
 TYPED_TEST(SimulatorTest, ANewSeedChangesTheNoiseOnly) {
   using S = TypeParam;
   const Vehicle<S> vehicle(nerov_parameters<S>());

@@ -246,7 +246,11 @@ class Simulator {
       follow_waves((config_.use_thrusters ? Vec6(thrusters_.wrench()) : acting_tau) +
                    disturbance_at(t));
     Status ps = Status::ok;
-    Vec6 applied_sum = Vec6::Zero();
+    // The row's tau_applied is the substeps' mean, summed term by term (as the
+    // thrusts are): a sum first would overflow to inf in float when the forces
+    // are finite but near the largest float.
+    const Scalar substeps = static_cast<Scalar>(config_.substeps);
+    Vec6 applied_mean = Vec6::Zero();
     for (int j = 0; j < config_.substeps; ++j) {
       const Scalar ts = t + static_cast<Scalar>(j) * h_;
       apply_payload_events(ts);
@@ -267,9 +271,9 @@ class Simulator {
         if (thruster_count_ > 0)
           r.thrusts.row(row) +=
               thrusters_.efficiency().cwiseProduct(thrusters_.thrust()).transpose() /
-              static_cast<Scalar>(config_.substeps);
+              substeps;
       }
-      applied_sum += applied;
+      applied_mean += applied / substeps;
       const Vec6 tau_s = applied + disturbance_at(ts);
       if (config_.waves) {
         if (eta_(2) < waves_.minimum_depth()) faults |= fault_bits::shallow;
@@ -298,7 +302,7 @@ class Simulator {
                      eta_, nu_);
     }
     if (config_.current_model == CurrentModel::gauss_markov) current_.advance(config_.dt);
-    r.tau_applied.row(row) = (applied_sum / static_cast<Scalar>(config_.substeps)).transpose();
+    r.tau_applied.row(row) = applied_mean.transpose();
     r.plant_status(row) = static_cast<std::uint8_t>(ps);
     r.faults(row) = faults;
     k_ = k + 1;
