@@ -1,9 +1,10 @@
 """The NN step's time against where its storage lands on the heap.
 
 `_bench.time_controller_steps` copies the controller before each timed loop,
-so the weights and centres get fresh heap blocks whose offset from a 32- or
+so the weights and the basis get fresh heap blocks whose offset from a 32- or
 64-byte boundary (which the AVX2 and AVX-512 kernels load at) depends on all
-that was allocated before. This shifts the heap by 16-byte steps (a buffer
+that was allocated before (the packed centres start on a cache line whatever
+the offset). This shifts the heap by 16-byte steps (a buffer
 kept alive before each copy) and times the step at each offset, so that a
 difference between two builds can be told from an offset's effect:
 

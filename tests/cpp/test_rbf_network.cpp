@@ -3,9 +3,12 @@
 // the points where the value is known exactly (a centre, one width away), for
 // dynamic and compile-time sizes, and for its refusals.
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Core>
 #include <gtest/gtest.h>
@@ -84,6 +87,54 @@ TYPED_TEST(RbfNetworkTest, BasisAndOutputMatchAPlainLoop) {
     ASSERT_EQ(net.basis(x.cast<S>(), g2), Status::ok);
     EXPECT_TRUE(all_near(g2, g, 0.0));
   }
+}
+
+// The packed centres start on a cache line in the network, in every copy
+// and after a move, and hold the same numbers: the basis is the same bit for
+// bit wherever the heap put the copy. The copies are kept, with a spacer of
+// 16 more bytes before each, so that they land at different offsets from a
+// cache line (with glibc: 0, 0, 48, 16, 0, 0, 16, 32 bytes).
+TYPED_TEST(RbfNetworkTest, CopiesAndMovesKeepThePackedCentresOnACacheLine) {
+  using S = TypeParam;
+  Rng rng(302);
+  const int n_in = 24, n_c = 37;
+  DynNet<S> net(rng.matrix(n_c, n_in, -1, 1).cast<S>(), VecX<S>::Constant(n_c, S(0.8)));
+  const VecX<S> x = rng.matrix(n_in, 1, -1, 1).cast<S>();
+  VecX<S> g(n_c), g_copy(n_c);
+  ASSERT_EQ(net.basis(x, g), Status::ok);
+  const auto expect_same_basis = [&](const DynNet<S>& other, const char* how, int shift) {
+    ASSERT_EQ(other.basis(x, g_copy), Status::ok);
+    EXPECT_TRUE(same_bits(g_copy, g)) << how << ", heap shift " << shift;
+  };
+  std::vector<std::vector<char>> kept;
+  std::vector<DynNet<S>> copies;
+  copies.reserve(8);
+  DynNet<S> assigned(MatX<S>::Ones(1, 1), VecX<S>::Ones(1));
+  for (int shift = 0; shift < 8; ++shift) {
+    kept.emplace_back(16 * shift + 8);
+    const DynNet<S>& copy = copies.emplace_back(net);
+    expect_same_basis(copy, "copy", shift);
+    assigned = copy;
+    expect_same_basis(assigned, "copy-assigned", shift);
+    DynNet<S> moved(std::move(assigned));
+    expect_same_basis(moved, "moved", shift);
+    assigned = std::move(moved);
+    expect_same_basis(assigned, "move-assigned", shift);
+  }
+
+  detail::CacheLineArray<S> a;
+  a.resize(n_c);
+  for (int j = 0; j < n_c; ++j) a.data()[j] = S(j);
+  std::vector<detail::CacheLineArray<S>> array_copies;
+  array_copies.reserve(8);
+  for (int shift = 0; shift < 8; ++shift) {
+    kept.emplace_back(16 * shift + 8);
+    const detail::CacheLineArray<S>& b = array_copies.emplace_back(a);
+    ASSERT_EQ(b.size(), n_c);
+    EXPECT_EQ(reinterpret_cast<std::uintptr_t>(b.data()) % 64, 0u) << "shift " << shift;
+    for (int j = 0; j < n_c; ++j) ASSERT_EQ(b.data()[j], S(j)) << "shift " << shift;
+  }
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(a.data()) % 64, 0u);
 }
 
 TYPED_TEST(RbfNetworkTest, BasisIsOneAtTheCentreAndExpMinusHalfOneWidthAway) {

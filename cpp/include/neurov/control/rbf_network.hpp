@@ -11,6 +11,9 @@
 #include <Eigen/Core>
 #include <cmath>
 
+#include <type_traits>
+
+#include "neurov/core/cache_line_array.hpp"
 #include "neurov/core/config.hpp"
 #include "neurov/control/rbf_kernels.hpp"
 #include "neurov/core/status.hpp"
@@ -38,8 +41,11 @@ class RbfNetwork {
   /// cache-line panels for the basis loop (rbf_kernels.hpp): N x n_in more
   /// numbers, for 1.2-2.3x at N >= 256. A network of fixed N (firmware,
   /// the C interface) is stored once and reads the column-major matrix.
+  /// The packed copy starts on a cache line, so the kernels' vector loads
+  /// never straddle two, wherever the heap put it.
   static constexpr bool kPacked = CentresT == Eigen::Dynamic;
-  using PackedCentres = Eigen::Matrix<Scalar, kPacked ? Eigen::Dynamic : 0, 1>;
+  using PackedCentres = std::conditional_t<kPacked, detail::CacheLineArray<Scalar>,
+                                           Eigen::Matrix<Scalar, 0, 1>>;
 
   RbfNetwork() = default;
 
