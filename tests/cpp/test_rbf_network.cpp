@@ -93,7 +93,8 @@ TYPED_TEST(RbfNetworkTest, BasisAndOutputMatchAPlainLoop) {
 // and after a move, and hold the same numbers: the basis is the same bit for
 // bit wherever the heap put the copy. The copies are kept, with a spacer of
 // 16 more bytes before each, so that they land at different offsets from a
-// cache line (with glibc: 0, 0, 48, 16, 0, 0, 16, 32 bytes).
+// cache line (with glibc they do; a copy freed at once would come back to
+// the same place).
 TYPED_TEST(RbfNetworkTest, CopiesAndMovesKeepThePackedCentresOnACacheLine) {
   using S = TypeParam;
   Rng rng(302);

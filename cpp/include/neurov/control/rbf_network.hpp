@@ -10,7 +10,6 @@
 
 #include <Eigen/Core>
 #include <cmath>
-
 #include <type_traits>
 
 #include "neurov/core/cache_line_array.hpp"
