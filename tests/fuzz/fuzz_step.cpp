@@ -18,8 +18,9 @@
 //   cmake -S . -B build-fuzz -DNEUROV_BUILD_FUZZ=ON -DCMAKE_CXX_COMPILER=clang++
 //   cmake --build build-fuzz --target neurov_fuzz_step
 //   mkdir -p corpus && build-fuzz/tests/fuzz/neurov_fuzz_step -max_total_time=60 \
-//       -max_len=1024 -len_control=0 corpus
+//       -max_len=1024 -len_control=0 corpus tests/fuzz/regressions
 //   build-fuzz/tests/fuzz/neurov_fuzz_step crash-<hash>     # replay a crash
+// A crash, once fixed, joins tests/fuzz/regressions under the defect's name.
 // (-len_control=0: a controller step needs ~150 input bytes, which libFuzzer's
 // slow growth of the input length would take most of a minute to reach.)
 #include <fuzzer/FuzzedDataProvider.h>
