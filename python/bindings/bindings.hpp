@@ -7,6 +7,7 @@
 namespace neurov::bindings {
 
 // core/
+void bind_errors(pybind11::module_& m);
 void bind_status(pybind11::module_& m);
 // model/
 void bind_kinematics(pybind11::module_& m);

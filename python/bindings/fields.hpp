@@ -116,7 +116,8 @@ class Fields {
     cls_.def(
         "validate",
         [prefix, check](const T& self) { py_args::raise_if_invalid(check(self), prefix.c_str()); },
-        "Runs the C++ validator: ValueError naming the first bad field and what it must be, "
+        "Runs the C++ validator: neurov.ValidationError (a ValueError carrying field, index, "
+        "value and expected) naming the first bad field and what it must be, "
         "None when the configuration is valid.");
     return *this;
   }

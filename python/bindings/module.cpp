@@ -13,6 +13,7 @@ PYBIND11_MODULE(_core, m) {
   m.attr("__version__") = NEUROV_VERSION_INFO;
 
   using namespace neurov::bindings;
+  bind_errors(m);
   bind_status(m);
   bind_kinematics(m);
   bind_vehicle(m);

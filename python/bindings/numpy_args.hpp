@@ -15,6 +15,7 @@
 
 #include "neurov/core/status.hpp"
 #include "neurov/core/validation.hpp"
+#include "core/errors.hpp"
 
 namespace neurov::py_args {
 
@@ -217,12 +218,10 @@ inline double step(const py::handle& obj, const char* name) {
   return v;
 }
 
-/// Raises ValueError with the message of a failed validation.
+/// Raises neurov._core.ValidationError (a ValueError carrying the field and
+/// index) for a failed validation.
 inline void raise_if_invalid(const ValidationError& e, const char* what) {
-  if (!e) return;
-  char buf[320];
-  e.format(buf, sizeof buf);
-  throw py::value_error(std::string(what) + ": " + buf);
+  bindings::raise_validation_error(e, what);
 }
 
 }  // namespace neurov::py_args

@@ -4,7 +4,7 @@ The physics and control laws live in the compiled core (``neurov._core``, C++
 with Eigen); this package re-exports it and adds files, scenarios and plots.
 """
 
-from neurov import centres, trajectories
+from neurov import centres, errors, trajectories
 from neurov._core import (
     THETA_NAMES,
     ComputedTorqueConfig,
@@ -57,7 +57,7 @@ from neurov.kernels import check_kernel_request as _check_kernel_request
 from neurov.simulation import Result, simulate, simulate_many
 from neurov.controller import Controller
 from neurov.simulator import Observation, Simulator
-from neurov.vehicle_file import VehicleFileError
+from neurov.errors import NeurovError, ValidationError, VehicleFileError
 from neurov import weights  # noqa: F401  (attaches NNAdaptiveController.save/load)
 
 __all__ = [
@@ -100,10 +100,13 @@ __all__ = [
     "SlidingModeConfig",
     "SlidingModeController",
     "Status",
+    "NeurovError",
+    "ValidationError",
     "Vehicle",
     "VehicleFileError",
     "__version__",
     "centres",
+    "errors",
     "is_near_singularity",
     "jacobian",
     "jacobian_dot",

@@ -12,7 +12,11 @@ raises ``TypeError``; both name the argument. Scalars are real numbers (not
 
 # The declarations are in stub-only modules, one per layer of the bindings
 # (core, model, control, sim); this stub re-exports their public names.
-from ._core_stubs.core import Status as Status
+from ._core_stubs.core import (
+    NeurovError as NeurovError,
+    Status as Status,
+    ValidationError as ValidationError,
+)
 from ._core_stubs.model import (
     Saturation as Saturation,
     THETA_NAMES as THETA_NAMES,

@@ -67,6 +67,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from neurov import _core, trajectories
+from neurov.errors import ScenarioError
 from neurov.vehicle_file import VehicleFile, preset_path, read_vehicle_file
 
 __all__ = [
@@ -86,10 +87,6 @@ Disturbance = _core.SinusoidalDisturbance
 ThrusterFailure = _core.ThrusterFailure
 SensorFault = _core.SensorFault
 CurrentStep = _core.CurrentStep
-
-
-class ScenarioError(ValueError):
-    """A scenario that cannot be used: names the file, the field and what was expected."""
 
 
 class ControllerSpec:

@@ -13,7 +13,6 @@ from __future__ import annotations
 import copy
 import difflib
 import math
-import re
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -26,6 +25,7 @@ from neurov.files import read_toml
 from neurov.scenario import CommandSpec, ControllerSpec, Scenario, ScenarioError
 from neurov.scenario_realism import REALISM_KEYS, read_realism
 from neurov.schema import SchemaError, convert, field_names
+from neurov.errors import ValidationError
 from neurov.vehicle_file import VehicleFileError
 
 __all__ = ["read_scenario", "scenario_from_mapping"]
@@ -160,23 +160,20 @@ def _dof(reader: _Reader, key: str) -> int:
 
 
 def _validated(config: Any, origin: str, keys: Mapping[str, str], lists: Sequence[str] = ()) -> None:
-    """Runs the config's C++ validator; its message comes back naming the
+    """Runs the config's C++ validator; its refusal comes back naming the
     file and the TOML key (`keys`: config field -> TOML key; for the `lists`
     of tables, ``name.field[i]`` reads ``name[i].field``)."""
     try:
         config.validate()
-    except ValueError as e:
-        message = re.sub(r"^[A-Za-z -]+: ", "", str(e), count=1)
-        m = re.match(r"([A-Za-z_][\w.]*)(\[(\d+)\])?", message)
-        if m is None:
-            raise ScenarioError(f"{origin}: {message}") from None
-        name, index, rest = m.group(1), m.group(3), message[m.end():]
+    except ValidationError as e:
+        name, index = e.field, (e.index if e.index >= 0 else None)
         head, _, sub = name.partition(".")
         if head in lists and index is not None:
             key = f"{keys.get(head, head)}[{index}]" + (f".{sub}" if sub else "")
         else:
             key = keys.get(name, name) + (f"[{index}]" if index is not None else "")
-        raise ScenarioError(f"{origin}: {key}{rest}") from None
+        value = "" if e.value is None else f" = {e.value:.9g}"
+        raise ScenarioError(f"{origin}: {key}{value}: expected {e.expected}") from None
 
 
 def _controller(r: _Reader) -> ControllerSpec:

@@ -17,11 +17,9 @@ from typing import Any
 
 import numpy as np
 
+from neurov.errors import SchemaError
+
 __all__ = ["SchemaError", "as_dict", "convert", "field_names"]
-
-
-class SchemaError(ValueError):
-    """A value that does not fit its field; the message names file and key."""
 
 
 def field_names(obj: Any) -> list[str]:

@@ -54,6 +54,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from neurov.errors import ValidationError, VehicleFileError
 from neurov.files import read_text, read_toml
 
 if sys.version_info >= (3, 11):
@@ -95,10 +96,6 @@ _FIELDS: dict[str, tuple[bool, tuple[Any, ...]]] = {
 # [limits] for neurov.gym's action scale).
 _OTHER_TABLES = {"thrusters", "limits"}
 _CORIOLIS_FORMS = ("velocity_independent", "kirchhoff")
-
-
-class VehicleFileError(ValueError):
-    """A vehicle file that cannot be read: names the file and the field."""
 
 
 def preset_names() -> list[str]:
@@ -461,14 +458,18 @@ def _curve(t: dict[str, Any], where: str) -> Any:
         c.validate()
     except VehicleFileError:
         raise
-    except ValueError as e:
-        # The C++ message names `thruster_curve.x`: say which key of this file that is.
-        text = str(e).split(": ", 1)[-1]
+    except ValidationError as e:
+        # The C++ validator names `thruster_curve.x`: say which key of this file that is.
         file, _, key = where.rpartition(": ")
+        field = e.field.replace("thruster_curve.", key + ".", 1)
+        at = f"[{e.index}]" if e.index >= 0 else ""
+        value = "" if e.value is None else f" = {e.value:.9g}"
         sampled = (f" (the polynomial sampled at {len(command)} commands over command_range)"
                    if "polynomial" in t else "")
-        raise VehicleFileError(f"{file + ': ' if file else ''}"
-                               f"{text.replace('thruster_curve.', key + '.')}{sampled}") from None
+        raise VehicleFileError(f"{file + ': ' if file else ''}{field}{at}{value}: expected {e.expected}"
+                               f"{sampled}") from None
+    except ValueError as e:
+        raise VehicleFileError(f"{where}: {e}") from None
     return c
 
 

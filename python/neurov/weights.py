@@ -31,15 +31,12 @@ from typing import Any
 import numpy as np
 
 from neurov import _core
+from neurov.errors import WeightsFileError
 
 FORMAT = "neurov-nn-weights"
 VERSION = 1
 N_INPUTS = 24
 _ARRAYS = ("weights", "centres", "widths", "input_offset", "input_scale")
-
-
-class WeightsFileError(ValueError):
-    """A weights file that cannot be read, or does not fit the network."""
 
 
 @dataclass(frozen=True)

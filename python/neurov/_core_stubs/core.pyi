@@ -101,7 +101,7 @@ class _ValidatedFields(_Fields):
     """
 
     def validate(self) -> None:
-        """``ValueError`` naming the first bad field and what it must be; None when valid."""
+        """:class:`ValidationError` (a ``ValueError`` carrying ``field`` and ``index``) naming the first bad field and what it must be; None when valid."""
 
 @final
 class Status(_Enum):
@@ -118,3 +118,14 @@ class Status(_Enum):
     non_finite_output: ClassVar[Status]
     """The result overflowed; safe values were written instead."""
     __members__: ClassVar[dict[str, Status]]
+
+class NeurovError(ValueError):
+    """The base of every error neurov raises for bad input (a ValueError)."""
+
+class ValidationError(NeurovError):
+    """A configuration refused by its C++ validator. Attributes: field (the offending field's C++ name), index (the element, row-major for a matrix, or -1 for the whole field), value (the offending value, None for a whole matrix) and expected (what the field must satisfy)."""
+
+    field: str
+    index: int
+    value: float | None
+    expected: str

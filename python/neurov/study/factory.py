@@ -14,13 +14,10 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
+from neurov.errors import FactoryError
 from neurov.scenario import Scenario
 
 __all__ = ["ControllerFactory", "FactoryError"]
-
-
-class FactoryError(ValueError):
-    """A factory that cannot be imported, is not callable, or does not return a controller."""
 
 
 @dataclass(frozen=True)

@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from neurov.errors import StudyError
 from neurov.scenario import ControllerSpec, Scenario
 from neurov.study.factory import ControllerFactory
 
@@ -41,10 +42,6 @@ _NON_NEGATIVE = {"current_speed", "noise_scale", "disturbance_scale"}
 # Truncation of the normal distribution, in standard deviations: a perturbed
 # plant must stay physical (a factor of 1 - 2 * 0.3 is still positive).
 NORMAL_TRUNCATION = 2.0
-
-
-class StudyError(ValueError):
-    """A study that cannot be run: names the file and the field."""
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,52 @@
+"""neurov's errors, in one family: every error neurov raises for bad input
+derives from :class:`NeurovError`, itself a ``ValueError``, so one ``except
+neurov.errors.NeurovError`` (or the familiar ``except ValueError``) catches
+them all, and a caller can tell neurov's refusals from a bug's.
+
+``NeurovError`` and ``ValidationError`` are made by the compiled core (it
+raises ``ValidationError`` when a C++ validator refuses a configuration and
+never imports this package); the others say which kind of input was refused.
+A ``ValidationError`` carries what the validator found as attributes, so no
+caller reads its message to learn the field: ``field`` (the C++ name),
+``index`` (the element, row-major for a matrix; -1 for the whole field),
+``value`` (None for a whole matrix) and ``expected``.
+"""
+
+from __future__ import annotations
+
+from neurov._core import NeurovError, ValidationError
+
+__all__ = [
+    "FactoryError",
+    "NeurovError",
+    "ScenarioError",
+    "SchemaError",
+    "StudyError",
+    "ValidationError",
+    "VehicleFileError",
+    "WeightsFileError",
+]
+
+
+class SchemaError(NeurovError):
+    """A value that does not fit its field; the message names file and key."""
+
+
+class ScenarioError(NeurovError):
+    """A scenario that cannot be used: names the file, the field and what was expected."""
+
+
+class VehicleFileError(NeurovError):
+    """A vehicle file that cannot be read: names the file and the field."""
+
+
+class WeightsFileError(NeurovError):
+    """A weights file that cannot be read, or does not fit the network."""
+
+
+class StudyError(NeurovError):
+    """A study that cannot be run: names the file and the field."""
+
+
+class FactoryError(NeurovError):
+    """A factory that cannot be imported, is not callable, or does not return a controller."""
