@@ -24,6 +24,14 @@ constexpr int kCentres = NEUROV_C_CENTRES;
 static_assert(kCentres >= 1, "NEUROV_C_CENTRES must be at least 1");
 static_assert(NEUROV_C_INPUTS == neurov::kNNInputs, "c_api.h and nn_controller.hpp disagree");
 
+#define NEUROV_C_STRING_(x) #x
+#define NEUROV_C_STRING(x) NEUROV_C_STRING_(x)
+// What a refused centres_count is told (the strings of errors are static).
+constexpr const char* kCentresExpected =
+    "the library's N, neurov_nn_centres() = " NEUROV_C_STRING(NEUROV_C_CENTRES)
+    ": compile the caller with -DNEUROV_C_CENTRES=" NEUROV_C_STRING(NEUROV_C_CENTRES)
+    " (linking neurov::neurov_c passes it), so that its arrays and storage are for that N";
+
 using Controller = neurov::NNAdaptiveController<float, kCentres>;
 using Network = Controller::Network;
 // The C side hands over row-major arrays (one centre, one output row after the
@@ -102,7 +110,9 @@ const char* neurov_status_name(neurov_status status) {
 }
 
 uint32_t neurov_nn_centres(void) { return static_cast<uint32_t>(kCentres); }
-size_t neurov_nn_storage_size(void) { return sizeof(neurov_nn); }
+size_t neurov_nn_storage_size_n(uint32_t centres) {
+  return centres == static_cast<uint32_t>(kCentres) ? sizeof(neurov_nn) : 0;
+}
 size_t neurov_storage_align(void) {
   std::size_t a = alignof(neurov_nn) > alignof(neurov_reference) ? alignof(neurov_nn)
                                                                  : alignof(neurov_reference);
@@ -111,10 +121,12 @@ size_t neurov_storage_align(void) {
   return a;
 }
 
-void neurov_nn_params_init(neurov_nn_params* params) {
+void neurov_nn_params_init_n(neurov_nn_params* params, uint32_t centres) {
   if (params == nullptr) return;
   const neurov::NNAdaptiveConfig<float> d{};
-  params->centres_count = static_cast<uint32_t>(kCentres);
+  // The caller's N, which create() compares with the library's: the
+  // library's own N here would make that check pass for every caller.
+  params->centres_count = centres;
   params->centres = nullptr;
   params->widths = nullptr;
   params->input_offset = nullptr;
@@ -132,13 +144,18 @@ void neurov_nn_params_init(neurov_nn_params* params) {
 
 neurov_status neurov_nn_create(void* storage, size_t size, const neurov_nn_params* params,
                                neurov_nn** out, neurov_validation_error* error) {
+  // A caller compiled with another N has arrays and storage of that N: its
+  // N is refused before its storage size, which it explains, and before a
+  // single value of its arrays is read.
+  if (params != nullptr && params->centres_count != static_cast<uint32_t>(kCentres))
+    return refuse_before_size(storage, size, out, error,
+                              neurov::detail::invalid("centres_count", -1,
+                                                      static_cast<double>(params->centres_count),
+                                                      kCentresExpected));
   const neurov_status begun =
       begin_create(storage, size, out, error, "a pointer to receive the controller");
   if (begun != NEUROV_STATUS_OK) return begun;
   if (params == nullptr) return fail(error, "params", 0.0, "parameters, not NULL");
-  if (params->centres_count != static_cast<uint32_t>(kCentres))
-    return fail(error, "centres_count", static_cast<double>(params->centres_count),
-                "NEUROV_C_CENTRES of the library (neurov_nn_centres())");
   if (params->centres == nullptr) return fail(error, "centres", 0.0, "N x 24 floats, not NULL");
   if (params->widths == nullptr) return fail(error, "widths", 0.0, "N floats, not NULL");
   // A C caller may store any value the field holds; in C++ loading an enum

@@ -83,6 +83,21 @@ neurov_status begin_create(void* storage, std::size_t size, T** out,
   return NEUROV_STATUS_OK;
 }
 
+/// create()'s refusal of a parameter that explains a wrong size, reported
+/// ahead of the size check (a caller compiled with another N sized its
+/// storage for that N): *out = NULL and `error` cleared, the pointer and
+/// alignment checked, the canary cleared as begin_create() clears it, then `e`.
+template <typename T>
+neurov_status refuse_before_size(void* storage, std::size_t size, T** out,
+                                 neurov_validation_error* error, const neurov::ValidationError& e) {
+  if (out != nullptr) *out = nullptr;
+  clear(error);
+  neurov_status status = NEUROV_STATUS_OK;
+  if (!storage_fits<T>(storage, size, error, status, 0)) return status;
+  if (size >= sizeof(T)) std::memset(&static_cast<T*>(storage)->canary, 0, sizeof(std::uint32_t));
+  return fail(error, e);
+}
+
 inline void zero6(float* v) {
   if (v != nullptr)
     for (int i = 0; i < 6; ++i) v[i] = 0.0f;

@@ -54,8 +54,11 @@ int main(void) {
   if (neurov_nn_step((neurov_nn*)(void*)storage, eta, nu, &d, tau) !=
       NEUROV_STATUS_INVALID_ARGUMENT)
     return 1; /* a buffer create() never saw */
+  /* The caller's N, through the header's macros, is the installed library's. */
+  if (neurov_nn_storage_size() == 0 || neurov_nn_storage_size() > sizeof storage) return 12;
   neurov_nn_params p;
   neurov_nn_params_init(&p);
+  if (p.centres_count != neurov_nn_centres()) return 13;
   p.centres = centres;
   p.widths = widths;
   p.kd[0] = 100.0f;

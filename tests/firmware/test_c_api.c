@@ -44,7 +44,8 @@ static neurov_nn_params params_on_centres(void) {
 
 static void sizes(void) {
   CHECK(neurov_nn_centres() == N);
-  CHECK(neurov_nn_storage_size() <= sizeof nn_storage);
+  CHECK(neurov_nn_storage_size() > 0 && neurov_nn_storage_size() <= sizeof nn_storage);
+  CHECK(neurov_nn_storage_size_n(N + 1) == 0); /* the library builds no other N */
   CHECK(neurov_reference_storage_size() <= sizeof ref_storage);
   CHECK(neurov_storage_align() <= NEUROV_STORAGE_ALIGN);
   CHECK(strcmp(neurov_status_name(NEUROV_STATUS_NON_FINITE_INPUT), "non_finite_input") == 0);
@@ -69,6 +70,10 @@ static void create_refuses_bad_arguments(void) {
 
   p.centres_count = N + 1;
   CHECK(neurov_nn_create(nn_storage, sizeof nn_storage, &p, &nn, &e) ==
+        NEUROV_STATUS_INVALID_ARGUMENT);
+  CHECK(field_is(&e, "centres_count") && e.value == N + 1);
+  /* Ahead of the size, which a caller of another N sizes for its N. */
+  CHECK(neurov_nn_create(nn_storage, neurov_nn_storage_size() - 1, &p, &nn, &e) ==
         NEUROV_STATUS_INVALID_ARGUMENT);
   CHECK(field_is(&e, "centres_count"));
   p.centres_count = N;
@@ -204,7 +209,7 @@ static void fill_pattern(unsigned char* buf, size_t size, int deadbeef) {
  * whose create() was refused, and the other kind of object. */
 static void uncreated_objects_are_refused(void) {
   const float zero[6] = {0}, ones[6] = {1, 1, 1, 1, 1, 1};
-  for (int pattern = 0; pattern < 3; ++pattern) {
+  for (int pattern = 0; pattern < 4; ++pattern) {
     if (pattern < 2) {
       fill_pattern(nn_storage, sizeof nn_storage, pattern);
       fill_pattern(ref_storage, sizeof ref_storage, pattern);
@@ -215,7 +220,10 @@ static void uncreated_objects_are_refused(void) {
       CHECK(neurov_nn_create(nn_storage, sizeof nn_storage, &p, &made, NULL) == NEUROV_STATUS_OK);
       CHECK(neurov_reference_create(ref_storage, sizeof ref_storage, ones, ones, zero, &made_ref,
                                     NULL) == NEUROV_STATUS_OK);
-      p.gamma = -1.0f;
+      if (pattern == 2)
+        p.gamma = -1.0f;
+      else
+        p.centres_count = N + 1; /* refused before the other checks */
       CHECK(neurov_nn_create(nn_storage, sizeof nn_storage, &p, &made, NULL) ==
             NEUROV_STATUS_INVALID_ARGUMENT);
       CHECK(neurov_reference_create(ref_storage, sizeof ref_storage, ones, zero, zero, &made_ref,

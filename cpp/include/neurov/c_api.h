@@ -32,9 +32,12 @@
 extern "C" {
 #endif
 
-/* N the library was built with. The CMake target defines it for its users;
- * a build without CMake must pass the same -DNEUROV_C_CENTRES=N, and
- * neurov_nn_create() refuses a mismatch (params.centres_count). */
+/* The caller's N, which must be the one the library was built with. The
+ * CMake target defines it for its users; a build without CMake must pass the
+ * same -DNEUROV_C_CENTRES=N. neurov_nn_params_init() (a macro) hands this
+ * value to the library, which refuses any other in neurov_nn_create()
+ * (params.centres_count), so a caller compiled with another N is stopped
+ * before the library reads its N-sized arrays. */
 #ifndef NEUROV_C_CENTRES
 #define NEUROV_C_CENTRES 64
 #endif
@@ -93,7 +96,7 @@ typedef struct neurov_desired {
 
 /* Configuration of the NN controller; fill with neurov_nn_params_init() first. */
 typedef struct neurov_nn_params {
-  uint32_t centres_count;    /* must be NEUROV_C_CENTRES (set by _init) */
+  uint32_t centres_count;    /* the caller's N (set by _init); must be neurov_nn_centres() */
   const float* centres;      /* N x 24, row-major: centre j is centres[24 j .. 24 j + 23] */
   const float* widths;       /* N widths sigma_j (> 0) */
   const float* input_offset; /* 24 values, or NULL for 0 */
@@ -117,19 +120,31 @@ const char* neurov_status_name(neurov_status status);
 
 /* ---- NN adaptive controller ------------------------------------------- */
 
-uint32_t neurov_nn_centres(void);     /* N built into the library */
-size_t neurov_nn_storage_size(void);  /* exact bytes, <= NEUROV_NN_STORAGE_BYTES(N) */
-size_t neurov_storage_align(void);    /* required alignment, <= NEUROV_STORAGE_ALIGN */
+/* The storage query and the initialiser depend on the caller's N, so they
+ * are macros over functions that take it: each macro passes the
+ * NEUROV_C_CENTRES this header was compiled with. (Through a foreign-function
+ * interface, which sees no macros, call the _n functions with the N the
+ * arrays are sized for.) */
+uint32_t neurov_nn_centres(void);  /* N built into the library */
+size_t neurov_storage_align(void); /* required alignment, <= NEUROV_STORAGE_ALIGN */
+
+/* Exact bytes of a controller of `centres` centres, <= NEUROV_NN_STORAGE_BYTES(centres);
+ * 0 when `centres` is not the library's N (it builds no other). */
+size_t neurov_nn_storage_size_n(uint32_t centres);
+#define neurov_nn_storage_size() neurov_nn_storage_size_n(NEUROV_C_CENTRES)
 
 /* The C++ defaults (lambda 0.5, K_d 0, gamma 0.3, dt 0.2, no modification),
- * centres_count = N and NULL arrays. */
-void neurov_nn_params_init(neurov_nn_params* params);
+ * NULL arrays and centres_count = `centres`, the caller's N. */
+void neurov_nn_params_init_n(neurov_nn_params* params, uint32_t centres);
+#define neurov_nn_params_init(params) neurov_nn_params_init_n((params), NEUROV_C_CENTRES)
 
 /* Builds a controller inside `storage` (size bytes, aligned to
  * neurov_storage_align()) with zero initial weights and sets *out. On failure
  * returns NEUROV_STATUS_INVALID_ARGUMENT, sets *out = NULL and, if `error` is
- * not NULL, says which field is wrong. Copies the arrays; they need not
- * outlive the call. Uses about 24 N floats of stack for the copy of the centres. */
+ * not NULL, says which field is wrong. A centres_count other than the
+ * library's N is refused (field "centres_count") after the pointer checks,
+ * before the size check and without reading the arrays. Copies the arrays;
+ * they need not outlive the call. Uses about 24 N floats of stack for the copy of the centres. */
 neurov_status neurov_nn_create(void* storage, size_t size, const neurov_nn_params* params,
                                neurov_nn** out, neurov_validation_error* error);
 
