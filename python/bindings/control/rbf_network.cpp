@@ -25,6 +25,7 @@ Eigen::VectorXd widths_arg(py::handle width, Eigen::Index n) {
 }  // namespace
 
 void bind_rbf_network(py::module_& m) {
+  m.attr("MAX_CENTRES") = kMaxCentres;
   py::class_<Network> network(m, "RbfNetwork",
                       "Radial-basis-function network (eq. 30): g_j(x) = exp(-||x_hat - xi_j||^2 / "
                       "(2 sigma_j^2)), output W g(x) with W (6, N); x_hat = (x - input_offset) * "

@@ -27,6 +27,8 @@ Fields<T> sensor_fields(py::module_& m, const char* name, const char* doc,
 }  // namespace
 
 void bind_sim_config(py::module_& m) {
+  m.attr("MAX_SUBSTEPS") = kMaxSubsteps;
+  m.attr("MAX_WAVE_COMPONENTS") = kMaxWaveComponents;
   m.def(
       "buoyancy_in_water",
       [](double water_density, double displaced_volume) {

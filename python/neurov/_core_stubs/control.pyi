@@ -79,6 +79,9 @@ def tracking_error(
     eta_r_ddot, nu_r, nu_r_dot. Raises ``ValueError`` at the pitch singularity.
     """
 
+MAX_CENTRES: int
+"""The most centres a network takes (C++ ``neurov::kMaxCentres``, 65536)."""
+
 class RbfNetwork:
     """Radial-basis-function network (eq. 30).
 
