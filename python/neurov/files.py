@@ -54,7 +54,7 @@ def _kind(mode: int) -> str:
     return "not a regular file"
 
 
-def read_bytes(path: str | Path, error: type[Exception] = ValueError,
+def read_bytes(path: str | os.PathLike[str], error: type[Exception] = ValueError,
                limit: int = MAX_FILE_BYTES, name: str | None = None) -> bytes:
     """The contents of the regular file `path`, at most `limit` bytes.
 

@@ -16,11 +16,11 @@ from __future__ import annotations
 
 import io
 import math
+import os
 import struct
 import zipfile
 import zlib
 from collections.abc import Callable
-from pathlib import Path
 from typing import IO
 
 import numpy as np
@@ -40,7 +40,7 @@ class NpzFile:
     """An open ``.npz`` archive read from memory; `error` is raised, as
     ``error("<name>: ...")``, for anything wrong with it."""
 
-    def __init__(self, path: str | Path, error: type[Exception], limit: int, name: str,
+    def __init__(self, path: str | os.PathLike[str], error: type[Exception], limit: int, name: str,
                  single_array_hint: str = "") -> None:
         self.name = name
         self.error = error
@@ -60,9 +60,6 @@ class NpzFile:
 
     def __exit__(self, *exc: object) -> None:
         self.zip.close()
-
-    def has(self, array: str) -> bool:
-        return f"{array}.npy" in self.zip.namelist()
 
     def _open(self, array: str) -> IO[bytes]:
         try:
@@ -106,9 +103,10 @@ class NpzFile:
         return shape, dtype
 
     def array(self, array: str, check: Callable[[tuple[int, ...], np.dtype], None]) -> np.ndarray:
-        """`array`'s data, read once `check(shape, dtype)` (which raises for
-        a shape or dtype not wanted, so bounding what is allocated) passed;
-        the member's CRC is checked to its end."""
+        """`array`'s data (a read-only array over the bytes read), read once
+        `check(shape, dtype)` (which raises for a shape or dtype not wanted,
+        so bounding what is allocated) passed; the member's CRC is checked
+        to its end."""
         try:
             with self._open(array) as f:
                 shape, fortran, dtype = self._header(f, array)
@@ -126,7 +124,7 @@ class NpzFile:
             raise
         except _DAMAGED as e:
             raise self._damaged(array, e) from None
-        return np.frombuffer(data, dtype=dtype).reshape(shape, order="F" if fortran else "C").copy()
+        return np.frombuffer(data, dtype=dtype).reshape(shape, order="F" if fortran else "C")
 
 
 def _said(e: BaseException) -> str:

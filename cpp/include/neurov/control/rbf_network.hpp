@@ -22,11 +22,11 @@
 namespace neurov {
 
 /// The most centres a network takes (2^16). It bounds what a count read from
-/// a file can allocate before anything runs: 65536 centres of 24 inputs hold
-/// about 30 MB (the centres, their packed copy and W) and take about 0.2 ms a
-/// step, 16 times the largest network benchmarked (4096, bench/README.md)
-/// and a thousand times the paper's 64; a count beyond it is a typo whose
-/// network would not fit in memory (10^8 centres: 24 GB).
+/// a file can allocate before anything runs: an NN controller of 65536
+/// centres of 24 inputs holds 77 MB and takes 8.6 ms a step (measured from
+/// Python, docs/reliability.md), 16 times the largest network benchmarked
+/// (4096) and a thousand times the paper's 64; a count beyond it is a typo
+/// whose network would not fit in memory (10^8 centres: 24 GB).
 inline constexpr int kMaxCentres = 65536;
 static_assert(kMaxCentres == 65536, "create()'s centres message names the maximum");
 

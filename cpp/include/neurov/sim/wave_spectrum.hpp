@@ -65,8 +65,8 @@ inline ValidationError validate(const WaveConfig<Scalar>& c, int max_components)
   if (c.components < 1 || c.components > max_components)
     return invalid("components", -1, static_cast<double>(c.components),
                    max_components == kMaxWaveComponents
-                       ? "a whole number in 1..512 (neurov::kMaxWaveComponents, the wave "
-                         "field's capacity)"
+                       ? "within [1, 512] (neurov::kMaxWaveComponents, the wave field's "
+                         "capacity)"
                        : max_components > 1 ? "within [1, the wave field's capacity]" : "1");
   return {};
 }
