@@ -254,7 +254,7 @@ def _archive(path: Path, members: dict[str, tuple[tuple[int, ...], str, bytes]],
     ("members", "message"),
     [
         pytest.param({"centres": ((10**8, 24), "<f8", b"")},
-                     r"'centres' declares 100000000 centres, more than the 65536", id="3.6 GiB of centres"),
+                     r"'centres' declares 100000000 centres, more than the 65536", id="18 GiB of centres"),
         pytest.param({"weights": ((6, 10**9), "<f8", b"")},
                      r"'weights' must have shape \(6, 6\), got \(6, 1000000000\)", id="48 GB of weights"),
         pytest.param({"format": ((), "<U100000000", b"")}, "'format' must be 'neurov-nn-weights'",
