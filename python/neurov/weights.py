@@ -93,7 +93,7 @@ def _numbers(where: str, name: str, shape: tuple[int, ...]) -> Any:
     (so at most 16 bytes each: what is allocated is bounded by the shape)."""
 
     def check(got: tuple[int, ...], dtype: np.dtype) -> None:
-        if dtype.kind not in "fiu":
+        if dtype.kind not in "fi":
             raise WeightsFileError(f"{where}: '{name}' must be numbers, got dtype {dtype}")
         if got != shape:
             raise WeightsFileError(f"{where}: '{name}' must have shape {_shape_text(shape)}, "
