@@ -6,6 +6,9 @@ with Eigen); this package re-exports it and adds files, scenarios and plots.
 
 from neurov import centres, errors, trajectories
 from neurov._core import (
+    MAX_CENTRES,
+    MAX_SUBSTEPS,
+    MAX_WAVE_COMPONENTS,
     THETA_NAMES,
     ComputedTorqueConfig,
     ComputedTorqueController,
@@ -61,6 +64,9 @@ from neurov.errors import NeurovError, ValidationError, VehicleFileError
 from neurov import weights  # noqa: F401  (attaches NNAdaptiveController.save/load)
 
 __all__ = [
+    "MAX_CENTRES",
+    "MAX_SUBSTEPS",
+    "MAX_WAVE_COMPONENTS",
     "THETA_NAMES",
     "CommandSpec",
     "Controller",

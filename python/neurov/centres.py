@@ -16,13 +16,16 @@ Every function returns an ``(N, n_inputs)`` float64 array for
 from __future__ import annotations
 
 import itertools
+import math
 import warnings
 from collections.abc import Mapping, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["INPUT_NAMES", "grid", "latin_hypercube", "sobol"]
+from neurov import _core
+
+__all__ = ["INPUT_NAMES", "check_count", "grid", "latin_hypercube", "sobol"]
 
 _DOF = ("u", "v", "w", "p", "q", "r")
 _POSE = ("x", "y", "z", "phi", "theta", "psi")
@@ -33,6 +36,15 @@ INPUT_NAMES: tuple[str, ...] = (
     + tuple(f"nu_{d}" for d in _DOF)
     + tuple(f"eta_{d}" for d in _POSE)
 )
+
+
+def check_count(n: int, name: str = "n") -> None:
+    """Refuses a number of centres above ``neurov.MAX_CENTRES`` (the C++
+    network's ``kMaxCentres``, 65536) before any centre is made: 10^8 of them
+    would need 19 GB for the centres alone."""
+    if n > _core.MAX_CENTRES:
+        raise ValueError(f"argument '{name}': {n} centres, more than the {_core.MAX_CENTRES} "
+                         "a network takes (neurov.MAX_CENTRES)")
 
 
 def _index(key: int | str, n_inputs: int) -> int:
@@ -65,7 +77,6 @@ def grid(
     if not np.all(np.isfinite(base)):
         raise ValueError("argument 'fill' must be finite")
     columns: list[int] = []
-    values: list[NDArray[np.float64]] = []
     for key, spec in axes.items():
         low, high, count = spec
         if int(count) != count or count < 1:
@@ -73,9 +84,10 @@ def grid(
         if not (np.isfinite(low) and np.isfinite(high) and high >= low):
             raise ValueError(f"axis {key!r}: expected finite low <= high, got ({low}, {high})")
         columns.append(_index(key, n_inputs))
-        values.append(np.linspace(low, high, int(count)))
     if len(set(columns)) != len(columns):
         raise ValueError("argument 'axes' names the same input twice")
+    check_count(math.prod(int(count) for _, _, count in axes.values()), "axes")
+    values = [np.linspace(low, high, int(count)) for low, high, count in axes.values()]
     points = np.array(list(itertools.product(*values)), dtype=np.float64)
     out = np.tile(base, (len(points), 1))
     out[:, columns] = points
@@ -113,6 +125,7 @@ def sobol(n: int, low: ArrayLike, high: ArrayLike, seed: int = 0, n_inputs: int 
     lo, hi = _box(low, high, n_inputs)
     if int(n) != n or n < 1:
         raise ValueError(f"argument 'n' must be a positive integer, got {n!r}")
+    check_count(int(n))
     from scipy.stats import qmc  # here: scipy.stats costs about 75 MB and a second to import
 
     sampler = qmc.Sobol(d=len(lo), scramble=True, rng=np.random.default_rng(seed))
@@ -131,6 +144,7 @@ def latin_hypercube(
     lo, hi = _box(low, high, n_inputs)
     if int(n) != n or n < 1:
         raise ValueError(f"argument 'n' must be a positive integer, got {n!r}")
+    check_count(int(n))
     from scipy.stats import qmc
 
     sampler = qmc.LatinHypercube(d=len(lo), rng=np.random.default_rng(seed))

@@ -1,10 +1,12 @@
-"""Reading the TOML files a user names (scenarios, studies, vehicles): regular
-files only, at most :data:`MAX_FILE_BYTES`, UTF-8, and every failure an error
-that names the file.
+"""Reading the files a user names (scenarios, studies, vehicles, weights):
+regular files only, of bounded size, TOML in UTF-8 (a byte-order mark
+skipped) and nested at most :data:`MAX_TOML_DEPTH` deep, and every failure an
+error that names the file. The bounds on what a file may hold are here.
 
 A path to ``/dev/zero`` or a FIFO would otherwise be read without bound (or
-block in ``open``), a directory would give a bare ``IsADirectoryError``, and a
-decoder error would not say which file it was in.
+block in ``open``), a directory would give a bare ``IsADirectoryError``, a
+decoder error would not say which file it was in, and a TOML file nested 500
+deep would end the parser in a ``RecursionError``.
 """
 from __future__ import annotations
 
@@ -19,9 +21,22 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover - exercised on Python 3.10 only
     import tomli as tomllib
 
-#: The largest file read, in bytes (4 MiB). The shipped files are a few kB; a
-#: scenario of 10^4 waypoints of six numbers is about 0.6 MB.
+#: The largest TOML file read, in bytes (4 MiB). The shipped files are a few
+#: kB; a scenario of 10^4 waypoints of six numbers is about 0.6 MB.
 MAX_FILE_BYTES = 4 * 1024 * 1024
+
+#: The deepest nesting of tables and arrays a TOML file may have. The shipped
+#: files nest at most 5 deep (a study's ``[controllers.smc.nerov] kd = [...]``); 32
+#: leaves room for any hand-written file and keeps the parser and every
+#: recursive walk of the table far from Python's recursion limit.
+MAX_TOML_DEPTH = 32
+
+#: The largest weights file read, in bytes (24 MiB), and the most bytes its
+#: arrays may declare: a network of ``neurov.MAX_CENTRES`` (65536) centres
+#: written by ``save_weights`` is 16.3 MB (248 bytes a centre).
+MAX_WEIGHTS_FILE_BYTES = 24 * 1024 * 1024
+
+_BOM = "\ufeff"
 
 _KINDS = (
     (stat.S_ISDIR, "a directory"),
@@ -39,49 +54,93 @@ def _kind(mode: int) -> str:
     return "not a regular file"
 
 
-def read_text(path: str | Path, error: type[Exception] = ValueError,
-              limit: int = MAX_FILE_BYTES) -> str:
-    """The contents of the regular file `path` as UTF-8 text.
+def read_bytes(path: str | os.PathLike[str], error: type[Exception] = ValueError,
+               limit: int = MAX_FILE_BYTES, name: str | None = None) -> bytes:
+    """The contents of the regular file `path`, at most `limit` bytes.
 
     Raises ``FileNotFoundError`` for a missing file (callers word that one
-    themselves) and `error` (``"<path>: ..."``) for anything else that is not
-    a readable UTF-8 file of at most `limit` bytes.
+    themselves) and `error` (``"<name>: ..."``, `name` the path by default)
+    for anything else that is not a readable regular file of at most `limit`
+    bytes.
     """
     path = Path(path)
+    name = str(path) if name is None else name
     try:
         # O_NONBLOCK: a FIFO swapped in after the check must not block open().
         fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
     except FileNotFoundError:
         raise
     except IsADirectoryError:
-        raise error(f"{path}: is a directory, not a regular file") from None
+        raise error(f"{name}: is a directory, not a regular file") from None
     except OSError as e:
-        raise error(f"{path}: cannot open: {e.strerror}") from None
-    mode = os.fstat(fd).st_mode
-    if not stat.S_ISREG(mode):
+        raise error(f"{name}: cannot open: {e.strerror}") from None
+    info = os.fstat(fd)
+    if not stat.S_ISREG(info.st_mode):
         os.close(fd)
-        raise error(f"{path}: is {_kind(mode)}, not a regular file")
+        raise error(f"{name}: is {_kind(info.st_mode)}, not a regular file")
+    too_large = error(f"{name}: larger than {limit} bytes (the most neurov reads from one file)")
+    if info.st_size > limit:
+        os.close(fd)
+        raise too_large
     with os.fdopen(fd, "rb") as f:
         try:
-            data = f.read(limit + 1)
+            # read(n) allocates n bytes first: ask for the file's size (and
+            # the rest up to the limit if it grew since fstat).
+            data = f.read(info.st_size + 1)
+            if len(data) > info.st_size:
+                data += f.read(limit + 1 - len(data))
         except OSError as e:
-            raise error(f"{path}: cannot read: {e.strerror}") from None
+            raise error(f"{name}: cannot read: {e.strerror}") from None
     if len(data) > limit:
-        raise error(f"{path}: larger than {limit} bytes (the most neurov reads from one file)")
+        raise too_large
+    return data
+
+
+def read_text(path: str | Path, error: type[Exception] = ValueError,
+              limit: int = MAX_FILE_BYTES) -> str:
+    """The contents of the regular file `path` as UTF-8 text, a leading
+    byte-order mark (which editors on Windows write) removed; errors as
+    :func:`read_bytes`'s, and `error` for text that is not UTF-8."""
+    data = read_bytes(path, error, limit)
     try:
-        return data.decode("utf-8")
+        return data.decode("utf-8").removeprefix(_BOM)
     except UnicodeDecodeError as e:
+        if data[:2] in (b"\xff\xfe", b"\xfe\xff"):
+            raise error(f"{path}: UTF-16 text (it starts with a UTF-16 byte-order mark); "
+                        "TOML files are UTF-8: save it as UTF-8") from None
         raise error(f"{path}: not UTF-8 text (byte 0x{data[e.start]:02x} at offset "
                     f"{e.start}); TOML files are UTF-8") from None
+
+
+def _depth(table: dict[str, Any]) -> int:
+    """How deep tables and arrays nest in `table` (a table of numbers: 1),
+    without recursion."""
+    deepest = 0
+    stack: list[tuple[Any, int]] = [(table, 1)]
+    while stack:
+        value, depth = stack.pop()
+        deepest = max(deepest, depth)
+        children = value.values() if isinstance(value, dict) else value
+        stack.extend((c, depth + 1) for c in children if isinstance(c, (dict, list)))
+    return deepest
 
 
 def read_toml(path: str | Path, error: type[Exception], kind: str) -> dict[str, Any]:
     """The table of the TOML file `path`, read as :func:`read_text` reads;
     `error` (``"<path>: no such <kind> file"``, ``"<path>: not valid TOML:
-    ..."``) for a missing file or bad TOML."""
+    ..."``, ``"<path>: nested more than 32 levels deep"``) for a missing
+    file, bad TOML or a nesting deeper than :data:`MAX_TOML_DEPTH`."""
+    deep = error(f"{path}: tables and arrays nested more than {MAX_TOML_DEPTH} levels deep "
+                 "(the most neurov reads)")
     try:
-        return tomllib.loads(read_text(path, error))
+        table = tomllib.loads(read_text(path, error))
     except FileNotFoundError:
         raise error(f"{path}: no such {kind} file") from None
     except tomllib.TOMLDecodeError as e:
         raise error(f"{path}: not valid TOML: {e}") from None
+    except RecursionError:
+        # The parser recurses once per nested array or inline table.
+        raise deep from None
+    if _depth(table) > MAX_TOML_DEPTH:
+        raise deep
+    return table

@@ -5,7 +5,7 @@ A scenario file (all tables but ``[command]`` and ``[controller]`` optional)::
     name = "square"
     duration = 200.0        # s
     dt = 0.2                # control period, s (the paper: 5 Hz)
-    substeps = 10           # RK4 plant steps per control period
+    substeps = 10           # RK4 plant steps per control period, 1..10000 (neurov.MAX_SUBSTEPS)
     seed = 0                # measurement noise
     refused_step_policy = "zero"  # or "hold": the force while the controller refuses a step
 
@@ -29,6 +29,9 @@ A scenario file (all tables but ``[command]`` and ``[controller]`` optional)::
     type = "nn"             # nn | linear | pd | pid | smc | computed_torque
     lambda = 0.5
     kd = [200, 200, 200, 50, 50, 50]
+
+    [controller.centres]    # the NN's centres: sobol | latin_hypercube | grid
+    n = 64                  # at most 65536 (neurov.MAX_CENTRES; a grid's too)
 
     [[disturbances]]
     dof = "yaw"             # surge sway heave roll pitch yaw, or 0..5

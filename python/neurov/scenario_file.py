@@ -85,7 +85,10 @@ class _Reader:
             raise self.error(key, f"expected a number >= {minimum}, got {v}")
         return v
 
-    def integer(self, key: str, default: int | None = None, *, minimum: int = 0) -> int:
+    def integer(self, key: str, default: int | None = None, *, minimum: int = 0,
+                maximum: tuple[int, str] | None = None) -> int:
+        """`maximum`: a count's bound and its name, checked before the
+        count is used (it would not fit a C++ int, or would allocate)."""
         found, v = self._lookup(key, default, "an integer")
         if not found:
             return v
@@ -93,6 +96,8 @@ class _Reader:
             raise self.error(key, f"expected an integer, got {type(v).__name__} {v!r}")
         if v < minimum:
             raise self.error(key, f"expected an integer >= {minimum}, got {v}")
+        if maximum is not None and v > maximum[0]:
+            raise self.error(key, f"expected an integer <= {maximum[0]} ({maximum[1]}), got {v}")
         return v
 
     def string(self, key: str, default: str | None = None, choices: Sequence[str] | None = None) -> str:
@@ -222,8 +227,13 @@ def _centres(c: _Reader) -> dict[str, Any]:
             if not (isinstance(v, list) and len(v) == 3):
                 raise c.error(f"axes.{k}", "expected [low, high, count]")
             centres["axes"][k] = (float(v[0]), float(v[1]), int(v[2]))
+        count = math.prod(a[2] for a in centres["axes"].values())
+        if count > _core.MAX_CENTRES:
+            raise c.error("axes", f"the grid has {count} centres, more than the {_core.MAX_CENTRES} "
+                                  "a network takes (neurov.MAX_CENTRES)")
     else:
-        centres["n"] = c.integer("n", 64, minimum=1)
+        centres["n"] = c.integer("n", 64, minimum=1,
+                                 maximum=(_core.MAX_CENTRES, "the most a network takes, neurov.MAX_CENTRES"))
         centres["seed"] = c.integer("seed", 0)
         centres["low"] = c.array("low", 24, None) if c.has("low") else None
         centres["high"] = c.array("high", 24, None) if c.has("high") else None
@@ -286,7 +296,8 @@ def scenario_from_mapping(data: Mapping[str, Any], origin: str = "<scenario>") -
     d["description"] = r.string("description", "")
     c.duration = r.number("duration", c.duration)
     c.dt = r.number("dt", c.dt)
-    c.substeps = r.integer("substeps", c.substeps, minimum=-(2**31))
+    c.substeps = r.integer("substeps", c.substeps, minimum=-(2**31),
+                           maximum=(_core.MAX_SUBSTEPS, "neurov.MAX_SUBSTEPS"))
     c.seed = r.integer("seed", c.seed)
     v = r.table_of("vehicle")
     if v.has("preset") and v.has("file"):

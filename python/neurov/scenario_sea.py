@@ -92,6 +92,9 @@ def read_waves(r: _Reader, config: Any) -> None:
     if not r.has("waves"):
         return
     wr = r.table_of("waves")
+    # Checked here too: a count beyond a C++ int would not reach the validator.
+    wr.integer("components", 0, minimum=-(2**31),
+               maximum=(_core.MAX_WAVE_COMPONENTS, "the wave field's capacity, neurov.MAX_WAVE_COMPONENTS"))
     waves = _core.WaveConfig()
     _fill(wr, waves)
     wr.finish()

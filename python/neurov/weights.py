@@ -18,6 +18,10 @@ name                shape       meaning
 All float arrays are float64. The centres, widths and input normalisation
 are what make the weights mean something: :func:`load_weights` refuses a
 file whose network differs from the controller's, naming what differs.
+A file is read as :mod:`neurov.files` reads (a regular file, at most
+``MAX_WEIGHTS_FILE_BYTES``, 24 MiB), and each array's declared shape is
+checked before the array is read (N at most ``neurov.MAX_CENTRES``), so a
+file can ask for no more memory than a network of the largest size.
 On a board, ``weights`` flattened in C (row-major) order, as float32, is the
 buffer ``neurov_nn_set_initial_weights`` takes (docs/firmware.md).
 """
@@ -32,6 +36,8 @@ import numpy as np
 
 from neurov import _core
 from neurov.errors import WeightsFileError
+from neurov.files import MAX_WEIGHTS_FILE_BYTES
+from neurov.npz_file import NpzFile
 
 FORMAT = "neurov-nn-weights"
 VERSION = 1
@@ -75,59 +81,67 @@ def save_weights(obj: Any, path: str | os.PathLike[str]) -> None:
                  **{name: getattr(net, name) for name in _ARRAYS})
 
 
-def _get(data: Any, path: Any, name: str) -> np.ndarray:
-    """One array of the archive; a missing one or one of Python objects
-    (refused, never unpickled) is a WeightsFileError naming it."""
-    if name not in data.files:
-        raise WeightsFileError(f"weights file {path}: array '{name}' is missing")
-    try:
-        return np.asarray(data[name])
-    except ValueError as e:
-        raise WeightsFileError(f"weights file {path}: array '{name}' is not plain numbers ({e})") from None
+def _shape_text(shape: tuple[int | str, ...]) -> str:
+    return "(" + ", ".join(str(n) for n in shape) + ("," if len(shape) == 1 else "") + ")"
 
 
-def _array(data: Any, path: Any, name: str, shape: tuple[int, ...]) -> np.ndarray:
-    a = _get(data, path, name)
-    if a.dtype.kind not in "fi":
-        raise WeightsFileError(f"weights file {path}: '{name}' must be numbers, got dtype {a.dtype}")
-    if a.shape != shape:
-        want = "(" + ", ".join(str(n) for n in shape) + ("," if len(shape) == 1 else "") + ")"
-        raise WeightsFileError(f"weights file {path}: '{name}' must have shape {want}, got {a.shape}")
+def _numbers(where: str, name: str, shape: tuple[int, ...]) -> Any:
+    """The check of a float array's header: exactly `shape`, real numbers
+    (so at most 16 bytes each: what is allocated is bounded by the shape)."""
+
+    def check(got: tuple[int, ...], dtype: np.dtype) -> None:
+        if dtype.kind not in "fi":
+            raise WeightsFileError(f"{where}: '{name}' must be numbers, got dtype {dtype}")
+        if got != shape:
+            raise WeightsFileError(f"{where}: '{name}' must have shape {_shape_text(shape)}, "
+                                   f"got {_shape_text(got)}")
+
+    return check
+
+
+def _scalar(where: str, name: str, kinds: str, itemsize: int, wanted: str) -> Any:
+    def check(shape: tuple[int, ...], dtype: np.dtype) -> None:
+        if shape != () or dtype.kind not in kinds or dtype.itemsize > itemsize:
+            raise WeightsFileError(f"{where}: '{name}' must be {wanted}")
+
+    return check
+
+
+def _finite(where: str, name: str, a: np.ndarray) -> np.ndarray:
     a = a.astype(np.float64)
     if not np.all(np.isfinite(a)):
-        raise WeightsFileError(f"weights file {path}: '{name}' holds NaN or Inf")
+        raise WeightsFileError(f"{where}: '{name}' holds NaN or Inf")
     return a
 
 
 def read_weights(path: str | os.PathLike[str]) -> NetworkWeights:
     """Reads and checks a weights file; WeightsFileError names the file and
-    the array that is missing, of the wrong shape or not finite."""
-    try:
-        data = np.load(path, allow_pickle=False)
-    except FileNotFoundError:
-        raise
-    except (OSError, ValueError) as e:
-        raise WeightsFileError(f"weights file {path}: not a .npz archive of plain arrays ({e})") from None
-    with data:
-        if not hasattr(data, "files"):
-            raise WeightsFileError(f"weights file {path}: not a .npz archive (a single array)")
-        fmt = _get(data, path, "format")
-        if fmt.shape != () or fmt.dtype.kind != "U" or str(fmt) != FORMAT:
-            raise WeightsFileError(f"weights file {path}: 'format' must be '{FORMAT}'")
-        version = _get(data, path, "version")
-        if version.shape != () or version.dtype.kind not in "iu" or int(version) != VERSION:
-            raise WeightsFileError(f"weights file {path}: 'version' must be {VERSION}")
-        centres = _get(data, path, "centres")
-        if centres.ndim != 2:
-            raise WeightsFileError(f"weights file {path}: 'centres' must have shape (N, {N_INPUTS})")
-        n = int(centres.shape[0])
-        return NetworkWeights(
-            weights=_array(data, path, "weights", (6, n)),
-            centres=_array(data, path, "centres", (n, N_INPUTS)),
-            widths=_array(data, path, "widths", (n,)),
-            input_offset=_array(data, path, "input_offset", (N_INPUTS,)),
-            input_scale=_array(data, path, "input_scale", (N_INPUTS,)),
-        )
+    what is wrong: not a regular file, over ``neurov.files.MAX_WEIGHTS_FILE_BYTES``,
+    not a .npz archive, truncated or damaged, an array missing, of the wrong
+    shape, of more than ``neurov.MAX_CENTRES`` centres or not finite. Every
+    shape is checked before its array is allocated."""
+    where = f"weights file {path}"
+    with NpzFile(path, WeightsFileError, MAX_WEIGHTS_FILE_BYTES, where,
+                 "; write one with save_weights or NNAdaptiveController.save") as data:
+        fmt = data.array("format", _scalar(where, "format", "U", 4 * 64, f"'{FORMAT}'"))
+        if str(fmt) != FORMAT:
+            raise WeightsFileError(f"{where}: 'format' must be '{FORMAT}'")
+        version = data.array("version", _scalar(where, "version", "iu", 8, str(VERSION)))
+        if int(version) != VERSION:
+            raise WeightsFileError(f"{where}: 'version' must be {VERSION}")
+        shape, _ = data.header("centres")
+        if len(shape) != 2:
+            raise WeightsFileError(f"{where}: 'centres' must have shape (N, {N_INPUTS})")
+        n = shape[0]
+        if n > _core.MAX_CENTRES:
+            raise WeightsFileError(f"{where}: 'centres' declares {n} centres, more than the "
+                                   f"{_core.MAX_CENTRES} a network takes (neurov.MAX_CENTRES)")
+        shapes = {"weights": (6, n), "centres": (n, N_INPUTS), "widths": (n,),
+                  "input_offset": (N_INPUTS,), "input_scale": (N_INPUTS,)}
+        return NetworkWeights(**{
+            name: _finite(where, name, data.array(name, _numbers(where, name, shapes[name])))
+            for name in _ARRAYS
+        })
 
 
 def load_network(path: str | os.PathLike[str]) -> Any:

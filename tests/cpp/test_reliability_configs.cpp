@@ -283,6 +283,52 @@ TYPED_TEST(ReliabilityTest, SimulationConfigurationNamesTheBadField) {
   EXPECT_STREQ(simulate(Vehicle<S>{}, ctl, loop_config<S>(), out).field, "vehicle");
 }
 
+/// The message of a refusal, to check that it gives the limit.
+std::string message_of(const ValidationError& e) {
+  char buf[256];
+  e.format(buf, sizeof buf);
+  return buf;
+}
+
+// Every count a file can give has a maximum, refused before anything is
+// allocated or run, the message giving the limit (issue 23: 2e9 substeps ran
+// for ever; 10^9 wave components were refused without saying the limit).
+TYPED_TEST(ReliabilityTest, CountsAboveTheirMaximumAreRefusedNamingTheLimit) {
+  using S = TypeParam;
+  for (const int substeps : {kMaxSubsteps + 1, 2000000000, std::numeric_limits<int>::max()}) {
+    SimulationConfig<S> c = loop_config<S>();
+    c.substeps = substeps;
+    const ValidationError e = validate(c);
+    ASSERT_STREQ(e.field, "substeps") << substeps;
+    EXPECT_NE(message_of(e).find("1..10000"), std::string::npos) << message_of(e);
+  }
+  SimulationConfig<S> at_limit = loop_config<S>();
+  at_limit.substeps = kMaxSubsteps;
+  EXPECT_TRUE(validate(at_limit).ok());
+
+  for (const int components : {kMaxWaveComponents + 1, 1000000000}) {
+    SimulationConfig<S> c = loop_config<S>();
+    c.waves = WaveConfig<S>{};
+    c.waves->components = components;
+    const ValidationError e = validate(c);
+    ASSERT_STREQ(e.field, "components") << components;
+    EXPECT_NE(message_of(e).find("within [1, 512]"), std::string::npos) << message_of(e);
+  }
+
+  // One centre over the limit: 65537 x 2 numbers, refused before the
+  // network copies or packs them.
+  using Mat = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>;
+  using Vec = Eigen::Matrix<S, Eigen::Dynamic, 1>;
+  RbfNetwork<S> net;
+  const ValidationError e = RbfNetwork<S>::create(Mat::Zero(kMaxCentres + 1, 2),
+                                                  Vec::Ones(kMaxCentres + 1), net);
+  ASSERT_STREQ(e.field, "centres");
+  EXPECT_NE(message_of(e).find("at most 65536 centres"), std::string::npos) << message_of(e);
+  EXPECT_FALSE(net.configured());
+  EXPECT_TRUE(RbfNetwork<S>::create(Mat::Zero(kMaxCentres, 2), Vec::Ones(kMaxCentres), net).ok());
+  EXPECT_EQ(net.centres_count(), kMaxCentres);
+}
+
 // The loop under a sensor dropout: every refused step is recorded with its
 // status, the demanded tau is zero (policy "zero") or the last accepted one
 // (policy "hold"), the plant never sees a NaN, and the controller's weights

@@ -11,6 +11,7 @@ import pytest
 
 from neurov import cli, files
 from neurov.scenario import ScenarioError, load_scenario
+from neurov.schema import as_dict
 from neurov.study import StudyError, load_study
 from neurov.vehicle_file import VehicleFileError, load_thrusters, load_vehicle_parameters
 
@@ -108,3 +109,62 @@ def test_cli_run_on_dev_zero_fails_at_once_naming_it(capsys: pytest.CaptureFixtu
     assert cli.main(["run", "/dev/zero"]) == 1
     err = capsys.readouterr().err
     assert "/dev/zero" in err and "character device" in err
+
+
+def _nested(depth: int) -> str:
+    """A key whose value nests `depth` arrays (the parser recurses on each)."""
+    return "a = " + "[" * depth + "]" * depth + "\n"
+
+
+@pytest.mark.parametrize(("load", "error"), LOADERS)
+@pytest.mark.parametrize("text", [_nested(500), "a = " + "{b = " * 500 + "1" + "}" * 500 + "\n",
+                                  ".".join(["t"] * 500) + " = 1\n", _nested(files.MAX_TOML_DEPTH)],
+                         ids=["arrays-500", "inline-tables-500", "dotted-keys-500", "arrays-at-limit+1"])
+def test_toml_nested_too_deep_is_named_not_a_recursion_error(tmp_path: Path, load, error, text: str) -> None:
+    """500 nested arrays ended tomllib in RecursionError (a traceback from the
+    command line); dotted keys parse but nest the table as deep."""
+    deep = tmp_path / "deep.toml"
+    deep.write_text(text, encoding="utf-8")
+    with pytest.raises(error, match=f"nested more than {files.MAX_TOML_DEPTH} levels deep") as err:
+        load(deep)
+    assert str(deep) in str(err.value)
+
+
+def test_nesting_at_the_limit_is_read(tmp_path: Path) -> None:
+    at = tmp_path / "at.toml"
+    at.write_text(_nested(files.MAX_TOML_DEPTH - 1), encoding="utf-8")
+    assert files.read_toml(at, ValueError, "test")["a"] is not None
+
+
+SHIPPED = Path(files.__file__).parent
+BOM_FILES = [
+    pytest.param(load_scenario, (SHIPPED / "scenarios" / "nerov_square.toml").read_bytes(), id="scenario"),
+    pytest.param(load_study, b'scenarios = ["nerov_square"]\n[controllers.pd]\ntype = "pd"\n', id="study"),
+    pytest.param(load_vehicle_parameters, (SHIPPED / "vehicles" / "nerov.toml").read_bytes(), id="vehicle"),
+    pytest.param(load_thrusters, (SHIPPED / "vehicles" / "bluerov2_heavy.toml").read_bytes(),
+                 id="vehicle-thrusters"),
+]
+
+
+def _contents(loaded: object) -> str:
+    simulation = getattr(loaded, "simulation", None)  # a Scenario's repr is its name only
+    return repr(loaded) + ("" if simulation is None else repr(as_dict(simulation)))
+
+
+@pytest.mark.parametrize(("load", "text"), BOM_FILES)
+def test_a_utf8_byte_order_mark_is_skipped(tmp_path: Path, load, text: bytes) -> None:
+    """Editors on Windows start UTF-8 files with a BOM: tomllib alone said
+    "Invalid statement (at line 1, column 1)"."""
+    copy = tmp_path / "with_bom.toml"  # one path for both, as a loader may keep it
+    copy.write_bytes(text)
+    plain = _contents(load(copy))
+    copy.write_bytes(b"\xef\xbb\xbf" + text)
+    assert _contents(load(copy)) == plain
+
+
+def test_utf16_is_named_as_such(tmp_path: Path) -> None:
+    utf16 = tmp_path / "utf16.toml"
+    utf16.write_text("a = 1\n", encoding="utf-16")  # with its BOM
+    with pytest.raises(ScenarioError, match="UTF-16 text") as err:
+        load_scenario(utf16)
+    assert str(utf16) in str(err.value)

@@ -2,12 +2,19 @@
 
 from __future__ import annotations
 
+import io
+import os
+import sys
+import tracemalloc
+import zipfile
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
 
 import neurov
+from neurov import files
 from neurov.weights import WeightsFileError, load_network, load_weights, read_weights, save_weights
 
 LAM = np.full(6, 0.8)
@@ -144,3 +151,155 @@ def test_a_file_that_is_not_npz_is_named(tmp_path: Path) -> None:
     path.write_text("not an archive", encoding="utf-8")
     with pytest.raises(WeightsFileError, match="not a .npz archive"):
         read_weights(path)
+
+
+# ------------------------------------------- files that are not weights files
+# (issue 23: read as neurov.files reads, every size bounded before allocation)
+
+posix_only = pytest.mark.skipif(sys.platform == "win32", reason="device files and FIFOs are POSIX")
+
+
+@posix_only
+def test_a_fifo_is_refused_without_blocking(tmp_path: Path) -> None:
+    fifo = tmp_path / "w.npz"
+    os.mkfifo(fifo)  # no writer: np.load blocked for ever on it
+    with pytest.raises(WeightsFileError, match="is a FIFO") as err:
+        load_weights(_controller(), fifo)
+    assert str(fifo) in str(err.value)
+
+
+@posix_only
+def test_dev_zero_is_not_a_regular_file() -> None:
+    with pytest.raises(WeightsFileError, match="/dev/zero: is a character device, not a regular file"):
+        read_weights("/dev/zero")
+
+
+def test_a_file_over_the_limit_is_refused_unread(tmp_path: Path) -> None:
+    big = tmp_path / "big.npz"
+    with big.open("wb") as f:
+        f.truncate(files.MAX_WEIGHTS_FILE_BYTES + 1)  # sparse
+    with pytest.raises(WeightsFileError, match=f"larger than {files.MAX_WEIGHTS_FILE_BYTES} bytes"):
+        read_weights(big)
+
+
+def test_a_single_npy_array_gets_its_own_message(tmp_path: Path) -> None:
+    path = tmp_path / "w.npy"
+    np.save(path, _controller().weights)
+    with pytest.raises(WeightsFileError, match=r"a single \.npy array, not a \.npz archive") as err:
+        read_weights(path)
+    assert str(path) in str(err.value) and "save_weights" in str(err.value)
+
+
+def _saved(tmp_path: Path, n: int = 6) -> tuple[Path, bytes]:
+    path = tmp_path / "good.npz"
+    _controller(n).save(path)
+    return path, path.read_bytes()
+
+
+def test_every_truncation_is_a_named_error(tmp_path: Path) -> None:
+    good, data = _saved(tmp_path, n=1)
+    for size in range(len(data) - 1, -1, -1):  # the file cut one byte shorter each time
+        os.truncate(good, size)
+        with pytest.raises(WeightsFileError, match=f"weights file {good}: "):
+            read_weights(good)
+
+
+def test_a_flipped_bit_is_an_error_or_changes_nothing(tmp_path: Path) -> None:
+    """Every third byte of a small file flipped in turn (one bit each, the
+    bit cycling): the file is refused naming it and what is wrong (CRC, zip
+    structure, header), or, where the byte is one the reader does not use (a
+    time stamp), it reads the same numbers bit for bit."""
+    good, data = _saved(tmp_path, n=1)
+    want = read_weights(good)
+    refused = 0
+    positions = range(0, len(data), 3)
+    with open(good, "r+b", buffering=0) as f:  # flipped in place: no file made per case
+        for i in positions:
+            f.seek(i)
+            f.write(bytes([data[i] ^ (1 << (i % 8))]))
+            try:
+                got = read_weights(good)
+            except WeightsFileError as e:
+                assert str(good) in str(e)
+                refused += 1
+            else:
+                for name in ("weights", "centres", "widths", "input_offset", "input_scale"):
+                    assert np.array_equal(getattr(got, name), getattr(want, name)), (i, name)
+            f.seek(i)
+            f.write(data[i:i + 1])
+    assert refused > len(positions) // 2
+
+
+def _member(archive: zipfile.ZipFile, name: str, shape: tuple[int, ...], dtype: str, data: bytes,
+            compress: bool = False) -> None:
+    """An .npy member whose header declares `shape` whatever `data` holds."""
+    head = io.BytesIO()
+    np.lib.format.write_array_header_1_0(head, {"descr": dtype, "fortran_order": False, "shape": shape})
+    archive.writestr(f"{name}.npy", head.getvalue() + data,
+                     zipfile.ZIP_DEFLATED if compress else zipfile.ZIP_STORED)
+
+
+def _archive(path: Path, members: dict[str, tuple[tuple[int, ...], str, bytes]], good: Path,
+             compress: bool = False) -> None:
+    with np.load(good) as saved, zipfile.ZipFile(path, "w") as out:
+        for name in ("format", "version", "weights", "centres", "widths", "input_offset", "input_scale"):
+            if name in members:
+                _member(out, name, *members[name], compress=compress)
+            else:
+                a = saved[name]
+                _member(out, name, a.shape, np.lib.format.dtype_to_descr(a.dtype), a.tobytes())
+
+
+@pytest.mark.parametrize(
+    ("members", "message"),
+    [
+        pytest.param({"centres": ((10**8, 24), "<f8", b"")},
+                     r"'centres' declares 100000000 centres, more than the 65536", id="18 GiB of centres"),
+        pytest.param({"weights": ((6, 10**9), "<f8", b"")},
+                     r"'weights' must have shape \(6, 6\), got \(6, 1000000000\)", id="48 GB of weights"),
+        pytest.param({"format": ((), "<U100000000", b"")}, "'format' must be 'neurov-nn-weights'",
+                     id="a 400 MB string"),
+        pytest.param({"widths": ((6,), "|O", b"")}, "holds Python objects", id="objects"),
+        pytest.param({"widths": ((-6,), "<f8", b"")}, r"'widths' declares the shape \(-6,\)",
+                     id="negative shape"),
+        pytest.param({"widths": ((6,), "<f8", b"\0" * 8)}, "'widths' is truncated: 8 of the 48 bytes",
+                     id="data shorter than declared"),
+    ],
+)
+def test_declared_sizes_are_checked_before_anything_is_allocated(
+        tmp_path: Path, members: dict[str, Any], message: str) -> None:
+    good, _ = _saved(tmp_path)
+    path = tmp_path / "declared.npz"
+    _archive(path, members, good)
+    tracemalloc.start()
+    try:
+        with pytest.raises(WeightsFileError, match=message) as err:
+            read_weights(path)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert str(path) in str(err.value)
+    assert peak < 2 * 1024 * 1024  # numpy reports its buffers to tracemalloc
+
+
+def test_a_member_that_inflates_past_the_limit_is_refused(tmp_path: Path) -> None:
+    """A small file of compressed zeros whose member declares more bytes than
+    a weights file may hold (np.load inflated a 375 kB file to 384 MB)."""
+    good, _ = _saved(tmp_path)
+    path = tmp_path / "bomb.npz"
+    n = files.MAX_WEIGHTS_FILE_BYTES // 8 + 1
+    _archive(path, {"widths": ((n,), "<f8", bytes(8 * n))}, good, compress=True)
+    assert path.stat().st_size < 100_000
+    with pytest.raises(WeightsFileError, match=rf"array 'widths' declares \d+ bytes, more than "
+                                               f"the {files.MAX_WEIGHTS_FILE_BYTES}"):
+        read_weights(path)
+
+
+def test_a_network_of_the_most_centres_fits_the_file_limit(tmp_path: Path) -> None:
+    """save_weights of a MAX_CENTRES network is read back: the two limits agree."""
+    n = neurov.MAX_CENTRES
+    net = neurov.RbfNetwork(np.zeros((n, 24)), 1.0)
+    path = tmp_path / "largest.npz"
+    save_weights(net, path)
+    assert path.stat().st_size <= files.MAX_WEIGHTS_FILE_BYTES
+    assert read_weights(path).n_centres == n

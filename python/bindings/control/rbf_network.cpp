@@ -25,6 +25,7 @@ Eigen::VectorXd widths_arg(py::handle width, Eigen::Index n) {
 }  // namespace
 
 void bind_rbf_network(py::module_& m) {
+  m.attr("MAX_CENTRES") = kMaxCentres;
   py::class_<Network> network(m, "RbfNetwork",
                       "Radial-basis-function network (eq. 30): g_j(x) = exp(-||x_hat - xi_j||^2 / "
                       "(2 sigma_j^2)), output W g(x) with W (6, N); x_hat = (x - input_offset) * "
@@ -56,7 +57,8 @@ void bind_rbf_network(py::module_& m) {
            }),
            py::arg("centres"), py::arg("width"), py::arg("input_offset") = py::none(),
            py::arg("input_scale") = py::none(),
-           "centres: (N, n_in) array, one centre per row; width: sigma for every centre, or "
+           "centres: (N, n_in) array, one centre per row, N at most MAX_CENTRES (65536); width: "
+           "sigma for every centre, or "
            "(N,) per centre, > 0; input_offset and input_scale: (n_in,) input normalisation, "
            "default identity (the paper's choice). Weights start at zero.")
       .def(

@@ -27,6 +27,8 @@ Fields<T> sensor_fields(py::module_& m, const char* name, const char* doc,
 }  // namespace
 
 void bind_sim_config(py::module_& m) {
+  m.attr("MAX_SUBSTEPS") = kMaxSubsteps;
+  m.attr("MAX_WAVE_COMPONENTS") = kMaxWaveComponents;
   m.def(
       "buoyancy_in_water",
       [](double water_density, double displaced_volume) {
@@ -246,7 +248,7 @@ void bind_sim_config(py::module_& m) {
               "are at t_k = k dt; the force is held over each control period and the plant "
               "integrated by RK4 at dt / substeps.")
         .value("dt", &T::dt, "Control period [s].")
-        .value("substeps", &T::substeps, "RK4 steps per control period.")
+        .value("substeps", &T::substeps, "RK4 steps per control period, 1 to 10000 (MAX_SUBSTEPS).")
         .value("duration", &T::duration, "[s].")
         .vector("eta0", &T::eta0, "Initial pose (6,).")
         .vector("nu0", &T::nu0, "Initial body velocity (6,).")

@@ -79,6 +79,9 @@ def tracking_error(
     eta_r_ddot, nu_r, nu_r_dot. Raises ``ValueError`` at the pitch singularity.
     """
 
+MAX_CENTRES: int
+"""The most centres a network takes (C++ ``neurov::kMaxCentres``, 65536)."""
+
 class RbfNetwork:
     """Radial-basis-function network (eq. 30).
 
@@ -93,8 +96,8 @@ class RbfNetwork:
         input_offset: _ArrayLike | None = None,
         input_scale: _ArrayLike | None = None,
     ) -> None:
-        """centres: (N, n_in), one centre per row; width: sigma for every centre, or (N,)
-        per centre, > 0; input_offset and input_scale: (n_in,) input normalisation,
+        """centres: (N, n_in), one centre per row, N at most MAX_CENTRES (65536); width:
+        sigma for every centre, or (N,) per centre, > 0; input_offset and input_scale: (n_in,) input normalisation,
         default identity (the paper's choice). Weights start at zero."""
     def basis(self, x: _ArrayLike) -> _Array:
         """Basis values g(x) for an input x (n_in,), shape (N,)."""

@@ -41,6 +41,11 @@ from .model import ThrusterConfig, Vehicle
 # dynamic arrays (command times and poses, thruster arrays) are read-only
 # copies and lists of structs tuples of copies: assign them whole.
 
+MAX_SUBSTEPS: int
+"""The most RK4 substeps per control period (C++ ``neurov::kMaxSubsteps``, 10000)."""
+MAX_WAVE_COMPONENTS: int
+"""The most wave components of a run (C++ ``neurov::kMaxWaveComponents``, 512)."""
+
 @type_check_only
 class _SensorConfig(_Fields):
     """A sensor's configuration: its rate and latency."""
@@ -311,7 +316,7 @@ class SimulationConfig(_ValidatedFields):
     dt: _FloatField = ...
     """Control period [s]."""
     substeps: _IntField = ...
-    """RK4 steps per control period."""
+    """RK4 steps per control period, 1 to 10000 (MAX_SUBSTEPS)."""
     duration: _FloatField = ...
     """[s]."""
     eta0: _ArrayField = ...

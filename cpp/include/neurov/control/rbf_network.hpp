@@ -21,6 +21,15 @@
 
 namespace neurov {
 
+/// The most centres a network takes (2^16). It bounds what a count read from
+/// a file can allocate before anything runs: an NN controller of 65536
+/// centres of 24 inputs holds 77 MB and takes 8.6 ms a step (measured from
+/// Python, docs/reliability.md), 16 times the largest network benchmarked
+/// (4096) and a thousand times the paper's 64; a count beyond it is a typo
+/// whose network would not fit in memory (10^8 centres: 24 GB).
+inline constexpr int kMaxCentres = 65536;
+static_assert(kMaxCentres == 65536, "create()'s centres message names the maximum");
+
 template <typename ScalarT, int InputsT = Eigen::Dynamic, int CentresT = Eigen::Dynamic,
           int OutputsT = 6>
 class RbfNetwork {
@@ -72,6 +81,9 @@ class RbfNetwork {
     if (centres.rows() < 1 || centres.cols() < 1)
       return detail::invalid("centres", -1, static_cast<double>(centres.rows()),
                              "at least one centre with at least one input");
+    if (centres.rows() > kMaxCentres)
+      return detail::invalid("centres", -1, static_cast<double>(centres.rows()),
+                             "at most 65536 centres (neurov::kMaxCentres)");
     if (widths.size() != centres.rows())
       return detail::invalid("widths", -1, static_cast<double>(widths.size()),
                              "one width per centre");

@@ -120,10 +120,19 @@ struct Command {
 inline constexpr int kMaxControlDelay = 16;
 static_assert(kMaxControlDelay == 16, "validate()'s control_delay message names the maximum");
 
+/// The most RK4 substeps a control period takes. At the largest dt
+/// (kMaxStep, 10 s) it still gives a 1 ms plant step, and at the paper's
+/// 0.2 s a 20 us one, far below any time constant of a vehicle or a thruster
+/// (the shipped scenarios use 10). At the limit a control period costs about
+/// 2.4 ms (0.24 us an RK4 step of NEROV, docs/reliability.md); 2e9 substeps
+/// would take 8 minutes a period, 40 hours for a 60 s run.
+inline constexpr int kMaxSubsteps = 10000;
+static_assert(kMaxSubsteps == 10000, "validate()'s substeps message names the maximum");
+
 template <typename Scalar>
 struct SimulationConfig {
   Scalar dt = Scalar(0.2);  ///< control period [s]
-  int substeps = 10;        ///< RK4 steps per control period
+  int substeps = 10;        ///< RK4 steps per control period, 1..kMaxSubsteps
   Scalar duration = Scalar(60);
   Vector6<Scalar> eta0 = Vector6<Scalar>::Zero();
   Vector6<Scalar> nu0 = Vector6<Scalar>::Zero();
@@ -191,8 +200,9 @@ inline ValidationError buoyancy_in_water(Scalar water_density, Scalar displaced_
 template <typename Scalar>
 inline ValidationError validate(const SimulationConfig<Scalar>& c) {
   if (auto e = detail::check_step("dt", static_cast<double>(c.dt))) return e;
-  if (c.substeps < 1)
-    return detail::invalid("substeps", -1, static_cast<double>(c.substeps), ">= 1");
+  if (c.substeps < 1 || c.substeps > kMaxSubsteps)
+    return detail::invalid("substeps", -1, static_cast<double>(c.substeps),
+                           "a whole number in 1..10000 (neurov::kMaxSubsteps)");
   if (auto e = detail::check_positive_scalar("duration", static_cast<double>(c.duration))) return e;
   if (c.duration / c.dt > Scalar(1e8))
     return detail::invalid("duration", -1, static_cast<double>(c.duration),

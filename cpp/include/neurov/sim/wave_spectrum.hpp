@@ -41,6 +41,13 @@ struct WaveConfig {
   int components = 200;  ///< number of sinusoidal components realising the spectrum
 };
 
+/// The capacity of the simulator's wave field (Waves' default): the most
+/// components a run's waves take. 200 (the default) already realise the
+/// spectrum's statistics (docs/disturbances.md); each component costs about
+/// 200 bytes, held inline, and a pass per step.
+inline constexpr int kMaxWaveComponents = 512;
+static_assert(kMaxWaveComponents == 512, "validate()'s components message names the maximum");
+
 /// Checks a configuration; the error names the field. max_components is the
 /// capacity of the wave field that will hold it.
 template <typename Scalar>
@@ -57,7 +64,10 @@ inline ValidationError validate(const WaveConfig<Scalar>& c, int max_components)
   if (auto e = detail::check_non_negative_scalar("spreading", d(c.spreading))) return e;
   if (c.components < 1 || c.components > max_components)
     return invalid("components", -1, static_cast<double>(c.components),
-                   max_components > 1 ? "within [1, the wave field's capacity]" : "1");
+                   max_components == kMaxWaveComponents
+                       ? "within [1, 512] (neurov::kMaxWaveComponents, the wave field's "
+                         "capacity)"
+                       : max_components > 1 ? "within [1, the wave field's capacity]" : "1");
   return {};
 }
 

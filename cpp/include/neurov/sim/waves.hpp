@@ -265,7 +265,7 @@ struct WaveInterval {
 
 /// A seeded realisation of a wave spectrum with at most Capacity components,
 /// held inline (no heap: the object is about 200 bytes per component).
-template <typename ScalarT, int Capacity = 512>
+template <typename ScalarT, int Capacity = kMaxWaveComponents>
 class Waves {
  public:
   using Scalar = ScalarT;
