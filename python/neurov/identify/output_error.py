@@ -1,0 +1,134 @@
+"""Stage 2, output error: the vehicle model itself, integrated by neurov's
+plant integrator (``neurov._core.rk4_step``, the RK4 step the simulator
+takes), fitted to the measured velocities by ``scipy.optimize.least_squares``
+over short segments (multiple shooting: each segment starts from the
+measured state, so an error does not accumulate over the whole log),
+started from stage 1, within physical bounds (added mass and damping >= 0,
+mass and inertia > 0, buoyancy >= 0; with a diagonal M these keep M
+symmetric positive definite).
+
+On noise-free data the model that made the log has zero residual, so this
+stage removes stage 1's discretisation bias (the midpoint rule's, of order
+(omega dt)^2)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.optimize import least_squares
+
+from neurov import _core
+from neurov.identify.blocks import Blocks, block_ids
+from neurov.identify.errors import IdentificationError
+from neurov.identify.log import Log
+from neurov.identify.parameters import vehicle_parameters
+
+__all__ = ["ShootingFit", "fit_output_error", "bounds"]
+
+Array = NDArray[np.float64]
+
+
+def bounds(fitted: list[int], template: dict[str, Any]) -> tuple[Array, Array]:
+    """Physical bounds of the fitted entries of theta."""
+    lo = np.full(len(fitted), -np.inf)
+    hi = np.full(len(fitted), np.inf)
+    for j, i in enumerate(fitted):
+        if i <= 3:
+            lo[j] = 1e-9  # mass and inertia
+        elif i <= 21:
+            lo[j] = 0.0  # added mass, damping
+        elif i == 22:
+            hi[j] = float(template["weight"])  # W - B <= W: buoyancy >= 0
+    return lo, hi
+
+
+@dataclass(frozen=True)
+class _Segment:
+    log: Log
+    start: int
+    steps: int
+
+
+def _segments(logs: list[Log], steps: int) -> list[_Segment]:
+    out = []
+    for log in logs:
+        for a, b in log.segments:
+            for s in range(a, b - 1, steps):
+                n = min(steps, b - 1 - s)
+                if n >= 1:
+                    out.append(_Segment(log, s, n))
+    return out
+
+
+def _simulate_segment(vehicle: Any, seg: _Segment, substeps: int) -> Array:
+    log = seg.log
+    eta = log.eta[seg.start].copy()
+    nu = log.nu[seg.start].copy()
+    out = np.empty((seg.steps, 6))
+    for j in range(seg.steps):
+        k = seg.start + j
+        h = (log.t[k + 1] - log.t[k]) / substeps
+        for _ in range(substeps):
+            eta, nu = _core.rk4_step(vehicle, eta, nu, log.tau[k], h, log.current[k])
+        out[j] = nu
+    return out
+
+
+@dataclass
+class ShootingFit:
+    """The estimate (24,), and the blocks of the Gauss-Newton step taken
+    from `at` (the solver's point, where the Jacobian is)."""
+
+    theta: Array
+    at: Array
+    blocks: Blocks
+    cost: float
+    nfev: int
+
+
+def fit_output_error(logs: list[Log], template: dict[str, Any], theta0: Array, fitted: list[int],
+                     segment_steps: int = 10, substeps: int = 1, block_s: float = 5.0,
+                     max_nfev: int = 20) -> ShootingFit:
+    """Fits theta[fitted] from `theta0` by multiple shooting on segments
+    of `segment_steps` intervals, each integrated with `substeps` RK4 steps
+    per interval."""
+    segs = _segments(logs, segment_steps)
+    if not segs:
+        raise IdentificationError("no interval to fit the output error on")
+    measured = np.concatenate([s.log.nu[s.start + 1:s.start + 1 + s.steps] for s in segs])
+    rms = np.sqrt(np.mean(measured**2, axis=0))
+    scale = np.where(rms > 0, rms, 1.0)
+    seg_no = np.concatenate([np.full(s.steps, k) for k, s in enumerate(segs)])
+    # Blocks of whole segments, about block_s seconds each.
+    seg_t = np.array([s.log.t[s.start] for s in segs])
+    log_no = np.array([logs.index(s.log) for s in segs])
+    seg_blocks = block_ids(log_no, seg_t, block_s)
+    row_blocks = np.repeat(seg_blocks[seg_no], 6)
+
+    def residual(x: Array) -> Array:
+        theta = theta0.copy()
+        theta[fitted] = x
+        vehicle = _core.Vehicle(**vehicle_parameters(template, theta))
+        pred = np.concatenate([_simulate_segment(vehicle, s, substeps) for s in segs])
+        return ((pred - measured) / scale).reshape(-1)
+
+    lo, hi = bounds(fitted, template)
+    x0 = np.clip(theta0[fitted], lo, hi)
+    # The lower bound itself can be the answer (a zero damping): start just inside.
+    x0 = np.where(x0 <= lo, np.where(np.isfinite(lo), lo + 1e-6 * np.maximum(1, np.abs(x0)), x0), x0)
+    typical = np.maximum(np.abs(x0), 1e-3 * np.max(np.abs(x0)))
+    sol = least_squares(residual, x0, bounds=(lo, hi), x_scale=typical, method="trf",
+                        tr_solver="lsmr", xtol=1e-10, ftol=1e-10, gtol=1e-10, max_nfev=max_nfev)
+    jac = np.asarray(sol.jac)
+    # One Gauss-Newton step per resampled set of blocks from the solution
+    # (the bootstrap); with every block once it finishes the fit where the
+    # bounded solver stopped short of a bound.
+    blocks = Blocks.from_rows(jac, -np.asarray(sol.fun), row_blocks)
+    theta = theta0.copy()
+    theta[fitted] = np.clip(sol.x + blocks.solve(), lo, hi)
+    at = theta0.copy()
+    at[fitted] = sol.x
+    return ShootingFit(theta, at, blocks, float(sol.cost), int(sol.nfev))
