@@ -59,6 +59,7 @@ from neurov.controller import Controller
 from neurov.simulator import Observation, Simulator
 from neurov.vehicle_file import VehicleFileError
 from neurov import weights  # noqa: F401  (attaches NNAdaptiveController.save/load)
+from neurov import identify  # callable: neurov.identify(logs, vehicle, ...); imports on first use
 
 __all__ = [
     "THETA_NAMES",
@@ -104,6 +105,7 @@ __all__ = [
     "VehicleFileError",
     "__version__",
     "centres",
+    "identify",
     "is_near_singularity",
     "jacobian",
     "jacobian_dot",

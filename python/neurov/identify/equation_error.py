@@ -116,13 +116,15 @@ def identifiable(a: Array, free: list[int]) -> tuple[list[int], dict[int, str], 
             reasons[i] = "not excited: the DOF it acts in never moved (or felt no force) in the logs"
         else:
             keep.append(j)
+    # The small scaled Gram matrix's eigenvalues are the squared singular
+    # values (the limit's square, 1e8, is far from double precision's reach).
+    gram = (a.T @ a) / np.outer(np.where(norms > 0, norms, 1.0), np.where(norms > 0, norms, 1.0))
     while keep:
-        s = a[:, keep] / norms[keep]
-        _, sv, vt = np.linalg.svd(s, full_matrices=False)
-        cond = float(sv[0] / sv[-1]) if sv[-1] > 0 else float("inf")
+        lam, vec = np.linalg.eigh(gram[np.ix_(keep, keep)])
+        cond = float(np.sqrt(lam[-1] / lam[0])) if lam[0] > 0 else float("inf")
         if cond <= CONDITION_LIMIT:
             return [free[j] for j in keep], reasons, cond
-        weak = vt[-1]
+        weak = vec[:, 0]
         worst = int(np.argmax(np.abs(weak)))
         partners = [_core.THETA_NAMES[free[keep[j]]] for j in np.argsort(-np.abs(weak))[1:3]
                     if abs(weak[j]) > 0.1]
