@@ -113,7 +113,7 @@ def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Pat
     with `heldout` logs, the NRMSE fit % per DOF of the fitted vehicle's
     free run on each; with `out`, writes the fitted vehicle file."""
     items = logs if isinstance(logs, list) else [logs]
-    read = [x if isinstance(x, Log) else read_log(x, mapping) for x in items]
+    read = [x if isinstance(x, Log) else read_log(x, mapping, _thrusters(vehicle)) for x in items]
     if not read:
         raise IdentificationError("no log given")
     template = read_vehicle_file(vehicle)
@@ -150,7 +150,7 @@ def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Pat
     result.warnings = _warnings(read, rows, free_idx, lin, interval, theta)
     fitted_vehicle = result.vehicle()
     for h in heldout or []:
-        hl = h if isinstance(h, Log) else read_log(h, mapping)
+        hl = h if isinstance(h, Log) else read_log(h, mapping, _thrusters(vehicle))
         result.heldout.append((hl.source, nrmse_fit(hl.nu, free_run(fitted_vehicle, hl, substeps)),
                                nrmse_fit(hl.nu, free_run(template.vehicle(), hl, substeps))))
     if out is not None:
@@ -168,3 +168,7 @@ def _name(path: str | Path) -> str:
 
     data = read_toml(Path(path), IdentificationError, "vehicle")
     return str(data.get("name", Path(path).stem))
+
+
+def _thrusters(path: str | Path) -> Any:
+    return read_vehicle_file(path).thrusters
