@@ -88,7 +88,7 @@ def test_the_fitted_file_loads_simulates_and_says_what_it_was_fitted_from(tmp_pa
     s.vehicle = str(out)
     s.duration = 2.0
     assert not neurov.simulate(s).diverged
-    assert np.all(fit.heldout[0][1] > 99.99)
+    assert np.all(fit.heldout[0].fit > 99.99)
 
 
 def test_time_going_backwards_is_refused_naming_the_log() -> None:

@@ -30,6 +30,8 @@ def add_parser(sub: Any, epilog: str) -> None:
                         "mass, inertia, restoring) or parameter names to fit")
     p.add_argument("--heldout", nargs="*", default=[], metavar="LOG",
                    help="logs not fitted to, on which the fitted vehicle's free run is scored")
+    p.add_argument("--plot", default=None, metavar="FIGURE.png",
+                   help="write the estimates, their intervals and the held-out free runs as a figure")
     p.add_argument("--mapping", default=None, metavar="MAPPING.toml",
                    help="what the logs' signals are (for logs that are not neurov's own)")
     p.add_argument("--equation-error-only", action="store_true",
@@ -62,4 +64,8 @@ def run(args: argparse.Namespace) -> int:
     print(report_text(result), end="")
     if result.out is not None:
         print(f"wrote {result.out}")
+    if args.plot is not None:
+        from neurov.identify.figure import plot_identification
+
+        print(f"wrote {plot_identification(result, args.plot)}")
     return 0

@@ -13,7 +13,7 @@ from numpy.typing import NDArray
 from neurov import _core
 from neurov.identify.equation_error import equation_rows, fit_linear
 from neurov.identify.errors import IdentificationError
-from neurov.identify.heldout import free_run, nrmse_fit
+from neurov.identify.heldout import HeldOut, held_out
 from neurov.identify.log import Log
 from neurov.identify.output_error import bounds, fit_output_error
 from neurov.identify.parameters import GROUPS, free_indices, template_theta, vehicle_parameters
@@ -49,7 +49,7 @@ class Identification:
     interval: Array
     condition: float
     stages: str
-    heldout: list[tuple[str, Array, Array]] = field(default_factory=list)
+    heldout: list[HeldOut] = field(default_factory=list)
     warnings: list[str] = field(default_factory=list)
     out: Path | None = None
 
@@ -151,8 +151,7 @@ def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Pat
     fitted_vehicle = result.vehicle()
     for h in heldout or []:
         hl = h if isinstance(h, Log) else read_log(h, mapping, _thrusters(vehicle))
-        result.heldout.append((hl.source, nrmse_fit(hl.nu, free_run(fitted_vehicle, hl, substeps)),
-                               nrmse_fit(hl.nu, free_run(template.vehicle(), hl, substeps))))
+        result.heldout.append(held_out(hl, fitted_vehicle, template.vehicle(), substeps))
     if out is not None:
         from neurov.identify.report import header_lines
         from neurov.identify.vehicle_writer import write_vehicle_file

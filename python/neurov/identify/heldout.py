@@ -9,6 +9,7 @@ velocity error), while the velocities' dynamics are damped."""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -17,7 +18,7 @@ from numpy.typing import NDArray
 from neurov import _core
 from neurov.identify.log import Log
 
-__all__ = ["free_run", "nrmse_fit"]
+__all__ = ["HeldOut", "free_run", "held_out", "nrmse_fit"]
 
 Array = NDArray[np.float64]
 
@@ -45,3 +46,28 @@ def nrmse_fit(measured: Array, simulated: Array) -> Array:
     err = np.linalg.norm(y - s, axis=0)
     with np.errstate(invalid="ignore", divide="ignore"):
         return np.where(spread > 1e-12, 100.0 * (1.0 - err / np.where(spread > 0, spread, 1.0)), np.nan)
+
+
+@dataclass(frozen=True)
+class HeldOut:
+    """A held-out log's measured velocities and the free runs on it."""
+
+    source: str
+    t: Array
+    measured: Array
+    fitted_run: Array
+    template_run: Array
+
+    @property
+    def fit(self) -> Array:
+        """The fitted vehicle's fit % per DOF."""
+        return nrmse_fit(self.measured, self.fitted_run)
+
+    @property
+    def template_fit(self) -> Array:
+        return nrmse_fit(self.measured, self.template_run)
+
+
+def held_out(log: Log, fitted: Any, template: Any, substeps: int = 1) -> HeldOut:
+    return HeldOut(log.source, log.t, log.nu, free_run(fitted, log, substeps),
+                   free_run(template, log, substeps))

@@ -39,7 +39,8 @@ def _summary(r: Identification) -> list[str]:
     if 22 in r.fitted or 23 in r.fitted:
         lines.append("Restoring: only W - B and z_g W - z_b B act on the motion; W and r_g are the "
                      "template's, B and z_b follow from the fit")
-    for source, fit, base in r.heldout:
+    for h in r.heldout:
+        source, fit, base = h.source, h.fit, h.template_fit
         cells = ", ".join(f"{d} {f:.1f} %" for d, f in zip(_BODY, fit) if np.isfinite(f))
         base_cells = ", ".join(f"{d} {f:.1f} %" for d, f in zip(_BODY, base) if np.isfinite(f))
         lines.append(f"Held-out fit (NRMSE, free run, body velocities) on {source}: {cells}")
