@@ -134,10 +134,33 @@ def test_cli_writes_the_fitted_file_and_nothing_on_error(tmp_path, capsys) -> No
     excitation_run("nerov", 20.0).to_npz(tmp_path / "result.npz", quiet=True)
     out = tmp_path / "fitted.toml"
     assert main(["identify", str(tmp_path / "result.npz"), "--vehicle", "nerov", "--out", str(out),
-                 "--equation-error-only"]) == 0
-    assert "wrote" in capsys.readouterr().out and out.is_file()
+                 "--equation-error-only", "--plot", str(tmp_path / "fit.png")]) == 0
+    printed = capsys.readouterr().out
+    assert f"wrote {out}" in printed and out.is_file()
+    assert (tmp_path / "fit.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    (tmp_path / "fit.png").unlink()
     before = out.read_text()
     assert main(["identify", str(tmp_path / "missing.npz"), "--vehicle", "nerov", "--out", str(out)]) == 1
     assert "missing.npz: no such file" in capsys.readouterr().err
     assert out.read_text() == before
     assert sorted(p.name for p in tmp_path.iterdir()) == ["fitted.toml", "result.npz"]
+
+
+def test_a_log_that_never_moves_reaches_no_free_parameter() -> None:
+    n = 400
+    log = make_log("still", np.arange(n) * 0.05, np.zeros((n, 6)), np.zeros((n, 6)), np.zeros((n, 6)))
+    with pytest.raises(IdentificationError, match="none of the free parameters can be identified.*"
+                                                  "-X_udot: not excited"):
+        neurov.identify(log, preset_path("nerov"))
+
+
+def test_a_parquet_log_reads_as_its_csv(tmp_path) -> None:
+    import pandas as pd
+
+    r = excitation_run("nerov", 20.0)
+    r.to_csv(tmp_path / "result.csv", quiet=True)
+    pd.read_csv(tmp_path / "result.csv").to_parquet(tmp_path / "result.parquet")
+    a = neurov.identify.read_log(tmp_path / "result.parquet")
+    b = neurov.identify.read_log(tmp_path / "result.csv")
+    np.testing.assert_array_equal(a.nu, b.nu)
+    np.testing.assert_array_equal(a.tau, b.tau)
