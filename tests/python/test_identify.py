@@ -45,13 +45,13 @@ def test_stage_one_alone_is_close_and_stage_two_removes_its_bias() -> None:
 
 
 def test_a_different_vehicle_is_fitted_back_within_its_intervals() -> None:
-    r = excitation_run("bluerov2", 30.0, noise=0.01, perturb=True)
+    r = excitation_run("bluerov2", 45.0, noise=0.01, perturb=True)
     fit = neurov.identify(log_from_result(r), preset_path("bluerov2_heavy"), replicates=100)
     truth = true_theta("bluerov2", perturbed("bluerov2"))
     template = true_theta("bluerov2")
     lo, hi = fit.interval[fit.fitted].T
     inside = (lo <= truth[fit.fitted]) & (truth[fit.fitted] <= hi)
-    # 95 % intervals: about 17 of 18 cover; this seed's run gives 17.
+    # 95 % intervals: about 17 of 18 cover (94 % over seeds, docs/identification.md); this run: 18.
     assert inside.sum() >= 16, [neurov.THETA_NAMES[i] for i, ok in zip(fit.fitted, inside) if not ok]
     moved = [i for i in fit.fitted if truth[i] != template[i]]
     closer = [abs(fit.theta[i] - truth[i]) < abs(fit.theta[i] - template[i]) for i in moved]

@@ -103,7 +103,7 @@ def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Pat
              out: str | Path | None = None, mapping: str | Path | None = None,
              output_error: bool = True, substeps: int = 1, window_s: float = 0.5,
              block_s: float = 5.0, replicates: int = 200, seed: int = 0,
-             water_density: float | None = None, segment_steps: int = 10) -> Identification:
+             water_density: float | None = None, segment_s: float = 2.0) -> Identification:
     """Fits the `free` parameters (default: added mass, linear and quadratic
     damping of every DOF; also ``mass``, ``inertia``, ``restoring`` for W - B
     and z_g W - z_b B) of the template vehicle file `vehicle` to `logs`
@@ -111,7 +111,8 @@ def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Pat
     file), by equation error and then (`output_error`) output error;
     95 % intervals from a block bootstrap over `block_s`-second blocks;
     with `heldout` logs, the NRMSE fit % per DOF of the fitted vehicle's
-    free run on each; with `out`, writes the fitted vehicle file."""
+    free run on each; with `out`, writes the fitted vehicle file.
+    Stage 2's shooting segments are `segment_s` seconds long."""
     items = logs if isinstance(logs, list) else [logs]
     read = [x if isinstance(x, Log) else read_log(x, mapping, _thrusters(vehicle)) for x in items]
     if not read:
@@ -130,7 +131,7 @@ def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Pat
     theta, blocks = theta1, lin.blocks
     offset = np.zeros(24)
     if output_error:
-        oe = fit_output_error(read, template.parameters, theta1, lin.fitted, segment_steps=segment_steps,
+        oe = fit_output_error(read, template.parameters, theta1, lin.fitted, segment_s=segment_s,
                               substeps=substeps, block_s=block_s)
         theta, blocks, offset = oe.theta, oe.blocks, oe.at
         stages = "equation error, then output error"

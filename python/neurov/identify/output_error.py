@@ -1,7 +1,7 @@
 """Stage 2, output error: the vehicle model itself, integrated by neurov's
 plant integrator (``neurov._core.rk4_step``, the RK4 step the simulator
 takes), fitted to the measured velocities by ``scipy.optimize.least_squares``
-over short segments (multiple shooting: each segment starts from the
+over short segments (2 s by default; multiple shooting: each segment starts from the
 measured state, so an error does not accumulate over the whole log),
 started from stage 1, within physical bounds (added mass and damping >= 0,
 mass and inertia > 0, buoyancy >= 0; with a diagonal M these keep M
@@ -116,14 +116,18 @@ def _profiled_blocks(jac: Any, fun: Array, p: int, segs: list[_Segment], seg_blo
 
 
 def fit_output_error(logs: list[Log], template: dict[str, Any], theta0: Array, fitted: list[int],
-                     segment_steps: int = 10, substeps: int = 1, block_s: float = 5.0,
+                     segment_s: float = 2.0, substeps: int = 1, block_s: float = 5.0,
                      max_nfev: int = 20) -> ShootingFit:
     """Fits theta[fitted] from `theta0` by multiple shooting on segments
-    of `segment_steps` intervals, each integrated with `substeps` RK4 steps
+    of `segment_s` seconds (measured on the 60 s NEROV runs of
+    examples/identify_coverage.py, 2 s has errors a half to a third of
+    0.5 s's), each integrated with `substeps` RK4 steps
     per interval. Each segment's initial velocity is fitted too (starting
     from the measured one, itself a measurement in the residual): a noisy
     start would otherwise bias the damping (an error in the variables)."""
-    segs = _segments(logs, segment_steps)
+    if segment_s <= 0:
+        raise IdentificationError(f"segment_s: expected seconds > 0, got {segment_s}")
+    segs = _segments(logs, max(1, int(round(segment_s / logs[0].dt))))
     if not segs:
         raise IdentificationError("no interval to fit the output error on")
     measured = np.concatenate([s.log.nu[s.start:s.start + 1 + s.steps] for s in segs])
