@@ -24,9 +24,10 @@ def _relative_error(estimate: np.ndarray, truth: np.ndarray, i: int) -> float:
 
 
 @pytest.mark.parametrize("vehicle", sorted(PRESETS))
-def test_noise_free_logs_recover_every_identifiable_parameter(vehicle: str) -> None:
+def test_noise_free_logs_recover_every_identifiable_parameter(vehicle: str, tmp_path) -> None:
     r = excitation_run(vehicle, 20.0)
-    fit = neurov.identify(log_from_result(r), preset_path(PRESETS[vehicle]), free=ALL, replicates=20)
+    fit = neurov.identify(log_from_result(r), preset_path(PRESETS[vehicle]), free=ALL, replicates=20,
+                          out=tmp_path / "fitted.toml")
     truth = true_theta(vehicle)
     assert len(fit.fitted) >= 18
     errors = {neurov.THETA_NAMES[i]: _relative_error(fit.theta, truth, i) for i in fit.fitted}
@@ -34,6 +35,13 @@ def test_noise_free_logs_recover_every_identifiable_parameter(vehicle: str) -> N
     # The rigid-body mass and the heave added mass enter only as a sum: never both fitted.
     assert not {0, 6} <= set(fit.fitted)
     assert all("not separable" in fit.reasons[i] for i in fit.reasons)
+    # W - B and z_g W - z_b B fitted: the file keeps W and r_g and gives B and z_b.
+    template = neurov.Vehicle.preset(PRESETS[vehicle])
+    fitted = neurov.Vehicle.from_file(tmp_path / "fitted.toml")
+    assert fitted.weight == template.weight
+    assert fitted.buoyancy == pytest.approx(template.buoyancy, rel=1e-9)
+    np.testing.assert_allclose(fitted.centre_of_buoyancy, template.centre_of_buoyancy, atol=1e-9)
+    assert "Restoring: only W - B and z_g W - z_b B act" in (tmp_path / "fitted.toml").read_text()
 
 
 def test_stage_one_alone_is_close_and_stage_two_removes_its_bias() -> None:
@@ -65,6 +73,7 @@ def test_a_dof_that_never_moved_is_reported_and_left_at_the_template() -> None:
     r = neurov.simulate(s)
     fit = neurov.identify(log_from_result(r), preset_path("nerov"), replicates=20, output_error=False)
     assert fit.fitted == [4, 10, 16]  # -X_udot, X_u, X_u|u|
+    assert any(w.startswith("too short: 3 blocks") for w in fit.warnings)
     template = true_theta("nerov")
     for i in set(range(4, 22)) - {4, 10, 16}:
         assert "not excited" in fit.reasons[i]

@@ -24,8 +24,6 @@ __all__ = ["Identification", "identify"]
 
 Array = NDArray[np.float64]
 _BODY = ("u", "v", "w", "p", "q", "r")
-_DOF_OF = {**{i: i - 4 for i in range(4, 10)}, **{i: i - 10 for i in range(10, 16)},
-           **{i: i - 16 for i in range(16, 22)}}
 
 # Fewer blocks than this give a rough bootstrap.
 MIN_BLOCKS = 10
@@ -67,7 +65,7 @@ class Identification:
         return _core.Vehicle(**vehicle_parameters(self.template.parameters, self.theta))
 
 
-def _warnings(logs: list[Log], rows: Any, free: list[int], fit: Any, interval: Array,
+def _warnings(logs: list[Log], rows: Any, fit: Any, interval: Array,
               theta: Array) -> list[str]:
     out = []
     for log in logs:
@@ -148,7 +146,7 @@ def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Pat
     result = Identification(template=template, logs=read, theta_template=theta0, theta=theta,
                             theta_stage1=lin.theta, fitted=lin.fitted, reasons=lin.reasons,
                             interval=interval, condition=lin.condition, stages=stages)
-    result.warnings = _warnings(read, rows, free_idx, lin, interval, theta)
+    result.warnings = _warnings(read, rows, lin, interval, theta)
     fitted_vehicle = result.vehicle()
     for h in heldout or []:
         hl = h if isinstance(h, Log) else read_log(h, mapping, _thrusters(vehicle))

@@ -49,10 +49,6 @@ class Log:
         """Seconds covered by the segments (gaps excluded)."""
         return float(sum(self.t[b - 1] - self.t[a] for a, b in self.segments))
 
-    def intervals(self) -> NDArray[np.int64]:
-        """Rows k whose interval [t_k, t_k+1) lies inside a segment."""
-        return np.concatenate([np.arange(a, b - 1) for a, b in self.segments]).astype(np.int64)
-
 
 def make_log(source: str, t: object, eta: object, nu: object, tau: object,
              current: object = None, min_segment: int = 8) -> Log:
