@@ -12,7 +12,7 @@ DESCRIPTION = (
     "or result.csv, or other logs (CSV, ROS 1/2 bags, ArduSub .tlog) described by a --mapping file. "
     "The free parameters (default: added mass, linear and quadratic damping of every DOF) are "
     "fitted by equation error on the regressor, then by output error over short segments; the "
-    "rest is the template's. Prints each parameter's estimate and 95 %% interval (a block "
+    "rest is the template's. Prints each parameter's estimate and 95 % interval (a block "
     "bootstrap), the excitation's condition number, warnings, and with --heldout the fit "
     "(NRMSE %%) of the fitted vehicle's free run on logs it was not fitted to. See "
     "docs/identification.md.")
