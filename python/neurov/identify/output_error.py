@@ -53,9 +53,10 @@ class _Segment:
     steps: int
 
 
-def _segments(logs: list[Log], steps: int) -> list[_Segment]:
+def _segments(logs: list[Log], segment_s: float) -> list[_Segment]:
     out = []
     for log in logs:
+        steps = max(1, int(round(segment_s / log.dt)))
         for a, b in log.segments:
             for s in range(a, b - 1, steps):
                 n = min(steps, b - 1 - s)
@@ -127,7 +128,7 @@ def fit_output_error(logs: list[Log], template: dict[str, Any], theta0: Array, f
     start would otherwise bias the damping (an error in the variables)."""
     if segment_s <= 0:
         raise IdentificationError(f"segment_s: expected seconds > 0, got {segment_s}")
-    segs = _segments(logs, max(1, int(round(segment_s / logs[0].dt))))
+    segs = _segments(logs, segment_s)
     if not segs:
         raise IdentificationError("no interval to fit the output error on")
     measured = np.concatenate([s.log.nu[s.start:s.start + 1 + s.steps] for s in segs])
