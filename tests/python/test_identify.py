@@ -173,3 +173,19 @@ def test_a_parquet_log_reads_as_its_csv(tmp_path) -> None:
     b = neurov.identify.read_log(tmp_path / "result.csv")
     np.testing.assert_array_equal(a.nu, b.nu)
     np.testing.assert_array_equal(a.tau, b.tau)
+
+
+def test_an_estimator_s_velocity_lag_is_undone() -> None:
+    r = excitation_run("nerov", 20.0)
+    nu = r.nu_estimate.copy()
+    nu[2:, :3] = nu[:-2, :3]  # the linear velocities two rows (0.1 s) late
+    tau = r.tau_applied + r.disturbance
+    late = make_log("late", r.t, r.eta_estimate, nu, tau)
+    truth = true_theta("nerov")
+    lagged = neurov.identify(late, preset_path("nerov"), replicates=20, output_error=False)
+    undone = neurov.identify(late, preset_path("nerov"), replicates=20, output_error=False,
+                             velocity_lag=0.1)
+    added = slice(4, 7)
+    assert np.max(np.abs(lagged.theta[added] / truth[added] - 1)) > 0.05
+    np.testing.assert_allclose(undone.theta[added], truth[added], rtol=2e-2)
+    assert any("moved 2 row(s) (0.1 s) earlier" in w for w in undone.warnings)

@@ -40,6 +40,9 @@ def add_parser(sub: Any, epilog: str) -> None:
                    help="RK4 steps per log interval in the output error and free runs (default 1)")
     p.add_argument("--block", type=float, default=5.0, metavar="SECONDS",
                    help="length of the bootstrap's blocks (default 5 s)")
+    p.add_argument("--velocity-lag", type=float, default=0.0, metavar="SECONDS",
+                   help="the estimator's lag of the linear velocity behind the motion, undone "
+                        "before fitting (default 0)")
     p.add_argument("--water-density", type=float, default=None, metavar="KG_M3",
                    help="the water of the logs, for a template that gives its displaced volume")
 
@@ -60,7 +63,8 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError(f"--block: expected seconds > 0, got {args.block}")
     result = identify(args.logs, vehicle, free=args.free, heldout=args.heldout, out=args.out,
                       mapping=args.mapping, output_error=not args.equation_error_only,
-                      substeps=args.substeps, block_s=args.block, water_density=args.water_density)
+                      substeps=args.substeps, block_s=args.block, water_density=args.water_density,
+                      velocity_lag=args.velocity_lag)
     print(report_text(result), end="")
     if result.out is not None:
         print(f"wrote {result.out}")

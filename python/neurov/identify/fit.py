@@ -14,7 +14,7 @@ from neurov import _core
 from neurov.identify.equation_error import equation_rows, fit_linear
 from neurov.identify.errors import IdentificationError
 from neurov.identify.heldout import HeldOut, held_out
-from neurov.identify.log import Log
+from neurov.identify.log import Log, advance_linear_velocity
 from neurov.identify.output_error import bounds, fit_output_error
 from neurov.identify.parameters import GROUPS, free_indices, template_theta, vehicle_parameters
 from neurov.identify.readers import read_log
@@ -101,7 +101,8 @@ def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Pat
              out: str | Path | None = None, mapping: str | Path | None = None,
              output_error: bool = True, substeps: int = 1, window_s: float = 0.5,
              block_s: float = 5.0, replicates: int = 200, seed: int = 0,
-             water_density: float | None = None, segment_s: float = 2.0) -> Identification:
+             water_density: float | None = None, segment_s: float = 2.0,
+             velocity_lag: float = 0.0) -> Identification:
     """Fits the `free` parameters (default: added mass, linear and quadratic
     damping of every DOF; also ``mass``, ``inertia``, ``restoring`` for W - B
     and z_g W - z_b B) of the template vehicle file `vehicle` to `logs`
@@ -110,11 +111,14 @@ def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Pat
     95 % intervals from a block bootstrap over `block_s`-second blocks;
     with `heldout` logs, the NRMSE fit % per DOF of the fitted vehicle's
     free run on each; with `out`, writes the fitted vehicle file.
-    Stage 2's shooting segments are `segment_s` seconds long."""
+    Stage 2's shooting segments are `segment_s` seconds long.
+    `velocity_lag` [s] moves the logs' linear velocities that much earlier,
+    for an estimator's lag (docs/identification.md, the worked example)."""
     items = logs if isinstance(logs, list) else [logs]
     read = [x if isinstance(x, Log) else read_log(x, mapping, _thrusters(vehicle)) for x in items]
     if not read:
         raise IdentificationError("no log given")
+    read = [advance_linear_velocity(log, velocity_lag) for log in read]
     template = read_vehicle_file(vehicle)
     if water_density is not None:
         template = template.in_water(water_density)

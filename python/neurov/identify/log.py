@@ -102,3 +102,33 @@ def make_log(source: str, t: object, eta: object, nu: object, tau: object,
     return Log(source=source, t=t_all[index], eta=arrays["eta"][index], nu=arrays["nu"][index],
                tau=arrays["tau"][index], current=c[index], segments=tuple(segments), cut=cut,
                notes=notes)
+
+
+def advance_linear_velocity(log: Log, lag_s: float) -> Log:
+    """The log with its linear velocities (u, v, w) moved `lag_s` seconds
+    earlier (whole rows), for an estimator whose velocity lags the motion
+    (an EKF fusing a DVL at a few Hz): a lag reads as extra inertia. Each
+    segment loses its last rows."""
+    if not lag_s >= 0:
+        raise LogError(f"velocity_lag: expected seconds >= 0, got {lag_s}")
+    rows = int(round(lag_s / log.dt))
+    if rows == 0:
+        return log
+    keep, nu, segments, offset = [], [], [], 0
+    for a, b in log.segments:
+        if b - a - rows < 8:
+            continue
+        idx = np.arange(a, b - rows)
+        moved = log.nu[idx].copy()
+        moved[:, :3] = log.nu[idx + rows, :3]
+        keep.append(idx)
+        nu.append(moved)
+        segments.append((offset, offset + len(idx)))
+        offset += len(idx)
+    if not keep:
+        raise LogError(f"{log.source}: no segment longer than the velocity lag of {rows} rows")
+    index = np.concatenate(keep)
+    return Log(source=log.source, t=log.t[index], eta=log.eta[index], nu=np.concatenate(nu),
+               tau=log.tau[index], current=log.current[index], segments=tuple(segments), cut=log.cut,
+               notes=(*log.notes, f"linear velocity moved {rows} row(s) ({rows * log.dt:g} s) earlier "
+                      "for the estimator's lag"))
