@@ -62,6 +62,7 @@ from neurov.controller import Controller
 from neurov.simulator import Observation, Simulator
 from neurov.errors import NeurovError, ValidationError, VehicleFileError
 from neurov import weights  # noqa: F401  (attaches NNAdaptiveController.save/load)
+from neurov import identify  # callable: neurov.identify(logs, vehicle, ...); imports on first use
 
 __all__ = [
     "MAX_CENTRES",
@@ -113,6 +114,7 @@ __all__ = [
     "__version__",
     "centres",
     "errors",
+    "identify",
     "is_near_singularity",
     "jacobian",
     "jacobian_dot",

@@ -89,6 +89,10 @@ def _parser() -> argparse.ArgumentParser:
     study.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
     study.add_argument("--quiet", action="store_true",
                        help="no progress bars (there are none either when stderr is not a terminal)")
+
+    from neurov.identify.cli import add_parser as add_identify
+
+    add_identify(sub, _EXIT_STATUS)
     return p
 
 
@@ -132,6 +136,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             main_study(args.study, args.out, args.workers, args.scheduler, executor=args.executor,
                        table_format=args.table_format, plots=not args.no_plots,
                        batch_size=args.batch_size, quiet=args.quiet)
+        elif args.command == "identify":
+            from neurov.identify.cli import run as run_identify
+
+            return run_identify(args)
     except KeyboardInterrupt as e:
         # A study says what it saved and that rerunning resumes; one line, no traceback.
         print(f"neurov: {str(e) or 'interrupted'}", file=sys.stderr)

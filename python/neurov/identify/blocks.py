@@ -1,0 +1,79 @@
+"""Least squares held as per-block normal equations, so that an estimate
+and its block bootstrap are sums over the same blocks.
+
+A block is a stretch of consecutive samples (a few seconds) inside one
+segment of a log: residuals coloured by an estimator, a delay or the
+closed loop are correlated within a block, and the blocks are resampled
+whole (Kuensch's moving-block idea, here on non-overlapping blocks)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["Blocks", "block_ids"]
+
+Array = NDArray[np.float64]
+
+
+def block_ids(segment_of_row: NDArray[np.int64], times: Array, block_s: float) -> NDArray[np.int64]:
+    """A block number for each row: rows of one segment cut every `block_s` seconds."""
+    ids = np.empty(len(times), dtype=np.int64)
+    next_id = 0
+    for seg in np.unique(segment_of_row):
+        rows = np.flatnonzero(segment_of_row == seg)
+        local = np.floor((times[rows] - times[rows[0]]) / block_s).astype(np.int64)
+        ids[rows] = next_id + local
+        next_id += int(local.max()) + 1
+    # Renumber densely (an empty block number is no block).
+    _, dense = np.unique(ids, return_inverse=True)
+    return dense.astype(np.int64)
+
+
+@dataclass(frozen=True)
+class Blocks:
+    """G_b = A_b^T A_b and h_b = A_b^T b_b of each block b (p unknowns)."""
+
+    gram: Array  #: (B, p, p)
+    rhs: Array  #: (B, p)
+
+    @staticmethod
+    def from_rows(a: Array, b: Array, ids: NDArray[np.int64]) -> Blocks:
+        n = int(ids.max()) + 1 if len(ids) else 0
+        p = a.shape[1]
+        gram = np.zeros((n, p, p))
+        rhs = np.zeros((n, p))
+        for k in range(n):
+            rows = ids == k
+            gram[k] = a[rows].T @ a[rows]
+            rhs[k] = a[rows].T @ b[rows]
+        return Blocks(gram, rhs)
+
+    @property
+    def count(self) -> int:
+        return int(self.gram.shape[0])
+
+    def solve(self, weights: Array | None = None) -> Array:
+        w = np.ones(self.count) if weights is None else weights
+        return np.linalg.solve(np.tensordot(w, self.gram, 1), np.tensordot(w, self.rhs, 1))
+
+    def bootstrap(self, replicates: int, seed: int) -> Array:
+        """(replicates, p) solutions with the blocks drawn with replacement;
+        a draw whose normal matrix is singular is drawn again."""
+        rng = np.random.default_rng(seed)
+        out = np.empty((replicates, self.gram.shape[1]))
+        k = 0
+        tries = 0
+        while k < replicates:
+            tries += 1
+            if tries > 20 * replicates:
+                raise np.linalg.LinAlgError("the resampled normal equations are singular")
+            w = np.bincount(rng.integers(0, self.count, self.count), minlength=self.count).astype(float)
+            try:
+                out[k] = self.solve(w)
+            except np.linalg.LinAlgError:
+                continue
+            k += 1
+        return out

@@ -1,0 +1,75 @@
+"""``neurov identify``: the command line's arguments and what it prints."""
+
+from __future__ import annotations
+
+import argparse
+from typing import Any
+
+__all__ = ["add_parser", "run"]
+
+DESCRIPTION = (
+    "Fits a vehicle file to logs of the vehicle moving under known forces: neurov runs' result.npz "
+    "or result.csv, or other logs (CSV, ROS 1/2 bags, ArduSub .tlog) described by a --mapping file. "
+    "The free parameters (default: added mass, linear and quadratic damping of every DOF) are "
+    "fitted by equation error on the regressor, then by output error over short segments; the "
+    "rest is the template's. Prints each parameter's estimate and 95 % interval (a block "
+    "bootstrap), the excitation's condition number, warnings, and with --heldout the fit "
+    "(NRMSE %%) of the fitted vehicle's free run on logs it was not fitted to. See "
+    "docs/identification.md.")
+
+
+def add_parser(sub: Any, epilog: str) -> None:
+    p = sub.add_parser("identify", help="fit a vehicle file to logs", description=DESCRIPTION,
+                       epilog=epilog, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("logs", nargs="+", metavar="LOG", help="the logs to fit to")
+    p.add_argument("--vehicle", required=True, metavar="TEMPLATE.toml",
+                   help="the template vehicle file (a shipped preset's name also works)")
+    p.add_argument("--out", default=None, metavar="FITTED.toml", help="write the fitted vehicle file")
+    p.add_argument("--free", default=None, metavar="LIST",
+                   help="comma-separated groups (added_mass, linear_damping, quadratic_damping, "
+                        "mass, inertia, restoring) or parameter names to fit")
+    p.add_argument("--heldout", nargs="*", default=[], metavar="LOG",
+                   help="logs not fitted to, on which the fitted vehicle's free run is scored")
+    p.add_argument("--plot", default=None, metavar="FIGURE.png",
+                   help="write the estimates, their intervals and the held-out free runs as a figure")
+    p.add_argument("--mapping", default=None, metavar="MAPPING.toml",
+                   help="what the logs' signals are (for logs that are not neurov's own)")
+    p.add_argument("--equation-error-only", action="store_true",
+                   help="skip the output-error stage (faster, biased on noisy data)")
+    p.add_argument("--substeps", type=int, default=1, metavar="N",
+                   help="RK4 steps per log interval in the output error and free runs (default 1)")
+    p.add_argument("--block", type=float, default=5.0, metavar="SECONDS",
+                   help="length of the bootstrap's blocks (default 5 s)")
+    p.add_argument("--velocity-lag", type=float, default=0.0, metavar="SECONDS",
+                   help="the estimator's lag of the linear velocity behind the motion, undone "
+                        "before fitting (default 0)")
+    p.add_argument("--water-density", type=float, default=None, metavar="KG_M3",
+                   help="the water of the logs, for a template that gives its displaced volume")
+
+
+def run(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from neurov.identify.fit import identify
+    from neurov.identify.report import report_text
+    from neurov.vehicle_file import preset_names, preset_path
+
+    vehicle = args.vehicle
+    if not Path(vehicle).exists() and vehicle in preset_names():
+        vehicle = preset_path(vehicle)
+    if args.substeps < 1:
+        raise ValueError(f"--substeps: expected an integer >= 1, got {args.substeps}")
+    if args.block <= 0:
+        raise ValueError(f"--block: expected seconds > 0, got {args.block}")
+    result = identify(args.logs, vehicle, free=args.free, heldout=args.heldout, out=args.out,
+                      mapping=args.mapping, output_error=not args.equation_error_only,
+                      substeps=args.substeps, block_s=args.block, water_density=args.water_density,
+                      velocity_lag=args.velocity_lag)
+    print(report_text(result), end="")
+    if result.out is not None:
+        print(f"wrote {result.out}")
+    if args.plot is not None:
+        from neurov.identify.figure import plot_identification
+
+        print(f"wrote {plot_identification(result, args.plot)}")
+    return 0

@@ -1,0 +1,176 @@
+"""``neurov.identify``: logs and a template vehicle file in, a fitted
+vehicle file with the uncertainty of each parameter out."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from neurov import _core
+from neurov.identify.equation_error import equation_rows, fit_linear
+from neurov.identify.errors import IdentificationError
+from neurov.identify.heldout import HeldOut, held_out
+from neurov.identify.log import Log, advance_linear_velocity
+from neurov.identify.output_error import bounds, fit_output_error
+from neurov.identify.parameters import GROUPS, free_indices, template_theta, vehicle_parameters
+from neurov.identify.readers import read_log
+from neurov.vehicle_file import VehicleFile, read_vehicle_file
+
+__all__ = ["Identification", "identify"]
+
+Array = NDArray[np.float64]
+_BODY = ("u", "v", "w", "p", "q", "r")
+
+# Fewer blocks than this give a rough bootstrap.
+MIN_BLOCKS = 10
+# A 95 % interval wider than this fraction of the estimate either side: too quiet.
+WIDE = 0.5
+
+
+@dataclass
+class Identification:
+    """What :func:`identify` found. theta is the full (24,) vector (the
+    template's values where not fitted); interval is (24, 2) (NaN where not
+    fitted); reasons says why a free parameter was left at the template's value."""
+
+    template: VehicleFile
+    logs: list[Log]
+    theta_template: Array
+    theta: Array
+    theta_stage1: Array
+    fitted: list[int]
+    reasons: dict[int, str]
+    interval: Array
+    condition: float
+    stages: str
+    heldout: list[HeldOut] = field(default_factory=list)
+    warnings: list[str] = field(default_factory=list)
+    out: Path | None = None
+
+    def parameters(self) -> dict[str, Any]:
+        """The fitted vehicle's :class:`neurov.Vehicle` keyword arguments."""
+        p = vehicle_parameters(self.template.parameters, self.theta)
+        if self.template.displaced_volume is not None and 22 not in self.fitted:
+            # W - B was not fitted: keep the template's volume, so that the
+            # vehicle floats in each scenario's water as the template does.
+            p.pop("buoyancy")
+            p["displaced_volume"] = self.template.displaced_volume
+        return p
+
+    def vehicle(self) -> Any:
+        return _core.Vehicle(**vehicle_parameters(self.template.parameters, self.theta))
+
+
+def _warnings(logs: list[Log], rows: Any, fit: Any, interval: Array,
+              theta: Array) -> list[str]:
+    out = []
+    for log in logs:
+        out += [f"{log.source}: {n}" for n in log.notes]
+    if fit.blocks.count < MIN_BLOCKS:
+        out.append(f"too short: {fit.blocks.count} blocks of data (fewer than {MIN_BLOCKS}); the "
+                   "95 % intervals from so few are rough: record longer")
+    y = rows.y
+    for d in range(6):
+        lin, quad = 10 + d, 16 + d
+        if lin in fit.fitted and quad in fit.fitted:
+            a, b = y[:, d, lin], y[:, d, quad]
+            if np.std(a) > 0 and np.std(b) > 0 and abs(np.corrcoef(a, b)[0, 1]) > 0.99:
+                out.append(f"too slow in {_BODY[d]}: the speed stays in too narrow a range to tell "
+                           f"linear from quadratic damping apart (correlation "
+                           f"{np.corrcoef(a, b)[0, 1]:.3f}); excite it with larger amplitudes")
+    for i in fit.fitted:
+        lo, hi = interval[i]
+        half = 0.5 * (hi - lo)
+        scale = max(abs(theta[i]), max(abs(theta[j]) for j in _group(i)) * 1e-2)
+        if half > WIDE * scale:
+            out.append(f"too quiet for {_core.THETA_NAMES[i]}: its 95 % interval [{lo:.4g}, {hi:.4g}] "
+                       f"is wide for the estimate {theta[i]:.4g}; excite its DOF harder or longer")
+    return out
+
+
+def _group(i: int) -> tuple[int, ...]:
+    return next(g for g in GROUPS.values() if i in g)
+
+
+def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Path, *,
+             free: str | list[str] | None = None, heldout: list[str | Path | Log] | None = None,
+             out: str | Path | None = None, mapping: str | Path | None = None,
+             output_error: bool = True, substeps: int = 1, window_s: float = 0.5,
+             block_s: float = 5.0, replicates: int = 200, seed: int = 0,
+             water_density: float | None = None, segment_s: float = 2.0,
+             velocity_lag: float = 0.0) -> Identification:
+    """Fits the `free` parameters (default: added mass, linear and quadratic
+    damping of every DOF; also ``mass``, ``inertia``, ``restoring`` for W - B
+    and z_g W - z_b B) of the template vehicle file `vehicle` to `logs`
+    (neurov's result.npz/.csv/.parquet, or other formats with a `mapping`
+    file), by equation error and then (`output_error`) output error;
+    95 % intervals from a block bootstrap over `block_s`-second blocks;
+    with `heldout` logs, the NRMSE fit % per DOF of the fitted vehicle's
+    free run on each; with `out`, writes the fitted vehicle file.
+    Stage 2's shooting segments are `segment_s` seconds long.
+    `velocity_lag` [s] moves the logs' linear velocities that much earlier,
+    for an estimator's lag (docs/identification.md, the worked example)."""
+    items = logs if isinstance(logs, list) else [logs]
+    read = [x if isinstance(x, Log) else read_log(x, mapping, _thrusters(vehicle)) for x in items]
+    if not read:
+        raise IdentificationError("no log given")
+    read = [advance_linear_velocity(log, velocity_lag) for log in read]
+    template = read_vehicle_file(vehicle)
+    if water_density is not None:
+        template = template.in_water(water_density)
+    theta0 = template_theta(template.vehicle(), str(vehicle))
+    free_idx = free_indices(free)
+    rows = equation_rows(read, window_s=window_s, block_s=block_s)
+    lin = fit_linear(rows, theta0, free_idx)
+    theta1 = lin.theta.copy()
+    lo, hi = bounds(lin.fitted, template.parameters)
+    theta1[lin.fitted] = np.clip(theta1[lin.fitted], lo, hi)
+    stages = "equation error"
+    theta, blocks = theta1, lin.blocks
+    offset = np.zeros(24)
+    if output_error:
+        oe = fit_output_error(read, template.parameters, theta1, lin.fitted, segment_s=segment_s,
+                              substeps=substeps, block_s=block_s)
+        theta, blocks, offset = oe.theta, oe.blocks, oe.at
+        stages = "equation error, then output error"
+    try:
+        samples = blocks.bootstrap(replicates, seed)
+    except np.linalg.LinAlgError:
+        raise IdentificationError("the logs are too short for a bootstrap: resampled blocks leave a "
+                                  "free parameter unexcited") from None
+    if output_error:
+        samples = samples + offset[lin.fitted]
+    interval = np.full((24, 2), np.nan)
+    q = np.percentile(samples, [2.5, 97.5], axis=0).T
+    interval[lin.fitted] = np.clip(q, lo[:, None], hi[:, None])
+    result = Identification(template=template, logs=read, theta_template=theta0, theta=theta,
+                            theta_stage1=lin.theta, fitted=lin.fitted, reasons=lin.reasons,
+                            interval=interval, condition=lin.condition, stages=stages)
+    result.warnings = _warnings(read, rows, lin, interval, theta)
+    fitted_vehicle = result.vehicle()
+    for h in heldout or []:
+        hl = h if isinstance(h, Log) else read_log(h, mapping, _thrusters(vehicle))
+        result.heldout.append(held_out(hl, fitted_vehicle, template.vehicle(), substeps))
+    if out is not None:
+        from neurov.identify.report import header_lines
+        from neurov.identify.vehicle_writer import write_vehicle_file
+
+        result.out = write_vehicle_file(out, vehicle, result.parameters(), header_lines(result),
+                                        name=f"{_name(vehicle)} (fitted)",
+                                        source=f"neurov identify from {', '.join(l.source for l in read)}")
+    return result
+
+
+def _name(path: str | Path) -> str:
+    from neurov.files import read_toml
+
+    data = read_toml(Path(path), IdentificationError, "vehicle")
+    return str(data.get("name", Path(path).stem))
+
+
+def _thrusters(path: str | Path) -> Any:
+    return read_vehicle_file(path).thrusters

@@ -1,0 +1,79 @@
+"""A neurov run's own log (``result.npz``, ``result.csv`` or a Parquet
+file of :meth:`neurov.Result.to_pandas`-style columns) as a :class:`Log`.
+
+The pose and velocity are the ones the controller was given
+(``eta_estimate``, ``nu_estimate``: what a real vehicle's sensors and
+estimator give); the force is ``tau_applied`` (the thrusters' wrench over
+the row's interval) plus ``disturbance`` (a known force in a simulation:
+the excitation scenarios use it as their multisine input)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from neurov.identify.errors import LogError
+from neurov.identify.log import Log, make_log
+
+__all__ = ["read_neurov_log", "log_from_result"]
+
+_DOF = ("x", "y", "z", "phi", "theta", "psi")
+_BODY = ("u", "v", "w", "p", "q", "r")
+
+
+def log_from_result(result: Any, source: str = "<result>") -> Log:
+    """A :class:`neurov.Result` (or any object with its arrays) as a log."""
+    return make_log(source, result.t, result.eta_estimate, result.nu_estimate,
+                    np.asarray(result.tau_applied) + np.asarray(result.disturbance),
+                    result.current)
+
+
+def _columns(frame: dict[str, Any], path: Path) -> Log:
+    def block(name: str, labels: tuple[str, ...]) -> Any:
+        names = [f"{name}_{lab}" for lab in labels]
+        missing = [c for c in names if c not in frame]
+        if missing:
+            raise LogError(f"{path}: missing column(s) {missing} (a neurov result.csv has them)")
+        return np.column_stack([np.asarray(frame[c], dtype=np.float64) for c in names])
+
+    if "t" not in frame:
+        raise LogError(f"{path}: missing column 't'")
+    current = block("current", ("N", "E", "D")) if "current_N" in frame else None
+    disturbance = block("disturbance", _BODY) if "disturbance_u" in frame else 0.0
+    return make_log(str(path), frame["t"], block("eta_estimate", _DOF), block("nu_estimate", _BODY),
+                    block("tau_applied", _BODY) + disturbance, current)
+
+
+def read_neurov_log(path: str | Path) -> Log:
+    """Reads a neurov run's ``.npz``, ``.csv`` or ``.parquet``; a missing
+    signal raises :class:`LogError` naming the file and the signal."""
+    path = Path(path)
+    if not path.is_file():
+        raise LogError(f"{path}: no such file")
+    suffix = path.suffix.lower()
+    if suffix == ".npz":
+        with np.load(path, allow_pickle=False) as z:
+            missing = [k for k in ("t", "eta_estimate", "nu_estimate", "tau_applied") if k not in z.files]
+            if missing:
+                raise LogError(f"{path}: missing array(s) {missing} (a neurov result.npz has them)")
+            disturbance = z["disturbance"] if "disturbance" in z.files else 0.0
+            current = z["current"] if "current" in z.files else None
+            return make_log(str(path), z["t"], z["eta_estimate"], z["nu_estimate"],
+                            z["tau_applied"] + disturbance, current)
+    if suffix == ".csv":
+        import pandas as pd
+
+        try:
+            frame = pd.read_csv(path)
+        except (ValueError, OSError) as e:
+            raise LogError(f"{path}: not a readable CSV: {e}") from None
+        return _columns({str(k): frame[k].to_numpy() for k in frame.columns}, path)
+    if suffix == ".parquet":
+        import pandas as pd
+
+        frame = pd.read_parquet(path)
+        return _columns({str(k): frame[k].to_numpy() for k in frame.columns}, path)
+    raise LogError(f"{path}: unknown log format {suffix!r} (expected .npz, .csv or .parquet from "
+                   "neurov run, or a mapping file for other logs)")

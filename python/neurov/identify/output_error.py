@@ -1,0 +1,181 @@
+"""Stage 2, output error: the vehicle model itself, integrated by neurov's
+plant integrator (``neurov._core.rk4_step``, the RK4 step the simulator
+takes), fitted to the measured velocities by ``scipy.optimize.least_squares``
+over short segments (2 s by default; multiple shooting: each segment starts from the
+measured state, so an error does not accumulate over the whole log),
+started from stage 1, within physical bounds (added mass and damping >= 0,
+mass and inertia > 0, buoyancy >= 0; with a diagonal M these keep M
+symmetric positive definite).
+
+On noise-free data the model that made the log has zero residual, so this
+stage removes stage 1's discretisation bias (the midpoint rule's, of order
+(omega dt)^2)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.optimize import least_squares
+from scipy.sparse import lil_matrix
+
+from neurov import _core
+from neurov.identify.blocks import Blocks, block_ids
+from neurov.identify.errors import IdentificationError
+from neurov.identify.log import Log
+from neurov.identify.parameters import vehicle_parameters
+
+__all__ = ["ShootingFit", "fit_output_error", "bounds"]
+
+Array = NDArray[np.float64]
+
+
+def bounds(fitted: list[int], template: dict[str, Any]) -> tuple[Array, Array]:
+    """Physical bounds of the fitted entries of theta."""
+    lo = np.full(len(fitted), -np.inf)
+    hi = np.full(len(fitted), np.inf)
+    for j, i in enumerate(fitted):
+        if i <= 3:
+            lo[j] = 1e-9  # mass and inertia
+        elif i <= 21:
+            lo[j] = 0.0  # added mass, damping
+        elif i == 22:
+            hi[j] = float(template["weight"])  # W - B <= W: buoyancy >= 0
+    return lo, hi
+
+
+@dataclass(frozen=True)
+class _Segment:
+    log: Log
+    start: int
+    steps: int
+
+
+def _segments(logs: list[Log], segment_s: float) -> list[_Segment]:
+    out = []
+    for log in logs:
+        steps = max(1, int(round(segment_s / log.dt)))
+        for a, b in log.segments:
+            for s in range(a, b - 1, steps):
+                n = min(steps, b - 1 - s)
+                if n >= 1:
+                    out.append(_Segment(log, s, n))
+    return out
+
+
+def _simulate_segment(vehicle: Any, seg: _Segment, nu0: Array, substeps: int) -> Array:
+    """nu at the segment's rows 0..steps, started from the measured pose and `nu0`."""
+    log = seg.log
+    eta = log.eta[seg.start].copy()
+    nu = nu0.copy()
+    out = np.empty((seg.steps + 1, 6))
+    out[0] = nu
+    for j in range(seg.steps):
+        k = seg.start + j
+        h = (log.t[k + 1] - log.t[k]) / substeps
+        for _ in range(substeps):
+            eta, nu = _core.rk4_step(vehicle, eta, nu, log.tau[k], h, log.current[k])
+        out[j + 1] = nu
+    return out
+
+
+@dataclass
+class ShootingFit:
+    """The estimate (24,), and the blocks of the Gauss-Newton step taken
+    from `at` (the solver's point, where the Jacobian is)."""
+
+    theta: Array
+    at: Array
+    blocks: Blocks
+    cost: float
+    nfev: int
+
+
+def _profiled_blocks(jac: Any, fun: Array, p: int, segs: list[_Segment], seg_blocks: Any) -> Blocks:
+    """Per-block normal equations of theta with each segment's initial
+    velocity eliminated (its Schur complement): resampling a block takes its
+    segments' starts with it."""
+    jac = jac.tocsr() if hasattr(jac, "tocsr") else jac
+    n_blocks = int(seg_blocks.max()) + 1
+    gram = np.zeros((n_blocks, p, p))
+    rhs = np.zeros((n_blocks, p))
+    row = 0
+    for k, seg in enumerate(segs):
+        rows = slice(row, row + 6 * (seg.steps + 1))
+        row = rows.stop
+        j = jac[rows]
+        j = j.toarray() if hasattr(j, "toarray") else np.asarray(j)
+        jt, jn, r = j[:, :p], j[:, p + 6 * k:p + 6 * k + 6], fun[rows]
+        nn = jn.T @ jn
+        proj = jt.T @ jn @ np.linalg.pinv(nn)
+        b = seg_blocks[k]
+        gram[b] += jt.T @ jt - proj @ jn.T @ jt
+        rhs[b] -= jt.T @ r - proj @ (jn.T @ r)
+    return Blocks(gram, rhs)
+
+
+def fit_output_error(logs: list[Log], template: dict[str, Any], theta0: Array, fitted: list[int],
+                     segment_s: float = 2.0, substeps: int = 1, block_s: float = 5.0,
+                     max_nfev: int = 20) -> ShootingFit:
+    """Fits theta[fitted] from `theta0` by multiple shooting on segments
+    of `segment_s` seconds (measured on the 60 s NEROV runs of
+    examples/identify_coverage.py, 2 s has errors a half to a third of
+    0.5 s's), each integrated with `substeps` RK4 steps
+    per interval. Each segment's initial velocity is fitted too (starting
+    from the measured one, itself a measurement in the residual): a noisy
+    start would otherwise bias the damping (an error in the variables)."""
+    if segment_s <= 0:
+        raise IdentificationError(f"segment_s: expected seconds > 0, got {segment_s}")
+    segs = _segments(logs, segment_s)
+    if not segs:
+        raise IdentificationError("no interval to fit the output error on")
+    measured = np.concatenate([s.log.nu[s.start:s.start + 1 + s.steps] for s in segs])
+    rms = np.sqrt(np.mean(measured**2, axis=0))
+    scale = np.where(rms > 0, rms, 1.0)
+    p = len(fitted)
+    # Blocks of whole segments, about block_s seconds each.
+    seg_t = np.array([s.log.t[s.start] for s in segs])
+    log_no = np.array([logs.index(s.log) for s in segs])
+    seg_blocks = block_ids(log_no, seg_t, block_s)
+
+    def residual(x: Array) -> Array:
+        theta = theta0.copy()
+        theta[fitted] = x[:p]
+        vehicle = _core.Vehicle(**vehicle_parameters(template, theta))
+        starts = x[p:].reshape(-1, 6)
+        pred = np.concatenate([_simulate_segment(vehicle, s, starts[k], substeps)
+                               for k, s in enumerate(segs)])
+        return ((pred - measured) / scale).reshape(-1)
+
+    lo_t, hi_t = bounds(fitted, template)
+    x0_t = np.clip(theta0[fitted], lo_t, hi_t)
+    # The lower bound itself can be the answer (a zero damping): start just inside.
+    x0_t = np.where(x0_t <= lo_t, np.where(np.isfinite(lo_t), lo_t + 1e-6 * np.maximum(1, np.abs(x0_t)),
+                                           x0_t), x0_t)
+    starts0 = np.concatenate([s.log.nu[s.start] for s in segs])
+    x0 = np.concatenate([x0_t, starts0])
+    lo = np.concatenate([lo_t, np.full(starts0.size, -np.inf)])
+    hi = np.concatenate([hi_t, np.full(starts0.size, np.inf)])
+    typical = np.concatenate([np.maximum(np.abs(x0_t), 1e-3 * np.max(np.abs(x0_t))),
+                              np.tile(scale, len(segs))])
+    sparsity = lil_matrix((measured.size, x0.size), dtype=np.int8)
+    row = 0
+    for k, seg in enumerate(segs):
+        n = 6 * (seg.steps + 1)
+        sparsity[row:row + n, :p] = 1
+        sparsity[row:row + n, p + 6 * k:p + 6 * k + 6] = 1
+        row += n
+    sol = least_squares(residual, x0, bounds=(lo, hi), x_scale=typical, method="trf",
+                        tr_solver="lsmr", jac_sparsity=sparsity, xtol=1e-10, ftol=1e-10,
+                        gtol=1e-10, max_nfev=max_nfev)
+    # One Gauss-Newton step per resampled set of blocks from the solution
+    # (the bootstrap); with every block once it finishes the fit where the
+    # bounded solver stopped short of a bound.
+    blocks = _profiled_blocks(sol.jac, np.asarray(sol.fun), p, segs, seg_blocks)
+    theta = theta0.copy()
+    theta[fitted] = np.clip(sol.x[:p] + blocks.solve(), lo_t, hi_t)
+    at = theta0.copy()
+    at[fitted] = sol.x[:p]
+    return ShootingFit(theta, at, blocks, float(sol.cost), int(sol.nfev))

@@ -1,0 +1,35 @@
+"""Which reader a log goes to: neurov's own files by their suffix, any
+other log by its mapping file's ``format``."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from neurov.identify.log import Log
+from neurov.identify.neurov_log import read_neurov_log
+
+__all__ = ["read_log"]
+
+
+def read_log(path: str | Path, mapping: str | Path | None = None, thrusters: Any = None) -> Log:
+    """A log from `path`: with `mapping`, a CSV, a ROS bag or an ArduSub
+    telemetry log as the mapping file says (a tlog's PWM goes through
+    `thrusters`, the template's ``[thrusters]`` table); without, a neurov
+    run's result.npz, result.csv or Parquet file."""
+    if mapping is None:
+        return read_neurov_log(path)
+    from neurov.identify.mapping import read_mapping
+
+    m = read_mapping(mapping)
+    if m.format == "rosbag":
+        from neurov.identify.rosbag_log import read_rosbag
+
+        return read_rosbag(path, m)
+    if m.format == "tlog":
+        from neurov.identify.tlog_log import read_tlog
+
+        return read_tlog(path, m, thrusters)
+    from neurov.identify.csv_mapping import read_mapped_csv
+
+    return read_mapped_csv(path, m)

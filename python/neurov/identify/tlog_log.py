@@ -1,0 +1,92 @@
+"""ArduSub telemetry logs (``.tlog``, or a DataFlash ``.bin`` that
+pymavlink reads with the same message names) through ``pymavlink``.
+
+The time base is ATTITUDE's ``time_boot_ms`` (roll, pitch, yaw and the body
+rates p, q, r); LOCAL_POSITION_NED (the autopilot's position and NED
+velocity, from its EKF: DVL, depth and IMU where logged) is held onto it and
+its velocity turned into the body frame; SERVO_OUTPUT_RAW's PWM goes through
+the template's thruster curves (``ThrusterCurveConfig.static_thrust`` at the
+template's supply voltage) and its configuration matrix to the force. A
+message older than the mapping's ``max_age`` at a row cuts the row. The
+mapping file::
+
+    format = "tlog"
+    servo_channels = [1, 2, 3, 4, 5, 6, 7, 8]   # the servo output of each thruster (default 1..n)
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from neurov import _core
+from neurov.identify.alignment import hold
+from neurov.identify.errors import LogError
+from neurov.identify.log import Log, make_log
+from neurov.identify.mapping import Mapping
+
+__all__ = ["read_tlog"]
+
+Array = NDArray[np.float64]
+
+
+def _channels(mapping: Mapping, n: int) -> list[int]:
+    ch = mapping.data.get("servo_channels", list(range(1, n + 1)))
+    if not (isinstance(ch, list) and len(ch) == n and all(isinstance(c, int) and 1 <= c <= 16 for c in ch)):
+        raise LogError(f"{mapping.where}: servo_channels: expected {n} servo numbers from 1 to 16 "
+                       f"(one per thruster), got {ch!r}")
+    return ch
+
+
+def read_tlog(path: str | Path, mapping: Mapping, thrusters: dict[str, Any] | None) -> Log:
+    from pymavlink import mavutil
+
+    path = Path(path)
+    if not path.is_file():
+        raise LogError(f"{path}: no such file")
+    if thrusters is None or thrusters.get("curves") is None:
+        raise LogError(f"{path}: a telemetry log's PWM needs the template's [thrusters] with a "
+                       "[thrusters.curve] to become a force")
+    n = thrusters["matrix"].shape[1]
+    channels = _channels(mapping, n)
+    rows: dict[str, list[Any]] = {"ATTITUDE": [], "LOCAL_POSITION_NED": [], "SERVO_OUTPUT_RAW": []}
+    conn = mavutil.mavlink_connection(str(path), dialect="ardupilotmega")
+    try:
+        while True:
+            m = conn.recv_match(type=list(rows), blocking=False)
+            if m is None:
+                break
+            rows[m.get_type()].append(m)
+    finally:
+        conn.close()
+    for name, found in rows.items():
+        if not found:
+            raise LogError(f"{path}: no {name} message (ArduSub sends it at the stream rates of its "
+                           "SR*_ parameters)")
+    att = rows["ATTITUDE"]
+    t = np.array([m.time_boot_ms for m in att], dtype=np.float64) * 1e-3
+    angles = np.array([[m.roll, m.pitch, m.yaw] for m in att], dtype=np.float64)
+    rates = np.array([[m.rollspeed, m.pitchspeed, m.yawspeed] for m in att], dtype=np.float64)
+    lp = rows["LOCAL_POSITION_NED"]
+    lp_t = np.array([m.time_boot_ms for m in lp], dtype=np.float64) * 1e-3
+    lp_v = np.array([[m.x, m.y, m.z, m.vx, m.vy, m.vz] for m in lp], dtype=np.float64)
+    held = hold(t, lp_t, lp_v, mapping.max_age, f"{path}: LOCAL_POSITION_NED")
+    so = rows["SERVO_OUTPUT_RAW"]
+    so_t = np.array([m.time_usec for m in so], dtype=np.float64) * 1e-6
+    pwm = np.array([[getattr(m, f"servo{c}_raw") for c in channels] for m in so], dtype=np.float64)
+    pwm_held = hold(t, so_t, pwm, mapping.max_age, f"{path}: SERVO_OUTPUT_RAW")
+    curves, volts = thrusters["curves"], thrusters["supply_voltage"]
+    thrust = np.full_like(pwm_held, np.nan)
+    ok = np.all(np.isfinite(pwm_held), axis=1)
+    for i, c in enumerate(curves):
+        thrust[ok, i] = [c.static_thrust(float(x), volts) for x in pwm_held[ok, i]]
+    tau = thrust @ thrusters["matrix"].T
+    nu = np.full((len(t), 6), np.nan)
+    nu[:, 3:] = rates
+    for k in np.flatnonzero(np.all(np.isfinite(held), axis=1)):
+        nu[k, :3] = _core.rotation(*angles[k]).T @ held[k, 3:]
+    eta = np.hstack([held[:, :3], angles])
+    return make_log(str(path), t, eta, nu, tau)
