@@ -19,7 +19,7 @@ import argparse
 import numpy as np
 
 import neurov
-from neurov.identify.neurov_log import log_from_result
+from neurov.identification.neurov_log import log_from_result
 from neurov.study.spec import SCENARIO_DIR
 from neurov.vehicle_file import preset_path, read_vehicle_file
 

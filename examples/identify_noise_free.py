@@ -13,8 +13,8 @@ from __future__ import annotations
 import numpy as np
 
 import neurov
-from neurov.identify.neurov_log import log_from_result
-from neurov.identify.parameters import GROUPS
+from neurov.identification.neurov_log import log_from_result
+from neurov.identification.parameters import GROUPS
 from neurov.study.spec import SCENARIO_DIR
 from neurov.vehicle_file import preset_path
 

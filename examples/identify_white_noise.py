@@ -11,9 +11,9 @@ from __future__ import annotations
 import sys
 
 import neurov
-from neurov.identify.figure import plot_identification
-from neurov.identify.neurov_log import log_from_result
-from neurov.identify.report import report_text
+from neurov.identification.figure import plot_identification
+from neurov.identification.neurov_log import log_from_result
+from neurov.identification.report import report_text
 from neurov.study.spec import SCENARIO_DIR
 from neurov.vehicle_file import preset_path, read_vehicle_file
 

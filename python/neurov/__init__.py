@@ -62,7 +62,7 @@ from neurov.controller import Controller
 from neurov.simulator import Observation, Simulator
 from neurov.errors import NeurovError, ValidationError, VehicleFileError
 from neurov import weights  # noqa: F401  (attaches NNAdaptiveController.save/load)
-from neurov import identify  # callable: neurov.identify(logs, vehicle, ...); imports on first use
+from neurov.identification import identify
 
 __all__ = [
     "MAX_CENTRES",

@@ -90,7 +90,7 @@ def _parser() -> argparse.ArgumentParser:
     study.add_argument("--quiet", action="store_true",
                        help="no progress bars (there are none either when stderr is not a terminal)")
 
-    from neurov.identify.cli import add_parser as add_identify
+    from neurov.identification.cli import add_parser as add_identify
 
     add_identify(sub, _EXIT_STATUS)
     return p
@@ -137,7 +137,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                        table_format=args.table_format, plots=not args.no_plots,
                        batch_size=args.batch_size, quiet=args.quiet)
         elif args.command == "identify":
-            from neurov.identify.cli import run as run_identify
+            from neurov.identification.cli import run as run_identify
 
             return run_identify(args)
     except KeyboardInterrupt as e:

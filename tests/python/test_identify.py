@@ -9,9 +9,9 @@ import pytest
 from identify_runs import PRESETS, excitation_run, perturbed, true_theta
 
 import neurov
-from neurov.identify import IdentificationError, LogError, make_log
-from neurov.identify.neurov_log import log_from_result
-from neurov.identify.parameters import GROUPS
+from neurov.identification import IdentificationError, LogError, make_log
+from neurov.identification.neurov_log import log_from_result
+from neurov.identification.parameters import GROUPS
 from neurov.vehicle_file import preset_path
 
 ALL = "added_mass,linear_damping,quadratic_damping,mass,inertia,restoring"
@@ -169,8 +169,8 @@ def test_a_parquet_log_reads_as_its_csv(tmp_path) -> None:
     r = excitation_run("nerov", 20.0)
     r.to_csv(tmp_path / "result.csv", quiet=True)
     pd.read_csv(tmp_path / "result.csv").to_parquet(tmp_path / "result.parquet")
-    a = neurov.identify.read_log(tmp_path / "result.parquet")
-    b = neurov.identify.read_log(tmp_path / "result.csv")
+    a = neurov.identification.read_log(tmp_path / "result.parquet")
+    b = neurov.identification.read_log(tmp_path / "result.csv")
     np.testing.assert_array_equal(a.nu, b.nu)
     np.testing.assert_array_equal(a.tau, b.tau)
 

@@ -13,8 +13,8 @@ import pytest
 from identify_runs import excitation_run
 
 import neurov
-from neurov.identify import LogError, read_log
-from neurov.identify.neurov_log import log_from_result
+from neurov.identification import LogError, read_log
+from neurov.identification.neurov_log import log_from_result
 from neurov.vehicle_file import preset_path
 
 ENU_FLU = np.array([1, -1, -1, 1, -1, -1.0])
@@ -28,7 +28,7 @@ def _ros_frames(r: neurov.Result) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return enu, r.nu_estimate * ENU_FLU, (r.tau_applied + r.disturbance) * ENU_FLU
 
 
-def _compare(a: neurov.identify.Log, b: neurov.identify.Log, atol: float, tau_atol: float = 0) -> None:
+def _compare(a: neurov.identification.Log, b: neurov.identification.Log, atol: float, tau_atol: float = 0) -> None:
     np.testing.assert_allclose(a.t, b.t, atol=1e-12)
     np.testing.assert_allclose(a.nu, b.nu, atol=atol)
     np.testing.assert_allclose(a.tau, b.tau, atol=max(atol, tau_atol))

@@ -11,10 +11,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from neurov import _core
-from neurov.identify.parameters import GROUPS
+from neurov.identification.parameters import GROUPS
 
 if TYPE_CHECKING:
-    from neurov.identify.fit import Identification
+    from neurov.identification.fit import Identification
 
 __all__ = ["plot_identification"]
 

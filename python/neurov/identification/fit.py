@@ -11,13 +11,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from neurov import _core
-from neurov.identify.equation_error import equation_rows, fit_linear
-from neurov.identify.errors import IdentificationError
-from neurov.identify.heldout import HeldOut, held_out
-from neurov.identify.log import Log, advance_linear_velocity
-from neurov.identify.output_error import bounds, fit_output_error
-from neurov.identify.parameters import GROUPS, free_indices, template_theta, vehicle_parameters
-from neurov.identify.readers import read_log
+from neurov.identification.equation_error import equation_rows, fit_linear
+from neurov.identification.errors import IdentificationError
+from neurov.identification.heldout import HeldOut, held_out
+from neurov.identification.log import Log, advance_linear_velocity
+from neurov.identification.output_error import bounds, fit_output_error
+from neurov.identification.parameters import GROUPS, free_indices, template_theta, vehicle_parameters
+from neurov.identification.readers import read_log
 from neurov.vehicle_file import VehicleFile, read_vehicle_file
 
 __all__ = ["Identification", "identify"]
@@ -156,8 +156,8 @@ def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Pat
         hl = h if isinstance(h, Log) else read_log(h, mapping, _thrusters(vehicle))
         result.heldout.append(held_out(hl, fitted_vehicle, template.vehicle(), substeps))
     if out is not None:
-        from neurov.identify.report import header_lines
-        from neurov.identify.vehicle_writer import write_vehicle_file
+        from neurov.identification.report import header_lines
+        from neurov.identification.vehicle_writer import write_vehicle_file
 
         result.out = write_vehicle_file(out, vehicle, result.parameters(), header_lines(result),
                                         name=f"{_name(vehicle)} (fitted)",

@@ -50,8 +50,8 @@ def add_parser(sub: Any, epilog: str) -> None:
 def run(args: argparse.Namespace) -> int:
     from pathlib import Path
 
-    from neurov.identify.fit import identify
-    from neurov.identify.report import report_text
+    from neurov.identification.fit import identify
+    from neurov.identification.report import report_text
     from neurov.vehicle_file import preset_names, preset_path
 
     vehicle = args.vehicle
@@ -69,7 +69,7 @@ def run(args: argparse.Namespace) -> int:
     if result.out is not None:
         print(f"wrote {result.out}")
     if args.plot is not None:
-        from neurov.identify.figure import plot_identification
+        from neurov.identification.figure import plot_identification
 
         print(f"wrote {plot_identification(result, args.plot)}")
     return 0

@@ -4,7 +4,7 @@ base: the messages' header stamps, integer nanoseconds), the force from a
 ``geometry_msgs/msg/WrenchStamped`` topic in the body frame, held from its
 latest message (the zero-order hold of the command) and cut where older
 than the mapping's ``max_age``. The mapping file (see
-:mod:`neurov.identify.mapping`)::
+:mod:`neurov.identification.mapping`)::
 
     format = "rosbag"
     body_frame = "flu"          # REP 103: base_link forward-left-up
@@ -22,10 +22,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from neurov.identify.alignment import hold
-from neurov.identify.errors import LogError
-from neurov.identify.log import Log, make_log
-from neurov.identify.mapping import Mapping, to_neurov_frames
+from neurov.identification.alignment import hold
+from neurov.identification.errors import LogError
+from neurov.identification.log import Log, make_log
+from neurov.identification.mapping import Mapping, to_neurov_frames
 
 __all__ = ["read_rosbag", "euler_from_quaternion"]
 

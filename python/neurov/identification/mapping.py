@@ -17,7 +17,7 @@ frames. A TOML file::
     units = ["N", "N", "N", "N m", "N m", "N m"]
 
 The readers of bags and telemetry logs use their own tables
-(:mod:`neurov.identify.rosbag_log`, :mod:`neurov.identify.tlog_log`)."""
+(:mod:`neurov.identification.rosbag_log`, :mod:`neurov.identification.tlog_log`)."""
 
 from __future__ import annotations
 
@@ -28,7 +28,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from neurov.files import read_toml
-from neurov.identify.errors import LogError
+from neurov.identification.errors import LogError
 
 __all__ = ["Mapping", "read_mapping", "to_neurov_frames"]
 

@@ -22,10 +22,10 @@ from scipy.optimize import least_squares
 from scipy.sparse import lil_matrix
 
 from neurov import _core
-from neurov.identify.blocks import Blocks, block_ids
-from neurov.identify.errors import IdentificationError
-from neurov.identify.log import Log
-from neurov.identify.parameters import vehicle_parameters
+from neurov.identification.blocks import Blocks, block_ids
+from neurov.identification.errors import IdentificationError
+from neurov.identification.log import Log
+from neurov.identification.parameters import vehicle_parameters
 
 __all__ = ["ShootingFit", "fit_output_error", "bounds"]
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from neurov.identify.errors import LogError
+from neurov.identification.errors import LogError
 
 __all__ = ["hold", "check_increasing"]
 

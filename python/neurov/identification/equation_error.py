@@ -19,9 +19,9 @@ from numpy.typing import NDArray
 from scipy.signal import savgol_filter
 
 from neurov import _core
-from neurov.identify.blocks import Blocks, block_ids
-from neurov.identify.errors import IdentificationError
-from neurov.identify.log import Log
+from neurov.identification.blocks import Blocks, block_ids
+from neurov.identification.errors import IdentificationError
+from neurov.identification.log import Log
 
 __all__ = ["EquationRows", "LinearFit", "equation_rows", "fit_linear", "identifiable"]
 

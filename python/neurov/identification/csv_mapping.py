@@ -1,5 +1,5 @@
 """A CSV of the user's own, read through a mapping file
-(:mod:`neurov.identify.mapping`): the named columns, in SI units and
+(:mod:`neurov.identification.mapping`): the named columns, in SI units and
 neurov's frames. A column the mapping names and the file lacks is an error
 naming both."""
 
@@ -9,9 +9,9 @@ from pathlib import Path
 
 import numpy as np
 
-from neurov.identify.errors import LogError
-from neurov.identify.log import Log, make_log
-from neurov.identify.mapping import Mapping, to_neurov_frames
+from neurov.identification.errors import LogError
+from neurov.identification.log import Log, make_log
+from neurov.identification.mapping import Mapping, to_neurov_frames
 
 __all__ = ["read_mapped_csv"]
 

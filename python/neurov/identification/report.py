@@ -10,7 +10,7 @@ import numpy as np
 from neurov import _core
 
 if TYPE_CHECKING:
-    from neurov.identify.fit import Identification
+    from neurov.identification.fit import Identification
 
 __all__ = ["header_lines", "report_text"]
 

@@ -15,7 +15,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from neurov import _core
-from neurov.identify.errors import IdentificationError
+from neurov.identification.errors import IdentificationError
 
 __all__ = ["DEFAULT_FREE", "GROUPS", "free_indices", "template_theta", "vehicle_parameters"]
 

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
-from neurov.identify.errors import LogError
+from neurov.identification.errors import LogError
 
 __all__ = ["Log", "make_log"]
 

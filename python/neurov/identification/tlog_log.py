@@ -23,10 +23,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from neurov import _core
-from neurov.identify.alignment import hold
-from neurov.identify.errors import LogError
-from neurov.identify.log import Log, make_log
-from neurov.identify.mapping import Mapping
+from neurov.identification.alignment import hold
+from neurov.identification.errors import LogError
+from neurov.identification.log import Log, make_log
+from neurov.identification.mapping import Mapping
 
 __all__ = ["read_tlog"]
 

@@ -3,10 +3,12 @@ parameter and says what was expected."""
 
 from __future__ import annotations
 
+from neurov.errors import NeurovError
+
 __all__ = ["IdentificationError", "LogError"]
 
 
-class IdentificationError(ValueError):
+class IdentificationError(NeurovError):
     """Identification cannot go on: a free parameter the logs cannot reach,
     a template outside the regressor's structure, too few samples."""
 

@@ -11,7 +11,7 @@ import tempfile
 from pathlib import Path
 from typing import Any
 
-from neurov.identify.errors import IdentificationError
+from neurov.identification.errors import IdentificationError
 from neurov.vehicle_file import read_vehicle_file
 
 __all__ = ["write_vehicle_file"]

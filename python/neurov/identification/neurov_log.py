@@ -14,8 +14,8 @@ from typing import Any
 
 import numpy as np
 
-from neurov.identify.errors import LogError
-from neurov.identify.log import Log, make_log
+from neurov.identification.errors import LogError
+from neurov.identification.log import Log, make_log
 
 __all__ = ["read_neurov_log", "log_from_result"]
 

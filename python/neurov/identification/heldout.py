@@ -16,7 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from neurov import _core
-from neurov.identify.log import Log
+from neurov.identification.log import Log
 
 __all__ = ["HeldOut", "free_run", "held_out", "nrmse_fit"]
 
