@@ -1,0 +1,66 @@
+"""The search space of one controller: the values a trial suggests, and the
+controller table (as a study file's ``[controllers.KEY]``) they make."""
+
+from __future__ import annotations
+
+import copy
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+from neurov.tuning.spec import SearchParameter
+
+__all__ = ["apply_values", "suggest", "vehicle_tables"]
+
+
+def vehicle_tables(table: Mapping[str, Any]) -> list[str]:
+    """The keys of a controller table's per-vehicle sub-tables (a study
+    file's convention: every sub-table but ``centres`` and ``search``)."""
+    return [k for k, v in table.items() if isinstance(v, Mapping) and k not in ("centres", "search")]
+
+
+def suggest(trial: Any, params: Sequence[SearchParameter]) -> dict[str, Any]:
+    """The values of an Optuna trial, by search key."""
+    out: dict[str, Any] = {}
+    for p in params:
+        if p.kind == "choices":
+            out[p.key] = trial.suggest_categorical(p.key, list(p.choices))
+        elif p.integer:
+            out[p.key] = trial.suggest_int(p.key, int(p.low), int(p.high), log=p.log)
+        else:
+            out[p.key] = trial.suggest_float(p.key, p.low, p.high, log=p.log)
+    return out
+
+
+def _places(table: dict[str, Any], name: str) -> list[dict[str, Any]]:
+    """The tables (the common one, then each vehicle's) that give `name`."""
+    return [t for t in [table, *(table[v] for v in vehicle_tables(table))] if name in t]
+
+
+def apply_values(table: Mapping[str, Any], params: Sequence[SearchParameter],
+                 values: Mapping[str, Any]) -> dict[str, Any]:
+    """A copy of the controller table with the searched values in place: a
+    scale multiplies the vector wherever the table gives it (each vehicle's
+    own gains keep their proportions), a range or a choice sets the value
+    there (or in the common table when no table gives it)."""
+    out = copy.deepcopy(dict(table))
+    out.pop("search", None)
+    for p in params:
+        v = values[p.key]
+        if len(p.path) > 1:
+            sub = out.setdefault(p.path[0], {})
+            for part in p.path[1:-1]:
+                sub = sub.setdefault(part, {})
+            sub[p.path[-1]] = v
+            continue
+        name = p.path[0]
+        places = _places(out, name) or [out]
+        for t in places:
+            if p.kind == "scale":
+                t[name] = [float(x) * float(v) for x in t[name]]
+            elif p.index is not None:
+                vec = list(t[name])
+                vec[p.index] = v
+                t[name] = vec
+            else:
+                t[name] = v
+    return out
