@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import time
 import warnings
 import zlib
 from collections.abc import Callable
@@ -38,17 +39,45 @@ class TuneInterrupted(KeyboardInterrupt):
 
 
 def open_storage(out: Path) -> Any:
+    """Optuna's RDB storage in the SQLite file ``out/tuning.db``."""
+    import sqlite3
+
     import optuna
 
-    optuna.logging.set_verbosity(optuna.logging.WARNING)
-    url = f"sqlite:///{(out / STORAGE_NAME).resolve()}"
+    # Optuna logs every trial; a tuning reports by its progress bar and its files.
+    optuna.logging.set_verbosity(optuna.logging.ERROR)
+    path = (out / STORAGE_NAME).resolve()
+
+    def connect() -> sqlite3.Connection:
+        # Optuna commits some twenty times per trial. Write-ahead logging with
+        # synchronous=NORMAL syncs at checkpoints rather than at each commit
+        # (13 ms each on this disk): a process that is killed loses nothing
+        # committed, only a power cut can lose the last commits. A long timeout:
+        # processes sharing the file wait for each other's lock.
+        conn = sqlite3.connect(path, timeout=120, check_same_thread=False)
+        conn.execute("PRAGMA journal_mode=WAL")
+        conn.execute("PRAGMA synchronous=NORMAL")
+        return conn
+
     # Optuna calls its heartbeat experimental (its interface may change); it
     # is what tells a dead process's trial from a running one, so we use it.
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
-        # A long timeout: two processes writing one SQLite file wait for each other's lock.
-        return optuna.storages.RDBStorage(url, engine_kwargs={"connect_args": {"timeout": 120}},
-                                          heartbeat_interval=HEARTBEAT_SECONDS, grace_period=GRACE_SECONDS)
+    import sqlalchemy.exc
+
+    attempt = 0
+    while True:
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
+                return optuna.storages.RDBStorage(f"sqlite:///{path}", engine_kwargs={"creator": connect},
+                                                  heartbeat_interval=HEARTBEAT_SECONDS,
+                                                  grace_period=GRACE_SECONDS)
+        except sqlalchemy.exc.OperationalError:
+            # Two processes creating the tables of a new file at once: one wins,
+            # the other finds them there on its next try.
+            attempt += 1
+            if attempt == 5:
+                raise
+            time.sleep(0.2 * attempt)
 
 
 def study_name(tuning: Tuning, controller: str) -> str:
@@ -82,6 +111,46 @@ def _sampler(name: str, seed: int) -> Any:
     if name == "gp":
         return optuna.samplers.GPSampler(seed=seed)
     return optuna.samplers.RandomSampler(seed=seed)
+
+
+def place_seed(base: int, study: Any, number: int) -> int:
+    """The seed of trial `number`: from its place, the trials finished or
+    running before it. One process alone gives the same places (hence the
+    same trials) whether or not it was interrupted on the way (an
+    interrupted trial failed and is not counted); two processes never give
+    two trials one place (the earlier is running or finished when the later
+    starts)."""
+    place = sum(1 for t in counted_trials(study) if t.number < number)
+    return int(np.random.SeedSequence([base, place]).generate_state(1)[0])
+
+
+def _place_seeded(name: str, base: int) -> Any:
+    """An Optuna sampler that is the sampler `name` seeded anew for each
+    trial by :func:`place_seed`: a seed alone fixes one sampler's sequence only
+    in one uninterrupted process."""
+    import optuna
+
+    class PlaceSeeded(optuna.samplers.BaseSampler):
+        def __init__(self) -> None:
+            self.inner = _sampler(name, base)
+
+        def before_trial(self, study: Any, trial: Any) -> None:
+            self.inner = _sampler(name, place_seed(base, study, trial.number))
+            self.inner.before_trial(study, trial)
+
+        def infer_relative_search_space(self, study: Any, trial: Any) -> Any:
+            return self.inner.infer_relative_search_space(study, trial)
+
+        def sample_relative(self, study: Any, trial: Any, space: Any) -> Any:
+            return self.inner.sample_relative(study, trial, space)
+
+        def sample_independent(self, study: Any, trial: Any, name: str, distribution: Any) -> Any:
+            return self.inner.sample_independent(study, trial, name, distribution)
+
+        def after_trial(self, study: Any, trial: Any, state: Any, values: Any) -> None:
+            self.inner.after_trial(study, trial, state, values)
+
+    return PlaceSeeded()
 
 
 def optuna_study(tuning: Tuning, controller: str, storage: Any) -> Any:
@@ -126,11 +195,8 @@ def run_trials(tuning: Tuning, controller: str, storage: Any, runner: TrialRunne
     base_seed = s.seed ^ zlib.crc32(controller.encode())
     ran = 0
 
-    def reseed(study: Any, _trial: Any = None) -> None:
-        # A sampler seeded by the next trial's place: one process reproduces
-        # the same trials whether or not it was interrupted on the way.
-        n = len(study.get_trials(deepcopy=False))
-        study.sampler = _sampler(s.sampler, int(np.random.SeedSequence([base_seed, n]).generate_state(1)[0]))
+    def stop_when_spent(study: Any, _trial: Any) -> None:
+        # Other processes' trials count too.
         if len(counted_trials(study)) >= s.trials:
             study.stop()
 
@@ -141,7 +207,11 @@ def run_trials(tuning: Tuning, controller: str, storage: Any, runner: TrialRunne
             trial.set_user_attr("reason", "over budget")
             study.stop()
             raise optuna.TrialPruned()
-        outcome = evaluator(tuning, controller, suggest(trial, params), runner)
+        try:
+            outcome = evaluator(tuning, controller, suggest(trial, params), runner)
+        except BaseException:
+            trial.set_user_attr("reason", "interrupted")  # Optuna marks it failed
+            raise
         for k, v in {"runs": outcome.runs, "failures": outcome.failures, "feasible": outcome.feasible,
                      "seconds": outcome.seconds, "reasons": outcome.reasons}.items():
             trial.set_user_attr(k, v)
@@ -153,6 +223,6 @@ def run_trials(tuning: Tuning, controller: str, storage: Any, runner: TrialRunne
     left = s.trials - len(counted_trials(study))
     if left <= 0:
         return 0
-    reseed(study)
-    study.optimize(objective, n_trials=left, callbacks=[reseed], gc_after_trial=False)
+    study.sampler = _place_seeded(s.sampler, base_seed)
+    study.optimize(objective, n_trials=left, callbacks=[stop_when_spent])
     return ran
