@@ -194,6 +194,9 @@ def study_from_mapping(data: Mapping[str, Any], origin: str = "<study>") -> Stud
         also = rk.raw("also_show", [])
         if not isinstance(also, list) or not all(isinstance(x, str) for x in also):
             raise rk.error("also_show", f"expected a list of metric names, got {also!r}")
+        reference = rk.string("reference", "")
+        if reference and reference not in controllers:
+            raise rk.error("reference", f"expected one of the study's controllers {controllers}, got {reference!r}")
         rk.finish()
         fr = r.table_of("failure")
         failure = {k: fr.number(k) for k in list(fr.table)}
@@ -214,6 +217,7 @@ def study_from_mapping(data: Mapping[str, Any], origin: str = "<study>") -> Stud
     study = Study(name=name, scenarios=scenarios, controllers=controllers, controller_specs=specs, factories=factories,
                   perturbations=perturbations, samples=samples, seed=seed, after=after,
                   ranking_metric=ranking, also_show=list(also), failure=failure, head_to_head=pairs,
+                  reference=reference,
                   description=description, source=origin)
     _check_metrics(study, origin)
     _check_plants(study, origin)
