@@ -202,6 +202,10 @@ def study_from_mapping(data: Mapping[str, Any], origin: str = "<study>") -> Stud
         failure = {k: fr.number(k) for k in list(fr.table)}
         fr.finish()
 
+        dg = r.table_of("diagnostics")
+        basis_rank = dg.boolean("basis_rank", False)
+        dg.finish()
+
         pairs: list[tuple[str, str]] = []
         h2h = r.raw("head_to_head", [])
         if not isinstance(h2h, list):
@@ -217,7 +221,7 @@ def study_from_mapping(data: Mapping[str, Any], origin: str = "<study>") -> Stud
     study = Study(name=name, scenarios=scenarios, controllers=controllers, controller_specs=specs, factories=factories,
                   perturbations=perturbations, samples=samples, seed=seed, after=after,
                   ranking_metric=ranking, also_show=list(also), failure=failure, head_to_head=pairs,
-                  reference=reference,
+                  reference=reference, basis_rank=basis_rank,
                   description=description, source=origin)
     _check_metrics(study, origin)
     _check_plants(study, origin)

@@ -108,6 +108,9 @@ class Study:
     """Further metrics whose medians the league table shows beside the ranking."""
     failure: dict[str, float] = field(default_factory=dict)
     head_to_head: list[tuple[str, str]] = field(default_factory=list)
+    basis_rank: bool = False
+    """Record the NN controllers' basis along each run and add its rank
+    diagnostic to the runs table (:mod:`neurov.study.basis_rank`)."""
     reference: str = ""
     """The controller the league table's paired statistics compare with
     (``[ranking] reference``; default: the first head-to-head pair's first

@@ -5,9 +5,10 @@ ratios with its interval, the count of plants where the controller is
 better, and a Wilcoxon signed-rank p-value corrected by Holm's method over
 all the comparisons of the table. Ranks come from the paired comparisons.
 
-Why order statistics: the interval [x_(l), x_(n+1-l)] of the sorted sample
-covers the true median with probability 1 - 2 P(B <= l - 1), B ~ Bin(n, 1/2),
-for any continuous distribution; it needs no model and, unlike a bootstrap
+Why order statistics: the interval ``[x[l], x[n+1-l]]`` between the l-th
+smallest and the l-th largest of n values covers the true median with
+probability ``1 - 2 P(B <= l - 1)``, ``B ~ Bin(n, 1/2)``, for any continuous
+distribution; it needs no model and, unlike a bootstrap
 percentile interval, does not cover too little at n ~ 20. Below six plants
 no such interval reaches 95 %: the columns say "n/a".
 
@@ -37,14 +38,14 @@ def _worst_last(values: Sequence[float]) -> np.ndarray:
 
 @functools.lru_cache(maxsize=256)
 def order_statistic_rank(n: int, level: float = LEVEL) -> int | None:
-    """The largest l (1-based) such that [x_(l), x_(n+1-l)] covers the
+    """The largest l (1-based) such that ``[x[l], x[n+1-l]]`` covers the
     median with probability >= `level`; None when even [min, max] does not."""
     from scipy.stats import binom
 
     if n < 1:
         return None
     alpha = 1.0 - level
-    # P(x_(l) > median) = P(B <= l - 1); both tails together at most alpha.
+    # P(x[l] > median) = P(B <= l - 1); both tails together at most alpha.
     l = int(binom.ppf(alpha / 2.0, n, 0.5))
     # ppf gives the smallest k with cdf(k) >= alpha/2; the tail must stay below it.
     while l >= 1 and 2.0 * binom.cdf(l - 1, n, 0.5) > alpha:

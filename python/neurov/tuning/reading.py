@@ -263,4 +263,6 @@ def verdict_study(tuning: Tuning, tuned: Mapping[str, Mapping[str, Any]], *, sam
     data["samples"] = s.test_samples if samples is None else samples
     data["seed"] = s.test_seed
     data["name"] = f"{tuning.name}_verdict"
+    # Whether a tuned network is a network: the rank of its basis along every NN run.
+    data["diagnostics"] = {**data.get("diagnostics", {}), "basis_rank": True}
     return study_from_mapping(data, tuning.source)
