@@ -49,7 +49,7 @@ def load_tuning(path: str | Path) -> Tuning:
     return tuning_from_mapping(read_toml(path, TuneError, "tuning"), str(path))
 
 
-def _settings(r: _Reader) -> TuneSettings:
+def _settings(r: _Reader, study_seed: int) -> TuneSettings:
     trials = r.integer("trials", minimum=1)
     objective = r.string("objective", "rmse_position_m")
     known = metric_names()
@@ -70,7 +70,11 @@ def _settings(r: _Reader) -> TuneSettings:
     seed = r.integer("seed", 0)
     train = r.integer("train_samples", 20, minimum=1)
     test = r.integer("test_samples", 50, minimum=1)
-    test_seed = r.integer("test_seed", seed + 1)
+    # The training plants are the study's seed's; the test plants another's.
+    test_seed = r.integer("test_seed", study_seed + 1)
+    if test_seed == study_seed:
+        raise r.error("test_seed", f"the test plants must not be the training plants: the study's seed is "
+                      f"{study_seed} too")
     held = r.raw("test_scenarios", [])
     if not isinstance(held, list) or not all(isinstance(x, str) for x in held):
         raise r.error("test_scenarios", f"expected a list of scenario names or files, got {held!r}")
@@ -105,6 +109,12 @@ def _search_parameter(key: str, spec: Any, r: _Reader, ctype: str, table: Mappin
         raise r.error(key, "expected a field name, 'name[index]' or 'centres.field'")
     path = tuple(m.group(1).split("."))
     index = None if m.group(2) is None else int(m.group(2))
+    # "bluerov2_heavy.kd": that vehicle's gains alone.
+    vehicle = path[0] if len(path) > 1 and path[0] in vehicle_tables(table) else None
+    if vehicle is not None:
+        path = path[1:]
+        if path[0] == "centres":
+            raise r.error(key, "the network is common to the vehicles: search 'centres.FIELD'")
     kind_info = REGISTRY[ctype]
     known = [*kind_info.fields(), *kind_info.options]
     if path[0] not in known or (len(path) > 1 and (path[0] != "centres" or len(path) != 2
@@ -125,8 +135,13 @@ def _search_parameter(key: str, spec: Any, r: _Reader, ctype: str, table: Mappin
     kind = given[0]
     log = pr.boolean("log", False)
     integer = pr.boolean("int", False)
-    places = [t[path[0]] for t in [table, *(table[v] for v in vehicle_tables(table))] if path[0] in t]
-    out: dict[str, Any] = {"key": key, "path": path, "kind": kind, "log": log, "integer": integer, "index": index}
+    if vehicle is not None:
+        given_value = table[vehicle].get(path[0], table.get(path[0]))
+        places = [] if given_value is None else [given_value]
+    else:
+        places = [t[path[0]] for t in [table, *(table[v] for v in vehicle_tables(table))] if path[0] in t]
+    out: dict[str, Any] = {"key": key, "path": path, "kind": kind, "log": log, "integer": integer, "index": index,
+                           "vehicle": vehicle}
     if kind == "choices":
         choices = pr.raw("choices")
         if not isinstance(choices, list) or len(choices) < 2:
@@ -170,7 +185,8 @@ def tuning_from_mapping(data: Mapping[str, Any], origin: str = "<tuning>") -> Tu
     data = copy.deepcopy(dict(data))
     try:
         tr = _Reader(data.pop("tune", None) or {}, "tune", origin)
-        settings = _settings(tr)
+        seed = data.get("seed", 0)
+        settings = _settings(tr, seed if isinstance(seed, int) and not isinstance(seed, bool) else 0)
         ctable = data.get("controllers")
         search: dict[str, list[SearchParameter]] = {}
         if isinstance(ctable, Mapping):

@@ -53,12 +53,14 @@ def apply_values(table: Mapping[str, Any], params: Sequence[SearchParameter],
             sub[p.path[-1]] = v
             continue
         name = p.path[0]
-        places = _places(out, name) or [out]
+        places = [out[p.vehicle]] if p.vehicle is not None else (_places(out, name) or [out])
         for t in places:
+            # A vehicle's own table may leave the field to the common one.
+            base = t.get(name, out.get(name))
             if p.kind == "scale":
-                t[name] = [float(x) * float(v) for x in t[name]]
+                t[name] = [float(x) * float(v) for x in base]
             elif p.index is not None:
-                vec = list(t[name])
+                vec = list(base)
                 vec[p.index] = v
                 t[name] = vec
             else:

@@ -37,6 +37,8 @@ class SearchParameter:
     integer: bool = False
     index: int | None = None
     choices: tuple[Any, ...] = ()
+    vehicle: str | None = None
+    """Set for a key ``VEHICLE.field``: that vehicle's sub-table alone."""
 
 
 @dataclass(frozen=True)
