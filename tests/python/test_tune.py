@@ -250,6 +250,12 @@ def test_the_verdict_runs_tuned_and_hand_set_gains_on_other_plants(tmp_path: Pat
     assert runs[0].startswith("controller,trial,objective,feasible,runs,failures,failure_reasons,seconds,param_kp")
     assert len(runs) == 4
     assert math.isfinite(float(runs[1].split(",")[2]))
+    # A larger budget later: the new trials only, and the verdict of the new best gains.
+    more = tune(write(tmp_path, trials=5), tmp_path / "out", workers=1, plots=False, progress=False)
+    assert more.ran == 2 and more.verdict is not None
+    best = tomllib.loads((tmp_path / "out" / "best.toml").read_text())["controllers"]["pd"]
+    assert more.verdict.table.loc[more.verdict.table["controller"] == "pd", "rmse_position_m"].notna().all()
+    assert best == more.best["pd"]
 
 
 def test_a_vehicles_gains_are_searched_on_their_own() -> None:

@@ -281,4 +281,15 @@ def verdict_study(tuning: Tuning, tuned: Mapping[str, Mapping[str, Any]], *, sam
     data["name"] = f"{tuning.name}_verdict"
     # Whether a tuned network is a network: the rank of its basis along every NN run.
     data["diagnostics"] = {**data.get("diagnostics", {}), "basis_rank": True}
-    return study_from_mapping(data, tuning.source)
+    study = study_from_mapping(data, tuning.source)
+    # Two controllers that start from the same hand-set gains (the NN with its
+    # network searched or not) need them run once.
+    vehicles = sorted({v for _, v in study.controller_specs})
+    seen: list[list[dict[str, Any]]] = []
+    for key in [k for k in controllers if k.endswith("_hand_set")]:
+        described = [{**study.controller_specs[(key, v)].describe(), "label": ""} for v in vehicles]
+        if described in seen:
+            del controllers[key]  # data["controllers"] is this table
+        else:
+            seen.append(described)
+    return study if len(controllers) == len(study.controllers) else study_from_mapping(data, tuning.source)

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import time
 from dataclasses import asdict, dataclass
 from pathlib import Path
@@ -86,10 +87,27 @@ def tune(tuning: Tuning | str | Path, out_dir: str | Path, *, workers: int | Non
         "executor": runner.executor}, indent=2, default=str) + "\n")
     outcome = None
     if verdict and best:
-        outcome = run_study(verdict_study(tuning, best), out / "verdict", workers=workers, scheduler=scheduler,
+        judged = verdict_study(tuning, best)
+        _discard_stale_verdict(out / "verdict", judged.fingerprint())
+        outcome = run_study(judged, out / "verdict", workers=workers, scheduler=scheduler,
                             executor="dask" if scheduler else "processes", plots=plots, progress=progress)
     return TuneOutcome(out_dir=out, ran=ran, seconds=seconds, best=best, trials_path=trials_path,
                        best_path=best_path, figures=figures, verdict=outcome)
+
+
+def _discard_stale_verdict(folder: Path, fingerprint: str) -> None:
+    """A verdict of other tuned gains (more trials since, another process's
+    better trial) is derived from the storage and best.toml alone: it is
+    removed and run again rather than refused as a study folder would be."""
+    meta = folder / "study.json"
+    if not meta.exists():
+        return
+    try:
+        old = json.loads(meta.read_text()).get("fingerprint")
+    except (json.JSONDecodeError, AttributeError):
+        old = None
+    if old != fingerprint:
+        shutil.rmtree(folder)
 
 
 def main_tune(path: str, out_dir: str | None, workers: int | None, scheduler: str | None, *,
