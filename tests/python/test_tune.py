@@ -216,6 +216,8 @@ def _metric_of_sample(tuning, sample):  # type: ignore[no-untyped-def]
     ('trials = 8', 'trials = 0', ("tune.trials", ">= 1")),
     ('objective = "rmse_position_m"', 'objective = "rmse"', ("tune.objective", "not a metric")),
     ('seed = 1\n', 'seed = 1\nsampler = "anneal"\n', ("tune.sampler", "'tpe'")),
+    ('[controllers.pd.search]\nkp = { scale = [0.05, 20.0], log = true }', '',
+     ("controllers: no controller has a search table",)),
     ('kp = { scale = [0.05, 20.0], log = true }', '"kd[2]" = { range = [-10.0, 100.0] }',
      ("controllers.pd.search", "at the low end", "kd[2]")),
 ])

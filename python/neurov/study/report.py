@@ -46,8 +46,8 @@ def league_markdown(study: Study, runs: Rows) -> str:
               f"{ref_label} on the same plants, the median of the paired ratios with its interval, the plants "
               f"where the controller is better and the Wilcoxon signed-rank p-value, Holm-corrected over the "
               f"table's comparisons. Controllers share a rank while the paired ratio's interval against the first "
-              f"of the rank above contains 1 (with fewer than 6 plants: ranked by the median). \"n/a\": one plant, "
-              f"or too few for a 95 % interval.", ""]
+              f"of the rank above contains 1 (with fewer than 6 plants: ranked by the median). \"n/a\": one "
+              f"plant, or too few for a 95 % interval.", ""]
     if study.perturbations:
         lines += ["Perturbed per sample: " + ", ".join(_describe_perturbation(p) for p in study.perturbations) + ".", ""]
     for s in study.scenarios:

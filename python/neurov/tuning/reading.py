@@ -86,7 +86,7 @@ def _settings(r: _Reader, study_seed: int) -> TuneSettings:
                         test_scenarios=tuple(held), hand_set_in_verdict=hand)
 
 
-def _bounds(r: _Reader, key: str, field: str, integer: bool) -> tuple[float, float]:
+def _bounds(r: _Reader, field: str, integer: bool) -> tuple[float, float]:
     v = r.raw(field)
     if not (isinstance(v, list) and len(v) == 2 and all(isinstance(x, (int, float)) and not isinstance(x, bool)
                                                         for x in v)):
@@ -150,7 +150,7 @@ def _search_parameter(key: str, spec: Any, r: _Reader, ctype: str, table: Mappin
             raise pr.error("log" if log else "int", "applies to a range, not to choices")
         out["choices"] = tuple(choices)
     else:
-        low, high = _bounds(pr, key, kind, integer and kind == "range")
+        low, high = _bounds(pr, kind, integer and kind == "range")
         if log and low <= 0:
             raise pr.error(kind, f"a log range must lie above zero, got [{low:g}, {high:g}]")
         out["low"], out["high"] = low, high
@@ -182,32 +182,35 @@ def tuning_from_mapping(data: Mapping[str, Any], origin: str = "<tuning>") -> Tu
     file is; every searched parameter at both ends of its range is checked as
     a controller table is, so that a range the controller refuses is named
     here and not in a trial."""
-    data = copy.deepcopy(dict(data))
+    table: dict[str, Any] = copy.deepcopy(dict(data))
     try:
-        tr = _Reader(data.pop("tune", None) or {}, "tune", origin)
-        seed = data.get("seed", 0)
+        tr = _Reader(table.pop("tune", None) or {}, "tune", origin)
+        seed = table.get("seed", 0)
         settings = _settings(tr, seed if isinstance(seed, int) and not isinstance(seed, bool) else 0)
-        ctable = data.get("controllers")
+        ctable = table.get("controllers")
         search: dict[str, list[SearchParameter]] = {}
         if isinstance(ctable, Mapping):
-            for ckey, table in ctable.items():
-                if not isinstance(table, Mapping) or "search" not in table:
+            for ckey, ctab in ctable.items():
+                if not isinstance(ctab, Mapping) or "search" not in ctab:
                     continue
                 where = f"controllers.{ckey}.search"
-                sr = _Reader(table["search"], where, origin)
-                if "factory" in table:
+                sr = _Reader(ctab["search"], where, origin)
+                if "factory" in ctab:
                     raise StudyError(f"{origin}: {where}: tuning a controller given by a factory is not supported: its "
                                    "gains are arguments of the factory, which a study cannot pass yet")
                 if not sr.table:
                     raise StudyError(f"{origin}: {where}: empty: name at least one parameter to search")
-                ctype = table.get("type")
-                params = [_search_parameter(k, v, sr, ctype, table) for k, v in sr.table.items()] \
+                ctype = ctab.get("type")
+                params = [_search_parameter(k, v, sr, ctype, ctab) for k, v in sr.table.items()] \
                     if isinstance(ctype, str) and _known_type(ctype) else []
                 search[ckey] = params
-        study_table = _without_search(data)
+        if not search:
+            raise StudyError(f"{origin}: controllers: no controller has a search table "
+                             f"([controllers.KEY.search]): nothing to tune")
+        study_table = _without_search(table)
         # The study part as a study file; a bad controller or scenario is named here.
         study = study_from_mapping(study_table, origin)
-    except ScenarioError as e:  # StudyError is one
+    except (ScenarioError, StudyError) as e:
         raise TuneError(str(e)) from None
     name = study.name
     tuning = Tuning(name=name, source=origin, settings=settings, study_table=study_table, search=search,

@@ -22,7 +22,8 @@ from neurov.tuning.space import suggest
 from neurov.tuning.spec import TuneError, Tuning
 from neurov.tuning.trial_runs import TrialRunner
 
-__all__ = ["STORAGE_NAME", "TuneInterrupted", "counted_trials", "open_storage", "optuna_study", "run_trials", "study_name"]
+__all__ = ["STORAGE_NAME", "TuneInterrupted", "counted_trials", "open_storage", "optuna_study", "run_trials",
+           "study_name"]
 
 STORAGE_NAME = "tuning.db"
 # A process that dies mid-trial leaves its trial "running"; without a

@@ -55,8 +55,9 @@ def apply_values(table: Mapping[str, Any], params: Sequence[SearchParameter],
         name = p.path[0]
         places = [out[p.vehicle]] if p.vehicle is not None else (_places(out, name) or [out])
         for t in places:
-            # A vehicle's own table may leave the field to the common one.
-            base = t.get(name, out.get(name))
+            # A vehicle's own table may leave the field to the common one
+            # (the reader checked that one of them gives it).
+            base = t[name] if name in t else out.get(name, [])
             if p.kind == "scale":
                 t[name] = [float(x) * float(v) for x in base]
             elif p.index is not None:

@@ -9,6 +9,7 @@ for all of them (starting a spawned worker costs about a second)."""
 from __future__ import annotations
 
 import concurrent.futures as cf
+from concurrent.futures.process import BrokenProcessPool
 import os
 import signal
 from collections.abc import Sequence
@@ -95,7 +96,7 @@ class TrialRunner:
         try:
             futures = [pool.submit(run_keys_safely, study, b) for b in batches]
             return [rec for f in futures for rec in f.result()]
-        except cf.process.BrokenProcessPool:
+        except BrokenProcessPool:
             # A worker that died (a user's extension crashing) takes the pool
             # with it: the trial's runs are failures, and a new pool serves the next.
             self._pool = None
