@@ -281,3 +281,15 @@ def test_the_shipped_tuned_league_reads() -> None:
     assert set(tuning.search) == {"pd", "pid", "smc", "computed_torque", "linear", "nn", "nn_network"}
     assert all(p.vehicle in ("nerov", "bluerov2_heavy") for p in tuning.search["pd"])
     assert tuning.settings.test_seed != tuning.study_table["seed"]
+    realistic = load_tuning("tuned_realism")
+    assert set(realistic.search) == set(tuning.search)
+    assert all(s.endswith("_realistic") for s in realistic.study_table["scenarios"])
+
+
+def test_cli_tune_names_a_bad_file_and_exits_1(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    from neurov import cli
+
+    path = write(tmp_path, tuning=TUNING.replace("TRIALS", "0"))
+    assert cli.main(["tune", str(path), "--out", str(tmp_path / "out"), "--workers", "1"]) == 1
+    err = capsys.readouterr().err
+    assert "tune.trials: expected an integer >= 1, got 0" in err and str(path) in err
