@@ -293,3 +293,34 @@ def test_cli_tune_names_a_bad_file_and_exits_1(tmp_path: Path, capsys: pytest.Ca
     assert cli.main(["tune", str(path), "--out", str(tmp_path / "out"), "--workers", "1"]) == 1
     err = capsys.readouterr().err
     assert "tune.trials: expected an integer >= 1, got 0" in err and str(path) in err
+
+
+FACTORY_TUNING = TUNING.replace('''[controllers.pd]
+type = "pd"
+kp = [20, 20, 20, 2, 2, 2]
+kd = [25, 25, 40, 1, 1, 1]
+[controllers.pd.search]
+kp = { scale = [0.05, 20.0], log = true }''', '''[controllers.mine]
+factory = "user_controllers.factories:tunable_pd"
+label = "my PD"
+[controllers.mine.arguments]
+gain = 1.0
+[controllers.mine.search]
+GAIN''')
+
+
+def test_a_factory_is_tuned_over_its_keyword_arguments(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.syspath_prepend(str(Path(__file__).resolve().parent))
+    search = "gain = { range = [0.01, 0.15], log = true }"  # above about 0.15 the loop diverges
+    path = write(tmp_path, trials=4, tuning=FACTORY_TUNING.replace("GAIN", search))
+    out = tune(path, tmp_path / "out", workers=1, verdict=False, plots=False, progress=False)
+    study = optuna_study(load_tuning(path), "mine", open_storage(tmp_path / "out"))
+    values = [t.value for t in study.trials]
+    assert out.ran == 4 and len(set(values)) == 4  # the argument reached the controller
+    best = tomllib.loads((tmp_path / "out" / "best.toml").read_text())["controllers"]["mine"]
+    assert best["arguments"]["gain"] == study.best_params["gain"]
+    assert best["factory"] == "user_controllers.factories:tunable_pd"
+    # An argument the factory does not take is named before any run.
+    bad = write(tmp_path, tuning=FACTORY_TUNING.replace("GAIN", "gian = { range = [0.1, 1.0] }"))
+    with pytest.raises(TuneError, match=r"controllers\.mine\.search: at the low end.*keyword argument 'gian'"):
+        tune(bad, tmp_path / "bad", workers=1, progress=False)

@@ -232,17 +232,21 @@ def study_from_mapping(data: Mapping[str, Any], origin: str = "<study>") -> Stud
 
 
 def _factory(table: Mapping[str, Any], where: str, origin: str, key: str) -> ControllerFactory:
-    """[controllers.KEY] with a factory: only 'factory' and 'label'."""
-    unknown = sorted(set(table) - {"factory", "label"})
+    """[controllers.KEY] with a factory: only 'factory', 'label' and the
+    keyword 'arguments' it is called with."""
+    unknown = sorted(set(table) - {"factory", "label", "arguments"})
     if unknown:
         raise StudyError(f"{origin}: {where}.{unknown[0]}: a controller given by a factory takes only "
-                         f"'factory' and 'label' (its gains are the factory's business)")
+                         f"'factory', 'label' and 'arguments' (its gains are the factory's business)")
     path, label = table["factory"], table.get("label", key)
     if not isinstance(path, str) or ":" not in path:
         raise StudyError(f"{origin}: {where}.factory: expected 'module.path:function', got {path!r}")
     if not isinstance(label, str):
         raise StudyError(f"{origin}: {where}.label: expected a string, got {label!r}")
-    return ControllerFactory(path, label)
+    arguments = table.get("arguments", {})
+    if not isinstance(arguments, Mapping):
+        raise StudyError(f"{origin}: {where}.arguments: expected a table of keyword arguments, got {arguments!r}")
+    return ControllerFactory(path, label, tuple(sorted(arguments.items())))
 
 
 def _check_controllers(study: Study, origin: str, per_vehicle: Mapping[str, bool]) -> None:

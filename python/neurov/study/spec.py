@@ -152,7 +152,8 @@ class Study:
         }
         if self.factories:
             # The path, not the code: a changed module keeps the fingerprint (docs: start a new folder).
-            payload["factories"] = {c: f.path for c, f in sorted(self.factories.items())}
+            payload["factories"] = {c: [f.path, dict(f.arguments)] if f.arguments else f.path
+                                    for c, f in sorted(self.factories.items())}
         text = json.dumps(payload, sort_keys=True, default=str)
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 

@@ -99,9 +99,11 @@ def _bounds(r: _Reader, field: str, integer: bool) -> tuple[float, float]:
     return low, high
 
 
-def _search_parameter(key: str, spec: Any, r: _Reader, ctype: str, table: Mapping[str, Any]) -> SearchParameter:
-    """One entry of a search table, checked against the controller type and
-    the values the controller's table gives."""
+def _search_parameter(key: str, spec: Any, r: _Reader, ctype: str | None,
+                      table: Mapping[str, Any]) -> SearchParameter:
+    """One entry of a search table, checked against the controller type (None:
+    a factory, whose keyword arguments are searched) and the values the
+    controller's table gives."""
     from neurov.controllers import REGISTRY
 
     m = _KEY.match(key)
@@ -109,22 +111,39 @@ def _search_parameter(key: str, spec: Any, r: _Reader, ctype: str, table: Mappin
         raise r.error(key, "expected a field name, 'name[index]' or 'centres.field'")
     path = tuple(m.group(1).split("."))
     index = None if m.group(2) is None else int(m.group(2))
-    # "bluerov2_heavy.kd": that vehicle's gains alone.
-    vehicle = path[0] if len(path) > 1 and path[0] in vehicle_tables(table) else None
-    if vehicle is not None:
-        path = path[1:]
-        if path[0] == "centres":
-            raise r.error(key, "the network is common to the vehicles: search 'centres.FIELD'")
-    kind_info = REGISTRY[ctype]
-    known = [*kind_info.fields(), *kind_info.options]
-    if path[0] not in known or (len(path) > 1 and (path[0] != "centres" or len(path) != 2
-                                                  or path[1] not in _CENTRES_FIELDS)):
-        names = known + [f"centres.{f}" for f in _CENTRES_FIELDS if "centres" in kind_info.options]
-        close = difflib.get_close_matches(m.group(1), names, n=1)
-        hint = f"; did you mean {close[0]!r}?" if close else ""
-        raise r.error(key, f"unknown parameter of a {ctype!r} controller{hint} (it has: {', '.join(names)})")
-    if path == ("centres",):
-        raise r.error(key, "search the network's fields one by one: 'centres.n', 'centres.seed', 'centres.method'")
+    vehicle = None
+    if ctype is None:
+        if len(path) > 1:
+            raise r.error(key, "a factory's search names its keyword arguments: 'name' or 'name[index]'")
+        # Whether the factory takes it is checked by calling it at both ends of the ranges.
+        path = ("arguments", path[0])
+        given_value = (table.get("arguments") or {}).get(path[1])
+        places = [] if given_value is None else [given_value]
+        name = path[1]
+    else:
+        # "bluerov2_heavy.kd": that vehicle's gains alone.
+        vehicle = path[0] if len(path) > 1 and path[0] in vehicle_tables(table) else None
+        if vehicle is not None:
+            path = path[1:]
+            if path[0] == "centres":
+                raise r.error(key, "the network is common to the vehicles: search 'centres.FIELD'")
+        kind_info = REGISTRY[ctype]
+        known = [*kind_info.fields(), *kind_info.options]
+        if path[0] not in known or (len(path) > 1 and (path[0] != "centres" or len(path) != 2
+                                                      or path[1] not in _CENTRES_FIELDS)):
+            names = known + [f"centres.{f}" for f in _CENTRES_FIELDS if "centres" in kind_info.options]
+            close = difflib.get_close_matches(m.group(1), names, n=1)
+            hint = f"; did you mean {close[0]!r}?" if close else ""
+            raise r.error(key, f"unknown parameter of a {ctype!r} controller{hint} (it has: {', '.join(names)})")
+        if path == ("centres",):
+            raise r.error(key, "search the network's fields one by one: 'centres.n', 'centres.seed', "
+                          "'centres.method'")
+        if vehicle is not None:
+            given_value = table[vehicle].get(path[0], table.get(path[0]))
+            places = [] if given_value is None else [given_value]
+        else:
+            places = [t[path[0]] for t in [table, *(table[v] for v in vehicle_tables(table))] if path[0] in t]
+        name = path[0]
     pr = _Reader(spec, f"{r.where}.{key}", r.origin) if isinstance(spec, Mapping) else None
     if pr is None:
         raise r.error(key, f"expected a table {{ range = [low, high] }}, {{ scale = [low, high] }} or "
@@ -135,11 +154,6 @@ def _search_parameter(key: str, spec: Any, r: _Reader, ctype: str, table: Mappin
     kind = given[0]
     log = pr.boolean("log", False)
     integer = pr.boolean("int", False)
-    if vehicle is not None:
-        given_value = table[vehicle].get(path[0], table.get(path[0]))
-        places = [] if given_value is None else [given_value]
-    else:
-        places = [t[path[0]] for t in [table, *(table[v] for v in vehicle_tables(table))] if path[0] in t]
     out: dict[str, Any] = {"key": key, "path": path, "kind": kind, "log": log, "integer": integer, "index": index,
                            "vehicle": vehicle}
     if kind == "choices":
@@ -158,20 +172,20 @@ def _search_parameter(key: str, spec: Any, r: _Reader, ctype: str, table: Mappin
             if integer:
                 raise pr.error("int", "a scale is a real factor; use a range for an integer")
             if index is not None:
-                raise pr.error("scale", f"a scale takes the whole vector: search {path[0]!r}, or give "
+                raise pr.error("scale", f"a scale takes the whole vector: search {name!r}, or give "
                                f"{key!r} a range")
             if not places:
-                raise pr.error("scale", f"scales the controller's {path[0]!r}, which the controller's table "
-                               f"does not give: write {path[0]} = [...] there, or search it with a range")
+                raise pr.error("scale", f"scales the controller's {name!r}, which the controller's table "
+                               f"does not give: write {name} = [...] there, or search it with a range")
             if any(not isinstance(v, list) for v in places):
-                raise pr.error("scale", f"{path[0]!r} is a scalar gain here; a scale takes a vector "
+                raise pr.error("scale", f"{name!r} is a scalar gain here; a scale takes a vector "
                                f"(use range = [low, high] for a scalar)")
     if index is not None:
         if not places or any(not isinstance(v, list) for v in places):
-            raise r.error(key, f"element {index} of {path[0]!r} needs {path[0]} given as a vector in the "
+            raise r.error(key, f"element {index} of {name!r} needs {name} given as a vector in the "
                           f"controller's table")
         if any(index >= len(v) for v in places):
-            raise r.error(key, f"index {index} is past the end of {path[0]!r} ({min(len(v) for v in places)} "
+            raise r.error(key, f"index {index} is past the end of {name!r} ({min(len(v) for v in places)} "
                           f"elements)")
     pr.finish()
     return SearchParameter(**out)
@@ -195,14 +209,11 @@ def tuning_from_mapping(data: Mapping[str, Any], origin: str = "<tuning>") -> Tu
                     continue
                 where = f"controllers.{ckey}.search"
                 sr = _Reader(ctab["search"], where, origin)
-                if "factory" in ctab:
-                    raise StudyError(f"{origin}: {where}: tuning a controller given by a factory is not supported: its "
-                                   "gains are arguments of the factory, which a study cannot pass yet")
                 if not sr.table:
                     raise StudyError(f"{origin}: {where}: empty: name at least one parameter to search")
-                ctype = ctab.get("type")
+                ctype = None if "factory" in ctab else ctab.get("type")
                 params = [_search_parameter(k, v, sr, ctype, ctab) for k, v in sr.table.items()] \
-                    if isinstance(ctype, str) and _known_type(ctype) else []
+                    if ctype is None or (isinstance(ctype, str) and _known_type(ctype)) else []
                 search[ckey] = params
         if not search:
             raise StudyError(f"{origin}: controllers: no controller has a search table "

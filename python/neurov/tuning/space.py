@@ -46,14 +46,15 @@ def apply_values(table: Mapping[str, Any], params: Sequence[SearchParameter],
     out.pop("search", None)
     for p in params:
         v = values[p.key]
+        name = p.path[-1]
         if len(p.path) > 1:
+            # A sub-table: the network's centres, a factory's arguments.
             sub = out.setdefault(p.path[0], {})
             for part in p.path[1:-1]:
                 sub = sub.setdefault(part, {})
-            sub[p.path[-1]] = v
-            continue
-        name = p.path[0]
-        places = [out[p.vehicle]] if p.vehicle is not None else (_places(out, name) or [out])
+            places = [sub]
+        else:
+            places = [out[p.vehicle]] if p.vehicle is not None else (_places(out, name) or [out])
         for t in places:
             # A vehicle's own table may leave the field to the common one
             # (the reader checked that one of them gives it).
