@@ -4,6 +4,8 @@ The physics and control laws live in the compiled core (``neurov._core``, C++
 with Eigen); this package re-exports it and adds files, scenarios and plots.
 """
 
+from typing import TYPE_CHECKING
+
 from neurov import centres, errors, trajectories
 from neurov._core import (
     MAX_CENTRES,
@@ -125,6 +127,23 @@ __all__ = [
     "rotation",
     "singularity_threshold",
     "tracking_error",
+    "tune",
 ]
 
 _check_kernel_request()
+
+if TYPE_CHECKING:
+    import os
+    from typing import Any
+
+    from neurov.tuning import Tuning, TuneOutcome
+
+
+def tune(tuning: "str | os.PathLike[str] | Tuning", out_dir: "str | os.PathLike[str]",
+         **options: "Any") -> "TuneOutcome":
+    """Tunes the controllers of a tuning file: :func:`neurov.tuning.tune`
+    (imported here on first use: Optuna is an optional dependency, and
+    ``import neurov`` stays cheap)."""
+    from neurov.tuning import tune as _tune
+
+    return _tune(tuning, out_dir, **options)

@@ -93,6 +93,27 @@ def _parser() -> argparse.ArgumentParser:
     from neurov.identification.cli import add_parser as add_identify
 
     add_identify(sub, _EXIT_STATUS)
+
+    tune = sub.add_parser(
+        "tune",
+        help="tune every controller of a tuning file with the same budget, then judge it on held-out plants",
+        description="Tunes each controller of a tuning file (a study file with [tune] and per-controller "
+        "search tables; see docs/tuning.md) with Optuna, its trials stored in DIR/tuning.db: a rerun "
+        "resumes, and several processes given the same DIR share the budget. Writes trials.csv, "
+        "best.toml, the figures and the verdict (DIR/verdict: a study of the tuned controllers on the "
+        "test plants).",
+    )
+    tune.add_argument("tuning", metavar="TUNING.toml", help="the tuning file, or a shipped tuning's name")
+    tune.add_argument("--out", default=None, metavar="DIR", help="output folder (default: tune-NAME)")
+    tune.add_argument("--workers", type=int, default=None, metavar="N",
+                      help="worker processes for a trial's runs (default: one per core)")
+    tune.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                      help="run the trials' runs on the existing Dask cluster at ADDRESS")
+    tune.add_argument("--only", action="append", default=None, metavar="CONTROLLER",
+                      help="tune only this controller (repeatable; other processes may take the others)")
+    tune.add_argument("--no-verdict", action="store_true", help="tune only, no study on the test plants")
+    tune.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
+    tune.add_argument("--quiet", action="store_true", help="no progress bars")
     return p
 
 
@@ -140,6 +161,13 @@ def main(argv: Sequence[str] | None = None) -> int:
             from neurov.identification.cli import run as run_identify
 
             return run_identify(args)
+        elif args.command == "tune":
+            if args.workers is not None and args.workers < 1:
+                parser.error("--workers must be >= 1")
+            from neurov.tuning import main_tune
+
+            main_tune(args.tuning, args.out, args.workers, args.scheduler, verdict=not args.no_verdict,
+                      plots=not args.no_plots, quiet=args.quiet, only=args.only)
     except KeyboardInterrupt as e:
         # A study says what it saved and that rerunning resumes; one line, no traceback.
         print(f"neurov: {str(e) or 'interrupted'}", file=sys.stderr)

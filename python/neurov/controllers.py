@@ -24,7 +24,8 @@ from neurov import centres as centre_placement
 if TYPE_CHECKING:
     from neurov.scenario import ControllerSpec, Scenario
 
-__all__ = ["ControllerType", "REGISTRY", "build_controller", "default_centre_box", "make_centres", "register"]
+__all__ = ["ControllerType", "REGISTRY", "build_controller", "default_centre_box", "input_normalisation", "make_centres",
+           "register"]
 
 Array = NDArray[np.float64]
 
@@ -111,6 +112,9 @@ def make_centres(spec: ControllerSpec, low: Array, high: Array) -> Array:
     method = c.get("method", "sobol")
     if method == "grid":
         return centre_placement.grid(c["axes"])
+    if spec.options.get("inputs") == "normalised":
+        # The network sees x_hat, in which the scenario's box is [-1, 1]^24.
+        low, high = np.full(24, -1.0), np.full(24, 1.0)
     lo = low if c.get("low") is None else np.asarray(c["low"], dtype=np.float64)
     hi = high if c.get("high") is None else np.asarray(c["high"], dtype=np.float64)
     fn = centre_placement.sobol if method == "sobol" else centre_placement.latin_hypercube
@@ -131,8 +135,21 @@ def _nominal(scenario: Scenario) -> Any:
     return scenario.vehicle_data().vehicle()
 
 
+def input_normalisation(scenario: Scenario) -> tuple[Array, Array]:
+    """The NN's input offset and scale with ``inputs = "normalised"``:
+    x_hat = (x - offset) * scale maps the scenario's centre box
+    (:func:`default_centre_box`) onto [-1, 1]^24, so that one width suits
+    positions, angles, velocities and accelerations alike."""
+    low, high = default_centre_box(scenario)
+    return (low + high) / 2.0, 2.0 / (high - low)
+
+
 def _build_nn(spec: ControllerSpec, scenario: Scenario) -> Any:
-    network = _core.RbfNetwork(make_centres(spec, *default_centre_box(scenario)), spec.width)
+    centres = make_centres(spec, *default_centre_box(scenario))
+    if spec.options.get("inputs") == "normalised":
+        network = _core.RbfNetwork(centres, spec.width, *input_normalisation(scenario))
+    else:
+        network = _core.RbfNetwork(centres, spec.width)
     return _core.NNAdaptiveController(network, _configured(spec, dt=scenario.dt))
 
 
@@ -147,7 +164,7 @@ def _build_linear(spec: ControllerSpec, scenario: Scenario) -> Any:
 
 register(ControllerType(
     "nn", "NN adaptive", _core.NNAdaptiveConfig, _build_nn, managed=("dt",),
-    options={"width": 30.0, "centres": {"method": "sobol", "n": 64}}, keys={"lambda": "lambda_"}))
+    options={"width": 30.0, "centres": {"method": "sobol", "n": 64}, "inputs": "si"}, keys={"lambda": "lambda_"}))
 register(ControllerType(
     "linear", "linear adaptive", _core.LinearAdaptiveConfig, _build_linear, managed=("dt", "theta0"),
     options={"theta0": "zero", "theta0_scale": 1.0}, keys={"lambda": "lambda_"}))

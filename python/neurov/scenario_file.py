@@ -197,6 +197,8 @@ def _controller(r: _Reader) -> ControllerSpec:
                 raise ScenarioError(f"{r.origin}: {e}") from None
     if kind.name == "nn":
         spec.width = r.number("width", spec.width)
+        # "si": the paper's inputs in SI units; "normalised": the scenario's centre box mapped onto [-1, 1].
+        spec.inputs = r.string("inputs", spec.inputs, choices=("si", "normalised"))
         spec.centres = _centres(r.table_of("centres"))
     if kind.name == "linear":
         spec.theta0 = r.string("theta0", spec.theta0, choices=("zero", "true", "scaled"))

@@ -25,6 +25,9 @@ class ControllerFactory:
     path: str
     """``"module.path:function"`` (the function may be an attribute path, ``mod:Class.make``)."""
     label: str
+    arguments: tuple[tuple[str, Any], ...] = ()
+    """Keyword arguments the function is called with after the scenario
+    (``[controllers.KEY.arguments]``): what a tuning searches."""
 
     def load(self) -> Callable[[Scenario], Any]:
         """The function the path names; :class:`FactoryError` saying what is missing."""
@@ -49,7 +52,7 @@ class ControllerFactory:
         designed for the vehicle as documented, not the plant as perturbed)."""
         make = self.load()
         try:
-            controller = make(scenario)
+            controller = make(scenario, **dict(self.arguments))
         except Exception as e:
             raise FactoryError(f"factory {self.path!r} raised {type(e).__name__} for scenario "
                                f"{scenario.name!r}: {e}") from e

@@ -80,7 +80,16 @@ def run_one(study: Study, key: RunKey) -> dict[str, Any]:
         # The factory sees the nominal scenario, as a built-in controller is designed for it.
         result = simulate(plant, factory.make(scenario), label=controller)
     else:
-        result = simulate(plant, resolved_spec(study, key.controller, key.scenario))
+        spec = resolved_spec(study, key.controller, key.scenario)
+        if spec.type == "nn" and study.basis_rank:
+            from neurov.simulation import build_controller
+            from neurov.study.basis_rank import BasisRecorder, basis_columns
+
+            recorder = BasisRecorder(build_controller(spec, plant))
+            result = recorder.log_weight_norm(simulate(plant, recorder, label=controller))
+            columns = {**columns, **basis_columns(recorder.matrix())}
+        else:
+            result = simulate(plant, spec)
     # A diverged run's metrics cover what it simulated (all of it if it
     # stopped before `after`); its error metrics are inf here so that it
     # ranks as the failure it is, whatever its errors before it stopped.

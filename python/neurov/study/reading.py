@@ -194,10 +194,17 @@ def study_from_mapping(data: Mapping[str, Any], origin: str = "<study>") -> Stud
         also = rk.raw("also_show", [])
         if not isinstance(also, list) or not all(isinstance(x, str) for x in also):
             raise rk.error("also_show", f"expected a list of metric names, got {also!r}")
+        reference = rk.string("reference", "")
+        if reference and reference not in controllers:
+            raise rk.error("reference", f"expected one of the study's controllers {controllers}, got {reference!r}")
         rk.finish()
         fr = r.table_of("failure")
         failure = {k: fr.number(k) for k in list(fr.table)}
         fr.finish()
+
+        dg = r.table_of("diagnostics")
+        basis_rank = dg.boolean("basis_rank", False)
+        dg.finish()
 
         pairs: list[tuple[str, str]] = []
         h2h = r.raw("head_to_head", [])
@@ -214,6 +221,7 @@ def study_from_mapping(data: Mapping[str, Any], origin: str = "<study>") -> Stud
     study = Study(name=name, scenarios=scenarios, controllers=controllers, controller_specs=specs, factories=factories,
                   perturbations=perturbations, samples=samples, seed=seed, after=after,
                   ranking_metric=ranking, also_show=list(also), failure=failure, head_to_head=pairs,
+                  reference=reference, basis_rank=basis_rank,
                   description=description, source=origin)
     _check_metrics(study, origin)
     _check_plants(study, origin)
@@ -224,17 +232,21 @@ def study_from_mapping(data: Mapping[str, Any], origin: str = "<study>") -> Stud
 
 
 def _factory(table: Mapping[str, Any], where: str, origin: str, key: str) -> ControllerFactory:
-    """[controllers.KEY] with a factory: only 'factory' and 'label'."""
-    unknown = sorted(set(table) - {"factory", "label"})
+    """[controllers.KEY] with a factory: only 'factory', 'label' and the
+    keyword 'arguments' it is called with."""
+    unknown = sorted(set(table) - {"factory", "label", "arguments"})
     if unknown:
         raise StudyError(f"{origin}: {where}.{unknown[0]}: a controller given by a factory takes only "
-                         f"'factory' and 'label' (its gains are the factory's business)")
+                         f"'factory', 'label' and 'arguments' (its gains are the factory's business)")
     path, label = table["factory"], table.get("label", key)
     if not isinstance(path, str) or ":" not in path:
         raise StudyError(f"{origin}: {where}.factory: expected 'module.path:function', got {path!r}")
     if not isinstance(label, str):
         raise StudyError(f"{origin}: {where}.label: expected a string, got {label!r}")
-    return ControllerFactory(path, label)
+    arguments = table.get("arguments", {})
+    if not isinstance(arguments, Mapping):
+        raise StudyError(f"{origin}: {where}.arguments: expected a table of keyword arguments, got {arguments!r}")
+    return ControllerFactory(path, label, tuple(sorted(arguments.items())))
 
 
 def _check_controllers(study: Study, origin: str, per_vehicle: Mapping[str, bool]) -> None:

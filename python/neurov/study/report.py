@@ -9,7 +9,7 @@ import math
 import numpy as np
 
 from neurov.study.spec import NORMAL_TRUNCATION, Perturbation, Study
-from neurov.study.tables import Rows, as_frame, head_to_head, summarise
+from neurov.study.tables import Rows, Summary, as_frame, head_to_head, summarise
 
 __all__ = ["league_markdown"]
 
@@ -40,6 +40,14 @@ def league_markdown(study: Study, runs: Rows) -> str:
         f"if it diverges or a metric is not finite{'; or ' + bounds if bounds else ''}.",
         "",
     ]
+    ref = study.reference_controller()
+    ref_label = study.label(ref)
+    lines += [f"Statistics per scenario: the median's distribution-free 95 % interval (order statistics); against "
+              f"{ref_label} on the same plants, the median of the paired ratios with its interval, the plants "
+              f"where the controller is better and the Wilcoxon signed-rank p-value, Holm-corrected over the "
+              f"table's comparisons. Controllers share a rank while the paired ratio's interval against the first "
+              f"of the rank above contains 1 (with fewer than 6 plants: ranked by the median). \"n/a\": one "
+              f"plant, or too few for a 95 % interval.", ""]
     if study.perturbations:
         lines += ["Perturbed per sample: " + ", ".join(_describe_perturbation(p) for p in study.perturbations) + ".", ""]
     for s in study.scenarios:
@@ -50,13 +58,14 @@ def league_markdown(study: Study, runs: Rows) -> str:
         extra_head = "".join(f" median {k} |" for k in study.also_show)
         lines += [f"## {s.name}", "", f"{s.description}", "",
                   f"| rank | controller | median {metric} | 5th-95th percentile | failure rate | median / best |"
-                  + extra_head,
-                  "|---|---|---|---|---|---|" + "---|" * len(study.also_show)]
+                  + extra_head + f" 95 % CI of the median | paired ratio to {ref_label} [95 % CI] | better than "
+                  f"{ref_label} | p (Wilcoxon, Holm) |",
+                  "|---|---|---|---|---|---|" + "---|" * len(study.also_show) + "---|---|---|---|"]
         for g in group:
             ratio = g.median / best if best > 0 and math.isfinite(best) else float("nan")
             extra = "".join(f" {_num(g.also[k])} |" for k in study.also_show)
             lines.append(f"| {g.rank} | {g.label} | {_num(g.median)} | {_num(g.p5)} - {_num(g.p95)} | "
-                         f"{100 * g.failure_rate:.0f} % | {_num(ratio, 3)} |" + extra)
+                         f"{100 * g.failure_rate:.0f} % | {_num(ratio, 3)} |" + extra + _statistics_cells(g, ref))
         lines.append("")
     ranks: dict[str, list[int]] = {c: [] for c in study.controllers}
     fails: dict[str, list[float]] = {c: [] for c in study.controllers}
@@ -90,6 +99,20 @@ def league_markdown(study: Study, runs: Rows) -> str:
                          f"{_num(h['p5_ratio'], 3)} - {_num(h['p95_ratio'], 3)} |" + cells)
         lines.append("")
     return "\n".join(lines).rstrip() + "\n"
+
+
+def _na(x: float, digits: int = 4) -> str:
+    return "n/a" if math.isnan(x) else _num(x, digits)
+
+
+def _statistics_cells(g: Summary, reference: str) -> str:
+    ci = "n/a" if math.isnan(g.median_ci_low) else f"{_num(g.median_ci_low)} - {_num(g.median_ci_high)}"
+    if g.controller == reference:
+        return f" {ci} | (reference) | | |"
+    interval = "" if math.isnan(g.ratio_ci_low) else f" [{_num(g.ratio_ci_low, 3)}, {_num(g.ratio_ci_high, 3)}]"
+    ratio = "n/a" if not g.pairs else f"{_num(g.ratio, 3)}{interval}"
+    better = f"{g.better} of {g.pairs}" if g.pairs else "n/a"
+    return f" {ci} | {ratio} | {better} | {_na(g.p_value_holm, 3)} |"
 
 
 def _describe_perturbation(p: Perturbation) -> str:

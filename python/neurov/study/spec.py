@@ -105,6 +105,13 @@ class Study:
     """Further metrics whose medians the league table shows beside the ranking."""
     failure: dict[str, float] = field(default_factory=dict)
     head_to_head: list[tuple[str, str]] = field(default_factory=list)
+    basis_rank: bool = False
+    """Record the NN controllers' basis along each run and add its rank
+    diagnostic to the runs table (:mod:`neurov.study.basis_rank`)."""
+    reference: str = ""
+    """The controller the league table's paired statistics compare with
+    (``[ranking] reference``; default: the first head-to-head pair's first
+    member, else the first controller)."""
     description: str = ""
     source: str = ""
     cache: dict[Any, Any] = field(default_factory=dict, repr=False, compare=False)
@@ -116,6 +123,11 @@ class Study:
             return self.factories[controller].label
         specs = [s for (c, _), s in self.controller_specs.items() if c == controller]
         return specs[0].label if specs and specs[0].label else controller
+
+    def reference_controller(self) -> str:
+        if self.reference:
+            return self.reference
+        return self.head_to_head[0][0] if self.head_to_head else self.controllers[0]
 
     def spec_for(self, controller: str, scenario: Scenario) -> ControllerSpec:
         return self.controller_specs[(controller, vehicle_key(scenario))]
@@ -137,7 +149,8 @@ class Study:
         }
         if self.factories:
             # The path, not the code: a changed module keeps the fingerprint (docs: start a new folder).
-            payload["factories"] = {c: f.path for c, f in sorted(self.factories.items())}
+            payload["factories"] = {c: [f.path, dict(f.arguments)] if f.arguments else f.path
+                                    for c, f in sorted(self.factories.items())}
         text = json.dumps(payload, sort_keys=True, default=str)
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 

@@ -16,6 +16,7 @@ import pandas as pd
 
 from neurov.study.log import Record
 from neurov.study.spec import Study, StudyError
+from neurov.study.statistics import holm, median_ci, paired_ranks, paired_ratio, ratio, wilcoxon_p
 
 __all__ = ["Summary", "failed", "failed_runs", "head_to_head", "percentile", "read_table", "runs_table",
            "summarise", "summary_table", "write_table"]
@@ -122,6 +123,19 @@ class Summary:
     rank: int = 0
     also: dict[str, float] = field(default_factory=dict)
     """Medians of the study's also_show metrics."""
+    # The verdict's statistics (neurov.study.statistics); nan where they
+    # cannot be computed (one plant, or too few for a 95 % interval).
+    median_ci_low: float = math.nan
+    median_ci_high: float = math.nan
+    ratio: float = math.nan
+    """Median over paired plants of this controller's metric / the reference's."""
+    ratio_ci_low: float = math.nan
+    ratio_ci_high: float = math.nan
+    better: int = 0
+    """Plants where this controller's metric is below the reference's."""
+    pairs: int = 0
+    p_value: float = math.nan
+    p_value_holm: float = math.nan
 
 
 def summarise(study: Study, runs: Rows) -> list[Summary]:
@@ -149,30 +163,54 @@ def summarise(study: Study, runs: Rows) -> list[Summary]:
                 also={k: percentile(g[k], 50) for k in study.also_show},
             ))
         group.sort(key=lambda g: (g.median, g.failure_rate, g.p95, study.controllers.index(g.controller)))
+        samples = {g.controller: dict(zip(groups[(s.name, g.controller)]["sample"].astype(int),
+                                          groups[(s.name, g.controller)][metric].astype(float)))
+                   for g in group}
+        ranks = _verdict_statistics(study, group, samples)
         for i, g in enumerate(group):
-            g.rank = i + 1
+            g.rank = ranks[i] if ranks else i + 1
         out += group
+    p_holm = holm([g.p_value for g in out])
+    for g, p in zip(out, p_holm):
+        g.p_value_holm = p
     return out
 
 
+def _verdict_statistics(study: Study, group: list[Summary], samples: dict[str, dict[int, float]]) -> list[int] | None:
+    """Fills the statistics of one scenario's summaries; returns the ranks
+    from the paired comparisons (None: too few plants, rank by the median)."""
+    ref = study.reference_controller()
+    for g in group:
+        g.median_ci_low, g.median_ci_high = median_ci(list(samples[g.controller].values()))
+        if ref in samples and g.controller != ref:
+            common = sorted(set(samples[g.controller]) & set(samples[ref]))
+            a = [samples[g.controller][k] for k in common]
+            b = [samples[ref][k] for k in common]
+            g.ratio, g.ratio_ci_low, g.ratio_ci_high, g.better = paired_ratio(a, b)
+            g.pairs = len(common)
+            g.p_value = wilcoxon_p(a, b)
+    return paired_ranks([g.controller for g in group], samples)
+
+
+def _or_na(x: float) -> float | str:
+    return "n/a" if math.isnan(x) else x
+
+
 def summary_table(study: Study, runs: Rows) -> pd.DataFrame:
-    """:func:`summarise` as a table (summary.csv)."""
+    """:func:`summarise` as a table (summary.csv); a statistic that cannot be
+    computed (one plant per scenario, too few for a 95 % interval, the
+    reference against itself) says "n/a"."""
+    ref = study.reference_controller()
     return pd.DataFrame([
         {"scenario": g.scenario, "controller": g.controller, "rank": g.rank, "n": g.n,
          "metric": study.ranking_metric, "median": g.median, "p5": g.p5, "p95": g.p95,
-         "failure_rate": g.failure_rate, **{f"median_{k}": v for k, v in g.also.items()}}
+         "failure_rate": g.failure_rate, **{f"median_{k}": v for k, v in g.also.items()},
+         "median_ci_low": _or_na(g.median_ci_low), "median_ci_high": _or_na(g.median_ci_high),
+         "reference": ref, "ratio_to_reference": _or_na(g.ratio), "ratio_ci_low": _or_na(g.ratio_ci_low),
+         "ratio_ci_high": _or_na(g.ratio_ci_high),
+         "better_than_reference": g.better if g.pairs else "n/a", "p_value": _or_na(g.p_value),
+         "p_value_holm": _or_na(g.p_value_holm)}
         for g in summarise(study, runs)])
-
-
-def _ratio(x: float, y: float) -> float:
-    """x / y where a failed run (inf or nan) counts as infinitely bad: a
-    finite x against a failed y is 0, the reverse inf, two failures a tie."""
-    fx, fy = math.isfinite(x), math.isfinite(y)
-    if fx and fy:
-        return x / y if y > 0 else (1.0 if x == 0 else float("inf"))
-    if fx:
-        return 0.0
-    return float("inf") if fy else 1.0
 
 
 def head_to_head(study: Study, runs: Rows, a: str, b: str, metric: str | None = None) -> list[dict[str, Any]]:
@@ -189,7 +227,7 @@ def head_to_head(study: Study, runs: Rows, a: str, b: str, metric: str | None = 
                  if (s.name, a, k) in by and (s.name, b, k) in by]
         if not pairs:
             continue
-        ratios = [_ratio(x, y) for x, y in pairs]
+        ratios = [ratio(x, y) for x, y in pairs]
         wins = sum(r < 1 for r in ratios)
         out.append({"scenario": s.name, "n": len(pairs), "a_wins": wins,
                     "median_ratio": percentile(ratios, 50), "p5_ratio": percentile(ratios, 5),

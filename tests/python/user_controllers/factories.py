@@ -49,3 +49,8 @@ def raises(scenario: neurov.Scenario) -> PythonPD:
 
 
 NOT_CALLABLE = 3
+
+
+def tunable_pd(scenario: neurov.Scenario, gain: float = 1.0) -> Delegate:
+    """The built-in PD law with both gains scaled by `gain`: a factory whose keyword argument a tuning searches."""
+    return Delegate(neurov.PDController(np.array(KP) * gain, np.array(KD) * gain))

@@ -1,0 +1,165 @@
+"""What a tuning writes besides its storage: trials.csv (every trial), the
+best trial per controller, best.toml (those as a study file's
+``[controllers]``) and the figures."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+
+from neurov.study.tables import write_table
+from neurov.tuning.space import apply_values
+from neurov.tuning.spec import Tuning
+from neurov.tuning.toml_text import toml_text
+
+__all__ = ["best_trial", "best_tables", "draw_tuning_figures", "trials_table", "write_best_toml"]
+
+
+def _finished(study: Any) -> list[Any]:
+    import optuna
+
+    return sorted(study.get_trials(deepcopy=False, states=(optuna.trial.TrialState.COMPLETE,)),
+                  key=lambda t: t.number)
+
+
+def trials_table(tuning: Tuning, studies: dict[str, Any]) -> pd.DataFrame:
+    """One row per trial of every controller: its parameters, objective,
+    failures (and why) and time. Trials cut short (interrupted, or past the
+    budget) are left out: they have no objective."""
+    rows = []
+    for controller, study in studies.items():
+        for t in _finished(study):
+            reasons = t.user_attrs.get("reasons", {})
+            rows.append({
+                "controller": controller, "trial": t.number, "objective": t.value,
+                "feasible": t.user_attrs.get("feasible", True), "runs": t.user_attrs.get("runs"),
+                "failures": t.user_attrs.get("failures"),
+                "failure_reasons": "; ".join(f"{n} x {r}" for r, n in reasons.items()),
+                "seconds": t.user_attrs.get("seconds"),
+                **{f"param_{k}": v for k, v in t.params.items()},
+            })
+    return pd.DataFrame(rows)
+
+
+def best_trial(study: Any) -> Any | None:
+    """The feasible trial of lowest objective (the lowest of all if none is feasible)."""
+    trials = _finished(study)
+    feasible = [t for t in trials if t.user_attrs.get("feasible", True)]
+    pool = feasible or trials
+    return min(pool, key=lambda t: (t.value, t.number)) if pool else None
+
+
+def best_tables(tuning: Tuning, studies: dict[str, Any]) -> dict[str, dict[str, Any]]:
+    """Controller key -> its table with the best trial's values."""
+    out = {}
+    for controller, study in studies.items():
+        best = best_trial(study)
+        if best is None:
+            continue
+        table = tuning.study_table["controllers"][controller]
+        out[controller] = apply_values(table, tuning.search[controller], best.params)
+    return out
+
+
+def write_best_toml(tuning: Tuning, studies: dict[str, Any], path: Path) -> Path:
+    s = tuning.settings
+    head = [f"# Tuned by `neurov tune` from {Path(tuning.source).name}: {s.trials} trials per controller, "
+            f"sampler {s.sampler} (seed {s.seed}),",
+            f"# objective: the {s.aggregate} of {s.objective} over {s.train_samples} training plants per "
+            f"scenario (a failed run counts {s.failure_penalty:g}).",
+            "# Paste the tables into a study file's [controllers]."]
+    tables = best_tables(tuning, studies)
+    for controller, study in studies.items():
+        best = best_trial(study)
+        if best is not None:
+            note = "" if best.user_attrs.get("feasible", True) else " (no trial was feasible: the least bad)"
+            head.append(f"# {controller}: trial {best.number}, objective {best.value:.6g}{note}")
+    path.write_text("\n".join(head) + "\n\n" + toml_text({"controllers": tables}))
+    return path
+
+
+def _importance(study: Any) -> list[str]:
+    """The searched parameters, the most important first (Optuna's PED-ANOVA
+    evaluator: its fANOVA one needs scikit-learn); in search order when
+    there are too few trials to tell."""
+    names = list(_finished(study)[0].params) if _finished(study) else []
+    if len(names) < 2 or len(_finished(study)) < 3:
+        return names
+    import warnings
+
+    import optuna
+    from optuna.importance import PedAnovaImportanceEvaluator, get_param_importances
+
+    try:
+        with warnings.catch_warnings():
+            # Experimental in Optuna (its interface may change), not in what it computes.
+            warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
+            ranked = get_param_importances(study, evaluator=PedAnovaImportanceEvaluator())
+    except (ValueError, RuntimeError, ZeroDivisionError):  # a parameter that never varied, for one
+        return names
+    return list(ranked)
+
+
+def draw_tuning_figures(tuning: Tuning, studies: dict[str, Any], out: Path) -> list[Path]:
+    """Per controller: the best objective against the trial number, and the
+    objective over the two most important parameters."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    drawn = []
+    for controller, study in studies.items():
+        trials = _finished(study)
+        if not trials:
+            continue
+        numbers = [t.number for t in trials]
+        values = [t.value for t in trials]
+        best = [min(values[: i + 1]) for i in range(len(values))]
+        fig, ax = plt.subplots(figsize=(6, 3.5))
+        ax.plot(numbers, values, "o", ms=3, alpha=0.5, label="trial")
+        ax.step(numbers, best, where="post", label="best so far")
+        ax.set_xlabel("trial")
+        ax.set_ylabel(f"{tuning.settings.aggregate} {tuning.settings.objective} (penalised)")
+        ax.set_title(f"{controller}: best objective against the trial")
+        ax.legend()
+        fig.tight_layout()
+        path = out / f"history_{controller}.png"
+        fig.savefig(path, dpi=110)
+        plt.close(fig)
+        drawn.append(path)
+
+        names = _importance(study)
+        if not names:
+            continue
+        fig, ax = plt.subplots(figsize=(5.5, 4.5))
+        finite = [v if math.isfinite(v) else float("nan") for v in values]
+        x = [t.params.get(names[0]) for t in trials]
+        if len(names) >= 2:
+            y = [t.params.get(names[1]) for t in trials]
+            sc = ax.scatter(x, y, c=finite, cmap="viridis_r", s=18)
+            fig.colorbar(sc, ax=ax, label=tuning.settings.objective)
+            ax.set_ylabel(names[1])
+        else:
+            ax.plot(x, finite, "o", ms=4)
+            ax.set_ylabel(tuning.settings.objective)
+        ax.set_xlabel(names[0])
+        for name, axis in zip(names[:2], ("x", "y") if len(names) >= 2 else ("x",)):
+            p = next(q for q in tuning.search[controller] if q.key == name)
+            if p.log:
+                getattr(ax, f"set_{axis}scale")("log")
+        ax.set_title(f"{controller}: objective over its two most important parameters"
+                     if len(names) >= 2 else f"{controller}: objective over {names[0]}")
+        fig.tight_layout()
+        path = out / f"parameters_{controller}.png"
+        fig.savefig(path, dpi=110)
+        plt.close(fig)
+        drawn.append(path)
+    return drawn
+
+
+def write_trials(tuning: Tuning, studies: dict[str, Any], path: Path) -> Path:
+    return write_table(trials_table(tuning, studies), path)

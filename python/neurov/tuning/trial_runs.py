@@ -1,0 +1,124 @@
+"""The runs of a trial, on workers kept for the whole tuning: a study's runs
+(:func:`neurov.study.one_run.run_one`, the same plants and records), where a
+run that raises becomes a record of its error instead of ending the trial.
+
+A study starts its pool of processes (or its Dask cluster) once per study;
+a tuning runs hundreds of small studies, one per trial, so it keeps one pool
+for all of them (starting a spawned worker costs about a second)."""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+from concurrent.futures.process import BrokenProcessPool
+import os
+import signal
+from collections.abc import Sequence
+from typing import Any
+
+from neurov.study.executors import default_batch_size, split_batches
+from neurov.study.one_run import RunKey, plan_runs, run_one
+from neurov.study.spec import Study
+
+__all__ = ["TrialRunner", "run_keys_safely"]
+
+# As a study's workers: one run at a time per process, no BLAS threads.
+_ONE_THREAD = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
+
+
+def run_keys_safely(study: Study, keys: Sequence[tuple[int, int, int]]) -> list[dict[str, Any]]:
+    """The records of `keys`; a run that raises gives ``{"key", "error"}``
+    (its exception's type and message), and the others still run."""
+    out = []
+    for k in keys:
+        key = RunKey(*k)
+        try:
+            out.append(run_one(study, key))
+        except Exception as e:  # noqa: BLE001 - a trial's wild guess may fail anywhere; it is a result
+            out.append({"key": [study.scenarios[key.scenario].name, study.controllers[key.controller],
+                                key.sample], "error": f"{type(e).__name__}: {e}"})
+    return out
+
+
+def _ignore_sigint() -> None:
+    # Ctrl-C reaches the process group; the parent answers it.
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+class TrialRunner:
+    """Runs every run of a study (one trial) on `workers`: in this process
+    (1), on local processes, or on the Dask cluster at `scheduler`."""
+
+    def __init__(self, workers: int = 1, scheduler: str | None = None) -> None:
+        if workers < 1:
+            raise ValueError(f"argument 'workers' must be >= 1, got {workers}")
+        self.workers = workers
+        self.scheduler = scheduler
+        self._pool: cf.ProcessPoolExecutor | None = None
+        self._client: Any = None
+        self._added_env: list[str] = []
+
+    @property
+    def executor(self) -> str:
+        return "dask" if self.scheduler else ("processes" if self.workers > 1 else "this process")
+
+    def __enter__(self) -> TrialRunner:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def _processes(self) -> cf.ProcessPoolExecutor:
+        if self._pool is None:
+            import multiprocessing
+
+            added = {k: v for k, v in _ONE_THREAD.items() if k not in os.environ}
+            os.environ.update(added)
+            self._added_env = list(added)
+            previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+            try:
+                # spawn, as a study's pool: forking a process with threads can deadlock.
+                self._pool = cf.ProcessPoolExecutor(max_workers=self.workers,
+                                                    mp_context=multiprocessing.get_context("spawn"),
+                                                    initializer=_ignore_sigint)
+            finally:
+                signal.signal(signal.SIGINT, previous)
+        return self._pool
+
+    def run(self, study: Study) -> list[dict[str, Any]]:
+        """Every run of `study`, in the study's order."""
+        keys = plan_runs(study)
+        if self.workers == 1 and not self.scheduler:
+            return run_keys_safely(study, [(k.scenario, k.controller, k.sample) for k in keys])
+        batches = split_batches(keys, default_batch_size(len(keys), self.workers))
+        if self.scheduler:
+            return self._run_dask(study, batches)
+        pool = self._processes()
+        try:
+            futures = [pool.submit(run_keys_safely, study, b) for b in batches]
+            return [rec for f in futures for rec in f.result()]
+        except BrokenProcessPool:
+            # A worker that died (a user's extension crashing) takes the pool
+            # with it: the trial's runs are failures, and a new pool serves the next.
+            self._pool = None
+            return [{"key": [study.scenarios[k.scenario].name, study.controllers[k.controller], k.sample],
+                     "error": "a worker process died during the trial"} for k in keys]
+
+    def _run_dask(self, study: Study, batches: list[list[tuple[int, int, int]]]) -> list[dict[str, Any]]:
+        if self._client is None:
+            from dask.distributed import Client
+
+            self._client = Client(self.scheduler)
+        future = self._client.scatter(study, broadcast=True)
+        futures = [self._client.submit(run_keys_safely, future, b, pure=False) for b in batches]
+        return [rec for f in futures for rec in f.result()]
+
+    def close(self) -> None:
+        if self._pool is not None:
+            self._pool.shutdown(wait=True, cancel_futures=True)
+            self._pool = None
+        if self._client is not None:
+            self._client.close()
+            self._client = None
+        for k in self._added_env:
+            os.environ.pop(k, None)
+        self._added_env = []
