@@ -63,7 +63,9 @@ def runs_table(study: Study, records: Mapping[tuple[str, str, int], Record]) -> 
     the runs that ran) and ``error`` (the error's type and message); a
     study whose runs all ran has the columns it always had."""
     order = [(s.name, c, k) for s in study.scenarios for c in study.controllers for k in range(study.samples)]
-    rows, columns, errors = [], {}, False
+    rows: list[dict[str, Any]] = []
+    columns: dict[str, None] = {}
+    errors = False
     for key in order:
         rec = records.get(key)
         if rec is None:

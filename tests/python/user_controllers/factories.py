@@ -108,11 +108,15 @@ def fails_in_workers(scenario: neurov.Scenario) -> PythonPD:
 
 
 def hangs_on_b(scenario: neurov.Scenario) -> PythonPD:
-    """Never returns on scenario b, deaf to SIGTERM where it can be."""
+    """Never returns on scenario b, deaf to SIGTERM where it can be; leaves
+    a file in $NEUROV_TEST_HANG_DIR when it starts hanging."""
     def hang(name: str) -> None:
         if name == "b":
             if threading.current_thread() is threading.main_thread():
                 signal.signal(signal.SIGTERM, signal.SIG_IGN)
+            folder = os.environ.get("NEUROV_TEST_HANG_DIR")
+            if folder:
+                open(os.path.join(folder, f"{os.getpid()}-{threading.get_ident()}"), "w").close()
             while True:
                 time.sleep(1.0)
 
