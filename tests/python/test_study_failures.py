@@ -164,6 +164,8 @@ def test_a_signal_stops_a_study_with_a_hung_run_and_leaves_nothing(tmp_path: Pat
     finally:
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
+    # The figures docs/reliability.md quotes (pytest -s shows them).
+    print(f"{executor}, {signal.Signals(signum).name}: exit {proc.returncode} {took:.2f} s after the signal")
     assert proc.returncode == 128 + signum, err
     assert took < GRACE_SECONDS + 8, took
     assert "Traceback" not in err, err
