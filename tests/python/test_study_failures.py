@@ -72,7 +72,7 @@ def test_failed_runs_are_results_and_the_others_finish(tmp_path: Path, executor:
     out = tmp_path / executor
     outcome = run_study(path, out, executor=executor, workers=2, progress=False, plots=executor == "processes",
                         batch_size=2, **({"dask_processes": True} if executor == "dask" else {}))
-    assert outcome.total == outcome.ran == 2 * 5
+    assert outcome.total == outcome.ran == 2 * 5 and outcome.without_result == 7
     table = read_table(outcome.table_path)
     assert len(table) == 10 and list(table.columns[-2:]) == ["error_kind", "error"]
     by = {c: g for c, g in table.groupby("controller")}

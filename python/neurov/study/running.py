@@ -26,7 +26,7 @@ from neurov.study.one_run import plan_runs, run_batch
 from neurov.study.reading import load_study
 from neurov.study.report import league_markdown
 from neurov.study.spec import Study, StudyError, identity_differences
-from neurov.study.tables import runs_table, summary_table, write_table
+from neurov.study.tables import failure_counts, runs_table, summary_table, write_table
 
 __all__ = ["StudyInterrupted", "StudyOutcome", "main_study", "run_study"]
 
@@ -88,6 +88,11 @@ class StudyOutcome:
     table_path: Path
     summary_path: Path
     league: Path
+
+    @property
+    def without_result(self) -> int:
+        """Runs that raised or whose worker died (the table's ``error_kind``)."""
+        return int(failure_counts(self.table)[0].sum()) if len(self.table) else 0
 
     @property
     def runs_per_second(self) -> float:
@@ -284,5 +289,8 @@ def main_study(path: str, out_dir: str | None, workers: int | None, scheduler: s
     rate = f", {outcome.runs_per_second:.2f} runs/s" if outcome.ran else ""
     print(f"{study.name}: {outcome.total} runs ({outcome.skipped} already done, {outcome.ran} run in "
           f"{outcome.seconds:.1f} s on {workers_phrase(outcome.workers, outcome.executor)}{rate})")
+    if outcome.without_result:
+        print(f"{outcome.without_result} run(s) gave no result (raised, or their worker died): each counts as "
+              f"failed; their errors are listed in {outcome.league}")
     print(f"table: {outcome.table_path}\nleague table: {outcome.league}")
     return outcome
