@@ -171,7 +171,10 @@ def run_study(study: Study | str | Path, out_dir: str | Path, *, workers: int | 
     executor: ``"dask"`` (a LocalCluster of `workers`, or the cluster at
     `scheduler`), ``"processes"`` (local processes) or ``"auto"`` (Dask if
     installed, else processes). The table is the same whichever runs it.
-    Ctrl-C raises :class:`StudyInterrupted` once the finished runs are saved.
+    Ctrl-C, or SIGTERM (while this runs in the main thread), raises
+    :class:`StudyInterrupted` once the workers are ended and the finished
+    runs saved. A run that raises or whose worker dies is a failed run of
+    the table (columns ``error_kind``, ``error``), not the end of the study.
     """
     if not isinstance(study, Study):
         study = load_study(study)
