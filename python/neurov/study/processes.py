@@ -170,12 +170,14 @@ def _drive(ctx: Any, study: Study, pool: list[_Worker], queue: deque[list[tuple[
                 continue
             w.proc.join()
             how = _death(w.proc)
-            if not w.ready:
+            if not w.keys:
+                pass  # it died after its batch's last run: no run is to blame
+            elif not w.ready:
                 # It died importing, before any run: no run is to blame.
                 failed_starts += 1
                 if failed_starts >= 2:
-                    raise StudyError(f"local worker processes die before their first run ({how}); "
-                                     "run with --workers 1 to see why")
+                    raise StudyError(f"local worker processes die before their first run ({how}); their "
+                                     "output above says why")
                 queue.appendleft(w.keys)
             elif w.retry:
                 failed_starts = 0
