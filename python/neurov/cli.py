@@ -17,6 +17,7 @@ _EXIT_STATUS = """exit status:
   3    a run diverged (neurov run, neurov paper); everything simulated is
        still written and the metrics cover it
   130  interrupted (Ctrl-C)
+  143  stopped by SIGTERM (neurov study)
 
 documentation: docs/running.md (running a scenario: outputs, metrics window,
 divergence, long runs)"""
@@ -171,7 +172,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt as e:
         # A study says what it saved and that rerunning resumes; one line, no traceback.
         print(f"neurov: {str(e) or 'interrupted'}", file=sys.stderr)
-        return 130
+        return 128 + int(getattr(e, "signum", 2))  # 130 for SIGINT, 143 for SIGTERM
     except (ValueError, OSError) as e:
         # ScenarioError and VehicleFileError are ValueErrors that name the
         # file and the field: the message is the whole story, no traceback.

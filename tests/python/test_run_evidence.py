@@ -231,6 +231,12 @@ kd = [200, 200, 200, 50, 50, 50]
     assert runs.loc["hot", "diverged"] == 1 and runs.loc["hot", "failed"]
     assert math.isinf(runs.loc["hot", "rmse_position_m"]) and math.isinf(runs.loc["hot", "iae_z"])
     assert runs.loc["calm", "diverged"] == 0 and math.isfinite(runs.loc["calm", "rmse_position_m"])
+    # Counted apart from the runs that raised, in the summary and the league table.
+    summary = pd.read_csv(out / "summary.csv").set_index("controller")
+    assert summary.loc["hot", "failed_diverged"] == 1 and summary.loc["hot", "failed_error"] == 0
+    assert summary.loc["calm", "failed_diverged"] == 0
+    league = (out / "league.md").read_text()
+    assert "| 2 | hot | inf | inf - inf | 100 % | 0 | 1 |" in league, league
 
 
 def test_writing_and_plotting_show_progress_on_a_terminal(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:

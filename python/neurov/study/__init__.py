@@ -38,8 +38,8 @@ The package's modules, in the order a study goes through them:
 :mod:`~neurov.study.spec` (what a study is), :mod:`~neurov.study.reading`
 (study file to :class:`Study`), :mod:`~neurov.study.sampling` (the plant of
 one sample), :mod:`~neurov.study.one_run` (one run to a record),
-:mod:`~neurov.study.executors` (Dask or local processes),
-:mod:`~neurov.study.log` (runs.jsonl), :mod:`~neurov.study.tables` (the runs
+:mod:`~neurov.study.executors` (Dask or local processes,
+:mod:`~neurov.study.processes`), :mod:`~neurov.study.log` (runs.jsonl), :mod:`~neurov.study.tables` (the runs
 table and its statistics, as DataFrames), :mod:`~neurov.study.report`
 (league.md), :mod:`~neurov.study.figures` (the plots, redrawn only when their
 data changed) and :mod:`~neurov.study.running` (all of it, ``neurov study``).
@@ -47,7 +47,7 @@ data changed) and :mod:`~neurov.study.running` (all of it, ``neurov study``).
 
 
 from neurov.study.executors import dask_available, default_batch_size
-from neurov.study.log import LOG_NAME
+from neurov.study.log import LOG_NAME, StudyLogWarning
 from neurov.study.one_run import SERIES_POINTS, RunKey, plan_runs, run_batch, run_one
 from neurov.study.reading import load_study, shipped_studies, study_from_mapping, study_path
 from neurov.study.report import league_markdown
@@ -59,6 +59,7 @@ from neurov.study.tables import (
     Summary,
     failed,
     failed_runs,
+    failure_counts,
     head_to_head,
     percentile,
     read_table,
@@ -81,6 +82,7 @@ __all__ = [
     "Study",
     "StudyError",
     "StudyInterrupted",
+    "StudyLogWarning",
     "StudyOutcome",
     "Summary",
     "dask_available",
@@ -88,6 +90,7 @@ __all__ = [
     "draw_sample",
     "failed",
     "failed_runs",
+    "failure_counts",
     "head_to_head",
     "league_markdown",
     "load_study",

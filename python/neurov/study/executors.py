@@ -1,42 +1,23 @@
 """Where a study's batches run: a Dask cluster (local or by address) or
-local processes. Both hand each finished batch to the same callback, so the
-table does not depend on the executor."""
+local processes (:mod:`~neurov.study.processes`). Both hand each finished
+batch to the same callback, so the table does not depend on the executor,
+and both record a run whose worker died as crashed rather than stop."""
 
 from __future__ import annotations
 
 import math
-import os
 import signal
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from neurov.study.one_run import RunKey, run_batch
+from neurov.study.one_run import RunKey, error_record, run_batch
+from neurov.study.processes import run_with_processes
 from neurov.study.spec import Study
 
 __all__ = ["split_batches", "dask_available", "default_batch_size", "run_with_dask", "run_with_processes"]
 
 OnDone = Callable[[list[dict[str, Any]]], None]
 
-# Local-process workers keep the study from their initialiser, so each task
-# ships only its run indices.
-_WORKER_STUDY: Study | None = None
-
-
-def _init_process_worker(study: Study) -> None:
-    global _WORKER_STUDY
-    _WORKER_STUDY = study
-    # Ctrl-C reaches the whole process group; the parent answers it (saves
-    # what is done and says so), the workers must not print tracebacks.
-    _ignore_sigint()
-
-
-def _ignore_sigint() -> None:
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-
-
-def _run_batch_in_process(keys: Sequence[tuple[int, int, int]]) -> list[dict[str, Any]]:
-    assert _WORKER_STUDY is not None, "worker started without its study"
-    return run_batch(_WORKER_STUDY, keys)
 
 def dask_available() -> bool:
     try:
@@ -59,54 +40,12 @@ def default_batch_size(runs: int, workers: int) -> int:
     return max(1, min(64, math.ceil(runs / (8 * max(1, workers)))))
 
 
-# Each worker is one process running one run at a time: a BLAS thread pool in
-# every worker only competes for the same cores (Dask's nanny sets the same).
-_SINGLE_THREADED = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
-
-
-def run_with_processes(study: Study, batches: list[list[tuple[int, int, int]]], workers: int,
-                       on_done: OnDone) -> None:
-    import concurrent.futures as cf
-    import multiprocessing
-
-    # spawn, not fork: forking a process that has threads (a Dask client, BLAS)
-    # can deadlock, and spawn behaves the same on every platform. Spawned
-    # children take the environment as it is when they start, and the pool
-    # starts them on the first submits, so the variables stay set until the
-    # pool is done; a user's own setting wins.
-    ctx = multiprocessing.get_context("spawn")
-    added = {k: v for k, v in _SINGLE_THREADED.items() if k not in os.environ}
-    os.environ.update(added)
-    try:
-        pool = cf.ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_process_worker,
-                                      initargs=(study,))
-        try:
-            # The pool starts its workers in these submits. A spawned worker
-            # takes a second or more to import before its initializer ignores
-            # SIGINT, and a Ctrl-C in that time printed its traceback; started
-            # with SIGINT ignored, it inherits that (Python keeps an ignored
-            # SIGINT ignored). A Ctrl-C during the submits themselves is lost.
-            previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
-            try:
-                futures = [pool.submit(_run_batch_in_process, b) for b in batches]
-            finally:
-                signal.signal(signal.SIGINT, previous)
-            for fut in cf.as_completed(futures):
-                on_done(fut.result())
-        except BaseException:
-            # Ctrl-C or a failed run: the queued batches are not waited for.
-            pool.shutdown(wait=True, cancel_futures=True)
-            raise
-        pool.shutdown(wait=True)
-    finally:
-        for k in added:
-            os.environ.pop(k, None)
-
-
 def run_with_dask(study: Study, batches: list[list[tuple[int, int, int]]], workers: int,
                   scheduler: str | None, on_done: OnDone, dask_processes: bool) -> int:
     """Runs the batches on a Dask cluster; returns the number of workers used."""
+    import dask
     from dask.distributed import Client, LocalCluster, as_completed
+    from distributed.scheduler import KilledWorker
 
     cluster = None
     if scheduler:
@@ -124,18 +63,40 @@ def run_with_dask(study: Study, batches: list[list[tuple[int, int, int]]], worke
         # only this process should answer it.
         previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
         try:
-            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=dask_processes,
-                                   dashboard_address="127.0.0.1:0", **local)
+            with dask.config.set(_FAIL_AT_FIRST_DEATH):
+                cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=dask_processes,
+                                       dashboard_address="127.0.0.1:0", **local)
         finally:
             signal.signal(signal.SIGINT, previous)
         client = Client(cluster)
     try:
         n_workers = len(client.scheduler_info().get("workers", {})) or workers
-        study_future = client.scatter(study, broadcast=True)
+        # The study as a task's result, not scattered data: a worker that dies
+        # takes its copy with it, and the scheduler can compute a task again
+        # where scattered data is lost for good (and every task needing it).
+        study_future = client.submit(_the_study, study, pure=False)
         futures = [client.submit(run_batch, study_future, b, pure=False) for b in batches]
+        batch_of = dict(zip(futures, batches))
+        suspects: list[tuple[int, int, int]] = []
         for fut in as_completed(futures):
-            on_done(fut.result())
+            try:
+                records = fut.result()
+            except KilledWorker:
+                suspects += batch_of[fut]
+                continue
+            on_done(records)
             fut.release()
+        # A worker died in those tasks, the one that killed it or one that was
+        # only queued there beside it: their runs again, one at a time alone on
+        # the cluster, so that a run whose worker dies now is the one to blame.
+        for key in suspects:
+            single = client.submit(run_batch, study_future, [key], pure=False)
+            try:
+                on_done(single.result())
+            except KilledWorker as e:
+                on_done([error_record(study, RunKey(*key), "crash", "KilledWorker",
+                                      f"its Dask worker died in this run, and again when the run was retried "
+                                      f"alone ({e})")])
     except KeyboardInterrupt:
         # Closing the cluster mid-task makes the workers and the scheduler log
         # every task cancelled and every connection lost; the study says in
@@ -152,6 +113,18 @@ def run_with_dask(study: Study, batches: list[list[tuple[int, int, int]]], worke
         if cluster is not None:
             cluster.close()
     return n_workers
+
+
+# The scheduler of a study's own LocalCluster marks a task as failed the first
+# time a worker dies in it (Dask's default retries it on three more workers):
+# its runs are then retried alone, once. A cluster at --scheduler keeps its
+# own setting, so there a run is tried as often as it allows, in its batch
+# and then alone.
+_FAIL_AT_FIRST_DEATH = {"distributed.scheduler.allowed-failures": 0}
+
+
+def _the_study(study: Study) -> Study:
+    return study
 
 
 def _quiet_dask() -> None:

@@ -77,6 +77,8 @@ def draw_figures(study: Study, table: pd.DataFrame, records: Mapping[tuple[str, 
             state = {}
     except (OSError, json.JSONDecodeError):
         state = {}
+    # A run without a result (it raised, or its worker died) has no error series to draw.
+    records = {k: r for k, r in records.items() if r.get("series") is not None}
     stale = [(name, digest, draw) for name, digest, draw in _figures(study, table, records)
              if state.get(name) != digest or not (out / name).is_file()]
     drawn = []

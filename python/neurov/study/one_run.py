@@ -17,7 +17,7 @@ from neurov.scenario import ControllerSpec
 from neurov.study.sampling import sample_plant
 from neurov.study.spec import METRIC_NAMES, Study, vehicle_key
 
-__all__ = ["SERIES_POINTS", "RunKey", "plan_runs", "resolved_spec", "run_batch", "run_one"]
+__all__ = ["SERIES_POINTS", "RunKey", "error_record", "plan_runs", "resolved_spec", "run_batch", "run_one"]
 
 #: Points of the error-over-time series kept per run (for the percentile bands).
 SERIES_POINTS = 200
@@ -68,10 +68,43 @@ def resolved_spec(study: Study, controller: int, scenario: int) -> ControllerSpe
 
 def run_one(study: Study, key: RunKey) -> dict[str, Any]:
     """Runs one (scenario, controller, sample) and returns its record: the
-    table row and the decimated error series."""
+    table row and the decimated error series. A run that raises (a user's
+    controller, ``sys.exit`` in it included) is a result, not the end of the
+    study: its record is :func:`error_record`'s, with the error's type and
+    message."""
+    cpu_start = time.process_time()
+    try:
+        return _run(study, key, cpu_start)
+    except (Exception, SystemExit) as e:  # noqa: BLE001 - any error of the user's code is this run's result
+        message = str(e) if not isinstance(e, SystemExit) else f"sys.exit({e.code!r}) in the run"
+        return error_record(study, key, "error", type(e).__name__, message,
+                            cpu_time=time.process_time() - cpu_start)
+
+
+def error_record(study: Study, key: RunKey, kind: str, error_type: str, message: str,
+                 cpu_time: float = 0.0) -> dict[str, Any]:
+    """The record of a run that gave no result: `kind` ``"error"`` (it raised)
+    or ``"crash"`` (its worker process died). Its row has the run's key, its
+    plant's draws and nan metrics, so the tables count it as failed; it has no
+    error series."""
+    scenario = study.scenarios[key.scenario]
+    controller = study.controllers[key.controller]
+    row: dict[str, Any] = {"scenario": scenario.name, "vehicle": vehicle_key(scenario),
+                           "controller": controller, "sample": key.sample}
+    try:
+        plant, columns = sample_plant(study, scenario, key.sample)
+        row.update({"noise_seed": plant.seed, **columns})
+    except Exception:  # noqa: BLE001, S110 - the draws only fill columns; the error is what is recorded
+        pass
+    row.update({k: math.nan for k in METRIC_NAMES})
+    return {"key": [scenario.name, controller, key.sample], "row": row, "series": None,
+            "error": {"kind": kind, "type": error_type, "message": message},
+            "wall_time": 0.0, "cpu_time": cpu_time}
+
+
+def _run(study: Study, key: RunKey, cpu_start: float) -> dict[str, Any]:
     from neurov.simulation import simulate
 
-    cpu_start = time.process_time()
     scenario = study.scenarios[key.scenario]
     controller = study.controllers[key.controller]
     plant, columns = sample_plant(study, scenario, key.sample)

@@ -7,6 +7,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pandas as pd
 
 from neurov.study.spec import NORMAL_TRUNCATION, Perturbation, Study
 from neurov.study.tables import Rows, Summary, as_frame, head_to_head, summarise
@@ -37,7 +38,9 @@ def league_markdown(study: Study, runs: Rows) -> str:
         "",
         f"{study.samples} sample(s) per scenario and controller, seed {study.seed}; metrics over "
         f"t >= {study.after:g} s. Ranked by the median of `{metric}` (lower is better). A run fails "
-        f"if it diverges or a metric is not finite{'; or ' + bounds if bounds else ''}.",
+        f"if it diverges or a metric is not finite{'; or ' + bounds if bounds else ''}; a run that "
+        f"raised or whose worker died is a failed run too (\"errors\"; a run whose worker died is "
+        f"retried once, alone).",
         "",
     ]
     ref = study.reference_controller()
@@ -57,15 +60,16 @@ def league_markdown(study: Study, runs: Rows) -> str:
         best = group[0].median
         extra_head = "".join(f" median {k} |" for k in study.also_show)
         lines += [f"## {s.name}", "", f"{s.description}", "",
-                  f"| rank | controller | median {metric} | 5th-95th percentile | failure rate | median / best |"
-                  + extra_head + f" 95 % CI of the median | paired ratio to {ref_label} [95 % CI] | better than "
-                  f"{ref_label} | p (Wilcoxon, Holm) |",
-                  "|---|---|---|---|---|---|" + "---|" * len(study.also_show) + "---|---|---|---|"]
+                  f"| rank | controller | median {metric} | 5th-95th percentile | failure rate | errors | "
+                  f"diverged | median / best |" + extra_head + f" 95 % CI of the median | paired ratio to {ref_label} "
+                  f"[95 % CI] | better than {ref_label} | p (Wilcoxon, Holm) |",
+                  "|---|---|---|---|---|---|---|---|" + "---|" * len(study.also_show) + "---|---|---|---|"]
         for g in group:
             ratio = g.median / best if best > 0 and math.isfinite(best) else float("nan")
             extra = "".join(f" {_num(g.also[k])} |" for k in study.also_show)
             lines.append(f"| {g.rank} | {g.label} | {_num(g.median)} | {_num(g.p5)} - {_num(g.p95)} | "
-                         f"{100 * g.failure_rate:.0f} % | {_num(ratio, 3)} |" + extra + _statistics_cells(g, ref))
+                         f"{100 * g.failure_rate:.0f} % | {g.errors} | {g.diverged} | {_num(ratio, 3)} |" + extra
+                         + _statistics_cells(g, ref))
         lines.append("")
     ranks: dict[str, list[int]] = {c: [] for c in study.controllers}
     fails: dict[str, list[float]] = {c: [] for c in study.controllers}
@@ -98,6 +102,7 @@ def league_markdown(study: Study, runs: Rows) -> str:
             lines.append(f"| {h['scenario']} | {h['a_wins']} of {h['n']} | {_num(h['median_ratio'], 3)} | "
                          f"{_num(h['p5_ratio'], 3)} - {_num(h['p95_ratio'], 3)} |" + cells)
         lines.append("")
+    lines += _errors_section(rows)
     return "\n".join(lines).rstrip() + "\n"
 
 
@@ -113,6 +118,30 @@ def _statistics_cells(g: Summary, reference: str) -> str:
     ratio = "n/a" if not g.pairs else f"{_num(g.ratio, 3)}{interval}"
     better = f"{g.better} of {g.pairs}" if g.pairs else "n/a"
     return f" {ci} | {ratio} | {better} | {_na(g.p_value_holm, 3)} |"
+
+
+#: Runs without a result listed in the league table; the rest are in the runs table.
+LISTED_ERRORS = 20
+
+
+def _errors_section(rows: pd.DataFrame) -> list[str]:
+    """The runs that gave no result, with their errors: what a reader needs
+    to tell a bad controller from a bad run."""
+    if "error_kind" not in rows:
+        return []
+    bad = rows[rows["error_kind"].fillna("").astype(str) != ""]
+    if bad.empty:
+        return []
+    lines = ["## Runs without a result", "",
+             f"{len(bad)} run(s) raised or lost their worker process; each counts as failed (column `error` of "
+             "the runs table, and the log `runs.jsonl`).", "",
+             "| scenario | controller | sample | kind | error |", "|---|---|---|---|---|"]
+    for r in bad.head(LISTED_ERRORS).itertuples():
+        text = str(r.error).replace("|", "\\|").replace("\n", " ")
+        lines.append(f"| {r.scenario} | {r.controller} | {r.sample} | {r.error_kind} | {text[:300]} |")
+    if len(bad) > LISTED_ERRORS:
+        lines.append(f"\nand {len(bad) - LISTED_ERRORS} more in the runs table.")
+    return lines + [""]
 
 
 def _describe_perturbation(p: Perturbation) -> str:

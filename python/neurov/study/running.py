@@ -4,9 +4,14 @@ figures. What ``neurov study`` does."""
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
+import signal
+import threading
 import time
+import warnings
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -16,12 +21,12 @@ import pandas as pd
 from neurov.progress import progress_bar
 from neurov.study.executors import dask_available, default_batch_size, run_with_dask, run_with_processes, split_batches
 from neurov.study.figures import draw_figures
-from neurov.study.log import LOG_NAME, Record, read_log, repair_tail
+from neurov.study.log import LOG_NAME, Record, StudyLogWarning, read_log, repair_tail
 from neurov.study.one_run import plan_runs, run_batch
 from neurov.study.reading import load_study
 from neurov.study.report import league_markdown
-from neurov.study.spec import Study, StudyError
-from neurov.study.tables import runs_table, summary_table, write_table
+from neurov.study.spec import Study, StudyError, identity_differences
+from neurov.study.tables import failure_counts, runs_table, summary_table, write_table
 
 __all__ = ["StudyInterrupted", "StudyOutcome", "main_study", "run_study"]
 
@@ -34,13 +39,37 @@ def _load_average() -> float | None:
 
 
 class StudyInterrupted(KeyboardInterrupt):
-    """Ctrl-C during a study: says how many runs are saved; rerunning the
-    same study into the same folder resumes from them."""
+    """Ctrl-C or SIGTERM during a study: says how many runs are saved;
+    rerunning the same study into the same folder resumes from them.
+    `signum` is the signal (``neurov study`` exits with 128 + it)."""
 
-    def __init__(self, saved: int, total: int, log: Path) -> None:
-        super().__init__(f"interrupted: {saved} of {total} runs are saved in {log}; "
+    def __init__(self, saved: int, total: int, log: Path, signum: int = signal.SIGINT) -> None:
+        how = "interrupted" if signum == signal.SIGINT else f"stopped by {signal.Signals(signum).name}"
+        super().__init__(f"{how}: {saved} of {total} runs are saved in {log}; "
                          "run the same command again to resume")
-        self.saved, self.total, self.log = saved, total, log
+        self.saved, self.total, self.log, self.signum = saved, total, log, signum
+
+
+class _Terminated(KeyboardInterrupt):
+    """SIGTERM, raised where the study is, to stop it as Ctrl-C does."""
+
+
+@contextlib.contextmanager
+def _sigterm_stops_the_study() -> Iterator[None]:
+    """SIGTERM stops the study as Ctrl-C does (its workers ended, what
+    finished saved) instead of killing this process and leaving them."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def stop(signum: int, frame: object) -> None:
+        raise _Terminated
+
+    previous = signal.signal(signal.SIGTERM, stop)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
 
 
 @dataclass
@@ -61,6 +90,11 @@ class StudyOutcome:
     league: Path
 
     @property
+    def without_result(self) -> int:
+        """Runs that raised or whose worker died (the table's ``error_kind``)."""
+        return int(failure_counts(self.table)[0].sum()) if len(self.table) else 0
+
+    @property
     def runs_per_second(self) -> float:
         return self.ran / self.seconds if self.seconds > 0 else float("nan")
 
@@ -72,22 +106,57 @@ def workers_phrase(workers: int, executor: str) -> str:
     return f"{workers} Dask worker{'s' if workers != 1 else ''}"
 
 
-def _check_folder(study: Study, out: Path, log: Path, meta_path: Path) -> None:
+def _read_meta(path: Path) -> tuple[dict[str, Any] | None, str]:
+    """study.json, or None and what is wrong with it."""
+    try:
+        meta = json.loads(path.read_bytes())
+    except FileNotFoundError:
+        return None, "missing"
+    except (json.JSONDecodeError, UnicodeDecodeError) as e:
+        return None, f"not readable JSON ({e})"
+    except OSError as e:
+        return None, f"not readable ({e.strerror or e})"
+    if not isinstance(meta, dict) or not isinstance(meta.get("fingerprint"), str):
+        return None, "not a study's description (no fingerprint)"
+    return meta, ""
+
+
+def _check_folder(study: Study, out: Path, log: Path, meta_path: Path, records: dict[Any, Record]) -> None:
+    """Refuses a folder whose log holds runs of another study, naming what
+    differs; then writes study.json. The records' own fingerprints decide
+    (study.json may be gone or broken); study.json says which field differs."""
     fingerprint = study.fingerprint()
-    if meta_path.exists() and log.exists():
-        try:
-            old = json.loads(meta_path.read_text()).get("fingerprint")
-        except json.JSONDecodeError:
-            old = None
-        if old != fingerprint:
-            raise StudyError(f"{out}: holds runs of a different study (seed, scenarios, controllers, "
-                             f"perturbations or neurov version differ); use another --out, or delete "
-                             f"{log} to start again")
-    meta = {"name": study.name, "source": study.source, "fingerprint": fingerprint, "seed": study.seed,
-            "samples": study.samples, "scenarios": [s.name for s in study.scenarios],
-            "controllers": study.controllers, "ranking_metric": study.ranking_metric,
-            "failure": study.failure}
-    meta_path.write_text(json.dumps(meta, indent=2) + "\n")
+    meta, problem = _read_meta(meta_path)
+    logged = {rec.get("study") for rec in records.values()}
+    theirs = {f for f in logged if isinstance(f, str)}
+    if None in logged:
+        # Records of a neurov that did not log the fingerprint: study.json says whose they are.
+        if meta is None:
+            raise StudyError(f"{log}: holds runs without their study's fingerprint (written by an older neurov) "
+                             f"and {meta_path} is {problem}, so whose runs they are cannot be told; use another "
+                             f"--out, or delete {log} to start again")
+        theirs.add(meta["fingerprint"])
+    others = sorted(theirs - {fingerprint})
+    if others:
+        if meta is not None and meta["fingerprint"] in others and isinstance(meta.get("identity"), dict):
+            diffs = identity_differences(meta["identity"], study.identity())
+            what = f"; differs in {', '.join(diffs)}" if diffs else ""
+        elif meta is None:
+            what = f"; {meta_path} is {problem}, so which field differs cannot be said"
+        else:
+            what = " (seed, scenarios, controllers, perturbations or neurov version differ)"
+        raise StudyError(f"{out}: holds runs of a different study (fingerprint {', '.join(others)} in {log}, "
+                         f"{fingerprint} for this one){what}; use another --out, or delete {log} to start again")
+    if records and meta is None and problem != "missing":
+        warnings.warn(f"{meta_path}: {problem}; written again from this study, whose fingerprint every run in "
+                      f"{log} carries", StudyLogWarning, stacklevel=3)
+    new = {"name": study.name, "source": study.source, "fingerprint": fingerprint, "identity": study.identity(),
+           "seed": study.seed, "samples": study.samples, "scenarios": [s.name for s in study.scenarios],
+           "controllers": study.controllers, "ranking_metric": study.ranking_metric,
+           "failure": study.failure}
+    tmp = meta_path.with_name(meta_path.name + ".tmp")
+    tmp.write_text(json.dumps(new, indent=2) + "\n")
+    os.replace(tmp, meta_path)
 
 
 def run_study(study: Study | str | Path, out_dir: str | Path, *, workers: int | None = None,
@@ -102,7 +171,10 @@ def run_study(study: Study | str | Path, out_dir: str | Path, *, workers: int | 
     executor: ``"dask"`` (a LocalCluster of `workers`, or the cluster at
     `scheduler`), ``"processes"`` (local processes) or ``"auto"`` (Dask if
     installed, else processes). The table is the same whichever runs it.
-    Ctrl-C raises :class:`StudyInterrupted` once the finished runs are saved.
+    Ctrl-C, or SIGTERM (while this runs in the main thread), raises
+    :class:`StudyInterrupted` once the workers are ended and the finished
+    runs saved. A run that raises or whose worker dies is a failed run of
+    the table (columns ``error_kind``, ``error``), not the end of the study.
     """
     if not isinstance(study, Study):
         study = load_study(study)
@@ -124,11 +196,12 @@ def run_study(study: Study | str | Path, out_dir: str | Path, *, workers: int | 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     log = out / LOG_NAME
-    _check_folder(study, out, log, out / "study.json")
     # A crash can leave the last record cut short; the next one must not be
     # appended onto it.
     repair_tail(log)
     records = read_log(log)
+    _check_folder(study, out, log, out / "study.json", records)
+    fingerprint = study.fingerprint()
     before = set(records)
     plan = plan_runs(study)
     names = {(s.name, c, k) for s in study.scenarios for c in study.controllers for k in range(study.samples)}
@@ -143,9 +216,11 @@ def run_study(study: Study | str | Path, out_dir: str | Path, *, workers: int | 
     start = time.perf_counter()
     try:
         if todo:
-            with log.open("a") as f, progress_bar(len(todo), f"{study.name}: runs", quiet=quiet) as bar:
+            with log.open("a") as f, progress_bar(len(todo), f"{study.name}: runs", quiet=quiet) as bar, \
+                    _sigterm_stops_the_study():
                 def on_done(recs: list[Record]) -> None:
                     for rec in recs:
+                        rec["study"] = fingerprint
                         records[tuple(rec["key"])] = rec  # type: ignore[index]
                         f.write(json.dumps(rec) + "\n")
                     # A finished batch is on disk before the next is awaited: an
@@ -155,8 +230,10 @@ def run_study(study: Study | str | Path, out_dir: str | Path, *, workers: int | 
 
                 if executor == "dask":
                     used_workers = run_with_dask(study, work, workers, scheduler, on_done, dask_processes)
-                elif workers == 1:
-                    # One worker needs no pool; running here also keeps tracebacks plain.
+                elif workers == 1 and not study.factories:
+                    # One worker needs no pool; running here also keeps tracebacks
+                    # plain. A user's controller (which may crash its process) runs
+                    # in a worker process even then.
                     for b in work:
                         on_done(run_batch(study, b))
                 else:
@@ -178,9 +255,11 @@ def run_study(study: Study | str | Path, out_dir: str | Path, *, workers: int | 
         plot_start = time.perf_counter()
         drawn = draw_figures(study, table, keep, out, quiet=quiet) if plots and len(table) else []
         plot_seconds = time.perf_counter() - plot_start
-    except KeyboardInterrupt:
-        saved = len(set(read_log(log)) & names)
-        raise StudyInterrupted(saved, len(plan), log) from None
+    except KeyboardInterrupt as e:
+        # Every finished run is in `records` and, flushed, in the log.
+        saved = len(set(records) & names)
+        signum = signal.SIGTERM if isinstance(e, _Terminated) else signal.SIGINT
+        raise StudyInterrupted(saved, len(plan), log, signum) from None
     timing: dict[str, Any] = {
         "executor": executor, "workers": used_workers, "batch_size": size, "runs": len(todo),
         "skipped": skipped, "seconds": seconds, "cpus": os.cpu_count(),
@@ -213,5 +292,8 @@ def main_study(path: str, out_dir: str | None, workers: int | None, scheduler: s
     rate = f", {outcome.runs_per_second:.2f} runs/s" if outcome.ran else ""
     print(f"{study.name}: {outcome.total} runs ({outcome.skipped} already done, {outcome.ran} run in "
           f"{outcome.seconds:.1f} s on {workers_phrase(outcome.workers, outcome.executor)}{rate})")
+    if outcome.without_result:
+        print(f"{outcome.without_result} run(s) gave no result (raised, or their worker died): each counts as "
+              f"failed; their errors are listed in {outcome.league}")
     print(f"table: {outcome.table_path}\nleague table: {outcome.league}")
     return outcome

@@ -19,7 +19,8 @@ from neurov.scenario import ControllerSpec, Scenario
 from neurov.study.factory import ControllerFactory
 
 __all__ = ["ENVIRONMENT_PARAMETERS", "NORMAL_TRUNCATION", "SCENARIO_DIR", "STUDY_DIR", "VEHICLE_PARAMETERS",
-           "METRIC_NAMES", "Perturbation", "Study", "StudyError", "metric_names", "vehicle_key"]
+           "METRIC_NAMES", "Perturbation", "Study", "StudyError", "identity_differences", "metric_names",
+           "vehicle_key"]
 
 _PACKAGE = Path(__file__).resolve().parent.parent
 
@@ -132,13 +133,10 @@ class Study:
     def spec_for(self, controller: str, scenario: Scenario) -> ControllerSpec:
         return self.controller_specs[(controller, vehicle_key(scenario))]
 
-    def fingerprint(self) -> str:
-        """A hash of everything that decides a run's numbers. The sample count,
-        failure thresholds and ranking are left out: adding samples or
-        changing how runs are judged reuses the runs already made."""
+    def _identity_payload(self) -> dict[str, Any]:
         from neurov import __version__
 
-        payload = {
+        payload: dict[str, Any] = {
             "version": __version__,
             "seed": self.seed,
             "after": self.after,
@@ -151,8 +149,51 @@ class Study:
             # The path, not the code: a changed module keeps the fingerprint (docs: start a new folder).
             payload["factories"] = {c: [f.path, dict(f.arguments)] if f.arguments else f.path
                                     for c, f in sorted(self.factories.items())}
-        text = json.dumps(payload, sort_keys=True, default=str)
-        return hashlib.sha256(text.encode()).hexdigest()[:16]
+        return payload
+
+    def fingerprint(self) -> str:
+        """A hash of everything that decides a run's numbers. The sample count,
+        failure thresholds and ranking are left out: adding samples or
+        changing how runs are judged reuses the runs already made."""
+        return _hash(self._identity_payload())
+
+    def identity(self) -> dict[str, Any]:
+        """What the fingerprint is made of, field by field (the version, seed
+        and metrics window as they are, the rest hashed), so that a folder
+        holding another study's runs can say which field differs."""
+        payload = self._identity_payload()
+        out: dict[str, Any] = {k: payload[k] for k in ("version", "seed", "after")}
+        out["perturbations"] = _hash(payload["perturbations"])
+        out["scenarios"] = {s.name: _hash(d) for s, d in zip(self.scenarios, payload["scenarios"])}
+        out["controllers"] = {c: _hash(d) for c, d in payload["controllers"].items()}
+        if "factories" in payload:
+            out["factories"] = payload["factories"]
+        return out
+
+
+def identity_differences(old: Mapping[str, Any], new: Mapping[str, Any]) -> list[str]:
+    """The fields of two :meth:`Study.identity` that differ, as a reader
+    names them: ``seed (7 there, 8 here)``, ``controllers (nn@nerov)``."""
+    names = {"version": "neurov version", "after": "after (the metrics window)"}
+    out = []
+    for field_name in ("version", "seed", "after", "perturbations", "scenarios", "controllers", "factories"):
+        a, b = old.get(field_name), new.get(field_name)
+        if a == b:
+            continue
+        label = names.get(field_name, field_name)
+        if isinstance(a, Mapping) and isinstance(b, Mapping):
+            keys = sorted(k for k in set(a) | set(b) if a.get(k) != b.get(k))
+            out.append(f"{label} ({', '.join(keys)})")
+        elif field_name == "perturbations":
+            out.append(label)
+        else:
+            out.append(f"{label} ({a!r} there, {b!r} here)")
+    return out
+
+
+def _hash(x: Any) -> str:
+    text = json.dumps(x, sort_keys=True, default=str)
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
 def _canonical(x: Any) -> Any:

@@ -18,7 +18,7 @@ from neurov.study.log import Record
 from neurov.study.spec import Study, StudyError
 from neurov.study.statistics import holm, median_ci, paired_ranks, paired_ratio, ratio, wilcoxon_p
 
-__all__ = ["Summary", "failed", "failed_runs", "head_to_head", "percentile", "read_table", "runs_table",
+__all__ = ["Summary", "failed", "failed_runs", "failure_counts", "head_to_head", "percentile", "read_table", "runs_table",
            "summarise", "summary_table", "write_table"]
 
 Rows = pd.DataFrame | Iterable[Mapping[str, Any]]
@@ -58,9 +58,15 @@ def read_table(path: str | Path) -> pd.DataFrame:
 def runs_table(study: Study, records: Mapping[tuple[str, str, int], Record]) -> pd.DataFrame:
     """The runs table from the records of this study, in the study's order
     (scenario, controller, sample), each run judged by the study's failure
-    bounds (here, not in the worker: changing a bound needs no rerun)."""
+    bounds (here, not in the worker: changing a bound needs no rerun). When
+    a run gave no result (it raised, or its worker died), the table has two
+    more columns, last: ``error_kind`` (``error`` or ``crash``, empty for
+    the runs that ran) and ``error`` (the error's type and message); a
+    study whose runs all ran has the columns it always had."""
     order = [(s.name, c, k) for s in study.scenarios for c in study.controllers for k in range(study.samples)]
-    rows = []
+    rows: list[dict[str, Any]] = []
+    columns: dict[str, None] = {}
+    errors = False
     for key in order:
         rec = records.get(key)
         if rec is None:
@@ -69,11 +75,33 @@ def runs_table(study: Study, records: Mapping[tuple[str, str, int], Record]) -> 
         row = {k: r[k] for k in ("scenario", "vehicle", "controller", "sample")}
         row["failed"] = 0
         row.update((k, v) for k, v in r.items() if k not in row)
+        err = rec.get("error")
+        if err:
+            errors = True
+            row["error_kind"], row["error"] = err["kind"], f"{err['type']}: {err['message']}"
+        elif not columns:
+            # The columns in a run's order: a run that raised may lack its plant's draws.
+            columns = dict.fromkeys(row)
         rows.append(row)
-    table = pd.DataFrame(rows)
+    for row in rows:
+        columns.update(dict.fromkeys(k for k in row if k not in ("error_kind", "error")))
+    if errors:
+        columns.update({"error_kind": None, "error": None})
+    table = pd.DataFrame(rows, columns=list(columns) or None)
     if len(table):
         table["failed"] = failed_runs(table, study.failure).astype(np.int64)
     return table
+
+
+def failure_counts(table: pd.DataFrame) -> tuple[pd.Series, pd.Series]:
+    """Per run, whether it gave no result (raised, or its worker died) and
+    whether it diverged: the two kinds of failure the tables count apart
+    from the failures by a bound."""
+    error = table["error_kind"].fillna("").astype(str) != "" if "error_kind" in table else \
+        pd.Series(False, index=table.index)
+    diverged = table["diverged"].astype(np.float64) > 0 if "diverged" in table else \
+        pd.Series(False, index=table.index)
+    return error, diverged
 
 
 def percentile(values: Iterable[float], q: float) -> float:
@@ -136,6 +164,9 @@ class Summary:
     pairs: int = 0
     p_value: float = math.nan
     p_value_holm: float = math.nan
+    errors: int = 0
+    """Runs that gave no result: they raised, or their worker died."""
+    diverged: int = 0
 
 
 def summarise(study: Study, runs: Rows) -> list[Summary]:
@@ -147,7 +178,8 @@ def summarise(study: Study, runs: Rows) -> list[Summary]:
     out: list[Summary] = []
     if table.empty:
         return out
-    table = table.assign(_failed=failed_runs(table, study.failure))
+    error, diverged = failure_counts(table)
+    table = table.assign(_failed=failed_runs(table, study.failure), _error=error, _diverged=diverged)
     groups = dict(iter(table.groupby(["scenario", "controller"], sort=False)))
     for s in study.scenarios:
         group = []
@@ -161,6 +193,7 @@ def summarise(study: Study, runs: Rows) -> list[Summary]:
                 median=percentile(m, 50), p5=percentile(m, 5), p95=percentile(m, 95),
                 failure_rate=int(g["_failed"].sum()) / len(g),
                 also={k: percentile(g[k], 50) for k in study.also_show},
+                errors=int(g["_error"].sum()), diverged=int(g["_diverged"].sum()),
             ))
         group.sort(key=lambda g: (g.median, g.failure_rate, g.p95, study.controllers.index(g.controller)))
         samples = {g.controller: dict(zip(groups[(s.name, g.controller)]["sample"].astype(int),
@@ -204,7 +237,8 @@ def summary_table(study: Study, runs: Rows) -> pd.DataFrame:
     return pd.DataFrame([
         {"scenario": g.scenario, "controller": g.controller, "rank": g.rank, "n": g.n,
          "metric": study.ranking_metric, "median": g.median, "p5": g.p5, "p95": g.p95,
-         "failure_rate": g.failure_rate, **{f"median_{k}": v for k, v in g.also.items()},
+         "failure_rate": g.failure_rate, "failed_error": g.errors, "failed_diverged": g.diverged,
+         **{f"median_{k}": v for k, v in g.also.items()},
          "median_ci_low": _or_na(g.median_ci_low), "median_ci_high": _or_na(g.median_ci_high),
          "reference": ref, "ratio_to_reference": _or_na(g.ratio), "ratio_ci_low": _or_na(g.ratio_ci_low),
          "ratio_ci_high": _or_na(g.ratio_ci_high),

@@ -2,6 +2,12 @@
 
 from __future__ import annotations
 
+import multiprocessing
+import os
+import signal
+import sys
+import threading
+import time
 from typing import Any
 
 import numpy as np
@@ -54,3 +60,69 @@ NOT_CALLABLE = 3
 def tunable_pd(scenario: neurov.Scenario, gain: float = 1.0) -> Delegate:
     """The built-in PD law with both gains scaled by `gain`: a factory whose keyword argument a tuning searches."""
     return Delegate(neurov.PDController(np.array(KP) * gain, np.array(KD) * gain))
+
+
+# --- controllers that fail in a run (tests/python/test_study_failures.py) ------------------
+# A study calls each factory once per scenario when it loads, in its own
+# process: these fail only when stepped, or only in a worker.
+
+
+class _BadTensor:
+    """What a tensor library hands back when its conversion to numbers fails."""
+
+    def __array__(self, *args: Any, **kwargs: Any) -> Any:
+        raise RuntimeError("cannot convert a tensor on a lost device to numbers")
+
+
+class _Stepping(PythonPD):
+    def __init__(self, scenario: neurov.Scenario, misbehave: Any) -> None:
+        super().__init__()
+        self.scenario, self.misbehave = scenario.name, misbehave
+
+    def step(self, eta: Any, nu: Any, eta_d: Any, eta_d_dot: Any, eta_d_ddot: Any) -> Any:
+        out = self.misbehave(self.scenario)
+        return super().step(eta, nu, eta_d, eta_d_dot, eta_d_ddot) if out is None else out
+
+
+def tensor_raises(scenario: neurov.Scenario) -> PythonPD:
+    return _Stepping(scenario, lambda name: _BadTensor())
+
+
+def exits(scenario: neurov.Scenario) -> PythonPD:
+    def leave(name: str) -> None:
+        sys.exit(3)
+
+    return _Stepping(scenario, leave)
+
+
+def segfaults_on_b(scenario: neurov.Scenario) -> PythonPD:
+    """Kills its process as a crashing C extension does, on scenario b only."""
+    def crash(name: str) -> None:
+        if name == "b":
+            os.kill(os.getpid(), signal.SIGSEGV)
+
+    return _Stepping(scenario, crash)
+
+
+def fails_in_workers(scenario: neurov.Scenario) -> PythonPD:
+    """Builds in the study's own process (where the study file is checked)
+    and raises in a worker, as a factory missing a file on a worker would."""
+    if multiprocessing.parent_process() is not None or threading.current_thread() is not threading.main_thread():
+        raise OSError(f"weights for {scenario.name} not found on this worker")
+    return PythonPD()
+
+
+def hangs_on_b(scenario: neurov.Scenario) -> PythonPD:
+    """Never returns on scenario b, deaf to SIGTERM where it can be; leaves
+    a file in $NEUROV_TEST_HANG_DIR when it starts hanging."""
+    def hang(name: str) -> None:
+        if name == "b":
+            if threading.current_thread() is threading.main_thread():
+                signal.signal(signal.SIGTERM, signal.SIG_IGN)
+            folder = os.environ.get("NEUROV_TEST_HANG_DIR")
+            if folder:
+                open(os.path.join(folder, f"{os.getpid()}-{threading.get_ident()}"), "w").close()
+            while True:
+                time.sleep(1.0)
+
+    return _Stepping(scenario, hang)
