@@ -111,6 +111,16 @@ class MetricsWindow:
             self._max_norm = float(np.maximum(self._max_norm, np.max(rows.adaptive_norm)))
         self._diverged = self._diverged or rows.diverged
 
+    @property
+    def rows(self) -> int:
+        """Rows added so far, in the window and before it."""
+        return self._window.rows + self._before.rows
+
+    @property
+    def t_last(self) -> float | None:
+        """The time of the last row added (None before any)."""
+        return self._t_last()
+
     def _t_last(self) -> float | None:
         """The time of the last row added (None before any)."""
         for sums in (self._window, self._before):

@@ -20,6 +20,7 @@ from neurov.decimation import PlotRows
 from neurov.export import CsvWriter, NpzWriter
 from neurov.metrics import MetricsWindow
 from neurov.result import SERIES, Result
+from neurov.run_folder import writing
 from neurov.scenario import Scenario
 
 __all__ = ["CHUNK_ROWS", "StreamedRun", "stream_run"]
@@ -70,10 +71,12 @@ class _Sinks:
             self.elevation.append((chunk.t, chunk.wave_elevation))
         if self.out is not None and self.npz is not None:
             cols = chunk.columns()
-            if self.csv is None:
-                self.csv = CsvWriter(self.out / "result.csv", list(cols))
-            self.csv.write(cols)
-            self.npz.append({name: getattr(chunk, name) for name in SERIES})
+            with writing(self.out / "result.csv"):
+                if self.csv is None:
+                    self.csv = CsvWriter(self.out / "result.csv", list(cols))
+                self.csv.write(cols)
+            with writing(self.npz.path):
+                self.npz.append({name: getattr(chunk, name) for name in SERIES})
         return len(chunk.t)
 
     def close(self, drawn: Result | None) -> list[Path]:
@@ -81,7 +84,8 @@ class _Sinks:
         the rows written and the NPZ is not written."""
         written: list[Path] = []
         if self.csv is not None:
-            self.csv.close()
+            with writing(self.csv.path):
+                self.csv.close()
             written.append(self.csv.path)
         if self.npz is not None:
             if drawn is None:
@@ -91,9 +95,24 @@ class _Sinks:
 
                 for name, value in drawn.npz_arrays().items():
                     self.npz.set(name, value)
-                with progress_bar(self.npz.count, "result.npz", unit="array", quiet=self.quiet) as bar:
+                with progress_bar(self.npz.count, "result.npz", unit="array", quiet=self.quiet) as bar, \
+                        writing(self.npz.path):
                     written.append(self.npz.close(progress=bar))
         return written
+
+    def partial_metrics(self) -> dict[str, Any]:
+        """What metrics.json holds for a run that stopped: the metrics of the
+        rows simulated (when they fill a window) and how far it got."""
+        rows = self.metrics.rows
+        metrics: dict[str, Any] = {"scenario": self.scenario.name, "controller": self.label,
+                                   "rows_simulated": rows, "simulated_to_s": self.metrics.t_last}
+        if self.csv is not None:
+            metrics["rows_in_result_csv"] = self.csv.rows
+        try:
+            metrics.update(self.metrics.value())
+        except ValueError:
+            pass  # too few rows for the window: the counts above say how far it got
+        return metrics
 
 
 def stream_run(scenario: Scenario, out_dir: str | Path | None = None, *, quiet: bool = True,
@@ -105,11 +124,13 @@ def stream_run(scenario: Scenario, out_dir: str | Path | None = None, *, quiet: 
     the run goes (the same files as :meth:`Result.to_csv` and
     :meth:`Result.to_npz` of the whole run). Unless `quiet`, a progress bar
     of the rows on a terminal. A run that diverges ends with the chunk where
-    it did; an exception (e.g. Ctrl-C) keeps the CSV rows written so far."""
+    it did; an exception (e.g. Ctrl-C, a full disk) keeps the CSV rows
+    written so far and a metrics.json of those rows, ``"partial": true``
+    (result.npz is not written)."""
     from neurov.controller import is_built_in
     from neurov.controllers import build_controller
     from neurov.progress import progress_bar
-    from neurov.run import check_output_dir
+    from neurov.run_folder import check_output_dir
     from neurov.simulation import build_vehicle, simulation_config
 
     if not isinstance(chunk_rows, int) or chunk_rows < 1:
@@ -138,7 +159,7 @@ def stream_run(scenario: Scenario, out_dir: str | Path | None = None, *, quiet: 
                 sim = Simulator(scenario, vehicle=plant, label=spec.name, log_rows=chunk)
                 sinks.errors = sim.run(controller, on_rows=on_rows).extra.get("controller_errors", {})
         except BaseException:
-            sinks.close(None)
+            _keep_what_was_written(sinks, out)
             raise
         wall = time.perf_counter() - start
     drawn = sinks.plot_rows.result()
@@ -152,3 +173,21 @@ def stream_run(scenario: Scenario, out_dir: str | Path | None = None, *, quiet: 
         elevation = dataclasses.replace(drawn, t=t, wave_elevation=surface)
     return StreamedRun(drawn=drawn, metrics=sinks.metrics.value(), elevation=elevation, sea=sinks.sea,
                        written=written)
+
+
+def _keep_what_was_written(sinks: _Sinks, out: Path | None) -> None:
+    """After an exception: the CSV closed with its rows, a partial
+    metrics.json beside it; a second failure (the disk still full) loses
+    only the mark, never the exception that stopped the run."""
+    try:
+        sinks.close(None)
+    except OSError:
+        pass
+    if out is None:
+        return
+    from neurov.run import write_metrics
+
+    try:
+        write_metrics({**sinks.partial_metrics(), "partial": True}, out)
+    except OSError:
+        pass
