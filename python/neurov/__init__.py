@@ -56,6 +56,7 @@ from neurov.scenario import (
 from neurov.kernels import check_kernel_request as _check_kernel_request
 from neurov.simulation import Result, simulate, simulate_many
 from neurov.controller import Controller
+from neurov.errors import RefusedStepsWarning
 from neurov.simulator import Observation, Simulator
 from neurov.vehicle_file import VehicleFileError
 from neurov import weights  # noqa: F401  (attaches NNAdaptiveController.save/load)
@@ -92,6 +93,7 @@ __all__ = [
     "PIDController",
     "RbfNetwork",
     "RefusedStepPolicy",
+    "RefusedStepsWarning",
     "Saturation",
     "SensorFaultKind",
     "SimulationConfig",

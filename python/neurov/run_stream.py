@@ -167,6 +167,8 @@ def stream_run(scenario: Scenario, out_dir: str | Path | None = None, *, quiet: 
     drawn.wall_time = wall
     if sinks.errors:
         drawn.extra["controller_errors"] = sinks.errors
+    if sinks.metrics.first_refused is not None:
+        drawn.extra["first_refused"] = sinks.metrics.first_refused
     elevation = None
     if sinks.elevation is not None:
         t, surface = (np.concatenate(parts) for parts in zip(*sinks.elevation))
