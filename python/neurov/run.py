@@ -16,13 +16,13 @@ import sys
 from pathlib import Path
 from typing import Any, TextIO
 
-from neurov.scenario import load_scenario
+from neurov.scenario import load_scenario, scenario_path
 from neurov.result import Result
 from neurov.run_folder import RunFolder, check_output_dir, stop_reason, writing
 from neurov.run_stream import stream_run
 
 __all__ = ["EXIT_DIVERGED", "FIGURES", "OUTPUT_NAMES", "SEA_FIGURES", "check_output_dir", "format_metrics",
-           "run_scenario_file", "write_figures", "write_metrics", "write_outputs"]
+           "refusal_message", "run_scenario_file", "write_figures", "write_metrics", "write_outputs"]
 
 EXIT_DIVERGED = 3
 """Exit status of ``neurov run`` and ``neurov paper`` when a run diverged
@@ -72,11 +72,25 @@ def format_metrics(result: Result, metrics: dict[str, Any]) -> str:
         ("mean |tau|, max |tau|", f"{metrics['mean_abs_tau']:.4g}, {metrics['max_abs_tau']:.4g} (N or N m)"),
         ("control energy", f"{metrics['control_energy']:.4g} (integral of ||tau|| dt)"),
         ("final adaptive norm", f"{metrics['final_adaptive_norm']:.4g} (max {metrics['max_adaptive_norm']:.4g})"),
-        ("refused controller steps", f"{metrics['refused_steps']}"),
+        ("refused controller steps", f"{metrics['refused_steps']} ({metrics['refused_steps_in_window']} "
+                                     "in the window)"),
     ]
     width = max(len(name) for name, _ in rows)
     lines += [f"  {name:<{width}}  {value}" for name, value in rows]
+    if metrics["refused_steps"]:
+        lines.append(f"warning: {refusal_message(result, metrics)}")
     return "\n".join(lines)
+
+
+def refusal_message(result: Result, metrics: dict[str, Any]) -> str:
+    """One line on a run's refused controller steps ('' if none)."""
+    if not metrics["refused_steps"]:
+        return ""
+    rows = result.extra.get("plotted_rows_of", len(result.t))
+    policy = getattr(result.scenario.refused_step_policy, "name", result.scenario.refused_step_policy)
+    return (f"{metrics['refused_steps']} of {rows} controller steps were refused "
+            f"({metrics['refused_steps_in_window']} in the metrics window), the first at "
+            f"{result.first_refusal}; the run went on with refused_step_policy {policy!r}")
 
 
 def write_metrics(metrics: dict[str, Any], out: Path) -> Path:
@@ -146,7 +160,8 @@ def write_outputs(result: Result, metrics: dict[str, Any], out_dir: str | Path, 
 
 def run_scenario_file(path: str | Path, out_dir: str | Path | None = None,
                       plot: bool = False) -> tuple[Result, dict[str, Any]]:
-    """Loads the scenario file at `path`, simulates it, and prints a short
+    """Loads the scenario file at `path` (or the shipped scenario of that
+    name, :func:`neurov.scenario.scenario_path`), simulates it, and prints a short
     metrics table to stdout. The metrics cover t >= :func:`neurov.result.metrics_start`
     (10 s, or half a shorter run: the start-up transient is skipped) and the
     table says so.
@@ -176,12 +191,13 @@ def run_scenario_file(path: str | Path, out_dir: str | Path | None = None,
     :class:`neurov.scenario.ScenarioError` naming the file and the field."""
     if plot and out_dir is None:
         raise ValueError("argument 'plot' needs 'out_dir': the figures are written as PNG files there")
-    scenario = load_scenario(path)
+    scenario = load_scenario(scenario_path(path))
     folder = RunFolder(out_dir, OUTPUT_NAMES) if out_dir is not None else None
     try:
         run = stream_run(scenario, folder.path if folder is not None else None, quiet=False)
         result = run.drawn
-        metrics: dict[str, Any] = {"scenario": scenario.name, "controller": result.controller, **run.metrics}
+        metrics: dict[str, Any] = {"scenario": scenario.name, "controller": result.controller, **run.metrics,
+                                   "first_refusal": result.first_refusal}
         if folder is not None:
             metrics["partial"] = False
         stream: TextIO = sys.stdout
