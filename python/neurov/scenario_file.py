@@ -290,7 +290,12 @@ def scenario_from_mapping(data: Mapping[str, Any], origin: str = "<scenario>") -
     c.duration = r.number("duration", c.duration)
     c.dt = r.number("dt", c.dt)
     c.substeps = r.integer("substeps", c.substeps, minimum=-(2**31))
-    c.seed = r.integer("seed", c.seed)
+    try:
+        c.seed = r.integer("seed", c.seed)
+    except ValueError as e:  # the core's range check, which gives the range
+        if isinstance(e, ScenarioError):
+            raise
+        raise r.error("seed", str(e).removeprefix("SimulationConfig.seed ")) from None
     v = r.table_of("vehicle")
     if v.has("preset") and v.has("file"):
         raise v.error("file", "give either 'preset' or 'file', not both")
