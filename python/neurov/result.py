@@ -75,7 +75,9 @@ class Result:
         per DOF. `after` defaults to :func:`metrics_start` (the one window
         ``neurov run``, ``neurov paper`` and the run plots use).
 
-        ``window_start_s`` and ``window_end_s`` say what the numbers cover.
+        ``window_start_s`` and ``window_end_s`` say what the numbers cover;
+        ``refused_steps`` counts the refused controller steps of the whole
+        run, ``refused_steps_in_window`` those in the window.
         A diverged run (``diverged`` true, ``diverged_at_s`` its last row)
         gets its metrics over what was simulated: from `after` if rows exist
         there, else over every row; non-finite values give inf."""

@@ -222,10 +222,11 @@ def _stopped(folder: RunFolder, exc: BaseException) -> BaseException:
     whose message says where the run is kept and that DIR is unchanged;
     any other exception as it was, that news printed to stderr."""
     kept = folder.keep_partial(stop_reason(exc))
+    out = f"{str(folder.out)!r} {'is unchanged' if folder.out.exists() else 'was not created'}"
     if kept is None:
-        news = f"nothing was written; {str(folder.out)!r} is unchanged"
+        news = f"nothing was written; {out}"
     else:
-        news = (f"{str(folder.out)!r} is unchanged; the run so far is kept in {str(kept)!r}"
+        news = (f"{out}; the run so far is kept in {str(kept)!r}"
                 f" ({_kept_files(kept)}; its metrics.json says \"partial\": true)")
     if isinstance(exc, KeyboardInterrupt):
         return KeyboardInterrupt(f"interrupted: {news}")

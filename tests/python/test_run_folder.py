@@ -87,7 +87,7 @@ def test_full_disk_names_the_file_and_what_was_kept(scenario: Path, tmp_path: Pa
     assert cli.main(["run", str(scenario), "--out", str(out)]) == 1
     err = capsys.readouterr().err
     assert "cannot write result.csv: No space left on device (the disk is full)" in err
-    assert f"'{out}' is unchanged" in err and "out.partial" in err and "metrics.json" in err
+    assert f"'{out}' was not created" in err and "out.partial" in err and "metrics.json" in err
     assert not out.exists()
     m = json.loads((tmp_path / "out.partial" / "metrics.json").read_text())
     assert m["partial"] is True and "No space left on device" in m["partial_reason"]
