@@ -375,12 +375,13 @@ def shipped_scenarios() -> list[str]:
 def scenario_path(name_or_path: str | Path) -> Path:
     """The file to read for a scenario file's path or a shipped scenario's
     name (``paper_fig3``): the one resolver of ``neurov run``, the Gymnasium
-    environment and the paper. A ``.toml`` path, or any existing file, is
-    taken as given (a missing one is named by :func:`load_scenario`); another
-    name must be a shipped scenario's (a folder of that name does not hide
-    it), else :class:`ScenarioError` listing them."""
+    environment. A ``.toml`` path, a path through a folder (``./x``,
+    ``/dev/zero``) or anything else that exists but a folder is taken as
+    given (:func:`load_scenario` names what is wrong with it); another name
+    must be a shipped scenario's (a folder of that name does not hide it),
+    else :class:`ScenarioError` listing them."""
     path = Path(name_or_path)
-    if path.suffix == ".toml" or path.is_file():
+    if path.suffix == ".toml" or len(path.parts) > 1 or (path.exists() and not path.is_dir()):
         return path
     shipped = SCENARIO_DIR / f"{path.name}.toml"
     if shipped.is_file():
