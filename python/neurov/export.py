@@ -33,7 +33,6 @@ class CsvWriter:
     def __init__(self, path: str | Path, names: list[str]) -> None:
         self.path = Path(path)
         self.names = list(names)
-        self.rows = 0  #: rows written so far
         self._file: IO[str] | None = None
         self._csv: Any = None
         self._arrow: Any = None
@@ -64,7 +63,6 @@ class CsvWriter:
                 self._arrow.write_batch(self._pa.record_batch([c[block] for c in values], schema=self._schema))
             else:
                 self._csv.writerows(zip(*(c[block].tolist() for c in values)))
-            self.rows += len(values[0][block])
             if progress is not None:
                 progress.update(len(values[0][block]))
 

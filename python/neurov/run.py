@@ -242,7 +242,7 @@ def _kept_files(folder: Path) -> str:
     """The files in `folder`, with how far result.csv got if metrics.json says."""
     names = sorted(p.name for p in folder.iterdir())
     try:
-        upto = json.loads((folder / "metrics.json").read_text(encoding="utf-8")).get("simulated_to_s")
+        upto = json.loads((folder / "metrics.json").read_text(encoding="utf-8")).get("result_csv_to_s")
     except (OSError, ValueError, AttributeError):
         upto = None
     if upto is not None and "result.csv" in names:

@@ -25,6 +25,7 @@ import contextlib
 import errno
 import json
 import os
+import secrets
 import shutil
 import tempfile
 from collections.abc import Iterator
@@ -114,7 +115,7 @@ class RunFolder:
         beside = os.access(parent, os.W_OK | os.X_OK)
         where = parent if beside or not self.out.exists() else self.out
         try:
-            self.path = Path(tempfile.mkdtemp(prefix=f".{self.out.name}.running-", dir=where))
+            self.path = _new_folder(where, f".{self.out.name}.running-")
         except OSError as e:
             raise OSError(f"output folder {str(self.out)!r} cannot be written: {e.strerror or e}") from e
         self._beside = where == parent
@@ -180,6 +181,20 @@ class RunFolder:
         except OSError:
             return self.path  # an older folder of that name that is not ours: keep the staging name
         return target
+
+
+def _new_folder(parent: Path, prefix: str) -> Path:
+    """A new folder `prefix` + random letters in `parent`, with the
+    permissions a plain mkdir gives (tempfile.mkdtemp's are owner-only, and
+    the folder becomes DIR)."""
+    for _ in range(100):
+        path = parent / f"{prefix}{secrets.token_hex(4)}"
+        try:
+            path.mkdir()
+        except FileExistsError:
+            continue
+        return path
+    raise FileExistsError(errno.EEXIST, f"no free name {prefix}* in {parent}")
 
 
 def _is_partial(folder: Path) -> bool:

@@ -106,8 +106,9 @@ class _Sinks:
         rows = self.metrics.rows
         metrics: dict[str, Any] = {"scenario": self.scenario.name, "controller": self.label,
                                    "rows_simulated": rows, "simulated_to_s": self.metrics.t_last}
-        if self.csv is not None:
-            metrics["rows_in_result_csv"] = self.csv.rows
+        if self.csv is not None and self.csv.path.is_file():
+            # Read back: a Ctrl-C right after a block is written comes before it is counted.
+            metrics["rows_in_result_csv"], metrics["result_csv_to_s"] = _csv_extent(self.csv.path)
         try:
             metrics.update(self.metrics.value())
         except ValueError:
@@ -185,11 +186,26 @@ def _keep_what_was_written(sinks: _Sinks, out: Path | None) -> None:
         sinks.close(None)
     except OSError:
         pass
-    if out is None:
-        return
+    if out is None or not sinks.metrics.rows:
+        return  # nothing simulated: nothing to keep
     from neurov.run import write_metrics
 
     try:
         write_metrics({**sinks.partial_metrics(), "partial": True}, out)
     except OSError:
         pass
+
+
+def _csv_extent(path: Path) -> tuple[int, float | None]:
+    """The data rows of the CSV at `path` and the ``t`` of its last one."""
+    rows, tail = -1, b""
+    with path.open("rb") as f:
+        while block := f.read(1 << 22):
+            rows += block.count(b"\n")
+            tail = (tail + block)[-4096:]
+    lines = tail.rstrip(b"\n").split(b"\n")
+    try:
+        last_t = float(lines[-1].split(b",", 1)[0]) if rows > 0 else None
+    except ValueError:
+        last_t = None
+    return max(rows, 0), last_t

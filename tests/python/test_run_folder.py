@@ -45,6 +45,12 @@ def _contents(folder: Path) -> dict[str, bytes]:
     return {p.name: p.read_bytes() for p in sorted(folder.iterdir())}
 
 
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
 def _no_staging_left(parent: Path) -> None:
     assert not [p.name for p in parent.iterdir() if ".running-" in p.name or ".old-" in p.name]
 
@@ -54,6 +60,7 @@ def test_interrupted_second_run_leaves_the_first_whole(scenario: Path, tmp_path:
                                                         capsys: pytest.CaptureFixture[str]) -> None:
     out = tmp_path / "out"
     assert cli.main(["run", str(scenario), "--out", str(out)]) == 0
+    assert out.stat().st_mode & 0o777 == 0o777 & ~_umask()  # a folder as mkdir makes it
     first = _contents(out)
     assert json.loads(first["metrics.json"])["partial"] is False
     add = _Sinks.add
@@ -73,6 +80,7 @@ def test_interrupted_second_run_leaves_the_first_whole(scenario: Path, tmp_path:
     m = json.loads((kept / "metrics.json").read_text())
     assert m["partial"] is True and m["partial_reason"] == "interrupted (Ctrl-C)"
     assert m["rows_simulated"] == m["rows_in_result_csv"] == 21 and m["simulated_to_s"] == pytest.approx(4.0)
+    assert m["result_csv_to_s"] == pytest.approx(4.0) and "result.csv (rows to t = 4 s)" in err
     _no_staging_left(tmp_path)
 
 
