@@ -136,7 +136,8 @@ def write_outputs(result: Result, metrics: dict[str, Any], out_dir: str | Path, 
                   quiet: bool = True) -> list[Path]:
     """Writes result.csv, result.npz, metrics.json and, with `plot`, the
     figures of :data:`FIGURES` (and :data:`SEA_FIGURES`) of a run held in
-    memory into `out_dir` (created if missing); returns the paths written.
+    memory into `out_dir` (created if missing; a folder holds one run, see
+    :mod:`neurov.run_folder`); returns the paths written.
     Unless `quiet`, progress bars (on a terminal). A long run's figures draw
     at most :data:`neurov.decimation.MAX_PLOT_ROWS` rows."""
     folder = RunFolder(out_dir, OUTPUT_NAMES)

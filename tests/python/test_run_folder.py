@@ -162,3 +162,19 @@ def test_paper_on_a_full_disk_leaves_the_old_results(tmp_path: Path, monkeypatch
     assert json.loads((kept / "metrics.json").read_text())["partial"] is True
     assert (kept / "fig3_xy.png").is_file()
     _no_staging_left(tmp_path)
+
+
+def test_a_full_disk_while_writing_the_npz_keeps_no_broken_archive(scenario: Path, tmp_path: Path,
+                                                                    monkeypatch: pytest.MonkeyPatch,
+                                                                    capsys: pytest.CaptureFixture[str]) -> None:
+    import shutil
+
+    def full(*args: object, **kwargs: object) -> None:
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(shutil, "copyfileobj", full)  # how NpzWriter streams each array in
+    out = tmp_path / "out"
+    assert cli.main(["run", str(scenario), "--out", str(out)]) == 1
+    assert "cannot write result.npz: No space left on device" in capsys.readouterr().err
+    kept = tmp_path / "out.partial"
+    assert sorted(p.name for p in kept.iterdir()) == ["metrics.json", "result.csv"]
