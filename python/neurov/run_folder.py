@@ -6,13 +6,12 @@ inside DIR when DIR's parent cannot be written) and put in place only when
 the run has finished, so an old run in DIR stays whole until the new one is
 complete:
 
-- DIR missing, empty, or holding only a run's files (the names of
-  :data:`neurov.run.OUTPUT_NAMES`): the staging folder is renamed to DIR, the
-  old DIR removed after the swap;
-- DIR holding anything else (``--out .``, a folder with the user's notes):
-  those files are never touched; the new run's files are moved in one by one
-  and the old run's files that the new run did not write (its figures, say)
-  are removed, so that the run's files in DIR are of one run.
+- DIR missing: the staging folder is renamed to DIR;
+- DIR there (an old run, ``--out .``, a folder with the user's notes): the
+  new run's files are moved in one by one, and the old run's files that the
+  new run did not write (its figures, say) are removed, so that the run's
+  files in DIR are of one run; any other file is never touched, and DIR
+  itself stays the folder it was (a shell inside it stays there).
 
 A run that stops (Ctrl-C, an error, a full disk) leaves DIR as it was and
 keeps what it wrote in ``DIR.partial`` (beside DIR, or in DIR when staged
@@ -27,7 +26,6 @@ import json
 import os
 import secrets
 import shutil
-import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -108,8 +106,9 @@ class RunFolder:
 
     def __init__(self, out_dir: str | Path, names: tuple[str, ...]) -> None:
         self.out = check_output_dir(out_dir, create=False)
-        if self.out.is_symlink():
-            self.out = self.out.resolve()  # a link to a folder: the folder is DIR, the link stays
+        if self.out.is_symlink() or self.out.name in ("", ".."):
+            # A link to a folder: the folder is DIR (the link stays); "." and "..": the folder they are.
+            self.out = self.out.resolve()
         self.names = names
         parent = self.out.parent
         beside = os.access(parent, os.W_OK | os.X_OK)
@@ -120,22 +119,10 @@ class RunFolder:
             raise OSError(f"output folder {str(self.out)!r} cannot be written: {e.strerror or e}") from e
         self._beside = where == parent
 
-    def _only_a_run(self) -> bool:
-        """DIR missing or holding nothing but a run's files."""
-        if not self.out.exists():
-            return True
-        return all(p.name in self.names for p in self.out.iterdir())
-
     def commit(self) -> Path:
         """Puts the finished run in DIR (see the module); returns DIR."""
-        if self._beside and self._only_a_run():
-            if not self.out.exists():
-                os.rename(self.path, self.out)
-                return self.out
-            old = Path(tempfile.mkdtemp(prefix=f".{self.out.name}.old-", dir=self.out.parent))
-            os.rename(self.out, old / self.out.name)
+        if self._beside and not self.out.exists():
             os.rename(self.path, self.out)
-            shutil.rmtree(old, ignore_errors=True)
             return self.out
         self.out.mkdir(exist_ok=True)
         written = {p.name for p in self.path.iterdir()}
@@ -151,18 +138,19 @@ class RunFolder:
         """Where :meth:`keep_partial` keeps a stopped run."""
         return self.path.parent / f"{self.out.name}.partial"
 
-    def keep_partial(self, reason: str, metrics: dict[str, Any] | None = None) -> Path | None:
+    def keep_partial(self, reason: str) -> Path | None:
         """Keeps what a stopped run wrote in :attr:`partial_path` (replacing
-        an older partial run there), its metrics.json (`metrics`, or the one
-        written, or none) marked ``"partial": true`` with `reason`; returns
-        that folder, or None (and removes the staging folder) if nothing was
+        an older partial run there), its metrics.json (the one written, or a
+        new one) marked ``"partial": true`` with `reason`; returns that
+        folder, or None (and removes the staging folder) if nothing was
         written. DIR is not touched."""
-        if not any(self.path.iterdir()) and metrics is None:
+        if not any(self.path.iterdir()):
             self.path.rmdir()
             return None
         try:
             path = self.path / "metrics.json"
-            if metrics is None and path.is_file():
+            metrics: Any = None
+            if path.is_file():
                 try:
                     metrics = json.loads(path.read_text(encoding="utf-8"))
                 except (OSError, ValueError):

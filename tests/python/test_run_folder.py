@@ -178,3 +178,14 @@ def test_a_full_disk_while_writing_the_npz_keeps_no_broken_archive(scenario: Pat
     assert "cannot write result.npz: No space left on device" in capsys.readouterr().err
     kept = tmp_path / "out.partial"
     assert sorted(p.name for p in kept.iterdir()) == ["metrics.json", "result.csv"]
+
+
+def test_out_dot_writes_into_the_current_folder(scenario: Path, tmp_path: Path,
+                                               monkeypatch: pytest.MonkeyPatch) -> None:
+    here = tmp_path / "here"
+    here.mkdir()
+    monkeypatch.chdir(here)
+    assert cli.main(["run", str(scenario), "--out", "."]) == 0
+    assert sorted(p.name for p in here.iterdir()) == ["metrics.json", "result.csv", "result.npz"]
+    assert Path.cwd() == here
+    _no_staging_left(tmp_path)
