@@ -295,17 +295,7 @@ class Fields {
         throw py::type_error(name + " must be a bool, got " + got());
       return v.cast<bool>();
     } else if constexpr (std::is_integral_v<D>) {
-      if (py::isinstance<py::bool_>(v) || !py::hasattr(v, "__index__"))
-        throw py::type_error(name + " must be an int, got " + got());
-      const py::int_ i(v);
-      if constexpr (std::is_unsigned_v<D>) {
-        if (i < py::int_(0)) throw py::value_error(name + " must be >= 0, got " + std::string(py::str(i)));
-      }
-      try {
-        return i.cast<D>();
-      } catch (const py::cast_error&) {
-        throw py::value_error(name + " is out of range: " + std::string(py::str(i)));
-      }
+      return py_args::integer<D>(v, name);
     } else if constexpr (std::is_floating_point_v<D>) {
       if (py::isinstance<py::bool_>(v) || !py::hasattr(v, "__float__") ||
           (py::isinstance<py::array>(v) && py::reinterpret_borrow<py::array>(v).ndim() != 0))

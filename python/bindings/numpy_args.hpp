@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <initializer_list>
+#include <limits>
 #include <string>
 
 #include "neurov/core/status.hpp"
@@ -66,6 +67,22 @@ inline py::array_t<double, py::array::c_style> real_array(const py::handle& obj,
                          expected + "), got dtype " + std::string(py::str(arr.dtype())));
   }
   return py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(arr);
+}
+
+/// obj as an integer of type D; TypeError for a non-integer (a bool too),
+/// ValueError giving D's range for one outside it (pybind11's own cast would
+/// say "Unable to cast ... to C++ type '?'").
+template <typename D>
+D integer(const py::handle& obj, const std::string& name) {
+  if (py::isinstance<py::bool_>(obj) || !py::hasattr(obj, "__index__"))
+    throw py::type_error(name + " must be an int, got " +
+                         std::string(py::str(py::type::handle_of(obj).attr("__name__"))));
+  const py::int_ i(py::reinterpret_borrow<py::object>(obj));
+  const py::int_ low(std::numeric_limits<D>::min()), high(std::numeric_limits<D>::max());
+  if (i < low || i > high)
+    throw py::value_error(name + " must be >= " + std::string(py::str(low)) + " and <= " +
+                          std::string(py::str(high)) + ", got " + std::string(py::str(i)));
+  return i.cast<D>();
 }
 
 inline void require_finite(const double* data, py::ssize_t n, const char* name) {

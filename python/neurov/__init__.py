@@ -62,7 +62,7 @@ from neurov.kernels import check_kernel_request as _check_kernel_request
 from neurov.simulation import Result, simulate, simulate_many
 from neurov.controller import Controller
 from neurov.simulator import Observation, Simulator
-from neurov.errors import NeurovError, ValidationError, VehicleFileError
+from neurov.errors import NeurovError, RefusedStepsWarning, ValidationError, VehicleFileError
 from neurov import weights  # noqa: F401  (attaches NNAdaptiveController.save/load)
 from neurov.identification import identify
 
@@ -101,6 +101,7 @@ __all__ = [
     "PIDController",
     "RbfNetwork",
     "RefusedStepPolicy",
+    "RefusedStepsWarning",
     "Saturation",
     "SensorFaultKind",
     "SimulationConfig",

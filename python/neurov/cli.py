@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+import warnings
 from collections.abc import Sequence
 
 __all__ = ["main"]
@@ -63,9 +64,11 @@ def _parser() -> argparse.ArgumentParser:
         "with status 3.",
         epilog=_EXIT_STATUS, formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    run.add_argument("scenario", metavar="SCENARIO.toml", help="the scenario file")
+    run.add_argument("scenario", metavar="SCENARIO.toml",
+                     help="the scenario file, or a shipped scenario's name (e.g. paper_fig3)")
     run.add_argument("--out", default=None, metavar="DIR", help="folder for the results")
     run.add_argument("--plot", action="store_true", help="also write PNG figures (needs --out)")
+    run.set_defaults(usage_of=run)  # a bad combination of options is told with run's usage
 
     study = sub.add_parser(
         "study",
@@ -90,6 +93,7 @@ def _parser() -> argparse.ArgumentParser:
     study.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
     study.add_argument("--quiet", action="store_true",
                        help="no progress bars (there are none either when stderr is not a terminal)")
+    study.set_defaults(usage_of=study)
 
     from neurov.identification.cli import add_parser as add_identify
 
@@ -141,18 +145,24 @@ def main(argv: Sequence[str] | None = None) -> int:
                 return EXIT_DIVERGED
         elif args.command == "run":
             if args.plot and args.out is None:
-                parser.error("--plot needs --out DIR")
-            from neurov.run import EXIT_DIVERGED, run_scenario_file
+                args.usage_of.error("--plot needs --out DIR")
+            from neurov.errors import RefusedStepsWarning
+            from neurov.run import EXIT_DIVERGED, refusal_message, run_scenario_file
 
-            result, _ = run_scenario_file(args.scenario, out_dir=args.out, plot=args.plot)
+            with warnings.catch_warnings():
+                # Said below and in the printout, without a warning's source line.
+                warnings.simplefilter("ignore", RefusedStepsWarning)
+                result, metrics = run_scenario_file(args.scenario, out_dir=args.out, plot=args.plot)
+            if metrics["refused_steps"]:
+                print(f"neurov: warning: {refusal_message(result, metrics)}", file=sys.stderr)
             if result.diverged:
                 print(f"neurov: {result.divergence_message()} (exit status {EXIT_DIVERGED})", file=sys.stderr)
                 return EXIT_DIVERGED
         elif args.command == "study":
             if args.workers is not None and args.workers < 1:
-                parser.error("--workers must be >= 1")
+                args.usage_of.error("--workers must be >= 1")
             if args.batch_size is not None and args.batch_size < 1:
-                parser.error("--batch-size must be >= 1")
+                args.usage_of.error("--batch-size must be >= 1")
             from neurov.study import main_study
 
             main_study(args.study, args.out, args.workers, args.scheduler, executor=args.executor,

@@ -11,7 +11,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from neurov import _core
 
-__all__ = ["BUILT_IN_CONTROLLERS", "Controller", "ControllerCall", "is_built_in", "require_controller"]
+__all__ = ["BUILT_IN_CONTROLLERS", "Controller", "ControllerCall", "as_real_numbers", "is_built_in",
+           "require_controller"]
 
 #: The compiled controllers: a run with one of these is the all-C++ loop.
 BUILT_IN_CONTROLLERS: tuple[type, ...] = tuple(
@@ -58,6 +59,22 @@ def require_controller(controller: Any, what: str = "argument 'controller'") -> 
                         f"step(eta, nu, eta_d, eta_d_dot, eta_d_ddot) -> tau, got {type(controller).__name__}")
 
 
+def as_real_numbers(value: Any) -> NDArray[np.float64]:
+    """`value` as a float64 array if it holds real numbers, by the rule of the
+    compiled functions' arguments (python/bindings/numpy_args.hpp: a float,
+    int or unsigned dtype, so not str, bool, complex or object); TypeError
+    saying what it holds otherwise. Shape and finiteness are the caller's."""
+    arr = np.asarray(value)
+    if arr.dtype.kind not in "fiu":
+        raise TypeError(f"{type(value).__name__} holding {arr.dtype} values, not real numbers")
+    return arr.astype(np.float64, copy=False)
+
+
+#: The refusals that are the controller's own failure (a dropout's
+#: non_finite_input is the sensor's): a run with any is warned about.
+_OWN_FAILURES = ("invalid_argument", "non_finite_output")
+
+
 def _takes_time(step: Any) -> bool:
     """Whether `step` accepts the keyword ``t``."""
     try:
@@ -77,11 +94,13 @@ class ControllerCall:
     - ``non_finite_input``: step raised while the measurement held NaN/Inf
       (a dropout; the compiled controllers refuse such a step the same way);
     - ``invalid_argument``: step raised otherwise, or returned something that
-      is not six real numbers;
+      is not six real numbers (:func:`as_real_numbers`: str, bool, complex and
+      object values are refused, as ``Simulator.step`` refuses them);
     - ``non_finite_output``: step returned NaN or Inf.
 
     The first message of each kind is kept in :attr:`errors` (for
-    ``Result.extra["controller_errors"]``), with a count.
+    ``Result.extra["controller_errors"]``), with a count; a run the
+    controller failed in is warned about (:meth:`warn_if_refused`).
     """
 
     def __init__(self, controller: Any) -> None:
@@ -115,16 +134,33 @@ class ControllerCall:
             status = _core.Status.invalid_argument if measured else _core.Status.non_finite_input
             return self._refuse(status, t, f"step raised {type(exc).__name__}: {exc}")
         try:
-            tau = np.asarray(out, dtype=np.float64)
-        except (TypeError, ValueError):
+            tau = as_real_numbers(out)
+        except Exception as exc:  # whatever converting it raised (a tensor's __array__): refused
             return self._refuse(_core.Status.invalid_argument, t,
-                                f"step returned {type(out).__name__}, not six numbers")
+                                f"step returned {type(out).__name__}, not six real numbers ({exc})")
         if tau.shape != (6,):
             return self._refuse(_core.Status.invalid_argument, t,
                                 f"step returned shape {tau.shape}, expected (6,)")
         if not np.isfinite(tau).all():
             return self._refuse(_core.Status.non_finite_output, t, f"step returned {tau.tolist()}")
         return tau, _core.Status.ok
+
+    def warn_if_refused(self, label: str, rows: int) -> None:
+        """A :class:`neurov.RefusedStepsWarning` if the controller failed on
+        any of the `rows` steps of a run (see :data:`_OWN_FAILURES`)."""
+        own = {k: e for k, e in self.errors.items() if k in _OWN_FAILURES}
+        if not own:
+            return
+        import warnings
+
+        from neurov.errors import RefusedStepsWarning
+
+        count = sum(e["count"] for e in own.values())
+        kind, first = min(own.items(), key=lambda kv: kv[1]["first_t"])
+        warnings.warn(f"controller {label!r}: {count} of {rows} steps refused, the first at "
+                      f"t = {first['first_t']:g} s ({kind}: {first['first']}); the run went on under "
+                      "the scenario's refused_step_policy, see result.first_refusal",
+                      RefusedStepsWarning, stacklevel=4)
 
     def s(self) -> NDArray[np.float64] | None:
         """The controller's ``s`` (6,) if it has one of that shape, else None."""

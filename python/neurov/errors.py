@@ -10,6 +10,9 @@ A ``ValidationError`` carries what the validator found as attributes, so no
 caller reads its message to learn the field: ``field`` (the C++ name),
 ``index`` (the element, row-major for a matrix; -1 for the whole field),
 ``value`` (None for a whole matrix) and ``expected``.
+
+A run that finished but should not be trusted as it stands is told by a
+warning, not an error: :class:`RefusedStepsWarning`.
 """
 
 from __future__ import annotations
@@ -19,6 +22,7 @@ from neurov._core import NeurovError, ValidationError
 __all__ = [
     "FactoryError",
     "NeurovError",
+    "RefusedStepsWarning",
     "ScenarioError",
     "SchemaError",
     "StudyError",
@@ -50,3 +54,10 @@ class StudyError(NeurovError):
 
 class FactoryError(NeurovError):
     """A factory that cannot be imported, is not callable, or does not return a controller."""
+
+
+class RefusedStepsWarning(RuntimeWarning):
+    """A controller written in Python had steps refused (it raised, or
+    returned something that is not six finite real numbers): the run went
+    on under the scenario's ``refused_step_policy``, so its numbers are not
+    the controller's. ``result.first_refusal`` gives the first error."""

@@ -135,6 +135,9 @@ class NpzWriter:
                         shutil.copyfileobj(raw, f, 1 << 22)
                     if progress is not None:
                         progress.update(1)
+        except BaseException:
+            self.path.unlink(missing_ok=True)  # a half-written archive is no archive
+            raise
         finally:
             self.discard()
         return self.path

@@ -95,6 +95,8 @@ class MetricsWindow:
         self._final_norm = math.nan
         self._max_norm = -math.inf
         self._diverged = False
+        #: (t, status) of the first refused controller step, None while there is none.
+        self.first_refused: tuple[float, int] | None = None
 
     def add(self, rows: Result) -> None:
         """The next rows of the run (a Result of consecutive rows)."""
@@ -102,6 +104,10 @@ class MetricsWindow:
             self._diverged = self._diverged or rows.diverged
             return
         # t is increasing, so the window is a slice (views, no copies).
+        if self.first_refused is None:
+            bad = np.flatnonzero(rows.controller_status)
+            if len(bad):
+                self.first_refused = (float(rows.t[bad[0]]), int(rows.controller_status[bad[0]]))
         first = int(np.searchsorted(rows.t, self.after, side="left"))
         with np.errstate(over="ignore", invalid="ignore"):
             for part, sums in ((slice(None, first), self._before), (slice(first, None), self._window)):
@@ -110,6 +116,16 @@ class MetricsWindow:
             self._final_norm = float(rows.adaptive_norm[-1])
             self._max_norm = float(np.maximum(self._max_norm, np.max(rows.adaptive_norm)))
         self._diverged = self._diverged or rows.diverged
+
+    @property
+    def rows(self) -> int:
+        """Rows added so far, in the window and before it."""
+        return self._window.rows + self._before.rows
+
+    @property
+    def t_last(self) -> float | None:
+        """The time of the last row added (None before any)."""
+        return self._t_last()
 
     def _t_last(self) -> float | None:
         """The time of the last row added (None before any)."""
@@ -148,7 +164,9 @@ class MetricsWindow:
                 "control_energy": _finite_or_inf(w.tau_norm * dt),
                 "final_adaptive_norm": _finite_or_inf(self._final_norm),
                 "max_adaptive_norm": _finite_or_inf(self._max_norm),
-                "refused_steps": w.refused,
+                # Over the whole run: a controller failing in the transient is not hidden by the window.
+                "refused_steps": self._window.refused + self._before.refused,
+                "refused_steps_in_window": w.refused,
                 "diverged": self._diverged,
                 "diverged_at_s": self._t_last() if self._diverged else None,
             }

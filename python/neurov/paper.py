@@ -19,13 +19,16 @@ import numpy as np
 
 from neurov.scenario import ControllerSpec, Scenario, load_scenario
 from neurov.plotting.paper import figure_inputs, figure_xy, figure_yaw
-from neurov.run import _finite_or_none, check_output_dir
+from neurov.run import _finite_or_none, _stopped
+from neurov.run_folder import RunFolder, writing
 from neurov.result import TRANSIENT_S, metrics_start
 from neurov.simulation import Result, simulate
 
-__all__ = ["EXPERIMENTS", "METRIC_KEYS", "Experiment", "diverged_runs", "fig5_caption", "paper_scenario", "run_paper"]
+__all__ = ["EXPERIMENTS", "METRIC_KEYS", "OUTPUT_NAMES", "Experiment", "diverged_runs", "fig5_caption", "paper_scenario", "run_paper"]
 
 SCENARIO_DIR = Path(__file__).with_name("scenarios")
+#: The files ``neurov paper`` writes in its folder (see neurov.run_folder).
+OUTPUT_NAMES = ("fig3_xy.png", "fig4_inputs.png", "fig5_yaw_disturbance.png", "metrics.json", "summary.md")
 #: The keys every metrics.json entry carries (more follow them). The metrics
 #: cover Result.metrics()'s window, t >= neurov.result.metrics_start(duration).
 METRIC_KEYS = ("rmse_position_m", "rmse_yaw_rad", "max_position_error_m", "mean_abs_tau", "max_abs_tau",
@@ -160,7 +163,22 @@ def run_paper(out_dir: str | Path = "paper-results", quiet: bool = False) -> dic
     (those of metrics.json: one entry per experiment and ``fig5_sweep``). A
     diverged run is written like the others, flagged ``diverged``: see
     :func:`diverged_runs`."""
-    out = check_output_dir(out_dir)
+    folder = RunFolder(out_dir, OUTPUT_NAMES)
+    try:
+        metrics = _run_into(folder.path, quiet)
+        done = folder.commit()
+    except BaseException as exc:
+        stopped = _stopped(folder, exc)
+        if stopped is exc:
+            raise
+        raise stopped from exc
+    if not quiet:
+        print(f"wrote {', '.join(OUTPUT_NAMES)} to {done}/")
+    return metrics
+
+
+def _run_into(out: Path, quiet: bool) -> dict[str, Any]:
+    """What :func:`run_paper` does, writing into the staging folder `out`."""
     start = time.perf_counter()
     results = run_experiments()
     sweep = run_disturbance_sweep()
@@ -176,20 +194,40 @@ def run_paper(out_dir: str | Path = "paper-results", quiet: bool = False) -> dic
     caption5 = fig5_caption([(results[k].controller, metrics[k]) for k in ("fig5_nn", "fig5_linear")],
                             after=metrics_start(results["fig5_nn"].scenario.duration))
 
-    figure_xy([results["fig3_nn"], results["fig3_nn_kd0"]],
-              "Fig. 3: X-Y trajectory, NEROV, NN adaptive controller").savefig(out / "fig3_xy.png", dpi=120)
-    figure_inputs(results["fig3_nn"]).savefig(out / "fig4_inputs.png", dpi=120)
-    figure_yaw([results["fig5_nn"], results["fig5_linear"]], caption5).savefig(
-        out / "fig5_yaw_disturbance.png", dpi=120)
+    figures = {
+        "fig3_xy.png": lambda: figure_xy([results["fig3_nn"], results["fig3_nn_kd0"]],
+                                         "Fig. 3: X-Y trajectory, NEROV, NN adaptive controller"),
+        "fig4_inputs.png": lambda: figure_inputs(results["fig3_nn"]),
+        "fig5_yaw_disturbance.png": lambda: figure_yaw([results["fig5_nn"], results["fig5_linear"]], caption5),
+    }
+    for name, draw in figures.items():
+        fig = draw()
+        with writing(out / name):
+            fig.savefig(out / name, dpi=120)
     table = _table(rows)
     sweep_table = _sweep_table(sweep)
     metrics["fig5_sweep"] = sweep
-    (out / "metrics.json").write_text(json.dumps(_finite_or_none(metrics), indent=2) + "\n")
+    with writing(out / "metrics.json"):
+        (out / "metrics.json").write_text(json.dumps(_finite_or_none(metrics), indent=2) + "\n")
     starts = sorted({m["window_start_s"] for m in metrics.values() if isinstance(m, dict)}
                     | {m["window_start_s"] for row in sweep for m in row.values() if isinstance(m, dict)})
     window = " and ".join(f"{t:g}" for t in starts)
     total = time.perf_counter() - start
-    (out / "summary.md").write_text(
+    with writing(out / "summary.md"):
+        _write_summary(out / "summary.md", window, table, caption5, sweep_table, len(results) + 2 * len(sweep),
+                       sim_time, total)
+    if not quiet:
+        print(f"metrics over t >= {window} s (the start-up transient skipped)")
+        print(table)
+        print("\nFig. 5 comparison over disturbance amplitude and frequency:\n")
+        print(sweep_table)
+        print(f"\nran in {total:.2f} s")
+    return metrics
+
+
+def _write_summary(path: Path, window: str, table: str, caption5: str, sweep_table: str, runs: int,
+                   sim_time: float, total: float) -> None:
+    path.write_text(
         "# neurov paper: results\n\n"
         f"Metrics over t >= {window} s (the start-up transient skipped; "
         f"neurov.result.metrics_start). Set-ups: scenarios/paper_fig3.toml and "
@@ -200,14 +238,5 @@ def run_paper(out_dir: str | Path = "paper-results", quiet: bool = False) -> dic
         "## Fig. 5 over disturbance amplitude and frequency\n\n"
         "The paper gives neither; the same two controllers on the same path:\n\n"
         f"{sweep_table}\n\n"
-        f"Ran {len(results) + 2 * len(sweep)} closed loops in {sim_time:.3f} s; the whole "
-        f"command took {total:.2f} s.\n"
+        f"Ran {runs} closed loops in {sim_time:.3f} s; the whole command took {total:.2f} s.\n"
     )
-    if not quiet:
-        print(f"metrics over t >= {window} s (the start-up transient skipped)")
-        print(table)
-        print("\nFig. 5 comparison over disturbance amplitude and frequency:\n")
-        print(sweep_table)
-        print(f"\nwrote fig3_xy.png, fig4_inputs.png, fig5_yaw_disturbance.png, metrics.json, "
-              f"summary.md to {out}/ in {total:.2f} s")
-    return metrics

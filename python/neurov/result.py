@@ -75,13 +75,33 @@ class Result:
         per DOF. `after` defaults to :func:`metrics_start` (the one window
         ``neurov run``, ``neurov paper`` and the run plots use).
 
-        ``window_start_s`` and ``window_end_s`` say what the numbers cover.
+        ``window_start_s`` and ``window_end_s`` say what the numbers cover;
+        ``refused_steps`` counts the refused controller steps of the whole
+        run, ``refused_steps_in_window`` those in the window.
         A diverged run (``diverged`` true, ``diverged_at_s`` its last row)
         gets its metrics over what was simulated: from `after` if rows exist
         there, else over every row; non-finite values give inf."""
         window = MetricsWindow(self.scenario.duration, self.scenario.dt, after)
         window.add(self)
         return window.value()
+
+    @property
+    def first_refusal(self) -> str | None:
+        """The first refused controller step, ``"t = 5 s, invalid_argument:
+        step raised TypeError: ..."`` (a Python controller's message; a
+        compiled controller's status only), or None if no step was refused."""
+        errors = self.extra.get("controller_errors") or {}
+        if errors:
+            status, first = min(errors.items(), key=lambda kv: kv[1]["first_t"])
+            return f"t = {first['first_t']:g} s, {status}: {first['first']}"
+        # A streamed run's drawn rows are thinned: its first refused row is kept in extra.
+        first = self.extra.get("first_refused")
+        if first is None:
+            bad = np.flatnonzero(self.controller_status)
+            if not len(bad):
+                return None
+            first = (float(self.t[bad[0]]), int(self.controller_status[bad[0]]))
+        return f"t = {first[0]:g} s, {_core.Status(first[1]).name}"
 
     def divergence_message(self) -> str:
         """One line saying when and how the run diverged ('' if it did not)."""

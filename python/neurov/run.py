@@ -12,17 +12,17 @@ from __future__ import annotations
 
 import json
 import math
-import os
 import sys
 from pathlib import Path
 from typing import Any, TextIO
 
-from neurov.scenario import load_scenario
+from neurov.scenario import load_scenario, scenario_path
 from neurov.result import Result
+from neurov.run_folder import RunFolder, check_output_dir, stop_reason, writing
 from neurov.run_stream import stream_run
 
-__all__ = ["EXIT_DIVERGED", "FIGURES", "SEA_FIGURES", "check_output_dir", "format_metrics", "run_scenario_file",
-           "write_figures", "write_metrics", "write_outputs"]
+__all__ = ["EXIT_DIVERGED", "FIGURES", "OUTPUT_NAMES", "SEA_FIGURES", "check_output_dir", "format_metrics",
+           "refusal_message", "run_scenario_file", "write_figures", "write_metrics", "write_outputs"]
 
 EXIT_DIVERGED = 3
 """Exit status of ``neurov run`` and ``neurov paper`` when a run diverged
@@ -33,21 +33,8 @@ FIGURES = ("xy.png", "dofs.png", "errors.png", "inputs.png", "adaptive_norm.png"
 SEA_FIGURES = ("sea.png", "wave_spectrum.png")
 """Also written for a run with a sea: the flow it met (a current, waves or a
 payload change) and, with waves, their realised spectrum against the target."""
-
-
-def check_output_dir(out_dir: str | Path) -> Path:
-    """Creates `out_dir` if missing and checks that files can be written in
-    it, before anything is computed; raises OSError naming the folder."""
-    out = Path(out_dir)
-    if out.exists() and not out.is_dir():
-        raise NotADirectoryError(f"output folder {str(out)!r} is an existing file, not a folder")
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as e:
-        raise OSError(f"output folder {str(out)!r} cannot be created: {e.strerror or e}") from e
-    if not os.access(out, os.W_OK | os.X_OK):
-        raise PermissionError(f"output folder {str(out)!r} is not writable")
-    return out
+OUTPUT_NAMES = ("result.csv", "result.npz", "metrics.json", *FIGURES, *SEA_FIGURES)
+"""The files a run writes in its folder (see :mod:`neurov.run_folder`)."""
 
 
 def _finite_or_none(value: Any) -> Any:
@@ -85,17 +72,32 @@ def format_metrics(result: Result, metrics: dict[str, Any]) -> str:
         ("mean |tau|, max |tau|", f"{metrics['mean_abs_tau']:.4g}, {metrics['max_abs_tau']:.4g} (N or N m)"),
         ("control energy", f"{metrics['control_energy']:.4g} (integral of ||tau|| dt)"),
         ("final adaptive norm", f"{metrics['final_adaptive_norm']:.4g} (max {metrics['max_adaptive_norm']:.4g})"),
-        ("refused controller steps", f"{metrics['refused_steps']}"),
+        ("refused controller steps", f"{metrics['refused_steps']} ({metrics['refused_steps_in_window']} "
+                                     "in the window)"),
     ]
     width = max(len(name) for name, _ in rows)
     lines += [f"  {name:<{width}}  {value}" for name, value in rows]
+    if metrics["refused_steps"]:
+        lines.append(f"warning: {refusal_message(result, metrics)}")
     return "\n".join(lines)
+
+
+def refusal_message(result: Result, metrics: dict[str, Any]) -> str:
+    """One line on a run's refused controller steps ('' if none)."""
+    if not metrics["refused_steps"]:
+        return ""
+    rows = result.extra.get("plotted_rows_of", len(result.t))
+    policy = getattr(result.scenario.refused_step_policy, "name", result.scenario.refused_step_policy)
+    return (f"{metrics['refused_steps']} of {rows} controller steps were refused "
+            f"({metrics['refused_steps_in_window']} in the metrics window), the first at "
+            f"{result.first_refusal}; the run went on with refused_step_policy {policy!r}")
 
 
 def write_metrics(metrics: dict[str, Any], out: Path) -> Path:
     """metrics.json in `out` (non-finite numbers as null)."""
     path = out / "metrics.json"
-    path.write_text(json.dumps(_finite_or_none(metrics), indent=2) + "\n", encoding="utf-8")
+    with writing(path):
+        path.write_text(json.dumps(_finite_or_none(metrics), indent=2) + "\n", encoding="utf-8")
     return path
 
 
@@ -123,7 +125,9 @@ def write_figures(drawn: Result, out: Path, quiet: bool = True, *, sea: bool | N
     written = []
     with progress_bar(len(figures), "figures", unit="figure", quiet=quiet) as bar:
         for name, draw in figures.items():
-            written.append(plots.save(draw(drawn), out / name))
+            fig = draw(drawn)
+            with writing(out / name):
+                written.append(plots.save(fig, out / name))
             bar.update(1)
     return written
 
@@ -132,20 +136,33 @@ def write_outputs(result: Result, metrics: dict[str, Any], out_dir: str | Path, 
                   quiet: bool = True) -> list[Path]:
     """Writes result.csv, result.npz, metrics.json and, with `plot`, the
     figures of :data:`FIGURES` (and :data:`SEA_FIGURES`) of a run held in
-    memory into `out_dir` (created if missing); returns the paths written.
+    memory into `out_dir` (created if missing; a folder holds one run, see
+    :mod:`neurov.run_folder`); returns the paths written.
     Unless `quiet`, progress bars (on a terminal). A long run's figures draw
     at most :data:`neurov.decimation.MAX_PLOT_ROWS` rows."""
-    out = check_output_dir(out_dir)
-    written = [result.to_csv(out / "result.csv", quiet=quiet), result.to_npz(out / "result.npz", quiet=quiet),
-               write_metrics(metrics, out)]
-    if plot:
-        written += write_figures(result, out, quiet)
-    return written
+    folder = RunFolder(out_dir, OUTPUT_NAMES)
+    out = folder.path
+    try:
+        with writing(out / "result.csv"):
+            written = [result.to_csv(out / "result.csv", quiet=quiet)]
+        with writing(out / "result.npz"):
+            written.append(result.to_npz(out / "result.npz", quiet=quiet))
+        written.append(write_metrics(metrics, out))
+        if plot:
+            written += write_figures(result, out, quiet)
+        done = folder.commit()
+    except BaseException as exc:
+        stopped = _stopped(folder, exc)
+        if stopped is exc:
+            raise
+        raise stopped from exc
+    return [done / p.name for p in written]
 
 
 def run_scenario_file(path: str | Path, out_dir: str | Path | None = None,
                       plot: bool = False) -> tuple[Result, dict[str, Any]]:
-    """Loads the scenario file at `path`, simulates it, and prints a short
+    """Loads the scenario file at `path` (or the shipped scenario of that
+    name, :func:`neurov.scenario.scenario_path`), simulates it, and prints a short
     metrics table to stdout. The metrics cover t >= :func:`neurov.result.metrics_start`
     (10 s, or half a shorter run: the start-up transient is skipped) and the
     table says so.
@@ -175,16 +192,60 @@ def run_scenario_file(path: str | Path, out_dir: str | Path | None = None,
     :class:`neurov.scenario.ScenarioError` naming the file and the field."""
     if plot and out_dir is None:
         raise ValueError("argument 'plot' needs 'out_dir': the figures are written as PNG files there")
-    scenario = load_scenario(path)
-    out = check_output_dir(out_dir) if out_dir is not None else None
-    run = stream_run(scenario, out, quiet=False)
-    result = run.drawn
-    metrics: dict[str, Any] = {"scenario": scenario.name, "controller": result.controller, **run.metrics}
-    stream: TextIO = sys.stdout
-    print(format_metrics(result, metrics), file=stream)
-    if out is not None:
-        written = [*run.written, write_metrics(metrics, out)]
-        if plot:
-            written += write_figures(result, out, quiet=False, sea=run.sea, elevation=run.elevation)
-        print(f"wrote {', '.join(p.name for p in written)} to {out}", file=stream)
+    scenario = load_scenario(scenario_path(path))
+    folder = RunFolder(out_dir, OUTPUT_NAMES) if out_dir is not None else None
+    try:
+        run = stream_run(scenario, folder.path if folder is not None else None, quiet=False)
+        result = run.drawn
+        metrics: dict[str, Any] = {"scenario": scenario.name, "controller": result.controller, **run.metrics,
+                                   "first_refusal": result.first_refusal}
+        if folder is not None:
+            metrics["partial"] = False
+        stream: TextIO = sys.stdout
+        print(format_metrics(result, metrics), file=stream)
+        if folder is not None:
+            written = [*run.written, write_metrics(metrics, folder.path)]
+            if plot:
+                written += write_figures(result, folder.path, quiet=False, sea=run.sea, elevation=run.elevation)
+            out = folder.commit()
+            print(f"wrote {', '.join(p.name for p in written)} to {out}", file=stream)
+    except BaseException as exc:
+        stopped = exc if folder is None else _stopped(folder, exc)
+        if stopped is exc:
+            raise
+        raise stopped from exc
     return result, metrics
+
+
+def _stopped(folder: RunFolder, exc: BaseException) -> BaseException:
+    """Keeps what a stopped run wrote (see :mod:`neurov.run_folder`) and
+    returns the exception to raise: for Ctrl-C and OSError (a full disk) one
+    whose message says where the run is kept and that DIR is unchanged;
+    any other exception as it was, that news printed to stderr."""
+    kept = folder.keep_partial(stop_reason(exc))
+    out = f"{str(folder.out)!r} {'is unchanged' if folder.out.exists() else 'was not created'}"
+    if kept is None:
+        news = f"nothing was written; {out}"
+    else:
+        news = (f"{out}; the run so far is kept in {str(kept)!r}"
+                f" ({_kept_files(kept)}; its metrics.json says \"partial\": true)")
+    if isinstance(exc, KeyboardInterrupt):
+        return KeyboardInterrupt(f"interrupted: {news}")
+    if isinstance(exc, OSError):
+        error = OSError(f"{exc}; {news}")
+        error.errno = exc.errno
+        return error
+    print(f"neurov: the run stopped ({stop_reason(exc)}): {news}", file=sys.stderr)
+    return exc
+
+
+def _kept_files(folder: Path) -> str:
+    """The files in `folder`, with how far result.csv got if metrics.json says."""
+    names = sorted(p.name for p in folder.iterdir())
+    try:
+        upto = json.loads((folder / "metrics.json").read_text(encoding="utf-8")).get("result_csv_to_s")
+    except (OSError, ValueError, AttributeError):
+        upto = None
+    if upto is not None and "result.csv" in names:
+        names[names.index("result.csv")] = f"result.csv (rows to t = {upto:g} s)"
+    return ", ".join(names) or "no files"

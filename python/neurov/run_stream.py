@@ -20,6 +20,7 @@ from neurov.decimation import PlotRows
 from neurov.export import CsvWriter, NpzWriter
 from neurov.metrics import MetricsWindow
 from neurov.result import SERIES, Result
+from neurov.run_folder import writing
 from neurov.scenario import Scenario
 
 __all__ = ["CHUNK_ROWS", "StreamedRun", "stream_run"]
@@ -70,10 +71,12 @@ class _Sinks:
             self.elevation.append((chunk.t, chunk.wave_elevation))
         if self.out is not None and self.npz is not None:
             cols = chunk.columns()
-            if self.csv is None:
-                self.csv = CsvWriter(self.out / "result.csv", list(cols))
-            self.csv.write(cols)
-            self.npz.append({name: getattr(chunk, name) for name in SERIES})
+            with writing(self.out / "result.csv"):
+                if self.csv is None:
+                    self.csv = CsvWriter(self.out / "result.csv", list(cols))
+                self.csv.write(cols)
+            with writing(self.npz.path):
+                self.npz.append({name: getattr(chunk, name) for name in SERIES})
         return len(chunk.t)
 
     def close(self, drawn: Result | None) -> list[Path]:
@@ -81,7 +84,8 @@ class _Sinks:
         the rows written and the NPZ is not written."""
         written: list[Path] = []
         if self.csv is not None:
-            self.csv.close()
+            with writing(self.csv.path):
+                self.csv.close()
             written.append(self.csv.path)
         if self.npz is not None:
             if drawn is None:
@@ -91,9 +95,25 @@ class _Sinks:
 
                 for name, value in drawn.npz_arrays().items():
                     self.npz.set(name, value)
-                with progress_bar(self.npz.count, "result.npz", unit="array", quiet=self.quiet) as bar:
+                with progress_bar(self.npz.count, "result.npz", unit="array", quiet=self.quiet) as bar, \
+                        writing(self.npz.path):
                     written.append(self.npz.close(progress=bar))
         return written
+
+    def partial_metrics(self) -> dict[str, Any]:
+        """What metrics.json holds for a run that stopped: the metrics of the
+        rows simulated (when they fill a window) and how far it got."""
+        rows = self.metrics.rows
+        metrics: dict[str, Any] = {"scenario": self.scenario.name, "controller": self.label,
+                                   "rows_simulated": rows, "simulated_to_s": self.metrics.t_last}
+        if self.csv is not None and self.csv.path.is_file():
+            # Read back: a Ctrl-C right after a block is written comes before it is counted.
+            metrics["rows_in_result_csv"], metrics["result_csv_to_s"] = _csv_extent(self.csv.path)
+        try:
+            metrics.update(self.metrics.value())
+        except ValueError:
+            pass  # too few rows for the window: the counts above say how far it got
+        return metrics
 
 
 def stream_run(scenario: Scenario, out_dir: str | Path | None = None, *, quiet: bool = True,
@@ -105,11 +125,13 @@ def stream_run(scenario: Scenario, out_dir: str | Path | None = None, *, quiet: 
     the run goes (the same files as :meth:`Result.to_csv` and
     :meth:`Result.to_npz` of the whole run). Unless `quiet`, a progress bar
     of the rows on a terminal. A run that diverges ends with the chunk where
-    it did; an exception (e.g. Ctrl-C) keeps the CSV rows written so far."""
+    it did; an exception (e.g. Ctrl-C, a full disk) keeps the CSV rows
+    written so far and a metrics.json of those rows, ``"partial": true``
+    (result.npz is not written)."""
     from neurov.controller import is_built_in
     from neurov.controllers import build_controller
     from neurov.progress import progress_bar
-    from neurov.run import check_output_dir
+    from neurov.run_folder import check_output_dir
     from neurov.simulation import build_vehicle, simulation_config
 
     if not isinstance(chunk_rows, int) or chunk_rows < 1:
@@ -138,7 +160,7 @@ def stream_run(scenario: Scenario, out_dir: str | Path | None = None, *, quiet: 
                 sim = Simulator(scenario, vehicle=plant, label=spec.name, log_rows=chunk)
                 sinks.errors = sim.run(controller, on_rows=on_rows).extra.get("controller_errors", {})
         except BaseException:
-            sinks.close(None)
+            _keep_what_was_written(sinks, out)
             raise
         wall = time.perf_counter() - start
     drawn = sinks.plot_rows.result()
@@ -146,9 +168,44 @@ def stream_run(scenario: Scenario, out_dir: str | Path | None = None, *, quiet: 
     drawn.wall_time = wall
     if sinks.errors:
         drawn.extra["controller_errors"] = sinks.errors
+    if sinks.metrics.first_refused is not None:
+        drawn.extra["first_refused"] = sinks.metrics.first_refused
     elevation = None
     if sinks.elevation is not None:
         t, surface = (np.concatenate(parts) for parts in zip(*sinks.elevation))
         elevation = dataclasses.replace(drawn, t=t, wave_elevation=surface)
     return StreamedRun(drawn=drawn, metrics=sinks.metrics.value(), elevation=elevation, sea=sinks.sea,
                        written=written)
+
+
+def _keep_what_was_written(sinks: _Sinks, out: Path | None) -> None:
+    """After an exception: the CSV closed with its rows, a partial
+    metrics.json beside it; a second failure (the disk still full) loses
+    only the mark, never the exception that stopped the run."""
+    try:
+        sinks.close(None)
+    except OSError:
+        pass
+    if out is None or not sinks.metrics.rows:
+        return  # nothing simulated: nothing to keep
+    from neurov.run import write_metrics
+
+    try:
+        write_metrics({**sinks.partial_metrics(), "partial": True}, out)
+    except OSError:
+        pass
+
+
+def _csv_extent(path: Path) -> tuple[int, float | None]:
+    """The data rows of the CSV at `path` and the ``t`` of its last one."""
+    rows, tail = -1, b""
+    with path.open("rb") as f:
+        while block := f.read(1 << 22):
+            rows += block.count(b"\n")
+            tail = (tail + block)[-4096:]
+    lines = tail.rstrip(b"\n").split(b"\n")
+    try:
+        last_t = float(lines[-1].split(b",", 1)[0]) if rows > 0 else None
+    except ValueError:
+        last_t = None
+    return max(rows, 0), last_t

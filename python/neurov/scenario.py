@@ -83,6 +83,8 @@ __all__ = [
     "SensorFault",
     "ThrusterFailure",
     "load_scenario",
+    "scenario_path",
+    "shipped_scenarios",
 ]
 
 # The core's own structs: a scenario holds them as they are.
@@ -359,6 +361,33 @@ class Scenario:
                 p = Path(self.source).parent / p
             return p
         return preset_path(self.vehicle)
+
+
+SCENARIO_DIR = Path(__file__).resolve().parent / "scenarios"
+"""The shipped scenarios, each found by its name (the file's stem)."""
+
+
+def shipped_scenarios() -> list[str]:
+    """The names of the shipped scenarios (``paper_fig3``, ...)."""
+    return sorted(p.stem for p in SCENARIO_DIR.glob("*.toml"))
+
+
+def scenario_path(name_or_path: str | Path) -> Path:
+    """The file to read for a scenario file's path or a shipped scenario's
+    name (``paper_fig3``): the one resolver of ``neurov run``, the Gymnasium
+    environment. A ``.toml`` path, a path through a folder (``./x``,
+    ``/dev/zero``) or anything else that exists but a folder is taken as
+    given (:func:`load_scenario` names what is wrong with it); another name
+    must be a shipped scenario's (a folder of that name does not hide it),
+    else :class:`ScenarioError` listing them."""
+    path = Path(name_or_path)
+    if path.suffix == ".toml" or len(path.parts) > 1 or (path.exists() and not path.is_dir()):
+        return path
+    shipped = SCENARIO_DIR / f"{path.name}.toml"
+    if shipped.is_file():
+        return shipped
+    raise ScenarioError(f"{name_or_path}: no such scenario file, and no shipped scenario of that name "
+                        f"(shipped: {', '.join(shipped_scenarios())})")
 
 
 def load_scenario(path: str | Path) -> Scenario:

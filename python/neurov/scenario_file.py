@@ -300,7 +300,12 @@ def scenario_from_mapping(data: Mapping[str, Any], origin: str = "<scenario>") -
     c.dt = r.number("dt", c.dt)
     c.substeps = r.integer("substeps", c.substeps, minimum=-(2**31),
                            maximum=(_core.MAX_SUBSTEPS, "neurov.MAX_SUBSTEPS"))
-    c.seed = r.integer("seed", c.seed)
+    try:
+        c.seed = r.integer("seed", c.seed)
+    except ValueError as e:  # the core's range check, which gives the range
+        if isinstance(e, ScenarioError):
+            raise
+        raise r.error("seed", str(e).removeprefix("SimulationConfig.seed ")) from None
     v = r.table_of("vehicle")
     if v.has("preset") and v.has("file"):
         raise v.error("file", "give either 'preset' or 'file', not both")

@@ -94,7 +94,8 @@ class Simulator:
     def run(self, controller: Any, on_rows: Callable[[dict[str, Any]], None] | None = None) -> Result:
         """Runs `controller` (a :class:`neurov.Controller`) from the current
         step to the end: its refused steps are logged with their status and
-        the run goes on. Returns :meth:`result`. With `on_rows`, the rows are
+        the run goes on (a :class:`neurov.RefusedStepsWarning` at the end if
+        the controller failed; ``result().first_refusal`` says how). Returns :meth:`result`. With `on_rows`, the rows are
         handed over as the simulator's log fills (``log_rows``) and at the
         end: ``on_rows(dict)`` gets the dict of ``neurov._core.run_closed_loop``
         for each chunk, and the result returned holds no rows."""
@@ -112,6 +113,7 @@ class Simulator:
             on_rows(sim.drain())
         self._wall += time.perf_counter() - start
         self._errors = call.errors
+        call.warn_if_refused(self.label, self._sim.steps)
         return self.result()
 
     @property

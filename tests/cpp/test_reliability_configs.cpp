@@ -206,7 +206,10 @@ TYPED_TEST(ReliabilityTest, SimulationConfigurationNamesTheBadField) {
       {"dt above kMaxStep", [](auto& c) { c.dt = S(10.5); }, "dt"},
       {"zero substeps", [](auto& c) { c.substeps = 0; }, "substeps"},
       {"negative duration", [](auto& c) { c.duration = S(-1); }, "duration"},
-      {"too many steps", [](auto& c) { c.duration = S(1e9); }, "duration"},
+      // More than 1e8 steps: dt's fault while some dt up to kMaxStep would do, else duration's.
+      {"too many steps at any dt", [](auto& c) { c.duration = S(2e9); }, "duration"},
+      {"too many steps of a tiny dt", [](auto& c) { c.dt = S(1e-9); }, "dt"},
+      {"the smallest denormal dt", [](auto& c) { c.dt = std::numeric_limits<S>::denorm_min(); }, "dt"},
       {"NaN initial pose", [nan](auto& c) { c.eta0(2) = nan; }, "eta0"},
       {"initial pitch at 90 deg", [](auto& c) { c.eta0(4) = static_cast<S>(kPi / 2); }, "eta0"},
       {"infinite initial velocity",

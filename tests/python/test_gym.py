@@ -252,3 +252,35 @@ def test_render_rgb_array_draws_the_top_view() -> None:
     assert image.dtype == np.uint8 and image.shape == (480, 480, 3)
     assert len(np.unique(image.reshape(-1, 3), axis=0)) > 10
     assert TrackingEnv("paper_fig3").render() is None
+
+
+@pytest.mark.parametrize(
+    "action",
+    [{"surge": 1.0}, "abcdef", [True] * 6, np.ones(6, dtype=complex), np.zeros(6, dtype=object), ["0"] * 6],
+    ids=["dict", "str", "bool", "complex", "object", "numeric strings"],
+)
+def test_an_action_that_is_not_real_numbers_is_named_and_changes_nothing(action: object) -> None:
+    env = TrackingEnv("paper_fig3")
+    env.reset(seed=0)
+    with pytest.raises(TypeError, match=r"argument 'action' must hold real numbers \(shape \(6,\)\)"):
+        env.step(action)
+    assert env.unwrapped._sim.steps == 0
+
+
+def test_render_before_reset_says_reset_first() -> None:
+    env = TrackingEnv("paper_fig3", render_mode="rgb_array")
+    with pytest.raises(gymnasium.error.ResetNeeded, match=r"call reset\(\) before render\(\)"):
+        env.render()
+
+
+@pytest.mark.parametrize("seed", [2**63, 2**64, -1])
+def test_a_seed_out_of_range_gives_the_range_and_changes_nothing(seed: int) -> None:
+    env = TrackingEnv("paper_fig3")
+    first, _ = env.reset(seed=3)
+    env.step(np.zeros(6))
+    if seed == 2**63:  # the core's seeds are 64-bit unsigned: this one is taken
+        env.reset(seed=seed)
+        return
+    with pytest.raises(ValueError, match=r"argument 'seed' must be >= 0 and <= 18446744073709551615"):
+        env.reset(seed=seed)
+    assert env.unwrapped._sim.steps == 1

@@ -140,7 +140,8 @@ class FailsAt:
 @pytest.mark.parametrize("policy", ["zero", "hold"])
 def test_a_failing_controller_is_a_refused_step_and_the_run_goes_on(how: str, status: str, policy: str) -> None:
     scenario = quiet_scenario(policy)
-    result = neurov.simulate(scenario, FailsAt(how))
+    with pytest.warns(neurov.RefusedStepsWarning, match=f"10 of 101 steps refused, the first at t = 5 s \\({status}"):
+        result = neurov.simulate(scenario, FailsAt(how))
     rows = round(scenario.duration / scenario.dt) + 1
     assert len(result.t) == rows and not result.diverged
     bad = (result.t >= 5.0 - 1e-9) & (result.t < 7.0 - 1e-9)
@@ -157,8 +158,57 @@ def test_a_failing_controller_is_a_refused_step_and_the_run_goes_on(how: str, st
 
 
 def test_a_raising_controller_message_is_kept() -> None:
-    result = neurov.simulate(quiet_scenario(), FailsAt("raise"))
+    with pytest.warns(neurov.RefusedStepsWarning):
+        result = neurov.simulate(quiet_scenario(), FailsAt("raise"))
     assert result.extra["controller_errors"]["invalid_argument"]["first"] == "step raised RuntimeError: boom"
+    assert result.first_refusal == "t = 5 s, invalid_argument: step raised RuntimeError: boom"
+
+
+class WrongSignature:
+    """A step that takes the pose only: every call raises TypeError."""
+
+    def step(self, eta: Any) -> Any:
+        return -eta
+
+
+def test_a_controller_refused_at_every_step_is_counted_over_the_run_and_warned() -> None:
+    scenario = quiet_scenario()  # 101 rows, 51 of them in the window t >= 10 s
+    with pytest.warns(neurov.RefusedStepsWarning, match="'WrongSignature': 101 of 101 steps refused"):
+        result = neurov.simulate(scenario, WrongSignature())
+    m = result.metrics()
+    assert m["refused_steps"] == 101 and m["refused_steps_in_window"] == 51
+    assert result.first_refusal.startswith("t = 0 s, invalid_argument: step raised TypeError: ")
+    assert "positional argument" in result.first_refusal
+
+
+class RaisingArray:
+    """What a tensor of another library may do when numpy converts it."""
+
+    def __array__(self, dtype: Any = None, copy: Any = None) -> Any:
+        raise RuntimeError("tensor on another device")
+
+
+@pytest.mark.parametrize(
+    "tau",
+    [["1"] * 6, [True] * 6, np.ones(6, dtype=complex), np.ones(6, dtype=object), "thrust", {"X": 1.0},
+     RaisingArray()],
+    ids=["numeric strings", "bools", "complex", "object array", "str", "dict", "raising __array__"],
+)
+def test_values_that_are_not_real_numbers_are_refused_as_simulator_step_refuses_them(tau: Any) -> None:
+    scenario = quiet_scenario().replace(duration=2.0)
+    sim = neurov.Simulator(scenario)
+    sim.reset()
+    with pytest.raises(TypeError, match="argument 'tau' must"):
+        sim.step(tau)
+
+    class Returns:
+        def step(self, *args: Any) -> Any:
+            return tau
+
+    with pytest.warns(neurov.RefusedStepsWarning, match="11 of 11 steps refused"):
+        result = neurov.simulate(scenario, Returns())
+    np.testing.assert_array_equal(result.controller_status, int(_core.Status.invalid_argument))
+    assert "not six real numbers" in result.first_refusal
 
 
 def test_an_object_without_step_is_a_named_error() -> None:

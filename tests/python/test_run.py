@@ -123,3 +123,49 @@ def test_example_through_the_cli(tmp_path: Path, capsys: pytest.CaptureFixture[s
     assert (tmp_path / "o" / "metrics.json").is_file()
     assert cli.main(["run", str(tmp_path / "missing.toml")]) == 1
     assert "missing.toml" in capsys.readouterr().err
+
+
+def test_a_shipped_scenario_runs_by_name(capsys: pytest.CaptureFixture[str]) -> None:
+    cli = pytest.importorskip("neurov.cli")
+    assert cli.main(["run", "paper_fig3"]) == 0
+    assert "scenario 'paper_fig3'" in capsys.readouterr().out
+    assert cli.main(["run", "paper_fig9"]) == 1
+    err = capsys.readouterr().err
+    assert "paper_fig9: no such scenario file, and no shipped scenario of that name" in err and "paper_fig3" in err
+
+
+def test_plot_without_out_prints_the_run_usage(scenario_file: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    cli = pytest.importorskip("neurov.cli")
+    with pytest.raises(SystemExit) as stop:
+        cli.main(["run", str(scenario_file), "--plot"])
+    assert stop.value.code == 2
+    err = capsys.readouterr().err
+    assert err.startswith("usage: neurov run ") and "--plot needs --out DIR" in err
+
+
+def test_python_dash_m_neurov_is_the_command() -> None:
+    import subprocess
+    import sys
+
+    import neurov
+
+    env = {**__import__("os").environ, "PYTHONPATH": str(Path(neurov.__file__).resolve().parents[1])}
+    done = subprocess.run([sys.executable, "-m", "neurov", "--version"], capture_output=True, text=True, env=env)
+    assert done.returncode == 0 and done.stdout.startswith(f"neurov {neurov.__version__}")
+
+
+def test_refused_steps_before_the_window_are_counted_and_said(tmp_path: Path,
+                                                              capsys: pytest.CaptureFixture[str]) -> None:
+    cli = pytest.importorskip("neurov.cli")
+    path = tmp_path / "dropout.toml"
+    # A 1 s sensor dropout in the first half: all 5 refused steps before the window (t >= 2 s).
+    path.write_text(SCENARIO.replace("duration = 10.0", "duration = 4.0")
+                    + '\n[[sensor_faults]]\nkind = "dropout"\nstart = 1.0\nend = 2.0\n', encoding="utf-8")
+    assert cli.main(["run", str(path), "--out", str(tmp_path / "o")]) == 0
+    captured = capsys.readouterr()
+    assert "refused controller steps  5 (0 in the window)" in captured.out
+    line = "5 of 21 controller steps were refused (0 in the metrics window), the first at t = 1 s, non_finite_input"
+    assert f"warning: {line}" in captured.out and f"neurov: warning: {line}" in captured.err
+    m = json.loads((tmp_path / "o" / "metrics.json").read_text())
+    assert m["refused_steps"] == 5 and m["refused_steps_in_window"] == 0
+    assert m["first_refusal"] == "t = 1 s, non_finite_input"

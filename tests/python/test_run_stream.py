@@ -90,7 +90,7 @@ def test_a_diverging_stream_keeps_every_row(tmp_path: Path) -> None:
 class Hold:
     """A Python controller: a constant force."""
 
-    def step(self, observation: Any) -> np.ndarray:
+    def step(self, eta: Any, nu: Any, eta_d: Any, eta_d_dot: Any, eta_d_ddot: Any) -> np.ndarray:
         return np.array([5.0, 0.0, 1.0, 0.0, 0.0, 0.5])
 
 
@@ -99,6 +99,7 @@ def test_a_python_controller_streams_through_the_simulator(tmp_path: Path) -> No
 
     scenario = load_scenario(SCENARIOS / "lawnmower_pd_current.toml").replace(duration=30.0)
     whole = Simulator(scenario).run(Hold())
+    assert not whole.controller_status.any()  # the force is applied, no step refused
     chunks: list[dict[str, Any]] = []
     sim = Simulator(scenario, log_rows=40)
     assert len(sim.run(Hold(), on_rows=chunks.append).t) == 0

@@ -3,6 +3,7 @@
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
 
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -121,9 +122,8 @@ void bind_simulator(py::module_& m) {
             }
             if (!py::isinstance<py::int_>(seed) || py::isinstance<py::bool_>(seed))
               throw py::type_error("argument 'seed' must be an int or None");
-            const auto v = seed.cast<long long>();
-            if (v < 0) throw py::value_error("argument 'seed' must be >= 0");
-            sim.reset(static_cast<std::uint64_t>(v));
+            // SimulationConfig::seed's type: every seed a configuration takes resets too.
+            sim.reset(py_args::integer<std::uint64_t>(seed, "argument 'seed'"));
           },
           py::arg("seed") = py::none(),
           "Back to t = 0 with noise from `seed`; None: the seed of the last reset (the "

@@ -18,33 +18,30 @@ from gymnasium import spaces
 from numpy.typing import NDArray
 
 from neurov import _core
+from neurov.controller import as_real_numbers
 from neurov.gym.limits import single_dof_limits
-from neurov.scenario import Scenario, load_scenario
+from neurov.scenario import Scenario, ScenarioError, load_scenario, scenario_path
 from neurov.simulation import build_vehicle, simulation_config
 from neurov.vehicle_file import VehicleFile, read_vehicle_file
 
 __all__ = ["TrackingEnv", "resolve_scenario"]
 
 Array = NDArray[np.float64]
-SCENARIO_DIR = Path(__file__).resolve().parent.parent / "scenarios"
 
 
 def resolve_scenario(scenario: Scenario | str | Path) -> Scenario:
-    """A Scenario as given, a scenario file by path, or a shipped scenario by name."""
+    """A Scenario as given, a scenario file by path, or a shipped scenario by
+    name (:func:`neurov.scenario.scenario_path`)."""
     if isinstance(scenario, Scenario):
         return scenario
     if not isinstance(scenario, (str, Path)):
         raise TypeError(f"argument 'scenario' must be a Scenario, a shipped scenario's name or a path, "
                         f"got {type(scenario).__name__}")
-    path = Path(scenario)
-    if path.is_file():
-        return load_scenario(path)
-    shipped = SCENARIO_DIR / f"{scenario}.toml"
-    if path.suffix != ".toml" and shipped.is_file():
-        return load_scenario(shipped)
-    names = sorted(p.stem for p in SCENARIO_DIR.glob("*.toml"))
-    raise ValueError(f"argument 'scenario': no scenario file {str(scenario)!r} and no shipped scenario of "
-                     f"that name (shipped: {', '.join(names)})")
+    try:
+        path = scenario_path(scenario)
+    except ScenarioError as e:
+        raise ValueError(f"argument 'scenario': {e}") from None
+    return load_scenario(path)
 
 
 def _vehicle_file(scenario: Scenario) -> VehicleFile:
@@ -180,8 +177,12 @@ class TrackingEnv(gymnasium.Env):
         """Back to t = 0. The measurement noise is seeded from `seed`; None
         draws a seed from the environment's generator (itself seeded by the
         last reset with a seed), so the same seed gives the same episode."""
+        if seed is not None:
+            # First: the core refuses a seed outside its range (saying it) before anything changes.
+            self._sim.reset(seed)
         super().reset(seed=seed)
-        self._sim.reset(int(self.np_random.integers(2**63 - 1)) if seed is None else int(seed))
+        if seed is None:
+            self._sim.reset(int(self.np_random.integers(2**63 - 1)))
         self._episode_over = None
         self._clips = 0
         obs, info = self._observe()
@@ -217,10 +218,15 @@ class TrackingEnv(gymnasium.Env):
         """Applies the action for one control period; returns (observation,
         reward, terminated, truncated, info). RuntimeError before reset() or
         after the episode ended; ValueError for a wrong shape or a non-finite
-        action (nothing is simulated then)."""
+        action, TypeError for one that is not real numbers (a dict, str,
+        bool or complex values; nothing is simulated then)."""
         if self._episode_over is not None:
             raise RuntimeError(f"TrackingEnv.step: {self._episode_over}")
-        a = np.asarray(action, dtype=np.float64)
+        try:
+            a = as_real_numbers(action)
+        except Exception as exc:  # a dict, a str, bools, complex numbers: the reason names the type
+            raise TypeError(f"TrackingEnv.step: argument 'action' must hold real numbers (shape "
+                            f"{self._action_shape}), got {exc}") from None
         if a.shape != self._action_shape:
             raise ValueError(f"TrackingEnv.step: argument 'action' must have shape {self._action_shape}, "
                              f"got {a.shape}")
@@ -259,9 +265,12 @@ class TrackingEnv(gymnasium.Env):
 
     def render(self) -> NDArray[np.uint8] | None:
         """The top view (north up, east right) as an RGB array: the commanded
-        poses, the desired and the true path so far, and the vehicle's heading."""
+        poses, the desired and the true path so far, and the vehicle's heading.
+        Before the first reset(), gymnasium's ResetNeeded."""
         if self.render_mode is None:
             return None
+        if not self._track:
+            raise gymnasium.error.ResetNeeded("TrackingEnv.render: call reset() before render()")
         from neurov.gym.render import top_view
 
         heading = float(self._sim.state[0][5])

@@ -204,9 +204,16 @@ inline ValidationError validate(const SimulationConfig<Scalar>& c) {
     return detail::invalid("substeps", -1, static_cast<double>(c.substeps),
                            "a whole number in 1..10000 (neurov::kMaxSubsteps)");
   if (auto e = detail::check_positive_scalar("duration", static_cast<double>(c.duration))) return e;
-  if (c.duration / c.dt > Scalar(1e8))
-    return detail::invalid("duration", -1, static_cast<double>(c.duration),
-                           "at most 1e8 control steps");
+  // A run has at most 1e8 control steps. The field named is the one that can
+  // be fixed: dt (raise it) unless no step up to kMaxStep brings the duration
+  // within the limit (a dt of 5e-324 is dt's fault, not a 250 s duration's).
+  if (c.duration / c.dt > Scalar(1e8)) {
+    if (static_cast<double>(c.duration) > 1e8 * kMaxStep)
+      return detail::invalid("duration", -1, static_cast<double>(c.duration),
+                             "at most 1e9 s (1e8 control steps of the largest dt, 10 s)");
+    return detail::invalid("dt", -1, static_cast<double>(c.dt),
+                           ">= duration / 1e8 (a run has at most 1e8 control steps)");
+  }
   if (c.control_delay < 0 || c.control_delay > kMaxControlDelay)
     return detail::invalid("control_delay", -1, static_cast<double>(c.control_delay),
                            "a whole number of control periods in 0..16");

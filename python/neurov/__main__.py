@@ -1,0 +1,7 @@
+"""``python -m neurov``: the ``neurov`` command."""
+
+import sys
+
+from neurov.cli import main
+
+sys.exit(main())
