@@ -3,6 +3,7 @@ and how one is called in a run (its refused steps named, the run going on)."""
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 import inspect
 from typing import Any, Protocol, runtime_checkable
 
@@ -11,8 +12,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from neurov import _core
 
-__all__ = ["BUILT_IN_CONTROLLERS", "Controller", "ControllerCall", "as_real_numbers", "is_built_in",
-           "require_controller"]
+__all__ = ["BUILT_IN_CONTROLLERS", "OWN_FAILURES", "Controller", "ControllerCall", "as_real_numbers",
+           "describe_failures", "is_built_in", "own_failures", "require_controller"]
 
 #: The compiled controllers: a run with one of these is the all-C++ loop.
 BUILT_IN_CONTROLLERS: tuple[type, ...] = tuple(
@@ -71,8 +72,23 @@ def as_real_numbers(value: Any) -> NDArray[np.float64]:
 
 
 #: The refusals that are the controller's own failure (a dropout's
-#: non_finite_input is the sensor's): a run with any is warned about.
-_OWN_FAILURES = ("invalid_argument", "non_finite_output")
+#: non_finite_input is the sensor's): a run with any is warned about, and
+#: in a study it is a failed run.
+OWN_FAILURES = ("invalid_argument", "non_finite_output")
+
+
+def own_failures(errors: Mapping[str, Mapping[str, Any]]) -> dict[str, Mapping[str, Any]]:
+    """The entries of a run's ``controller_errors`` (status name -> count,
+    first time, first message) that are the controller's own failure."""
+    return {k: e for k, e in errors.items() if k in OWN_FAILURES}
+
+
+def describe_failures(own: Mapping[str, Mapping[str, Any]], rows: int) -> str:
+    """``"3 of 15 steps refused, the first at t = 0.2 s (invalid_argument: ...)"``."""
+    count = sum(int(e["count"]) for e in own.values())
+    kind, first = min(own.items(), key=lambda kv: kv[1]["first_t"])
+    return (f"{count} of {rows} steps refused, the first at t = {first['first_t']:g} s "
+            f"({kind}: {first['first']})")
 
 
 def _takes_time(step: Any) -> bool:
@@ -147,18 +163,15 @@ class ControllerCall:
 
     def warn_if_refused(self, label: str, rows: int) -> None:
         """A :class:`neurov.RefusedStepsWarning` if the controller failed on
-        any of the `rows` steps of a run (see :data:`_OWN_FAILURES`)."""
-        own = {k: e for k, e in self.errors.items() if k in _OWN_FAILURES}
+        any of the `rows` steps of a run (see :data:`OWN_FAILURES`)."""
+        own = own_failures(self.errors)
         if not own:
             return
         import warnings
 
         from neurov.errors import RefusedStepsWarning
 
-        count = sum(e["count"] for e in own.values())
-        kind, first = min(own.items(), key=lambda kv: kv[1]["first_t"])
-        warnings.warn(f"controller {label!r}: {count} of {rows} steps refused, the first at "
-                      f"t = {first['first_t']:g} s ({kind}: {first['first']}); the run went on under "
+        warnings.warn(f"controller {label!r}: {describe_failures(own, rows)}; the run went on under "
                       "the scenario's refused_step_policy, see result.first_refusal",
                       RefusedStepsWarning, stacklevel=4)
 

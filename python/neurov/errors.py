@@ -20,6 +20,7 @@ from __future__ import annotations
 from neurov._core import NeurovError, ValidationError
 
 __all__ = [
+    "ControllerError",
     "FactoryError",
     "NeurovError",
     "RefusedStepsWarning",
@@ -54,6 +55,12 @@ class StudyError(NeurovError):
 
 class FactoryError(NeurovError):
     """A factory that cannot be imported, is not callable, or does not return a controller."""
+
+
+class ControllerError(NeurovError):
+    """A controller written in Python failed in a study's run (it raised, or
+    returned something that is not six finite real numbers): the study
+    records the run as failed, with the first failure's message."""
 
 
 class RefusedStepsWarning(RuntimeWarning):

@@ -111,3 +111,17 @@ def test_a_run_at_the_substeps_limit_is_bounded(tmp_path: Path) -> None:
     result = neurov.simulate(scenario)
     assert time.perf_counter() - start < 10.0
     assert len(result.t) == 6 and np.all(np.isfinite(result.eta))
+
+
+def test_a_study_of_more_runs_than_it_holds_is_refused_at_once(tmp_path: Path) -> None:
+    from neurov.study.spec import MAX_RUNS
+
+    path = tmp_path / "study.toml"
+    path.write_text('scenarios = ["nerov_square", "nerov_helix"]\nsamples = 1000000000\n'
+                    '[controllers.pd]\ntype = "pd"\n', encoding="utf-8")
+    with pytest.raises(StudyError) as err:  # when the file is read, before any run's key is made
+        load_study(path)
+    message = str(err.value)
+    assert str(path) in message and "samples" in message and f"{MAX_RUNS}" in message, message
+    path.write_text(path.read_text().replace("1000000000", str(MAX_RUNS // 2)), encoding="utf-8")
+    assert load_study(path).samples == MAX_RUNS // 2

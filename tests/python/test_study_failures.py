@@ -80,7 +80,9 @@ def test_failed_runs_are_results_and_the_others_finish(tmp_path: Path, executor:
     assert set(ok.controller) == {"pd", "crashes"} and (ok.failed == 0).all() and len(ok) == 3
     assert (by["crashes"].scenario[by["crashes"].error_kind.isna()] == "a").all()
     assert (by["tensor"].error_kind == "error").all()
-    assert by["tensor"].error.str.startswith("RuntimeError: cannot convert a tensor on a lost device").all()
+    # Its every step refused (as Simulator.step refuses non-numbers): in a study, a failed run.
+    assert by["tensor"].error.str.startswith("ControllerError: controller 'tensor': 16 of 16 steps refused").all()
+    assert by["tensor"].error.str.contains("cannot convert a tensor on a lost device").all()
     assert (by["exits"].error == "SystemExit: sys.exit(3) in the run").all()
     crashed = by["crashes"][by["crashes"].scenario == "b"]
     assert (crashed.error_kind == "crash").all() and len(crashed) == 1

@@ -7,12 +7,15 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
+from neurov.controller import describe_failures, own_failures
+from neurov.errors import ControllerError, RefusedStepsWarning
 from neurov.scenario import ControllerSpec
 from neurov.study.sampling import sample_plant
 from neurov.study.spec import METRIC_NAMES, Study, vehicle_key
@@ -74,7 +77,11 @@ def run_one(study: Study, key: RunKey) -> dict[str, Any]:
     message."""
     cpu_start = time.process_time()
     try:
-        return _run(study, key, cpu_start)
+        with warnings.catch_warnings():
+            # A run's refused steps are its `refused_steps` column; a warning
+            # per run from a worker would say it again, thousands of times.
+            warnings.simplefilter("ignore", RefusedStepsWarning)
+            return _run(study, key, cpu_start)
     except (Exception, SystemExit) as e:  # noqa: BLE001 - any error of the user's code is this run's result
         message = str(e) if not isinstance(e, SystemExit) else f"sys.exit({e.code!r}) in the run"
         return error_record(study, key, "error", type(e).__name__, message,
@@ -112,6 +119,9 @@ def _run(study: Study, key: RunKey, cpu_start: float) -> dict[str, Any]:
     if factory is not None:
         # The factory sees the nominal scenario, as a built-in controller is designed for it.
         result = simulate(plant, factory.make(scenario), label=controller)
+        own = own_failures(result.extra.get("controller_errors") or {})
+        if own:  # warned about in a single run; in a study, a failed run
+            raise ControllerError(f"controller {controller!r}: {describe_failures(own, len(result.t))}")
     else:
         spec = resolved_spec(study, key.controller, key.scenario)
         if spec.type == "nn" and study.basis_rank:

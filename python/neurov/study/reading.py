@@ -19,6 +19,7 @@ from neurov.study.sampling import nominal_parameters, scaled
 from neurov.study.spec import (
     _NON_NEGATIVE,
     ENVIRONMENT_PARAMETERS,
+    MAX_RUNS,
     NORMAL_TRUNCATION,
     SCENARIO_DIR,
     STUDY_DIR,
@@ -223,6 +224,11 @@ def study_from_mapping(data: Mapping[str, Any], origin: str = "<study>") -> Stud
                   ranking_metric=ranking, also_show=list(also), failure=failure, head_to_head=pairs,
                   reference=reference, basis_rank=basis_rank,
                   description=description, source=origin)
+    runs = len(scenarios) * len(controllers) * samples
+    if runs > MAX_RUNS:
+        raise StudyError(f"{origin}: samples: {len(scenarios)} scenarios x {len(controllers)} controllers x "
+                         f"{samples} samples = {runs} runs, more than a study holds "
+                         f"(neurov.study.spec.MAX_RUNS = {MAX_RUNS})")
     _check_metrics(study, origin)
     _check_plants(study, origin)
     _check_controllers(study, origin, {k: bool(t and any(isinstance(v, Mapping) and n != "centres"

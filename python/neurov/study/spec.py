@@ -44,6 +44,12 @@ _NON_NEGATIVE = {"current_speed", "noise_scale", "disturbance_scale"}
 # plant must stay physical (a factor of 1 - 2 * 0.3 is still positive).
 NORMAL_TRUNCATION = 2.0
 
+#: The most runs one study holds (scenarios x controllers x samples): a study
+#: plans every run's key before the first runs, about 250 bytes each in
+#: memory and one log line each on disk, so 10^6 runs are a quarter of a
+#: gigabyte of keys; the shipped robustness study has 3300.
+MAX_RUNS = 1_000_000
+
 
 @dataclass(frozen=True)
 class Perturbation:
