@@ -144,3 +144,24 @@ def read_toml(path: str | Path, error: type[Exception], kind: str) -> dict[str, 
     if _depth(table) > MAX_TOML_DEPTH:
         raise deep
     return table
+
+
+def shipped_or_path(name_or_path: str | os.PathLike[str], folder: Path, kind: str,
+                    error: type[Exception]) -> Path:
+    """The file to read for a path or the name of a file shipped in `folder`
+    (``paper_fig3``, ``robustness``): the one resolver of scenarios, studies
+    and tunings. A ``.toml`` path, a path through a folder (``./x``,
+    ``/dev/zero``) or anything else that exists but a folder is taken as
+    given (its reader names what is wrong with it); another name must be a
+    shipped file's (a folder of that name, say an earlier run's output, does
+    not hide it), else `error` listing the shipped `kind` files."""
+    path = Path(name_or_path)
+    if path.suffix == ".toml" or len(path.parts) > 1 or (path.exists() and not path.is_dir()):
+        return path
+    shipped = folder / f"{path.name}.toml"
+    if shipped.is_file():
+        return shipped
+    names = sorted(q.stem for q in folder.glob("*.toml"))
+    raise error(f"{name_or_path}: no such {kind} file, and no shipped {kind} of that name "
+                f"(shipped: {', '.join(names) or 'none'})")
+

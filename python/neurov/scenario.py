@@ -71,6 +71,7 @@ from numpy.typing import NDArray
 
 from neurov import _core, trajectories
 from neurov.errors import ScenarioError
+from neurov.files import shipped_or_path
 from neurov.vehicle_file import VehicleFile, preset_path, read_vehicle_file
 
 __all__ = [
@@ -380,14 +381,7 @@ def scenario_path(name_or_path: str | Path) -> Path:
     given (:func:`load_scenario` names what is wrong with it); another name
     must be a shipped scenario's (a folder of that name does not hide it),
     else :class:`ScenarioError` listing them."""
-    path = Path(name_or_path)
-    if path.suffix == ".toml" or len(path.parts) > 1 or (path.exists() and not path.is_dir()):
-        return path
-    shipped = SCENARIO_DIR / f"{path.name}.toml"
-    if shipped.is_file():
-        return shipped
-    raise ScenarioError(f"{name_or_path}: no such scenario file, and no shipped scenario of that name "
-                        f"(shipped: {', '.join(shipped_scenarios())})")
+    return shipped_or_path(name_or_path, SCENARIO_DIR, "scenario", ScenarioError)
 
 
 def load_scenario(path: str | Path) -> Scenario:

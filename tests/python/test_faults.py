@@ -12,7 +12,6 @@ recovery check would be vacuous.
 
 from __future__ import annotations
 
-import dataclasses
 from functools import lru_cache
 from pathlib import Path
 

@@ -5,7 +5,6 @@ on both (studies/realism.toml, docs/studies.md "Ideal and realistic")."""
 from __future__ import annotations
 
 import tomllib
-from pathlib import Path
 
 import numpy as np
 import pytest

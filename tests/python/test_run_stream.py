@@ -13,7 +13,7 @@ import pytest
 
 from neurov import _core, load_scenario, simulate
 from neurov.decimation import PlotRows, for_plotting
-from neurov.result import SERIES, Result
+from neurov.result import SERIES
 from neurov.run_stream import stream_run
 from neurov.scenario import ControllerSpec
 from neurov.simulation import build_vehicle

@@ -5,9 +5,9 @@ and tuning files refused before any run."""
 from __future__ import annotations
 
 import math
+import os
 import subprocess
 import sys
-import textwrap
 import tomllib
 from pathlib import Path
 
@@ -155,7 +155,7 @@ print(run_trials(load_tuning(sys.argv[1]), "pd", open_storage(out), TrialRunner(
 
 def test_two_processes_on_one_storage_do_not_duplicate_trials(tmp_path: Path) -> None:
     path = write(tmp_path, trials=8)
-    env = {"PYTHONPATH": str(Path(__file__).resolve().parents[2] / "python"), "PATH": "/usr/bin:/bin"}
+    env = dict(os.environ)  # the neurov under test, installed or on PYTHONPATH
     procs = [subprocess.Popen([sys.executable, "-W", "error", "-c", WORKER, str(path), str(tmp_path)],
                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
              for _ in range(2)]

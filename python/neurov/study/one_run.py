@@ -4,7 +4,6 @@ band plots draw. A batch of runs is the unit of work sent to a worker."""
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import time
 import warnings

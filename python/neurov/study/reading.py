@@ -10,7 +10,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from neurov.files import read_toml
+from neurov.files import read_toml, shipped_or_path
 from neurov.scenario import ControllerSpec, Scenario, ScenarioError, load_scenario
 from neurov.scenario_file import _controller, _Reader
 from neurov.study.factory import ControllerFactory, FactoryError
@@ -39,16 +39,7 @@ def shipped_studies() -> list[str]:
 
 def study_path(name_or_path: str | Path) -> Path:
     """A study file by path, or a shipped study by name (``robustness``)."""
-    p = Path(name_or_path)
-    # A folder of that name (say, the output of an earlier `neurov study
-    # league --out league`) must not hide the shipped study.
-    if p.suffix == ".toml" or p.is_file():
-        return p
-    shipped = STUDY_DIR / f"{p.name}.toml"
-    if shipped.is_file():
-        return shipped
-    raise StudyError(f"{name_or_path}: no such study file, and no shipped study of that name "
-                     f"(shipped: {', '.join(shipped_studies())})")
+    return shipped_or_path(name_or_path, STUDY_DIR, "study", StudyError)
 
 
 def _scenario_path(ref: str, base: Path) -> Path:

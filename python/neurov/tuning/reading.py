@@ -12,7 +12,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from neurov.files import read_toml
+from neurov.files import read_toml, shipped_or_path
 from neurov.scenario import ScenarioError
 from neurov.scenario_file import _Reader
 from neurov.study.reading import STUDY_DIR, study_from_mapping
@@ -33,15 +33,7 @@ _SAMPLER_NEEDS = {"cmaes": "cmaes", "gp": "torch"}
 
 def tuning_path(name_or_path: str | Path) -> Path:
     """A tuning file by path, or a shipped tuning by name."""
-    p = Path(name_or_path)
-    if p.suffix == ".toml" or p.is_file():
-        return p
-    shipped = TUNING_DIR / f"{p.name}.toml"
-    if shipped.is_file():
-        return shipped
-    names = sorted(q.stem for q in TUNING_DIR.glob("*.toml"))
-    raise TuneError(f"{name_or_path}: no such tuning file, and no shipped tuning of that name "
-                    f"(shipped: {', '.join(names) or 'none'})")
+    return shipped_or_path(name_or_path, TUNING_DIR, "tuning", TuneError)
 
 
 def load_tuning(path: str | Path) -> Tuning:

@@ -5,12 +5,12 @@ duplicating trials, and an interrupted tuning resumes from the storage."""
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
-import time
 import warnings
 import zlib
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import asdict
 from pathlib import Path
 from typing import Any
@@ -62,23 +62,29 @@ def open_storage(out: Path) -> Any:
 
     # Optuna calls its heartbeat experimental (its interface may change); it
     # is what tells a dead process's trial from a running one, so we use it.
-    import sqlalchemy.exc
+    with _creating(out), warnings.catch_warnings():
+        warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
+        return optuna.storages.RDBStorage(f"sqlite:///{path}", engine_kwargs={"creator": connect},
+                                          heartbeat_interval=HEARTBEAT_SECONDS, grace_period=GRACE_SECONDS)
 
-    attempt = 0
-    while True:
+
+@contextlib.contextmanager
+def _creating(out: Path) -> Iterator[None]:
+    """Held while a process creates or opens the storage's tables: two
+    processes starting a new tuning at once would both create them (one
+    then fails on a unique key of Optuna's schema). Optuna itself copes
+    with two processes creating one study."""
+    with open(out / f"{STORAGE_NAME}.lock", "a+b") as lock:
         try:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
-                return optuna.storages.RDBStorage(f"sqlite:///{path}", engine_kwargs={"creator": connect},
-                                                  heartbeat_interval=HEARTBEAT_SECONDS,
-                                                  grace_period=GRACE_SECONDS)
-        except sqlalchemy.exc.OperationalError:
-            # Two processes creating the tables of a new file at once: one wins,
-            # the other finds them there on its next try.
-            attempt += 1
-            if attempt == 5:
-                raise
-            time.sleep(0.2 * attempt)
+            import fcntl
+        except ImportError:  # not on Windows, where processes do not share a folder's storage this way
+            yield
+            return
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(lock, fcntl.LOCK_UN)
 
 
 def study_name(tuning: Tuning, controller: str) -> str:
