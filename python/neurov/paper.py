@@ -19,8 +19,8 @@ import numpy as np
 
 from neurov.scenario import ControllerSpec, Scenario, load_scenario
 from neurov.plotting.paper import figure_inputs, figure_xy, figure_yaw
-from neurov.run import _finite_or_none, _stopped
-from neurov.run_folder import RunFolder, writing
+from neurov.run import finite_or_none
+from neurov.run_folder import RunFolder, stopping, writing
 from neurov.result import TRANSIENT_S, metrics_start
 from neurov.simulation import Result, simulate
 
@@ -164,14 +164,9 @@ def run_paper(out_dir: str | Path = "paper-results", quiet: bool = False) -> dic
     diverged run is written like the others, flagged ``diverged``: see
     :func:`diverged_runs`."""
     folder = RunFolder(out_dir, OUTPUT_NAMES)
-    try:
+    with stopping(folder):
         metrics = _run_into(folder.path, quiet)
         done = folder.commit()
-    except BaseException as exc:
-        stopped = _stopped(folder, exc)
-        if stopped is exc:
-            raise
-        raise stopped from exc
     if not quiet:
         print(f"wrote {', '.join(OUTPUT_NAMES)} to {done}/")
     return metrics
@@ -208,7 +203,7 @@ def _run_into(out: Path, quiet: bool) -> dict[str, Any]:
     sweep_table = _sweep_table(sweep)
     metrics["fig5_sweep"] = sweep
     with writing(out / "metrics.json"):
-        (out / "metrics.json").write_text(json.dumps(_finite_or_none(metrics), indent=2) + "\n")
+        (out / "metrics.json").write_text(json.dumps(finite_or_none(metrics), indent=2) + "\n")
     starts = sorted({m["window_start_s"] for m in metrics.values() if isinstance(m, dict)}
                     | {m["window_start_s"] for row in sweep for m in row.values() if isinstance(m, dict)})
     window = " and ".join(f"{t:g}" for t in starts)

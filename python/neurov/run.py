@@ -18,10 +18,11 @@ from typing import Any, TextIO
 
 from neurov.scenario import load_scenario, scenario_path
 from neurov.result import Result
-from neurov.run_folder import RunFolder, check_output_dir, stop_reason, writing
+from neurov.run_folder import RunFolder, check_output_dir, stopping, writing
 from neurov.run_stream import stream_run
 
-__all__ = ["EXIT_DIVERGED", "FIGURES", "OUTPUT_NAMES", "SEA_FIGURES", "check_output_dir", "format_metrics",
+__all__ = ["EXIT_DIVERGED", "FIGURES", "OUTPUT_NAMES", "SEA_FIGURES", "check_output_dir", "finite_or_none",
+           "format_metrics",
            "refusal_message", "run_scenario_file", "write_figures", "write_metrics", "write_outputs"]
 
 EXIT_DIVERGED = 3
@@ -37,14 +38,14 @@ OUTPUT_NAMES = ("result.csv", "result.npz", "metrics.json", *FIGURES, *SEA_FIGUR
 """The files a run writes in its folder (see :mod:`neurov.run_folder`)."""
 
 
-def _finite_or_none(value: Any) -> Any:
+def finite_or_none(value: Any) -> Any:
     """JSON has no inf or NaN (a diverged run has inf errors): write null."""
     if isinstance(value, float) and not math.isfinite(value):
         return None
     if isinstance(value, dict):
-        return {k: _finite_or_none(v) for k, v in value.items()}
+        return {k: finite_or_none(v) for k, v in value.items()}
     if isinstance(value, list):
-        return [_finite_or_none(v) for v in value]
+        return [finite_or_none(v) for v in value]
     return value
 
 
@@ -97,7 +98,7 @@ def write_metrics(metrics: dict[str, Any], out: Path) -> Path:
     """metrics.json in `out` (non-finite numbers as null)."""
     path = out / "metrics.json"
     with writing(path):
-        path.write_text(json.dumps(_finite_or_none(metrics), indent=2) + "\n", encoding="utf-8")
+        path.write_text(json.dumps(finite_or_none(metrics), indent=2) + "\n", encoding="utf-8")
     return path
 
 
@@ -142,7 +143,7 @@ def write_outputs(result: Result, metrics: dict[str, Any], out_dir: str | Path, 
     at most :data:`neurov.decimation.MAX_PLOT_ROWS` rows."""
     folder = RunFolder(out_dir, OUTPUT_NAMES)
     out = folder.path
-    try:
+    with stopping(folder):
         with writing(out / "result.csv"):
             written = [result.to_csv(out / "result.csv", quiet=quiet)]
         with writing(out / "result.npz"):
@@ -151,11 +152,6 @@ def write_outputs(result: Result, metrics: dict[str, Any], out_dir: str | Path, 
         if plot:
             written += write_figures(result, out, quiet)
         done = folder.commit()
-    except BaseException as exc:
-        stopped = _stopped(folder, exc)
-        if stopped is exc:
-            raise
-        raise stopped from exc
     return [done / p.name for p in written]
 
 
@@ -194,7 +190,7 @@ def run_scenario_file(path: str | Path, out_dir: str | Path | None = None,
         raise ValueError("argument 'plot' needs 'out_dir': the figures are written as PNG files there")
     scenario = load_scenario(scenario_path(path))
     folder = RunFolder(out_dir, OUTPUT_NAMES) if out_dir is not None else None
-    try:
+    with stopping(folder):
         run = stream_run(scenario, folder.path if folder is not None else None, quiet=False)
         result = run.drawn
         metrics: dict[str, Any] = {"scenario": scenario.name, "controller": result.controller, **run.metrics,
@@ -209,43 +205,4 @@ def run_scenario_file(path: str | Path, out_dir: str | Path | None = None,
                 written += write_figures(result, folder.path, quiet=False, sea=run.sea, elevation=run.elevation)
             out = folder.commit()
             print(f"wrote {', '.join(p.name for p in written)} to {out}", file=stream)
-    except BaseException as exc:
-        stopped = exc if folder is None else _stopped(folder, exc)
-        if stopped is exc:
-            raise
-        raise stopped from exc
     return result, metrics
-
-
-def _stopped(folder: RunFolder, exc: BaseException) -> BaseException:
-    """Keeps what a stopped run wrote (see :mod:`neurov.run_folder`) and
-    returns the exception to raise: for Ctrl-C and OSError (a full disk) one
-    whose message says where the run is kept and that DIR is unchanged;
-    any other exception as it was, that news printed to stderr."""
-    kept = folder.keep_partial(stop_reason(exc))
-    out = f"{str(folder.out)!r} {'is unchanged' if folder.out.exists() else 'was not created'}"
-    if kept is None:
-        news = f"nothing was written; {out}"
-    else:
-        news = (f"{out}; the run so far is kept in {str(kept)!r}"
-                f" ({_kept_files(kept)}; its metrics.json says \"partial\": true)")
-    if isinstance(exc, KeyboardInterrupt):
-        return KeyboardInterrupt(f"interrupted: {news}")
-    if isinstance(exc, OSError):
-        error = OSError(f"{exc}; {news}")
-        error.errno = exc.errno
-        return error
-    print(f"neurov: the run stopped ({stop_reason(exc)}): {news}", file=sys.stderr)
-    return exc
-
-
-def _kept_files(folder: Path) -> str:
-    """The files in `folder`, with how far result.csv got if metrics.json says."""
-    names = sorted(p.name for p in folder.iterdir())
-    try:
-        upto = json.loads((folder / "metrics.json").read_text(encoding="utf-8")).get("result_csv_to_s")
-    except (OSError, ValueError, AttributeError):
-        upto = None
-    if upto is not None and "result.csv" in names:
-        names[names.index("result.csv")] = f"result.csv (rows to t = {upto:g} s)"
-    return ", ".join(names) or "no files"

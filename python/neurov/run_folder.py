@@ -26,11 +26,13 @@ import json
 import os
 import secrets
 import shutil
+import sys
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
-__all__ = ["OutputWriteError", "RunFolder", "check_output_dir", "stop_reason", "writing"]
+__all__ = ["OutputWriteError", "RunFolder", "check_output_dir", "kept_files", "stop_reason", "stopped_run", "stopping",
+           "writing"]
 
 
 class OutputWriteError(OSError):
@@ -191,3 +193,51 @@ def _is_partial(folder: Path) -> bool:
         return json.loads((folder / "metrics.json").read_text(encoding="utf-8")).get("partial") is True
     except (OSError, ValueError, AttributeError):
         return False
+
+
+def stopped_run(folder: RunFolder, exc: BaseException) -> BaseException:
+    """Keeps what a stopped run wrote (see :mod:`neurov.run_folder`) and
+    returns the exception to raise: for Ctrl-C and OSError (a full disk) one
+    whose message says where the run is kept and that DIR is unchanged;
+    any other exception as it was, that news printed to stderr."""
+    kept = folder.keep_partial(stop_reason(exc))
+    out = f"{str(folder.out)!r} {'is unchanged' if folder.out.exists() else 'was not created'}"
+    if kept is None:
+        news = f"nothing was written; {out}"
+    else:
+        news = (f"{out}; the run so far is kept in {str(kept)!r}"
+                f" ({kept_files(kept)}; its metrics.json says \"partial\": true)")
+    if isinstance(exc, KeyboardInterrupt):
+        return KeyboardInterrupt(f"interrupted: {news}")
+    if isinstance(exc, OSError):
+        error = OSError(f"{exc}; {news}")
+        error.errno = exc.errno
+        return error
+    print(f"neurov: the run stopped ({stop_reason(exc)}): {news}", file=sys.stderr)
+    return exc
+
+
+def kept_files(folder: Path) -> str:
+    """The files in `folder`, with how far result.csv got if metrics.json says."""
+    names = sorted(p.name for p in folder.iterdir())
+    try:
+        upto = json.loads((folder / "metrics.json").read_text(encoding="utf-8")).get("result_csv_to_s")
+    except (OSError, ValueError, AttributeError):
+        upto = None
+    if upto is not None and "result.csv" in names:
+        names[names.index("result.csv")] = f"result.csv (rows to t = {upto:g} s)"
+    return ", ".join(names) or "no files"
+
+
+@contextlib.contextmanager
+def stopping(folder: RunFolder | None) -> Iterator[None]:
+    """Around writing a run into `folder` (None: a run without files): a
+    run that stops keeps what it wrote and raises what :func:`stopped_run`
+    makes of its exception."""
+    try:
+        yield
+    except BaseException as exc:
+        stopped = exc if folder is None else stopped_run(folder, exc)
+        if stopped is exc:
+            raise
+        raise stopped from exc
