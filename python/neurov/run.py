@@ -22,8 +22,8 @@ from neurov.run_folder import RunFolder, check_output_dir, stopping, writing
 from neurov.run_stream import stream_run
 
 __all__ = ["EXIT_DIVERGED", "FIGURES", "OUTPUT_NAMES", "SEA_FIGURES", "check_output_dir", "finite_or_none",
-           "format_metrics",
-           "refusal_message", "run_scenario_file", "write_figures", "write_metrics", "write_outputs"]
+           "format_metrics", "refusal_message", "run_scenario_file", "write_figures", "write_metrics",
+           "write_outputs"]
 
 EXIT_DIVERGED = 3
 """Exit status of ``neurov run`` and ``neurov paper`` when a run diverged
