@@ -4,4 +4,5 @@ import sys
 
 from neurov.cli import main
 
-sys.exit(main())
+if __name__ == "__main__":  # importing the module (a documentation tool's walk) runs nothing
+    sys.exit(main())
