@@ -22,7 +22,7 @@ if TYPE_CHECKING:
     from neurov.scenario import Scenario
     from neurov.scenario_file import _Reader
 
-__all__ = ["CURRENT_MODELS", "read_current_model", "read_payload", "read_waves", "check_payload"]
+__all__ = ["CURRENT_MODELS", "read_current_model", "read_payload", "read_sea", "read_waves", "check_payload"]
 
 CURRENT_MODELS = tuple(_core.CurrentModel.__members__)
 # [current] keys of the constant model, refused with gauss_markov (the C++
@@ -84,6 +84,13 @@ def read_current_model(cr: _Reader, config: Any) -> bool:
     _validate_section(probe, cr.origin, cr.where)
     config.gauss_markov_current = gm
     return False
+
+
+def read_sea(r: _Reader, config: Any) -> None:
+    """The tables of the disturbance parts beside ``[current]``: each one's
+    reader, in the order of the parts in C++ (config.hpp)."""
+    read_waves(r, config)
+    read_payload(r, config)
 
 
 def read_waves(r: _Reader, config: Any) -> None:
