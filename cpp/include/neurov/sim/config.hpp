@@ -20,6 +20,7 @@
 #include "neurov/sim/disturbances/sea_waves.hpp"
 #include "neurov/sim/disturbances/sinusoids.hpp"
 #include "neurov/sim/disturbances/steady_current.hpp"
+#include "neurov/sim/disturbances/tether.hpp"
 #include "neurov/sim/disturbances/thruster_failures.hpp"
 #include "neurov/sim/flags.hpp"
 #include "neurov/sim/gauss_markov_current.hpp"
@@ -156,6 +157,8 @@ struct SimulationConfig {
   SensorsConfig<Scalar> sensors;
   /// What the controller is given from the sensors (used when some are configured).
   EstimatorConfig<Scalar> estimator;
+  /// A ROV's umbilical to a surface point (parts::Tether); empty: none.
+  std::optional<TetherConfig<Scalar>> tether;
 };
 
 /// The disturbance parts of a run (sim/disturbances/part.hpp), each hook
@@ -164,7 +167,8 @@ struct SimulationConfig {
 template <typename Scalar>
 using DisturbanceParts =
     parts::PartList<Scalar, parts::Sinusoids, parts::SteadyCurrent, parts::GaussMarkovFlow,
-                    parts::SeaWaves, parts::PayloadEvents, parts::ThrusterFailures>;
+                    parts::SeaWaves, parts::PayloadEvents, parts::ThrusterFailures,
+                    parts::Tether>;
 
 /// B = rho g V [N]: the buoyancy of `displaced_volume` [m^3] in water of
 /// `water_density` [kg/m^3] (g = standard_gravity). Both must be > 0 and
