@@ -207,9 +207,10 @@ class Simulator {
       applied_mean += applied / substeps;
       faults |= sub.faults;
       const Vec6 tau_s = applied + sub.force;
-      ps = worst(ps, sub.in_flow
-                         ? rk4_step_in_flow(vehicle_, eta_, nu_, tau_s, h_, sub.start, sub.mid, sub.end)
-                         : rk4_step(vehicle_, eta_, nu_, tau_s, h_, sub.current));
+      if (sub.in_flow)
+        ps = worst(ps, rk4_step_in_flow(vehicle_, eta_, nu_, tau_s, h_, sub.start, sub.mid, sub.end));
+      else
+        ps = worst(ps, rk4_step(vehicle_, eta_, nu_, tau_s, h_, sub.current));
       if (ps != Status::ok && ps != Status::near_singularity) break;
       // The sensors sample the state at the end of each substep (times in
       // double: a float clock loses milliseconds within hours).

@@ -61,11 +61,16 @@ struct Tether : PartDefaults<Scalar> {
     return {};
   }
 
+  /// Split from drag() so that a run without a tether pays a test, not a call.
   template <typename C>
   static void force(const C& c, const State&, const Plant<Scalar>& p,
                     Substep<Scalar>& s) noexcept {
-    if (!c.tether) return;
-    const TetherConfig<Scalar>& t = *c.tether;
+    if (c.tether) drag(*c.tether, c.water_density, p, s);
+  }
+
+ private:
+  static void drag(const TetherConfig<Scalar>& t, Scalar water_density, const Plant<Scalar>& p,
+                   Substep<Scalar>& s) noexcept {
     const Matrix3<Scalar> r = rotation(EulerTrig<Scalar>::from_pose(p.eta));
     const Vec3 line = p.eta.template head<3>() + r * t.attachment - t.anchor;
     const Scalar length = line.norm();
@@ -84,13 +89,12 @@ struct Tether : PartDefaults<Scalar> {
       sum += Scalar(kWeights[i]) * normal.norm() * normal;
     }
     // The line's drag (1/2 rho C_d d) (L / 2) sum; half of it at the vehicle.
-    const Vec3 ned = (c.water_density * t.drag_coefficient * t.diameter * length / Scalar(8)) * sum;
+    const Vec3 ned = (water_density * t.drag_coefficient * t.diameter * length / Scalar(8)) * sum;
     const Vec3 body = r.transpose() * ned;
     s.force.template head<3>() += body;
     s.force.template tail<3>() += t.attachment.cross(body);
   }
 
- private:
   /// Gauss-Legendre nodes and weights on [-1, 1]: exact for a polynomial
   /// load of degree <= 7 (a uniform current gives a constant one).
   static constexpr double kNodes[kPoints] = {-0.8611363115940526, -0.3399810435848563,
