@@ -79,6 +79,7 @@ from ._core_stubs.sim import (
     SinusoidalDisturbance as SinusoidalDisturbance,
     ThrusterFailure as ThrusterFailure,
     UsblConfig as UsblConfig,
+    TetherConfig as TetherConfig,
     WaveConfig as WaveConfig,
     WaveSpectrum as WaveSpectrum,
     buoyancy_in_water as buoyancy_in_water,

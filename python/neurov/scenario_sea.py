@@ -1,8 +1,8 @@
 """Reading the sea of a scenario file: ``[current] model = "gauss_markov"``,
-``[waves]`` and ``[[payload]]`` (docs/disturbances.md).
+``[waves]``, ``[[payload]]`` and ``[tether]`` (docs/disturbances.md).
 
 Each value goes into the core's own struct (``GaussMarkovCurrentConfig``,
-``WaveConfig``, ``PayloadEvent``): their defaults and their validators are
+``WaveConfig``, ``PayloadEvent``, ``TetherConfig``): their defaults and their validators are
 the C++ ones. The C++ messages name a struct's field (``hs``); here each
 section is validated on its own, so that the message can name the TOML key
 (``waves.hs``) without guessing which section a field belongs to.
@@ -22,7 +22,8 @@ if TYPE_CHECKING:
     from neurov.scenario import Scenario
     from neurov.scenario_file import _Reader
 
-__all__ = ["CURRENT_MODELS", "read_current_model", "read_payload", "read_waves", "check_payload"]
+__all__ = ["CURRENT_MODELS", "read_current_model", "read_payload", "read_sea", "read_tether", "read_waves",
+           "check_payload"]
 
 CURRENT_MODELS = tuple(_core.CurrentModel.__members__)
 # [current] keys of the constant model, refused with gauss_markov (the C++
@@ -86,6 +87,14 @@ def read_current_model(cr: _Reader, config: Any) -> bool:
     return False
 
 
+def read_sea(r: _Reader, config: Any) -> None:
+    """The tables of the disturbance parts beside ``[current]``: each one's
+    reader, in the order of the parts in C++ (config.hpp)."""
+    read_waves(r, config)
+    read_payload(r, config)
+    read_tether(r, config)
+
+
 def read_waves(r: _Reader, config: Any) -> None:
     """``[waves]``: absent, a calm sea; present (even empty), the C++
     defaults (JONSWAP, Hs 2 m, Tp 8 s) for the keys it does not give."""
@@ -102,6 +111,22 @@ def read_waves(r: _Reader, config: Any) -> None:
     probe.waves = waves
     _validate_section(probe, r.origin, "waves")
     config.waves = waves
+
+
+def read_tether(r: _Reader, config: Any) -> None:
+    """``[tether]``: absent, no tether; present, its keys on the C++
+    defaults (``diameter`` has none that passes: it must be given)."""
+    if not r.has("tether"):
+        return
+    tr = r.table_of("tether")
+    tether = _core.TetherConfig()
+    _fill(tr, tether)
+    tr.finish()
+    probe = _probe()
+    probe.eta0 = config.eta0
+    probe.tether = tether
+    _validate_section(probe, r.origin, "tether")
+    config.tether = tether
 
 
 def read_payload(r: _Reader, config: Any) -> None:

@@ -125,6 +125,21 @@ void bind_sim_config(py::module_& m) {
         .finish();
   }
 
+  {
+    using T = TetherConfig<double>;
+    Fields<T>(m, "TetherConfig",
+              "A ROV's umbilical from a surface anchor to the vehicle: a quasi-static straight line "
+              "whose normal drag, integrated along it, acts half at the vehicle's attachment point.")
+        .value("diameter", &T::diameter, "d [m], > 0.")
+        .value("drag_coefficient", &T::drag_coefficient, "C_d of the flow normal to the cable, >= 0.")
+        .vector("anchor", &T::anchor, "The surface end, NED [m] (3,).")
+        .vector("attachment", &T::attachment, "The vehicle end, body axes [m] (3,).")
+        .value("length", &T::length,
+               "[m]; 0: the straight distance at t = 0, which it may not be shorter than (slack "
+               "is not modelled).")
+        .finish();
+  }
+
   py::enum_<EstimatorType>(m, "EstimatorType", "What the controller is given from the sensors.")
       .value("none", EstimatorType::none, "Each sensor's latest reading, as it is.")
       .value("ekf", EstimatorType::ekf, "The extended Kalman filter's estimate.");
@@ -292,6 +307,7 @@ void bind_sim_config(py::module_& m) {
                "its buoyancy as buoyancy_in_water(water_density, volume).")
         .value("sensors", &T::sensors, "The sensors (a SensorsConfig); none: ideal sensing.")
         .value("estimator", &T::estimator, "The estimator (an EstimatorConfig).")
+        .optional("tether", &T::tether, "A TetherConfig, or None: no tether.")
         .validator("SimulationConfig")
         .finish();
   }

@@ -244,6 +244,20 @@ class GaussMarkovCurrentConfig(_Fields):
     """[deg], >= 0."""
 
 @final
+class TetherConfig(_Fields):
+    """A ROV's umbilical from a surface anchor to the vehicle: a quasi-static straight line whose normal drag, integrated along it, acts half at the vehicle's attachment point."""
+
+    diameter: _FloatField = ...
+    """d [m], > 0."""
+    drag_coefficient: _FloatField = ...
+    """C_d of the flow normal to the cable, >= 0."""
+    anchor: _ArrayField = ...
+    """The surface end, NED [m] (3,)."""
+    attachment: _ArrayField = ...
+    """The vehicle end, body axes [m] (3,)."""
+    length: _FloatField = ...
+    """[m]; 0: the straight distance at t = 0, which it may not be shorter than (slack is not modelled)."""
+
 class WaveConfig(_Fields):
     """Linear deep-water waves realised from a spectrum as a sum of seeded components."""
 
@@ -371,6 +385,8 @@ class SimulationConfig(_ValidatedFields):
     """The sensors; none: ideal sensing."""
     estimator: _Field[EstimatorConfig, EstimatorConfig] = ...
     """The estimator."""
+    tether: _Field[TetherConfig | None, TetherConfig | None] = ...
+    """A TetherConfig, or None: no tether."""
 
 def buoyancy_in_water(water_density: SupportsFloat, displaced_volume: SupportsFloat) -> float:
     """B = rho g V [N]: the buoyancy of displaced_volume [m^3] in water of water_density [kg/m^3]."""

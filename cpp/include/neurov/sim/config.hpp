@@ -14,6 +14,15 @@
 #include "neurov/core/types.hpp"
 #include "neurov/core/validation.hpp"
 #include "neurov/model/thrusters.hpp"
+#include "neurov/sim/disturbances/gauss_markov_flow.hpp"
+#include "neurov/sim/disturbances/part.hpp"
+#include "neurov/sim/disturbances/payload_events.hpp"
+#include "neurov/sim/disturbances/sea_waves.hpp"
+#include "neurov/sim/disturbances/sinusoids.hpp"
+#include "neurov/sim/disturbances/steady_current.hpp"
+#include "neurov/sim/disturbances/tether.hpp"
+#include "neurov/sim/disturbances/thruster_failures.hpp"
+#include "neurov/sim/flags.hpp"
 #include "neurov/sim/gauss_markov_current.hpp"
 #include "neurov/sim/payload.hpp"
 #include "neurov/sim/sensing.hpp"
@@ -69,27 +78,6 @@ struct CurrentStep {
 /// measurement, the pitch singularity): the zero force the controller writes,
 /// or the last force it accepted.
 enum class RefusedStepPolicy : std::uint8_t { zero = 0, hold = 1 };
-
-/// Bits of SimulationResult::faults, one per kind of fault active in a step.
-namespace fault_bits {
-constexpr std::uint8_t freeze = 1;
-constexpr std::uint8_t dropout = 2;
-constexpr std::uint8_t noise_burst = 4;
-constexpr std::uint8_t thruster = 8;  ///< some thruster below full efficiency
-/// The row's desired state came from a reference step that limited the pitch
-/// (ReferenceModel::pitch_limited(): the command's pitch clamped, or the
-/// reference's own held at the limit).
-constexpr std::uint8_t pitch_limited = 16;
-/// The vehicle was above the wave model's minimum depth (Waves::minimum_depth,
-/// 1.2 Hs) at the start of some substep of the row's interval, where the
-/// linear deep-water kinematics do not hold.
-constexpr std::uint8_t shallow = 32;
-}  // namespace fault_bits
-
-/// The current's model: `constant` is the mean + sinusoid + steps of the
-/// fields current, current_amplitude, current_period and current_steps;
-/// `gauss_markov` is SimulationConfig::gauss_markov_current alone.
-enum class CurrentModel : std::uint8_t { constant = 0, gauss_markov = 1 };
 
 /// Commanded poses r(t) at increasing times; held before the first and after
 /// the last; between them linear or held (piecewise constant).
@@ -178,7 +166,18 @@ struct SimulationConfig {
   SensorsConfig<Scalar> sensors;
   /// What the controller is given from the sensors (used when some are configured).
   EstimatorConfig<Scalar> estimator;
+  /// A ROV's umbilical to a surface point (parts::Tether); empty: none.
+  std::optional<TetherConfig<Scalar>> tether;
 };
+
+/// The disturbance parts of a run (sim/disturbances/part.hpp), each hook
+/// called on them in this order; a new source of force or flow is a part
+/// here and its fields in SimulationConfig.
+template <typename Scalar>
+using DisturbanceParts =
+    parts::PartList<Scalar, parts::Sinusoids, parts::SteadyCurrent, parts::GaussMarkovFlow,
+                    parts::SeaWaves, parts::PayloadEvents, parts::ThrusterFailures,
+                    parts::Tether>;
 
 /// B = rho g V [N]: the buoyancy of `displaced_volume` [m^3] in water of
 /// `water_density` [kg/m^3] (g = standard_gravity). Both must be > 0 and
@@ -234,43 +233,13 @@ inline ValidationError validate(const SimulationConfig<Scalar>& c) {
                              static_cast<double>(c.command.times(i)), "strictly increasing");
   if (auto e = detail::check_positive("lambda_d", c.lambda_d)) return e;
   if (auto e = detail::check_positive("omega", c.omega)) return e;
-  for (std::size_t i = 0; i < c.disturbances.size(); ++i) {
-    const auto& d = c.disturbances[i];
-    if (d.dof < 0 || d.dof > 5)
-      return detail::invalid("disturbances.dof", static_cast<int>(i), d.dof, "0..5");
-    if (!(std::isfinite(d.amplitude) && std::isfinite(d.phase) && std::isfinite(d.start)))
-      return detail::invalid("disturbances", static_cast<int>(i), std::nan(""),
-                             "finite amplitude, phase and start");
-    if (!(std::isfinite(d.frequency) && d.frequency >= Scalar(0)))
-      return detail::invalid("disturbances.frequency", static_cast<int>(i),
-                             static_cast<double>(d.frequency), ">= 0 and finite");
-  }
-  if (auto e = detail::check_finite("current", c.current)) return e;
-  if (auto e = detail::check_finite("current_amplitude", c.current_amplitude)) return e;
-  if (auto e = detail::check_non_negative_scalar("current_period",
-                                                 static_cast<double>(c.current_period)))
-    return e;
+  if (auto e = DisturbanceParts<Scalar>::validate(c)) return e;
   if (auto e = detail::check_non_negative("noise_eta", c.noise_eta)) return e;
   if (auto e = detail::check_non_negative("noise_nu", c.noise_nu)) return e;
   if (auto e = Sensing<Scalar>::validate(c.sensors, c.estimator)) return e;
   if (c.sensors.any() && !(c.noise_eta.isZero(Scalar(0)) && c.noise_nu.isZero(Scalar(0))))
     return detail::invalid("noise_eta", -1, static_cast<double>(c.noise_eta.norm() + c.noise_nu.norm()),
                            "zero noise_eta and noise_nu with sensors (their own noise replaces it)");
-  for (std::size_t i = 0; i < c.thruster_failures.size(); ++i) {
-    const auto& f = c.thruster_failures[i];
-    if (!c.use_thrusters)
-      return detail::invalid("thruster_failures", static_cast<int>(i), std::nan(""),
-                             "a thruster configuration");
-    if (f.index < 0 || f.index >= c.thrusters.matrix.cols())
-      return detail::invalid("thruster_failures.index", static_cast<int>(i), f.index,
-                             "a thruster index");
-    if (!(f.efficiency >= Scalar(0) && f.efficiency <= Scalar(1)))
-      return detail::invalid("thruster_failures.efficiency", static_cast<int>(i),
-                             static_cast<double>(f.efficiency), "in [0, 1]");
-    if (!std::isfinite(f.time))
-      return detail::invalid("thruster_failures.time", static_cast<int>(i),
-                             static_cast<double>(f.time), "finite");
-  }
   for (std::size_t i = 0; i < c.sensor_faults.size(); ++i) {
     const auto& f = c.sensor_faults[i];
     if (!(std::isfinite(f.start) && std::isfinite(f.end) && f.end >= f.start))
@@ -281,36 +250,6 @@ inline ValidationError validate(const SimulationConfig<Scalar>& c) {
                              static_cast<double>(f.kind), "freeze, dropout or noise_burst");
     if (auto e = detail::check_non_negative("sensor_faults.noise_eta", f.noise_eta)) return e;
     if (auto e = detail::check_non_negative("sensor_faults.noise_nu", f.noise_nu)) return e;
-  }
-  for (std::size_t i = 0; i < c.current_steps.size(); ++i) {
-    if (!std::isfinite(c.current_steps[i].time) ||
-        (i > 0 && !(c.current_steps[i].time > c.current_steps[i - 1].time)))
-      return detail::invalid("current_steps.time", static_cast<int>(i),
-                             static_cast<double>(c.current_steps[i].time),
-                             "finite and strictly increasing");
-    if (auto e = detail::check_finite("current_steps.velocity", c.current_steps[i].velocity))
-      return e;
-  }
-  if (c.current_model != CurrentModel::constant && c.current_model != CurrentModel::gauss_markov)
-    return detail::invalid("current_model", -1, static_cast<double>(c.current_model),
-                           "constant or gauss_markov");
-  if (c.current_model == CurrentModel::gauss_markov) {
-    // One current model at a time: the constant model's fields stay zero.
-    if (!(c.current.isZero(Scalar(0)) && c.current_amplitude.isZero(Scalar(0)) &&
-          c.current_steps.empty()))
-      return detail::invalid("current_model", -1, static_cast<double>(c.current_model),
-                             "zero current, current_amplitude and no current_steps with "
-                             "gauss_markov");
-    if (auto e = validate(c.gauss_markov_current)) return e;
-  }
-  if (c.waves) {
-    if (auto e = validate(*c.waves, Waves<Scalar>::capacity)) return e;
-  }
-  for (std::size_t i = 0; i < c.payload.size(); ++i) {
-    const Scalar t = c.payload[i].time;
-    if (!(std::isfinite(t) && t >= Scalar(0) && (i == 0 || t >= c.payload[i - 1].time)))
-      return detail::invalid("payload.time", static_cast<int>(i), static_cast<double>(t),
-                             ">= 0, finite and non-decreasing");
   }
   // The reference model's and the thrusters' own rules, so that a
   // configuration that passes here is one a Simulator can be created from.

@@ -5,15 +5,12 @@
 // C++ loop in closed_loop.hpp, a Python controller, a learning agent - sees the
 // same observations and gets the same rows for the same forces.
 //
-// The sea: the current (constant model, or Gauss-Markov advanced once per
-// control period on its own random stream, so its realisation does not
-// depend on substeps), the waves (their kinematics followed at the vehicle
-// once per control period, with their rates along its path, and
-// interpolated in time through the substeps and RK4 stages, see
-// follow_waves, WaveInterval and rk4_step_in_flow) and the payload events
-// (the plant's Vehicle rebuilt in place at the first substep at or after
-// their time; the controller is not told). Without waves the plant step
-// is rk4_step, as before they existed.
+// The sources of force and flow on the plant (the sinusoidal forces, the
+// current models, the waves, the payload events, the thruster failures) are
+// the disturbance parts of DisturbanceParts (config.hpp), each with its own
+// state in parts_ and its own hooks (sim/disturbances/part.hpp); step() calls
+// the hooks at the row, at each substep and at the period's end. Without
+// waves the plant step is rk4_step, as before they existed.
 //
 // Timing: control at dt with the force held over each control interval
 // (zero-order hold); the plant integrated by RK4 at dt / substeps, thrusters
@@ -102,7 +99,8 @@ class Simulator {
                                 int logged_parameters = 0, Eigen::Index log_rows = 0) {
     if (!vehicle.valid()) return detail::invalid("vehicle", -1, std::nan(""), "a valid vehicle");
     if (auto e = validate(config)) return e;
-    if (auto e = validate_payload(config.payload, vehicle)) return e;
+    Simulator s;
+    if (auto e = Parts::create(config, vehicle, s.parts_)) return e;
     if (logged_parameters < 0)
       return detail::invalid("logged_parameters", -1, static_cast<double>(logged_parameters),
                              ">= 0");
@@ -114,10 +112,8 @@ class Simulator {
     ReferenceModel<Scalar>::create(config.lambda_d, config.omega, config.eta0, reference);
     Thrusters<Scalar> thrusters;
     if (config.use_thrusters) Thrusters<Scalar>::create(config.thrusters, thrusters);
-    Simulator s;
     s.vehicle_ = vehicle;
     s.vehicle0_ = vehicle;
-    s.payload_applied_.assign(config.payload.size(), false);
     s.config_ = config;
     s.reference_ = std::move(reference);
     s.thrusters_ = std::move(thrusters);
@@ -126,7 +122,6 @@ class Simulator {
     s.parameter_count_ = logged_parameters;
     s.noisy_ = !(config.noise_eta.isZero(Scalar(0)) && config.noise_nu.isZero(Scalar(0)));
     s.h_ = config.dt / static_cast<Scalar>(config.substeps);
-    s.failure_applied_.assign(config.thruster_failures.size(), false);
     Sensing<Scalar>::create(config.sensors, config.estimator, config.seed, s.sensing_);
     s.log_rows_ = log_rows > 0 ? std::min(log_rows, s.rows_) : s.rows_;
     s.result_.allocate(s.log_rows_, s.thruster_count_, logged_parameters);
@@ -147,20 +142,11 @@ class Simulator {
     rng_.reseed(seed);
     reference_.reset(config_.eta0);
     if (config_.use_thrusters) thrusters_.reset();
-    std::fill(failure_applied_.begin(), failure_applied_.end(), false);
     eta_ = config_.eta0;
     nu_ = config_.nu0;
-    // The sea: each source on its own stream of `seed`; validate() has
-    // checked the configurations, so the creates succeed.
-    vehicle_ = vehicle0_;
-    std::fill(payload_applied_.begin(), payload_applied_.end(), false);
-    payload_mass_ = Scalar(0);
-    if (config_.current_model == CurrentModel::gauss_markov)
-      GaussMarkovCurrent<Scalar>::create(config_.gauss_markov_current, seed, current_);
-    if (config_.waves) {
-      Waves<Scalar>::create(*config_.waves, seed, waves_);
-      waves_.start(0.0, eta_.template head<3>(), config_.dt, ned_velocity());
-    }
+    // The disturbances, each random one on its own stream of `seed`;
+    // validate() has checked their configurations, so their creates succeed.
+    Parts::reset(config_, parts_, seed, plant());
     // The sensors' first samples, at t = 0 (validate() checked them).
     sensing_.reset(seed, eta_, nu_);
     observation_.desired = reference_.desired();
@@ -196,55 +182,18 @@ class Simulator {
       return Status::invalid_argument;
     if (report.status == Status::ok && !tau.allFinite()) return Status::non_finite_input;
 
-    const Eigen::Index k = k_;
-    const Eigen::Index row = k_ - log_first_;  // the row in the log window
+    const Eigen::Index k = k_, row = k_ - log_first_;  // row: in the log window
     const Scalar t = observation_.t;
-    Vec6 applied_tau = tau;
-    if (report.status == Status::ok)
-      last_accepted_tau_ = tau;
-    else if (config_.refused_step_policy == RefusedStepPolicy::hold)
-      applied_tau = last_accepted_tau_;
-    else
-      applied_tau.setZero();
-
-    SimulationResult<Scalar>& r = result_;
-    const DesiredState<Scalar>& desired = observation_.desired;
-    r.t(row) = t;
-    r.eta.row(row) = eta_.transpose();
-    r.nu.row(row) = nu_.transpose();
-    r.eta_estimate.row(row) = observation_.eta.transpose();
-    r.nu_estimate.row(row) = observation_.nu.transpose();
-    r.eta_d.row(row) = desired.eta_d.transpose();
-    r.eta_d_dot.row(row) = desired.eta_d_dot.transpose();
-    r.tau_demanded.row(row) = applied_tau.transpose();
-    r.s.row(row) = report.s.transpose();
-    r.adaptive_norm(row) = report.adaptive_norm;
-    r.controller_status(row) = static_cast<std::uint8_t>(report.status);
-    if (parameter_count_ > 0)
-      r.theta.row(row) =
-          Eigen::Map<const Eigen::Matrix<Scalar, 1, Eigen::Dynamic>>(report.parameters,
-                                                                     parameter_count_);
-    r.disturbance.row(row) = disturbance_at(t).transpose();
-    apply_payload_events(t);
-    r.current.row(row) = current_velocity(t).transpose();
-    if (config_.waves) {
-      r.wave_velocity.row(row) = waves_.kinematics().velocity.transpose();
-      r.wave_elevation(row) = waves_.kinematics().elevation;
-    }
-    r.payload_mass(row) = payload_mass_;
-
-    // The force this row demanded waits control_delay periods; the one due
-    // now (zero before the first one is due) acts over this interval.
-    const int n = config_.control_delay;
-    pending_tau_[static_cast<std::size_t>(k % kPendingSlots)] = applied_tau;
-    const Vec6 acting_tau = k >= n ? pending_tau_[static_cast<std::size_t>((k - n) % kPendingSlots)]
-                                   : Vec6::Zero().eval();
-
-    std::uint8_t faults = faults_;
+    const Vec6 applied_tau = policy_force(tau, report.status);
+    log_row(row, applied_tau, report);
+    const parts::Plant<Scalar> plant = this->plant();
+    // The disturbances' events due now, then their force and flow at t_k.
+    const parts::Substep<Scalar> at = Parts::row(config_, parts_, t, plant, row, result_);
+    const Vec6 acting_tau = delayed(k, applied_tau);
     if (config_.use_thrusters) thrusters_.command(acting_tau);
-    if (config_.waves)
-      follow_waves((config_.use_thrusters ? Vec6(thrusters_.wrench()) : acting_tau) +
-                   disturbance_at(t));
+    Parts::follow(config_, parts_, plant,
+                  (config_.use_thrusters ? Vec6(thrusters_.wrench()) : acting_tau) + at.force, at);
+    std::uint8_t faults = faults_;
     Status ps = Status::ok;
     // The row's tau_applied is the substeps' mean, summed term by term (as the
     // thrusts are): a sum first would overflow to inf in float when the forces
@@ -252,48 +201,16 @@ class Simulator {
     const Scalar substeps = static_cast<Scalar>(config_.substeps);
     Vec6 applied_mean = Vec6::Zero();
     for (int j = 0; j < config_.substeps; ++j) {
-      const Scalar ts = t + static_cast<Scalar>(j) * h_;
-      apply_payload_events(ts);
-      Vec6 applied = acting_tau;
-      if (config_.use_thrusters) {
-        for (std::size_t f = 0; f < config_.thruster_failures.size(); ++f) {
-          const ThrusterFailure<Scalar>& failure = config_.thruster_failures[f];
-          if (!failure_applied_[f] && ts >= failure.time) {
-            thrusters_.set_efficiency(failure.index, failure.efficiency);
-            failure_applied_[f] = true;
-          }
-        }
-        // Checked per substep, where a failure or repair takes effect, so the
-        // bit describes the same interval as this row's thrusts and tau_applied.
-        if ((thrusters_.efficiency().array() < Scalar(1)).any()) faults |= fault_bits::thruster;
-        thrusters_.advance(h_);
-        applied = thrusters_.wrench();
-        if (thruster_count_ > 0)
-          r.thrusts.row(row) +=
-              thrusters_.efficiency().cwiseProduct(thrusters_.thrust()).transpose() /
-              substeps;
-      }
+      const Scalar offset = static_cast<Scalar>(j) * h_;
+      const parts::Substep<Scalar> sub = Parts::substep(config_, parts_, t + offset, offset, h_, plant);
+      const Vec6 applied = config_.use_thrusters ? thrust(row, substeps) : acting_tau;
       applied_mean += applied / substeps;
-      const Vec6 tau_s = applied + disturbance_at(ts);
-      if (config_.waves) {
-        if (eta_(2) < waves_.minimum_depth()) faults |= fault_bits::shallow;
-        // The flow along the vehicle's path at the stages' times, with its
-        // rate along the path (see WaveInterval).
-        FluidFlow<Scalar> start, mid, end;
-        const Scalar s0 = static_cast<Scalar>(j) * h_;
-        wave_period_.at(s0, start.velocity, start.acceleration);
-        wave_period_.at(s0 + h_ / Scalar(2), mid.velocity, mid.acceleration);
-        wave_period_.at(s0 + h_, end.velocity, end.acceleration);
-        const Vec3 current = current_velocity(ts);
-        start.velocity += current;
-        mid.velocity += current;
-        end.velocity += current;
-        start.displaced_mass =
-            vehicle_.parameters().buoyancy / static_cast<Scalar>(standard_gravity);
-        ps = worst(ps, rk4_step_in_flow(vehicle_, eta_, nu_, tau_s, h_, start, mid, end));
-      } else {
-        ps = worst(ps, rk4_step(vehicle_, eta_, nu_, tau_s, h_, current_velocity(ts)));
-      }
+      faults |= sub.faults;
+      const Vec6 tau_s = applied + sub.force;
+      if (sub.in_flow)
+        ps = worst(ps, rk4_step_in_flow(vehicle_, eta_, nu_, tau_s, h_, sub.start, sub.mid, sub.end));
+      else
+        ps = worst(ps, rk4_step(vehicle_, eta_, nu_, tau_s, h_, sub.current));
       if (ps != Status::ok && ps != Status::near_singularity) break;
       // The sensors sample the state at the end of each substep (times in
       // double: a float clock loses milliseconds within hours).
@@ -301,14 +218,14 @@ class Simulator {
                          static_cast<double>(j + 1) * static_cast<double>(h_),
                      eta_, nu_);
     }
-    if (config_.current_model == CurrentModel::gauss_markov) current_.advance(config_.dt);
-    r.tau_applied.row(row) = applied_mean.transpose();
-    r.plant_status(row) = static_cast<std::uint8_t>(ps);
-    r.faults(row) = faults;
+    Parts::advance(config_, parts_, config_.dt);
+    result_.tau_applied.row(row) = applied_mean.transpose();
+    result_.plant_status(row) = static_cast<std::uint8_t>(ps);
+    result_.faults(row) = faults;
     k_ = k + 1;
-    r.steps = row + 1;
+    result_.steps = row + 1;
     if (ps != Status::ok && ps != Status::near_singularity) {
-      r.diverged = true;
+      result_.diverged = true;
       return ps;
     }
     // The desired state for t_k+1; on a refused reference step it stays.
@@ -422,84 +339,71 @@ class Simulator {
     observation_.nu = nu_m;
   }
 
-  Vec6 disturbance_at(Scalar t) const noexcept {
-    Vec6 d = Vec6::Zero();
-    for (const auto& s : config_.disturbances)
-      if (t >= s.start)
-        d(s.dof) += s.amplitude * std::sin(kTwoPi * s.frequency * (t - s.start) + s.phase);
-    return d;
-  }
-
-  /// The payload events due by t applied to the plant's vehicle, in order
-  /// (Simulator::create checked that each gives a valid vehicle).
-  void apply_payload_events(Scalar t) noexcept {
-    for (std::size_t i = 0; i < config_.payload.size(); ++i) {
-      if (payload_applied_[i] || !(t >= config_.payload[i].time)) continue;
-      apply_payload(config_.payload[i], vehicle_, vehicle_);
-      payload_mass_ += config_.payload[i].mass;
-      payload_applied_[i] = true;
+  /// The force a step applies: the controller's, or on a refused step the
+  /// one the refused-step policy gives.
+  Vec6 policy_force(const Vec6& tau, Status status) noexcept {
+    if (status == Status::ok) {
+      last_accepted_tau_ = tau;
+      return tau;
     }
+    return config_.refused_step_policy == RefusedStepPolicy::hold ? last_accepted_tau_
+                                                                  : Vec6::Zero().eval();
   }
 
-  /// The vehicle's velocity in NED.
-  Vec3 ned_velocity() const noexcept {
-    return rotation(EulerTrig<Scalar>::from_pose(eta_)) * nu_.template head<3>();
+  /// The force demanded at row k waits control_delay periods; returns the
+  /// one due now (zero before the first one is due), which acts over this
+  /// control interval.
+  Vec6 delayed(Eigen::Index k, const Vec6& demanded) noexcept {
+    const int n = config_.control_delay;
+    pending_tau_[static_cast<std::size_t>(k % kPendingSlots)] = demanded;
+    return k >= n ? pending_tau_[static_cast<std::size_t>((k - n) % kPendingSlots)]
+                  : Vec6::Zero().eval();
   }
 
-  /// The waves over the control period that starts now, under the force
-  /// tau: from where they were followed to (the position predicted for
-  /// now), on to the end of the period at the position predicted from the
-  /// vehicle's NED velocity u and acceleration b now (off by dt^3 |jerk| / 6),
-  /// with their rates along that path; the substeps interpolate between the
-  /// two.
-  void follow_waves(const Vec6& tau) noexcept {
-    const Scalar dt = config_.dt;
-    const Matrix3<Scalar> r = rotation(EulerTrig<Scalar>::from_pose(eta_));
-    const Vec3 u = r * nu_.template head<3>();
-    FluidFlow<Scalar> flow;
-    flow.velocity = current_velocity(observation_.t) + waves_.kinematics().velocity;
-    flow.acceleration = waves_.rates().velocity;
-    flow.displaced_mass = vehicle_.parameters().buoyancy / static_cast<Scalar>(standard_gravity);
-    Vec6 eta_dot, nu_dot;
-    const Status s = derivative_in_flow(vehicle_, eta_, nu_, tau, flow, eta_dot, nu_dot);
-    // d(R v)/dt = R (v_dot + w x v); none if the plant cannot say.
-    const Vec3 b = (s == Status::ok || s == Status::near_singularity)
-                       ? Vec3(r * (nu_dot.template head<3>() +
-                                   nu_.template tail<3>().cross(nu_.template head<3>())))
-                       : Vec3::Zero();
-    wave_period_.duration = dt;
-    wave_period_.start_velocity = waves_.kinematics().velocity;
-    wave_period_.start_rate = waves_.rates().velocity;
-    waves_.advance(eta_.template head<3>() + dt * u + (dt * dt / Scalar(2)) * b, u + dt * b);
-    wave_period_.end_velocity = waves_.kinematics().velocity;
-    wave_period_.end_rate = waves_.rates().velocity;
+  /// The thrusters over one substep: their wrench, and their thrusts added
+  /// to the row's mean.
+  Vec6 thrust(Eigen::Index row, Scalar substeps) noexcept {
+    thrusters_.advance(h_);
+    if (thruster_count_ > 0)
+      result_.thrusts.row(row) +=
+          thrusters_.efficiency().cwiseProduct(thrusters_.thrust()).transpose() / substeps;
+    return thrusters_.wrench();
   }
 
-  /// The current at the vehicle over the substep starting at t.
-  Vec3 current_velocity(Scalar t) const noexcept {
-    return config_.current_model == CurrentModel::gauss_markov ? current_.velocity()
-                                                               : current_at(t);
+  /// Row `row`'s instant, states and what the controller gave.
+  void log_row(Eigen::Index row, const Vec6& applied_tau,
+               const ControllerReport<Scalar>& report) noexcept {
+    SimulationResult<Scalar>& r = result_;
+    const DesiredState<Scalar>& desired = observation_.desired;
+    r.t(row) = observation_.t;
+    r.eta.row(row) = eta_.transpose();
+    r.nu.row(row) = nu_.transpose();
+    r.eta_estimate.row(row) = observation_.eta.transpose();
+    r.nu_estimate.row(row) = observation_.nu.transpose();
+    r.eta_d.row(row) = desired.eta_d.transpose();
+    r.eta_d_dot.row(row) = desired.eta_d_dot.transpose();
+    r.tau_demanded.row(row) = applied_tau.transpose();
+    r.s.row(row) = report.s.transpose();
+    r.adaptive_norm(row) = report.adaptive_norm;
+    r.controller_status(row) = static_cast<std::uint8_t>(report.status);
+    if (parameter_count_ > 0)
+      r.theta.row(row) =
+          Eigen::Map<const Eigen::Matrix<Scalar, 1, Eigen::Dynamic>>(report.parameters,
+                                                                     parameter_count_);
   }
 
-  Vec3 current_at(Scalar t) const noexcept {
-    Vec3 c = config_.current;
-    for (const auto& step : config_.current_steps)
-      if (t >= step.time) c = step.velocity;
-    if (config_.current_period > Scalar(0))
-      c += config_.current_amplitude * std::sin(kTwoPi * t / config_.current_period);
-    return c;
+  /// The plant as the disturbance parts see and change it.
+  parts::Plant<Scalar> plant() noexcept {
+    return parts::Plant<Scalar>{vehicle_, vehicle0_, thrusters_, eta_, nu_};
   }
 
-  static constexpr Scalar kTwoPi = Scalar(6.283185307179586);
+  using Parts = DisturbanceParts<Scalar>;
   static constexpr Eigen::Index kPendingSlots = kMaxControlDelay + 1;
 
   Vehicle<Scalar> vehicle_;   ///< the plant, changed by the payload events
   Vehicle<Scalar> vehicle0_;  ///< the plant at t = 0
-  std::vector<bool> payload_applied_;
-  Scalar payload_mass_ = Scalar(0);
-  GaussMarkovCurrent<Scalar> current_;
-  Waves<Scalar> waves_;
-  WaveInterval<Scalar> wave_period_;  ///< the waves over this control period
+  /// The disturbance parts' states (payload, current, waves, ...).
+  typename Parts::States parts_;
   SimulationConfig<Scalar> config_;
   ReferenceModel<Scalar> reference_;
   Thrusters<Scalar> thrusters_;
@@ -515,7 +419,6 @@ class Simulator {
   Eigen::Index k_ = 0;
   Eigen::Index thruster_count_ = 0;
   int parameter_count_ = 0;
-  std::vector<bool> failure_applied_;
   Vec6 eta_ = Vec6::Zero(), nu_ = Vec6::Zero();
   // The last measurements delivered unfrozen, which a freeze keeps repeating.
   Vec6 held_eta_ = Vec6::Zero(), held_nu_ = Vec6::Zero();
