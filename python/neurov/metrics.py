@@ -1,5 +1,11 @@
 """A run's tracking and effort metrics, summed as the rows come.
 
+Each metric is one :class:`Metric` in :data:`METRICS`: its name (the column of
+a study's runs table), its axis label and the function that computes it from
+the window's sums. :meth:`Result.metrics`, a study's runs table, the league
+table's checks, the tuner's objective and the figures' labels all read that one
+table, so a metric added there (:func:`register_metric`) reaches all of them.
+
 :class:`MetricsWindow` takes a run's rows in one piece (:meth:`Result.metrics`)
 or chunk by chunk as a long run streams (``neurov run``), and gives the same
 numbers either way: sums, counts and extremes over the window t >= `after`.
@@ -8,6 +14,8 @@ numbers either way: sums, counts and extremes over the window t >= `after`.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -15,7 +23,8 @@ import numpy as np
 if TYPE_CHECKING:
     from neurov.result import Result
 
-__all__ = ["TRANSIENT_S", "MetricsWindow", "metrics_start"]
+__all__ = ["METRICS", "TRANSIENT_S", "Metric", "MetricsWindow", "Window", "WindowSums", "flat_metrics",
+           "metric_label", "metric_names", "metrics_start", "register_metric"]
 
 TRANSIENT_S = 10.0
 """The start-up transient the metrics skip [s]: the weights start from zero
@@ -40,7 +49,7 @@ def _finite_or_inf(x: Any) -> float:
     return x if math.isfinite(x) else math.inf
 
 
-class _Sums:
+class WindowSums:
     """Sums and extremes of the tracking error and the force over some rows."""
 
     def __init__(self) -> None:
@@ -91,7 +100,7 @@ class MetricsWindow:
             raise ValueError(f"argument 'after' must be a finite time [s], got {after}")
         self.after = float(after)
         self.dt = dt
-        self._window, self._before = _Sums(), _Sums()
+        self._window, self._before = WindowSums(), WindowSums()
         self._final_norm = math.nan
         self._max_norm = -math.inf
         self._diverged = False
@@ -134,9 +143,9 @@ class MetricsWindow:
                 return sums.t_last
         return None
 
-    def value(self) -> dict[str, Any]:
-        """The metrics of the rows added (see :meth:`Result.metrics`). A
-        diverged run with no row in the window gets them over every row;
+    def window(self) -> Window:
+        """What the metrics are computed from: the sums of the rows judged. A
+        diverged run with no row in the window is judged over every row;
         otherwise an empty window raises ValueError naming 'after'."""
         w = self._window
         if not w.rows:
@@ -144,29 +153,173 @@ class MetricsWindow:
             if not (self._diverged and self._before.rows):
                 raise ValueError(f"argument 'after' = {self.after} leaves no samples (run ends at {last})")
             w = self._before
-        n, dt = w.rows, self.dt
+        return Window(sums=w, dt=self.dt, refused_steps=self._window.refused + self._before.refused,
+                      final_adaptive_norm=self._final_norm, max_adaptive_norm=self._max_norm,
+                      diverged=self._diverged, t_last=self._t_last())
+
+    def value(self) -> dict[str, Any]:
+        """The metrics of the rows added (see :meth:`Result.metrics`), nested
+        as :meth:`Result.metrics` gives them: each metric of :data:`METRICS`
+        under its name, or inside the dict or list its ``nest`` names."""
+        window = self.window()
+        out: dict[str, Any] = {}
         with np.errstate(over="ignore", invalid="ignore"):
-            rmse = np.sqrt(w.e2 / n)
-            return {
-                "window_start_s": w.t_first,
-                "window_end_s": w.t_last,
-                "rmse_position_m": _finite_or_inf(np.sqrt(w.pos2 / n)),
-                "max_position_error_m": _finite_or_inf(w.max_pos),
-                "rmse_yaw_rad": _finite_or_inf(rmse[5]),
-                "max_yaw_error_rad": _finite_or_inf(w.max_abs_e[5]),
-                "rmse": {name: _finite_or_inf(rmse[i]) for i, name in enumerate(DOF_NAMES)},
-                "max_abs_error": {name: _finite_or_inf(w.max_abs_e[i]) for i, name in enumerate(DOF_NAMES)},
-                "iae": {name: _finite_or_inf(w.abs_e[i] * dt) for i, name in enumerate(DOF_NAMES)},
-                "mean_abs_tau": _finite_or_inf(w.abs_tau / (6 * n)),
-                "max_abs_tau": _finite_or_inf(np.max(w.max_abs_tau_dof)),
-                "mean_abs_tau_dof": [_finite_or_inf(x) for x in w.abs_tau_dof / n],
-                "max_abs_tau_dof": [_finite_or_inf(x) for x in w.max_abs_tau_dof],
-                "control_energy": _finite_or_inf(w.tau_norm * dt),
-                "final_adaptive_norm": _finite_or_inf(self._final_norm),
-                "max_adaptive_norm": _finite_or_inf(self._max_norm),
-                # Over the whole run: a controller failing in the transient is not hidden by the window.
-                "refused_steps": self._window.refused + self._before.refused,
-                "refused_steps_in_window": w.refused,
-                "diverged": self._diverged,
-                "diverged_at_s": self._t_last() if self._diverged else None,
-            }
+            for m in METRICS.values():
+                v = m.compute(window)
+                if m.nest is None:
+                    out[m.name] = v
+                elif isinstance(m.nest[1], int):
+                    out.setdefault(m.nest[0], []).append(v)
+                else:
+                    out.setdefault(m.nest[0], {})[m.nest[1]] = v
+        return out
+
+    def flat(self) -> dict[str, float]:
+        """The metrics of the rows added as the columns of a study's runs
+        table: each column metric under its own name, as a float."""
+        return flat_metrics(self.value())
+
+
+@dataclass(frozen=True)
+class Window:
+    """The rows a run is judged on, as a metric's function sees them."""
+
+    sums: WindowSums  #: the sums and extremes over the rows judged
+    dt: float  #: the row spacing [s]
+    refused_steps: int  #: refused controller steps over the whole run
+    final_adaptive_norm: float  #: the adapted parameters' norm at the last row
+    max_adaptive_norm: float  #: its maximum over the whole run
+    diverged: bool
+    t_last: float | None  #: the time of the last row
+
+
+@dataclass(frozen=True)
+class Metric:
+    """One metric of a run, in one place.
+
+    `name` is its key in :meth:`Result.metrics` and its column in a study's
+    runs table; `label` its axis label in words with its unit in brackets;
+    `compute` gives its value from the :class:`Window`. `error`: a tracking
+    error, which a study sets to inf in a diverged run (so that the run ranks
+    as the failure it is). `nest`: where :meth:`Result.metrics` puts it, a
+    (dict name, key) or (list name, index) pair, for the per-DOF metrics.
+    `column`: whether a study's runs table has it (the window's own facts,
+    its start and end, are not metrics to rank by).
+    """
+
+    name: str
+    label: str
+    compute: Callable[[Window], Any]
+    error: bool = False
+    nest: tuple[str, str | int] | None = None
+    column: bool = True
+
+
+#: Every metric, in the order of :meth:`Result.metrics` and of a study's runs
+#: table. Filled below and by :func:`register_metric`.
+METRICS: dict[str, Metric] = {}
+
+
+def register_metric(metric: Metric) -> Metric:
+    """Adds `metric` to :data:`METRICS` (and so to :meth:`Result.metrics`, a
+    study's runs table, the names a study or tuning file may rank by and the
+    figures' labels). A name already taken is refused. A study's worker
+    processes import neurov afresh: register a metric of your own in a module
+    that your study's controller factory imports, or run the study in this
+    process (``executor="processes", workers=1``)."""
+    if not isinstance(metric, Metric):
+        raise TypeError(f"argument 'metric' must be a neurov.metrics.Metric, got {type(metric).__name__}")
+    if not metric.name.isidentifier():
+        raise ValueError(f"argument 'metric': name must be an identifier (a table column), got {metric.name!r}")
+    if metric.name in METRICS:
+        raise ValueError(f"argument 'metric': a metric named {metric.name!r} exists already")
+    if not metric.label.strip():
+        raise ValueError(f"argument 'metric': label of {metric.name!r} must say what it is and its unit")
+    METRICS[metric.name] = metric
+    return metric
+
+
+def metric_names() -> list[str]:
+    """The metric columns of a study's runs table, in their order."""
+    return [m.name for m in METRICS.values() if m.column]
+
+
+def metric_label(key: str) -> str:
+    """The axis label of metric `key`; the key itself for a column that is not a metric."""
+    m = METRICS.get(key)
+    return m.label if m is not None else key
+
+
+def flat_metrics(nested: dict[str, Any]) -> dict[str, float]:
+    """:meth:`Result.metrics` as the columns of a study's runs table (each a
+    float; a missing time, None, as NaN)."""
+    out: dict[str, float] = {}
+    for m in METRICS.values():
+        if not m.column:
+            continue
+        v = nested[m.name] if m.nest is None else nested[m.nest[0]][m.nest[1]]
+        out[m.name] = math.nan if v is None else float(v)
+    return out
+
+
+def _define_metrics() -> None:
+    """The shipped metrics. The mean and maximum of ``|tau|`` over all six
+    DOFs, and the control energy, add forces and moments, hence "N, N m". The
+    adapted parameters (NN weights or theta_hat) carry the units of different
+    regressor columns: their norm has none of its own."""
+    f = _finite_or_inf
+    dofs = (("x", "x (north)", "m"), ("y", "y (east)", "m"), ("z", "z (depth)", "m"),
+            ("roll", "roll", "rad"), ("pitch", "pitch", "rad"), ("yaw", "yaw", "rad"))
+    taus = (("X", "N"), ("Y", "N"), ("Z", "N"), ("K", "N m"), ("M", "N m"), ("N", "N m"))
+
+    def rmse(w: Window, i: int) -> float:
+        return f(np.sqrt(w.sums.e2[i] / w.sums.rows))
+
+    ms = [
+        Metric("window_start_s", "start of the metrics window [s]", lambda w: w.sums.t_first, column=False),
+        Metric("window_end_s", "end of the metrics window [s]", lambda w: w.sums.t_last, column=False),
+        Metric("rmse_position_m", "RMS position error [m]",
+               lambda w: f(np.sqrt(w.sums.pos2 / w.sums.rows)), error=True),
+        Metric("max_position_error_m", "max position error [m]", lambda w: f(w.sums.max_pos), error=True),
+        Metric("rmse_yaw_rad", "RMS yaw error [rad]", lambda w: rmse(w, 5), error=True),
+        Metric("max_yaw_error_rad", "max yaw error [rad]", lambda w: f(w.sums.max_abs_e[5]), error=True),
+    ]
+    for i, (k, name, unit) in enumerate(dofs):
+        ms.append(Metric(f"rmse_{k}", f"RMS {name} error [{unit}]", lambda w, i=i: rmse(w, i),
+                         error=True, nest=("rmse", k)))
+    for i, (k, name, unit) in enumerate(dofs):
+        ms.append(Metric(f"max_abs_error_{k}", f"max |{name} error| [{unit}]",
+                         lambda w, i=i: f(w.sums.max_abs_e[i]), error=True, nest=("max_abs_error", k)))
+    for i, (k, name, unit) in enumerate(dofs):
+        ms.append(Metric(f"iae_{k}", f"integral of |{name} error| [{unit} s]",
+                         lambda w, i=i: f(w.sums.abs_e[i] * w.dt), error=True, nest=("iae", k)))
+    ms += [
+        Metric("mean_abs_tau", "mean |τ| over the six DOFs [N, N m]",
+               lambda w: f(w.sums.abs_tau / (6 * w.sums.rows))),
+        Metric("max_abs_tau", "max |τ| over the six DOFs [N, N m]", lambda w: f(np.max(w.sums.max_abs_tau_dof))),
+    ]
+    for i, (name, unit) in enumerate(taus):
+        ms.append(Metric(f"mean_abs_tau_dof_{i}", f"mean |τ {name}| [{unit}]",
+                         lambda w, i=i: f(w.sums.abs_tau_dof[i] / w.sums.rows), nest=("mean_abs_tau_dof", i)))
+    for i, (name, unit) in enumerate(taus):
+        ms.append(Metric(f"max_abs_tau_dof_{i}", f"max |τ {name}| [{unit}]",
+                         lambda w, i=i: f(w.sums.max_abs_tau_dof[i]), nest=("max_abs_tau_dof", i)))
+    ms += [
+        Metric("control_energy", "control effort ∫‖τ‖ dt [N s, N m s]", lambda w: f(w.sums.tau_norm * w.dt)),
+        Metric("final_adaptive_norm", "final norm of the adapted parameters [mixed units]",
+               lambda w: f(w.final_adaptive_norm)),
+        Metric("max_adaptive_norm", "max norm of the adapted parameters [mixed units]",
+               lambda w: f(w.max_adaptive_norm)),
+        # Over the whole run: a controller failing in the transient is not hidden by the window.
+        Metric("refused_steps", "refused control steps [count]", lambda w: w.refused_steps),
+        Metric("refused_steps_in_window", "refused control steps in the window [count]",
+               lambda w: w.sums.refused, column=False),
+        Metric("diverged", "run diverged [0 or 1]", lambda w: w.diverged),
+        Metric("diverged_at_s", "time the run diverged [s]",
+               lambda w: w.t_last if w.diverged else None, column=False),
+    ]
+    for m in ms:
+        register_metric(m)
+
+
+_define_metrics()

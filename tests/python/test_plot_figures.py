@@ -16,8 +16,9 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from neurov import plot
+from neurov.metrics import METRICS
 from neurov.paper import fig5_caption, paper_scenario
-from neurov.plotting.labels import METRIC_LABELS, metric_label, thruster_label
+from neurov.plotting.labels import metric_label, thruster_label
 from neurov.plotting.paper import figure_inputs, figure_xy, figure_yaw
 from neurov.plotting.paths import ARROWS, mark_start_and_direction
 from neurov.plotting.study import FEW_SAMPLES, BandPlotter, box_figure, plot_boxes
@@ -155,9 +156,10 @@ def test_fig5_caption_names_the_controller_with_the_lower_error(fig5_runs: list[
 
 
 def test_every_metric_has_a_label_in_words_with_a_unit() -> None:
-    assert set(METRIC_LABELS) == set(metric_names())
-    for key, label in METRIC_LABELS.items():
-        assert UNIT.search(label), key
+    assert set(metric_names()) <= set(METRICS)
+    for key, m in METRICS.items():
+        label = metric_label(key)
+        assert label == m.label and UNIT.search(label), key
         assert "_" not in label, key  # words, not a raw key
     assert metric_label("rmse_position_m") == "RMS position error [m]"
 

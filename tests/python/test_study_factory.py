@@ -10,8 +10,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from neurov.metrics import metric_names
 from neurov.study import StudyError, load_study, run_study
-from neurov.study.spec import METRIC_NAMES
 from study_files import NOISE, step_scenario
 
 HERE = Path(__file__).resolve().parent
@@ -73,7 +73,7 @@ def test_a_factory_controller_runs_everywhere_and_ranks_beside_the_built_ins(tmp
     pd_rows = rows[rows.controller == "pd"].reset_index(drop=True)
     assert len(mine) == len(pd_rows) == 6
     # The same law stepped from Python: the same run on every plant.
-    for column in ("sample", "noise_seed", "p_mass", "p_current_speed", *METRIC_NAMES):
+    for column in ("sample", "noise_seed", "p_mass", "p_current_speed", *metric_names()):
         np.testing.assert_allclose(mine[column].to_numpy(dtype=float), pd_rows[column].to_numpy(dtype=float),
                                    rtol=1e-9, err_msg=column)
     assert list(mine.scenario) == list(pd_rows.scenario) == ["a"] * 3 + ["b"] * 3

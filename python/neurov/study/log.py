@@ -13,7 +13,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from neurov.study.spec import METRIC_NAMES
+from neurov.metrics import metric_names
 
 __all__ = ["LOG_NAME", "Record", "StudyLogWarning", "read_log", "repair_tail"]
 
@@ -83,7 +83,7 @@ def _check(rec: Any) -> tuple[str, str, int]:
                          f"a row that is a {type(row).__name__}")
     if [row.get("scenario"), row.get("controller"), row.get("sample")] != key or not isinstance(row.get("vehicle"), str):
         raise ValueError("a row whose scenario, vehicle, controller or sample does not match its key")
-    for name in METRIC_NAMES:
+    for name in metric_names():
         if name not in row:
             raise ValueError(f"a row without the metric {name!r}")
     for name, v in row.items():

@@ -15,9 +15,10 @@ import numpy as np
 
 from neurov.controller import describe_failures, own_failures
 from neurov.errors import ControllerError, RefusedStepsWarning
+from neurov.metrics import METRICS, flat_metrics, metric_names
 from neurov.scenario import ControllerSpec
 from neurov.study.sampling import sample_plant
-from neurov.study.spec import METRIC_NAMES, Study, vehicle_key
+from neurov.study.spec import Study, vehicle_key
 
 __all__ = ["SERIES_POINTS", "RunKey", "error_record", "plan_runs", "resolved_spec", "run_batch", "run_one"]
 
@@ -36,20 +37,6 @@ def plan_runs(study: Study) -> list[RunKey]:
     """Every run of the study in the table's order: scenario, controller, sample."""
     return [RunKey(i, j, k) for i in range(len(study.scenarios)) for j in range(len(study.controllers))
             for k in range(study.samples)]
-
-
-def _flat_metrics(m: Mapping[str, Any]) -> dict[str, float]:
-    out: dict[str, float] = {}
-    for key, v in m.items():
-        if isinstance(v, Mapping):
-            for k2, x in v.items():
-                out[f"{key}_{k2}"] = float(x)
-        elif isinstance(v, (list, tuple)):
-            for i, x in enumerate(v):
-                out[f"{key}_{i}"] = float(x)
-        else:
-            out[key] = math.nan if v is None else float(v)
-    return out
 
 
 def resolved_spec(study: Study, controller: int, scenario: int) -> ControllerSpec:
@@ -102,7 +89,7 @@ def error_record(study: Study, key: RunKey, kind: str, error_type: str, message:
         row.update({"noise_seed": plant.seed, **columns})
     except Exception:  # noqa: BLE001, S110 - the draws only fill columns; the error is what is recorded
         pass
-    row.update({k: math.nan for k in METRIC_NAMES})
+    row.update({k: math.nan for k in metric_names()})
     return {"key": [scenario.name, controller, key.sample], "row": row, "series": None,
             "error": {"kind": kind, "type": error_type, "message": message},
             "wall_time": 0.0, "cpu_time": cpu_time}
@@ -135,9 +122,9 @@ def _run(study: Study, key: RunKey, cpu_start: float) -> dict[str, Any]:
     # A diverged run's metrics cover what it simulated (all of it if it
     # stopped before `after`); its error metrics are inf here so that it
     # ranks as the failure it is, whatever its errors before it stopped.
-    metrics = _flat_metrics(result.metrics(after=study.after))
+    metrics = flat_metrics(result.metrics(after=study.after))
     if result.diverged:
-        metrics.update({k: math.inf for k in metrics if k.startswith(("rmse", "max_position", "max_yaw", "max_abs_error", "iae"))})
+        metrics.update({k: math.inf for k in metrics if METRICS[k].error})
     row: dict[str, Any] = {
         "scenario": scenario.name,
         "vehicle": vehicle_key(scenario),
@@ -145,7 +132,7 @@ def _run(study: Study, key: RunKey, cpu_start: float) -> dict[str, Any]:
         "sample": key.sample,
         "noise_seed": plant.seed,
         **columns,
-        **{k: metrics[k] for k in METRIC_NAMES},
+        **metrics,
     }
     err = result.error
     # The stride comes from the planned length, not the run's: a run that

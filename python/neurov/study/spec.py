@@ -15,11 +15,12 @@ from typing import Any
 import numpy as np
 
 from neurov.errors import StudyError
+from neurov.metrics import metric_names
 from neurov.scenario import ControllerSpec, Scenario
 from neurov.study.factory import ControllerFactory
 
 __all__ = ["ENVIRONMENT_PARAMETERS", "NORMAL_TRUNCATION", "SCENARIO_DIR", "STUDY_DIR", "VEHICLE_PARAMETERS",
-           "METRIC_NAMES", "Perturbation", "Study", "StudyError", "identity_differences", "metric_names",
+           "Perturbation", "Study", "StudyError", "identity_differences", "metric_names",
            "vehicle_key"]
 
 _PACKAGE = Path(__file__).resolve().parent.parent
@@ -220,15 +221,3 @@ def vehicle_key(scenario: Scenario) -> str:
     return Path(scenario.vehicle).stem
 
 
-def metric_names() -> list[str]:
-    """The metric columns of a run's row (Result.metrics, flattened)."""
-    return list(METRIC_NAMES)
-
-
-METRIC_NAMES = (
-    "rmse_position_m", "max_position_error_m", "rmse_yaw_rad", "max_yaw_error_rad",
-    *(f"{k}_{d}" for k in ("rmse", "max_abs_error", "iae") for d in ("x", "y", "z", "roll", "pitch", "yaw")),
-    "mean_abs_tau", "max_abs_tau",
-    *(f"{k}_{i}" for k in ("mean_abs_tau_dof", "max_abs_tau_dof") for i in range(6)),
-    "control_energy", "final_adaptive_norm", "max_adaptive_norm", "refused_steps", "diverged",
-)
