@@ -320,9 +320,14 @@ class Scenario:
 
         command = {k: (v.tolist() if isinstance(v, np.ndarray) else v)
                    for k, v in dataclasses.asdict(self.command).items()}
+        simulation = as_dict(self.simulation)
+        # A run without a tether describes itself as before tethers existed:
+        # its studies keep their fingerprints, and so their folders.
+        if simulation.get("tether", 0) is None:
+            del simulation["tether"]
         return {"name": self.name, "vehicle": self.vehicle, "vehicle_parameters": self.vehicle_parameters,
                 "thruster_time_constant": self.thruster_time_constant, "command": command,
-                "controller": self.controller.describe(), "simulation": as_dict(self.simulation)}
+                "controller": self.controller.describe(), "simulation": simulation}
 
     def replace(self, **changes: Any) -> Scenario:
         """A copy with some fields changed; the copy has its own config."""

@@ -109,3 +109,12 @@ def test_the_shipped_bluerov2_tether_scenario_pulls_as_its_straight_line_does() 
     r = simulate(s.replace(duration=0.2, controller=ControllerSpec(type="pd")))
     np.testing.assert_allclose(r.disturbance[0], [*f, *np.cross(t.attachment, f)], rtol=1e-12, atol=1e-15)
     assert np.linalg.norm(f) > 0.5  # N
+
+
+def test_a_run_without_a_tether_describes_itself_as_before_tethers() -> None:
+    """Study fingerprints hash Scenario.describe(): a tether-less scenario's
+    must not name the tether, so that its study folders stay its own."""
+    plain = read_scenario(SCENARIO_DIR / "bluerov2_square.toml").describe()["simulation"]
+    tethered = read_scenario(SCENARIO_DIR / "bluerov2_square_tether.toml").describe()["simulation"]
+    assert "tether" not in plain
+    assert tethered["tether"]["diameter"] > 0

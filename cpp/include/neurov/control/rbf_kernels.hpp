@@ -35,6 +35,8 @@
 #include <type_traits>
 #include <utility>
 
+#include "neurov/core/config.hpp"
+
 #if !defined(NEUROV_NO_RUNTIME_DISPATCH) && (defined(__GNUC__) || defined(__clang__)) && \
     defined(__x86_64__) && !defined(__AVX2__)
 #define NEUROV_RUNTIME_DISPATCH 1
@@ -44,11 +46,9 @@
 
 #if defined(__GNUC__) || defined(__clang__)
 #define NEUROV_VECTOR_EXTENSIONS 1
-#define NEUROV_ALWAYS_INLINE __attribute__((always_inline)) inline
 #define NEUROV_RESTRICT __restrict__
 #else
 #define NEUROV_VECTOR_EXTENSIONS 0
-#define NEUROV_ALWAYS_INLINE inline
 #define NEUROV_RESTRICT
 #endif
 

@@ -9,3 +9,11 @@
 #else
 #define NEUROV_HAS_EXCEPTIONS 0
 #endif
+
+// Forced inlining where GCC would keep a hot function out of line (each use
+// says why); plain inline elsewhere.
+#if defined(__GNUC__) || defined(__clang__)
+#define NEUROV_ALWAYS_INLINE __attribute__((always_inline)) inline
+#else
+#define NEUROV_ALWAYS_INLINE inline
+#endif

@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "neurov/core/config.hpp"
 #include "neurov/core/rk4.hpp"
 #include "neurov/core/status.hpp"
 #include "neurov/core/types.hpp"
@@ -20,7 +21,7 @@ namespace neurov {
 /// step (its disturbance parts inlined) grows, and the plant loop slowed by
 /// about 14 % (bench BM_ClosedLoopPlantOnly).
 template <typename Scalar>
-__attribute__((always_inline)) inline Status rk4_step(const Vehicle<Scalar>& vehicle, Vector6<Scalar>& eta, Vector6<Scalar>& nu,
+NEUROV_ALWAYS_INLINE Status rk4_step(const Vehicle<Scalar>& vehicle, Vector6<Scalar>& eta, Vector6<Scalar>& nu,
                        const typename Vehicle<Scalar>::Vec6& tau,
                        typename Vehicle<Scalar>::Scalar dt,
                        const typename Vehicle<Scalar>::Vec3& current_ned =

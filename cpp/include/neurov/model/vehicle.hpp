@@ -303,10 +303,7 @@ class Vehicle {
   /// needs it too computes it once: the sines and cosines are much of the
   /// cost of a step). Forced inline: called through the overload above, it
   /// was not, and a calm run's RK4 stages cost a fifth more.
-#if defined(__GNUC__) || defined(__clang__)
-  __attribute__((always_inline))
-#endif
-  Status derivative(const EulerTrig<Scalar>& trig, const Vec6& eta, const Vec6& nu,
+  NEUROV_ALWAYS_INLINE Status derivative(const EulerTrig<Scalar>& trig, const Vec6& eta, const Vec6& nu,
                     const Vec6& tau, const Vec3& current_ned, Vec6& eta_dot,
                     Vec6& nu_dot) const noexcept {
     if (!valid_) {
