@@ -31,7 +31,7 @@ from neurov.recording.msgdefs import msgdef
 from neurov.result import Result
 from neurov.scenario import Scenario
 
-__all__ = ["FRAMES", "TOPICS", "McapRecorder", "stamps", "write_mcap"]
+__all__ = ["FRAMES", "TOPICS", "McapRecorder", "plain", "stamps", "write_mcap"]
 
 FRAMES = {"world": "map", "world_ned": "map_ned", "body": "base_link", "body_frd": "base_link_frd"}
 """The frame ids: ENU world and FLU body (REP 103/105), and neurov's own
@@ -160,6 +160,8 @@ class McapRecorder:
     def close(self, npz: bytes, metrics: dict[str, Any], result: Result) -> Path:
         """Writes the run (`npz`: the bytes of its result.npz), its scenario
         and `metrics`, and closes the file."""
+        # A streamed run's drawn rows are thinned; result.npz holds every row.
+        extra = {k: v for k, v in result.extra.items() if k != "plotted_rows_of"}
         try:
             self._writer.add_attachment(0, 0, "result.npz", "application/x-npz", npz)
             source = Path(self.scenario.source) if self.scenario.source else None
@@ -169,9 +171,9 @@ class McapRecorder:
                 "version": __version__, "scenario": self.scenario.name, "controller": result.controller,
                 "source": str(source) if source is not None else "",
                 "diverged": json.dumps(result.diverged), "wall_time": json.dumps(result.wall_time),
-                "extra": json.dumps(_plain(result.extra)), "frames": json.dumps(FRAMES)})
-            self._writer.add_metadata("scenario", {"describe": json.dumps(_plain(self.scenario.describe()))})
-            self._writer.add_metadata("metrics", {k: json.dumps(_plain(v)) for k, v in metrics.items()})
+                "extra": json.dumps(plain(extra)), "frames": json.dumps(FRAMES)})
+            self._writer.add_metadata("scenario", {"describe": json.dumps(plain(self.scenario.describe()))})
+            self._writer.add_metadata("metrics", {k: json.dumps(plain(v)) for k, v in metrics.items()})
             self._writer.finish()
         finally:
             self._file.close()
@@ -185,17 +187,17 @@ class McapRecorder:
             self._file.close()
 
 
-def _plain(value: Any) -> Any:
+def plain(value: Any) -> Any:
     """`value` as JSON can hold it: arrays as lists, tuples as lists, enums
     by name, inf and NaN as null (as metrics.json writes them)."""
     if isinstance(value, dict):
-        return {str(k): _plain(v) for k, v in value.items()}
+        return {str(k): plain(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):
-        return [_plain(v) for v in value]
+        return [plain(v) for v in value]
     if isinstance(value, np.ndarray):
-        return _plain(value.tolist())
+        return plain(value.tolist())
     if isinstance(value, np.generic):
-        return _plain(value.item())
+        return plain(value.item())
     if isinstance(value, float) and not math.isfinite(value):
         return None
     if value is None or isinstance(value, (bool, int, float, str)):
