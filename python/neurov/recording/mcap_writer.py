@@ -43,6 +43,7 @@ TOPICS = {
     "/odometry": "nav_msgs/msg/Odometry",
     "/odometry/estimate": "nav_msgs/msg/Odometry",
     "/desired_pose": "geometry_msgs/msg/PoseStamped",
+    "/command_pose": "geometry_msgs/msg/PoseStamped",
     "/wrench/demanded": "geometry_msgs/msg/WrenchStamped",
     "/wrench/applied": "geometry_msgs/msg/WrenchStamped",
     "/imu": "sensor_msgs/msg/Imu",
@@ -129,6 +130,9 @@ class McapRecorder:
         p, q = _pose(rows.eta)
         p_est, q_est = _pose(rows.eta_estimate)
         p_d, q_d = _pose(rows.eta_d)
+        # The command at each row, as the reference model was given it (the core's interpolation).
+        command = self.scenario.simulation.command
+        p_c, q_c = _pose(np.array([command.at(t) for t in rows.t.tolist()]).reshape(-1, 6))
         nu, nu_est = body_to_flu(rows.nu), body_to_flu(rows.nu_estimate)
         tau_d, tau_a = body_to_flu(rows.tau_demanded), body_to_flu(rows.tau_applied)
         for k, ns in enumerate(ns_all.tolist()):
@@ -140,8 +144,9 @@ class McapRecorder:
                     "pose": {"pose": {"position": _vec(pk), "orientation": _quat(qk)}, "covariance": _ZEROS_36},
                     "twist": {"twist": {"linear": _vec(vk[:3]), "angular": _vec(vk[3:])},
                               "covariance": _ZEROS_36}}, ns)
-            self._write("/desired_pose", {"header": _header(ns, world),
-                                          "pose": {"position": _vec(p_d[k]), "orientation": _quat(q_d[k])}}, ns)
+            for topic, pk, qk in (("/desired_pose", p_d[k], q_d[k]), ("/command_pose", p_c[k], q_c[k])):
+                self._write(topic, {"header": _header(ns, world),
+                                    "pose": {"position": _vec(pk), "orientation": _quat(qk)}}, ns)
             for topic, wk in (("/wrench/demanded", tau_d[k]), ("/wrench/applied", tau_a[k])):
                 self._write(topic, {"header": _header(ns, body),
                                     "wrench": {"force": _vec(wk[:3]), "torque": _vec(wk[3:])}}, ns)
