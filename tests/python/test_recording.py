@@ -288,6 +288,20 @@ def _one_row(result: neurov.Result) -> neurov.Result:
     return dataclasses.replace(result, **{name: getattr(result, name)[:1] for name in SERIES})
 
 
+def test_without_the_ros_extra_the_error_says_what_to_install(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+                                                              sensed: tuple[neurov.Result, Path]) -> None:
+    from neurov.recording.mcap_reader import read_mcap
+
+    result, path = sensed
+    monkeypatch.setitem(sys.modules, "mcap_ros2.writer", None)  # import mcap_ros2.writer raises ImportError
+    monkeypatch.setitem(sys.modules, "mcap.reader", None)
+    with pytest.raises(RecordingError, match=r"needs mcap and mcap-ros2-support: pip install 'neurov\[ros\]'"):
+        result.to_mcap(tmp_path / "run.mcap")
+    assert not (tmp_path / "run.mcap").exists()
+    with pytest.raises(RecordingError, match=r"needs mcap: pip install 'neurov\[ros\]'"):
+        read_mcap(path)
+
+
 def test_import_neurov_imports_no_mcap() -> None:
     code = ("import sys, neurov; r = neurov.Result; "
             "bad = [m for m in ('mcap', 'mcap_ros2', 'rosbags', 'neurov.recording.mcap_writer') if m in sys.modules]; "

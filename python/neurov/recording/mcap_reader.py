@@ -31,8 +31,11 @@ def read_mcap(path: str | Path, scenario: Scenario | None = None) -> Result:
     beside it is found), or `scenario` if given (needed for a run of a
     scenario built in Python). Raises :class:`neurov.errors.RecordingError`
     naming the file for one that is missing, not MCAP, or not a neurov run."""
-    from mcap.exceptions import McapError
-    from mcap.reader import make_reader
+    try:
+        from mcap.exceptions import McapError
+        from mcap.reader import make_reader
+    except ImportError:
+        raise RecordingError("reading an MCAP recording needs mcap: pip install 'neurov[ros]'") from None
 
     path = Path(path)
     if not path.is_file():

@@ -22,9 +22,9 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from mcap_ros2.writer import Writer
 
 from neurov import __version__
+from neurov.errors import RecordingError
 from neurov.recording.frames import (BODY_FLU_FROM_FRD, WORLD_ENU_FROM_NED, body_to_flu, enu_quaternions,
                                      position_to_enu)
 from neurov.recording.msgdefs import msgdef
@@ -94,6 +94,12 @@ class McapRecorder:
     of the rows so far, without the run's attachments)."""
 
     def __init__(self, path: str | Path, scenario: Scenario, thrusters: int) -> None:
+        try:  # here, not at the top: the API pages build without neurov[ros]
+            from mcap_ros2.writer import Writer
+        except ImportError:
+            raise RecordingError("writing an MCAP recording needs mcap and mcap-ros2-support: "
+                                 "pip install 'neurov[ros]' (or write CSV: --format csv)") from None
+
         self.path = Path(path)
         self.scenario = scenario
         self._file = self.path.open("wb")

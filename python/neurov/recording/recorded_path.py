@@ -55,7 +55,10 @@ def recorded_path(file: str | Path, topic: str, start: float = 0.0) -> tuple[np.
         raise RecordedPathError("start", f"expected a finite number of seconds, got {start!r}")
     if not path.exists():
         raise RecordedPathError("file", f"no such bag or MCAP file: {path}")
-    from rosbags.highlevel import AnyReader
+    try:
+        from rosbags.highlevel import AnyReader
+    except ImportError:
+        raise RecordedPathError("file", "reading a recorded path needs rosbags: pip install 'neurov[ros]'") from None
 
     try:
         with AnyReader([path]) as reader:
