@@ -205,6 +205,28 @@ def test_neurov_run_format_mcap_streams_the_same_recording(tmp_path: Path) -> No
     assert not (tmp_path / "out" / "result.mcap").exists()
 
 
+def test_a_stopped_mcap_run_keeps_its_messages(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from neurov.cli import main
+    from neurov.recording.mcap_reader import read_mcap
+    from neurov.run_stream import _Sinks
+
+    add = _Sinks.add
+
+    def add_then_ctrl_c(self: _Sinks, raw: dict[str, Any]) -> int:
+        add(self, raw)
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(_Sinks, "add", add_then_ctrl_c)
+    out = tmp_path / "out"
+    assert main(["run", str(_write(tmp_path, "sensed.toml", SENSED)), "--out", str(out), "--format", "mcap"]) == 130
+    kept = tmp_path / "out.partial"
+    assert sorted(p.name for p in kept.iterdir()) == ["metrics.json", "result.mcap"] and not out.exists()
+    rows = [log for log, _ in _read_all(kept / "result.mcap")["/odometry"]]
+    assert rows == [round(k * 0.2 * 1e9) for k in range(16)]  # the chunk written before Ctrl-C: the whole 3 s
+    with pytest.raises(RecordingError, match="no attachment 'result.npz'"):
+        read_mcap(kept / "result.mcap")
+
+
 def test_format_mcap_without_out_is_a_usage_error(capsys: pytest.CaptureFixture[str]) -> None:
     from neurov.cli import main
 
