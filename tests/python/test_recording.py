@@ -277,6 +277,38 @@ def test_a_recorded_command_reproduces_the_run_s_desired_path(tmp_path: Path) ->
     np.testing.assert_allclose(poses, first.eta, rtol=0, atol=1e-12)
 
 
+def test_a_ros2_bag_of_poses_is_a_command(tmp_path: Path) -> None:
+    """A rosbag2 folder (written by rosbags, stamps of the wall clock) of
+    PoseStamped in map/ENU gives neurov's NED poses, times from `start`."""
+    from rosbags.rosbag2 import Writer
+    from rosbags.typesys import Stores, get_typestore
+    from scipy.spatial.transform import Rotation
+
+    store = get_typestore(Stores.ROS2_HUMBLE)
+    T = store.types
+    times = np.array([0.0, 2.5, 5.0, 9.0])
+    ned = np.array([[0.0, 0, 1, 0, 0, 0], [3, 1, 1.5, 0.1, -0.05, 2.0], [4, 4, 2, 0, 0.1, 3.0],
+                    [0, 5, 2, -0.1, 0, 4.5]])  # the heading passes pi
+    epoch = 1_700_000_000 * 10**9
+    with Writer(tmp_path / "bag", version=8) as writer:
+        conn = writer.add_connection("/path", "geometry_msgs/msg/PoseStamped", typestore=store)
+        for t, pose in zip(times, ned):
+            ns = epoch + round(t * 1e9)
+            q = Rotation.from_matrix(A @ _rot_ned_frd(*pose[3:]) @ B).as_quat()
+            msg = T["geometry_msgs/msg/PoseStamped"](
+                header=T["std_msgs/msg/Header"](stamp=T["builtin_interfaces/msg/Time"](
+                    sec=ns // 10**9, nanosec=ns % 10**9), frame_id="map"),
+                pose=T["geometry_msgs/msg/Pose"](
+                    position=T["geometry_msgs/msg/Point"](x=pose[1], y=pose[0], z=-pose[2]),
+                    orientation=T["geometry_msgs/msg/Quaternion"](x=q[0], y=q[1], z=q[2], w=q[3])))
+            writer.write(conn, ns, store.serialize_cdr(msg, "geometry_msgs/msg/PoseStamped"))
+    text = SQUARE.replace('type = "square"\nside = 2.0\nspeed = 0.5\nstart = 1.0\nturn_time = 2.0',
+                          'type = "recorded"\nfile = "bag"\ntopic = "/path"\nstart = 1.5')
+    command = load_scenario(_write(tmp_path, "replay.toml", text)).command
+    np.testing.assert_allclose(command.times, times + 1.5, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(command.poses, ned, rtol=0, atol=1e-12)
+
+
 @pytest.mark.parametrize("command, message", [
     ('file = "none.mcap"\ntopic = "/command_pose"', r"command\.file: no such bag or MCAP file: .*none\.mcap"),
     ('file = "bad.mcap"\ntopic = "/command_pose"', r"command\.file: .*bad\.mcap: not a readable ROS 2 bag or MCAP"),
