@@ -6,6 +6,7 @@ exactly; a recorded path is a scenario's command."""
 
 from __future__ import annotations
 
+import dataclasses
 import subprocess
 import sys
 from pathlib import Path
@@ -318,6 +319,9 @@ def test_a_ros2_bag_of_poses_is_a_command(tmp_path: Path) -> None:
      r"geometry_msgs/msg/PoseStamped or nav_msgs/msg/Odometry"),
     ('file = "short.mcap"\ntopic = "/command_pose"', r"command\.topic: .*'/command_pose' has 1 pose\(s\); a path "
                                                      r"needs at least 2"),
+    ('file = "twice.mcap"\ntopic = "/command_pose"', r"command\.topic: .*two poses stamped 0 ns; a path needs "
+                                                     r"strictly increasing stamps"),
+    ('file = "twice.mcap"\ntopic = "/odometry"', r"command\.topic: .*'/odometry' has non-finite positions"),
     ('topic = "/command_pose"', r"command\.file: "),
     ('file = "square.mcap"\ntopic = "/command_pose"\nstart = "soon"', r"command\.start: expected a number"),
 ])
@@ -329,6 +333,11 @@ def test_a_bad_recorded_command_names_the_field(tmp_path: Path, command: str, me
     short = McapRecorder(tmp_path / "short.mcap", square.scenario, 0)  # one row: one pose on each topic
     short.add(_one_row(square))
     short.discard()
+    twice = McapRecorder(tmp_path / "twice.mcap", square.scenario, 0)  # two rows at t = 0, one pose NaN
+    rows = dataclasses.replace(square, **{name: getattr(square, name)[[0, 0]] for name in SERIES})
+    rows.t[:], rows.eta[1, 0] = 0.0, np.nan
+    twice.add(rows)
+    twice.discard()
     _write(tmp_path, "bad.mcap", "not a bag")
     text = SQUARE.replace('type = "square"\nside = 2.0\nspeed = 0.5\nstart = 1.0\nturn_time = 2.0',
                           f'type = "recorded"\n{command}')
@@ -337,8 +346,6 @@ def test_a_bad_recorded_command_names_the_field(tmp_path: Path, command: str, me
 
 
 def _one_row(result: neurov.Result) -> neurov.Result:
-    import dataclasses
-
     return dataclasses.replace(result, **{name: getattr(result, name)[:1] for name in SERIES})
 
 

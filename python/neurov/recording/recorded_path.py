@@ -72,19 +72,19 @@ def recorded_path(file: str | Path, topic: str, start: float = 0.0) -> tuple[np.
         raise RecordedPathError("topic", f"{path}: topic {topic!r} has {len(messages)} pose(s); a path "
                                          "needs at least 2")
     poses = [m.pose.pose if hasattr(m, "child_frame_id") else m.pose for m in messages]
-    ns = np.array([stamp_ns(m) for m in messages], dtype=np.int64)
-    order = np.argsort(ns, kind="stable")
-    ns = ns[order]
-    if np.any(np.diff(ns) <= 0):
-        k = int(np.flatnonzero(np.diff(ns) <= 0)[0])
-        raise RecordedPathError("topic", f"{path}: topic {topic!r}: two poses stamped {ns[k]} ns; "
-                                         "a path needs strictly increasing stamps")
-    xyz = np.array([[p.position.x, p.position.y, p.position.z] for p in poses])[order]
-    q = np.array([[p.orientation.x, p.orientation.y, p.orientation.z, p.orientation.w] for p in poses])[order]
+    xyz = np.array([[p.position.x, p.position.y, p.position.z] for p in poses])
+    q = np.array([[p.orientation.x, p.orientation.y, p.orientation.z, p.orientation.w] for p in poses])
     if not (np.all(np.isfinite(xyz)) and np.all(np.isfinite(q))):
         raise RecordedPathError("topic", f"{path}: topic {topic!r} has non-finite positions or orientations")
     if np.any(np.linalg.norm(q, axis=1) < 1e-9):
         raise RecordedPathError("topic", f"{path}: topic {topic!r} has a zero quaternion (no orientation)")
+    ns = np.array([stamp_ns(m) for m in messages], dtype=np.int64)
+    order = np.argsort(ns, kind="stable")
+    ns, xyz, q = ns[order], xyz[order], q[order]
+    if np.any(np.diff(ns) <= 0):
+        k = int(np.flatnonzero(np.diff(ns) <= 0)[0])
+        raise RecordedPathError("topic", f"{path}: topic {topic!r}: two poses stamped {ns[k]} ns; "
+                                         "a path needs strictly increasing stamps")
     euler = euler_from_enu_quaternions(q)
     euler[:, 2] = np.unwrap(euler[:, 2])
     times = float(start) + (ns - ns[0]) * 1e-9
