@@ -68,6 +68,9 @@ def _parser() -> argparse.ArgumentParser:
                      help="the scenario file, or a shipped scenario's name (e.g. paper_fig3)")
     run.add_argument("--out", default=None, metavar="DIR", help="folder for the results")
     run.add_argument("--plot", action="store_true", help="also write PNG figures (needs --out)")
+    run.add_argument("--format", choices=("csv", "mcap"), default="csv", dest="file_format",
+                     help="the rows as result.csv, or as result.mcap: a ROS 2 recording for Foxglove, "
+                     "PlotJuggler and ros2 bag (needs neurov[ros]; docs/recordings.md)")
     run.set_defaults(usage_of=run)  # a bad combination of options is told with run's usage
 
     study = sub.add_parser(
@@ -146,13 +149,16 @@ def main(argv: Sequence[str] | None = None) -> int:
         elif args.command == "run":
             if args.plot and args.out is None:
                 args.usage_of.error("--plot needs --out DIR")
+            if args.file_format != "csv" and args.out is None:
+                args.usage_of.error(f"--format {args.file_format} needs --out DIR")
             from neurov.errors import RefusedStepsWarning
             from neurov.run import EXIT_DIVERGED, refusal_message, run_scenario_file
 
             with warnings.catch_warnings():
                 # Said below and in the printout, without a warning's source line.
                 warnings.simplefilter("ignore", RefusedStepsWarning)
-                result, metrics = run_scenario_file(args.scenario, out_dir=args.out, plot=args.plot)
+                result, metrics = run_scenario_file(args.scenario, out_dir=args.out, plot=args.plot,
+                                                    file_format=args.file_format)
             if metrics["refused_steps"]:
                 print(f"neurov: warning: {refusal_message(result, metrics)}", file=sys.stderr)
             if result.diverged:

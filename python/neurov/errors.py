@@ -23,6 +23,7 @@ __all__ = [
     "ControllerError",
     "FactoryError",
     "NeurovError",
+    "RecordingError",
     "RefusedStepsWarning",
     "ScenarioError",
     "SchemaError",
@@ -47,6 +48,10 @@ class VehicleFileError(NeurovError):
 
 class WeightsFileError(NeurovError):
     """A weights file that cannot be read, or does not fit the network."""
+
+
+class RecordingError(NeurovError):
+    """A recording (MCAP, ROS 2 bag) that cannot be read: names the file, the topic or the field."""
 
 
 class StudyError(NeurovError):

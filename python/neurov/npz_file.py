@@ -40,12 +40,13 @@ class NpzFile:
     """An open ``.npz`` archive read from memory; `error` is raised, as
     ``error("<name>: ...")``, for anything wrong with it."""
 
-    def __init__(self, path: str | os.PathLike[str], error: type[Exception], limit: int, name: str,
+    def __init__(self, path: str | os.PathLike[str] | bytes, error: type[Exception], limit: int, name: str,
                  single_array_hint: str = "") -> None:
         self.name = name
         self.error = error
         self.limit = limit
-        data = read_bytes(path, error, limit, name)
+        # bytes: an archive already read (e.g. an MCAP file's attachment), bounded by the caller.
+        data = path if isinstance(path, bytes) else read_bytes(path, error, limit, name)
         if data.startswith(_NPY_MAGIC):
             raise error(f"{name}: a single .npy array, not a .npz archive of named arrays"
                         f"{single_array_hint}")

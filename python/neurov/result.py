@@ -1,5 +1,5 @@
 """The result of one closed-loop run: the time series as arrays, its
-metrics, and its export (CSV, NPZ, pandas)."""
+metrics, and its export (CSV, NPZ, pandas, MCAP)."""
 
 from __future__ import annotations
 
@@ -228,6 +228,16 @@ class Result:
             raise
         with progress_bar(writer.count, Path(path).name, unit="array", quiet=quiet) as bar:
             return writer.close(progress=bar)
+
+    def to_mcap(self, path: str | Path) -> Path:
+        """Writes this run as a ROS 2 recording (MCAP, for Foxglove,
+        PlotJuggler, ``ros2 bag``; needs ``neurov[ros]``): odometry, desired
+        pose, wrenches and /tf in the ENU/FLU frames of REP 103 (docs/recordings.md),
+        and the whole run, which :func:`neurov.recording.mcap_reader.read_mcap`
+        reads back; see :func:`neurov.recording.mcap_writer.write_mcap`."""
+        from neurov.recording.mcap_writer import write_mcap
+
+        return write_mcap(self, path)
 
     def to_time_response(self) -> Any:
         """This run as ``control.TimeResponseData`` (needs ``neurov[control]``);

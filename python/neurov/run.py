@@ -34,7 +34,7 @@ FIGURES = ("xy.png", "dofs.png", "errors.png", "inputs.png", "adaptive_norm.png"
 SEA_FIGURES = ("sea.png", "wave_spectrum.png")
 """Also written for a run with a sea: the flow it met (a current, waves or a
 payload change) and, with waves, their realised spectrum against the target."""
-OUTPUT_NAMES = ("result.csv", "result.npz", "metrics.json", *FIGURES, *SEA_FIGURES)
+OUTPUT_NAMES = ("result.csv", "result.mcap", "result.npz", "metrics.json", *FIGURES, *SEA_FIGURES)
 """The files a run writes in its folder (see :mod:`neurov.run_folder`)."""
 
 
@@ -156,7 +156,7 @@ def write_outputs(result: Result, metrics: dict[str, Any], out_dir: str | Path, 
 
 
 def run_scenario_file(path: str | Path, out_dir: str | Path | None = None,
-                      plot: bool = False) -> tuple[Result, dict[str, Any]]:
+                      plot: bool = False, file_format: str = "csv") -> tuple[Result, dict[str, Any]]:
     """Loads the scenario file at `path` (or the shipped scenario of that
     name, :func:`neurov.scenario.scenario_path`), simulates it, and prints a short
     metrics table to stdout. The metrics cover t >= :func:`neurov.result.metrics_start`
@@ -164,7 +164,8 @@ def run_scenario_file(path: str | Path, out_dir: str | Path | None = None,
     table says so.
 
     With `out_dir` (checked before the run: an existing file or a folder
-    that cannot be written raises OSError), writes result.csv, result.npz and
+    that cannot be written raises OSError), writes result.csv (`file_format`
+    "mcap": result.mcap, a ROS 2 recording, see docs/recordings.md), result.npz and
     metrics.json there, and with `plot` also xy.png, dofs.png, errors.png,
     inputs.png and adaptive_norm.png (and, with a sea, sea.png and
     wave_spectrum.png). `plot` without `out_dir` raises
@@ -188,10 +189,13 @@ def run_scenario_file(path: str | Path, out_dir: str | Path | None = None,
     :class:`neurov.scenario.ScenarioError` naming the file and the field."""
     if plot and out_dir is None:
         raise ValueError("argument 'plot' needs 'out_dir': the figures are written as PNG files there")
+    if file_format != "csv" and out_dir is None:
+        raise ValueError(f"argument 'file_format' {file_format!r} needs 'out_dir': the rows are written there")
     scenario = load_scenario(scenario_path(path))
     folder = RunFolder(out_dir, OUTPUT_NAMES) if out_dir is not None else None
     with stopping(folder):
-        run = stream_run(scenario, folder.path if folder is not None else None, quiet=False)
+        run = stream_run(scenario, folder.path if folder is not None else None, quiet=False,
+                         file_format=file_format)
         result = run.drawn
         metrics: dict[str, Any] = {"scenario": scenario.name, "controller": result.controller, **run.metrics,
                                    "first_refusal": result.first_refusal}

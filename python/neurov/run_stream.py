@@ -1,7 +1,7 @@
 """A run streamed chunk by chunk, as ``neurov run`` does it: the closed loop
 hands its rows over in chunks (:func:`neurov._core.run_closed_loop_chunks`,
 or :class:`neurov.Simulator` for a controller written in Python), and each
-chunk is written to result.csv and result.npz, summed into the metrics and
+chunk is written to result.csv (or result.mcap) and result.npz, summed into the metrics and
 thinned to the rows the figures draw, then dropped. A run of any length so
 holds one chunk (about :data:`CHUNK_ROWS` rows) in memory, not its every row.
 """
@@ -23,7 +23,11 @@ from neurov.result import SERIES, Result
 from neurov.run_folder import writing
 from neurov.scenario import Scenario
 
-__all__ = ["CHUNK_ROWS", "StreamedRun", "stream_run"]
+__all__ = ["CHUNK_ROWS", "FILE_FORMATS", "StreamedRun", "stream_run"]
+
+FILE_FORMATS = ("csv", "mcap")
+"""What a streamed run writes its rows to besides result.npz: result.csv,
+or result.mcap (a ROS 2 recording, :mod:`neurov.recording.mcap_writer`)."""
 
 CHUNK_ROWS = 12_000
 """About this many rows per chunk (40 minutes at 5 Hz, some 7 MB): rounded to
@@ -51,11 +55,17 @@ class _Sinks:
     """Where each chunk goes."""
 
     def __init__(self, scenario: Scenario, label: str, out: Path | None, rows: int, thrusters: int,
-                 quiet: bool) -> None:
+                 quiet: bool, file_format: str = "csv") -> None:
         self.scenario, self.label, self.out, self.quiet = scenario, label, out, quiet
         self.metrics = MetricsWindow(scenario.duration, scenario.dt)
         self.plot_rows = PlotRows(rows, thrusters)
         self.csv: CsvWriter | None = None
+        self.mcap: Any = None
+        if out is not None and file_format == "mcap":
+            from neurov.recording.mcap_writer import McapRecorder
+
+            with writing(out / "result.mcap"):
+                self.mcap = McapRecorder(out / "result.mcap", scenario, thrusters)
         self.npz = NpzWriter(out / "result.npz") if out is not None else None
         self.elevation: list[tuple[np.ndarray, np.ndarray]] | None = [] if scenario.waves is not None else None
         self.sea = False
@@ -70,18 +80,22 @@ class _Sinks:
         if self.elevation is not None:
             self.elevation.append((chunk.t, chunk.wave_elevation))
         if self.out is not None and self.npz is not None:
-            cols = chunk.columns()
-            with writing(self.out / "result.csv"):
-                if self.csv is None:
-                    self.csv = CsvWriter(self.out / "result.csv", list(cols))
-                self.csv.write(cols)
+            if self.mcap is not None:
+                with writing(self.mcap.path):
+                    self.mcap.add(chunk)
+            else:
+                cols = chunk.columns()
+                with writing(self.out / "result.csv"):
+                    if self.csv is None:
+                        self.csv = CsvWriter(self.out / "result.csv", list(cols))
+                    self.csv.write(cols)
             with writing(self.npz.path):
                 self.npz.append({name: getattr(chunk, name) for name in SERIES})
         return len(chunk.t)
 
     def close(self, drawn: Result | None) -> list[Path]:
         """Closes the files; without `drawn` (the run failed) the CSV keeps
-        the rows written and the NPZ is not written."""
+        the rows written (and the MCAP its messages) and the NPZ is not written."""
         written: list[Path] = []
         if self.csv is not None:
             with writing(self.csv.path):
@@ -90,6 +104,9 @@ class _Sinks:
         if self.npz is not None:
             if drawn is None:
                 self.npz.discard()
+                if self.mcap is not None:
+                    with writing(self.mcap.path):
+                        self.mcap.discard()
             else:
                 from neurov.progress import progress_bar
 
@@ -98,6 +115,10 @@ class _Sinks:
                 with progress_bar(self.npz.count, "result.npz", unit="array", quiet=self.quiet) as bar, \
                         writing(self.npz.path):
                     written.append(self.npz.close(progress=bar))
+                if self.mcap is not None:
+                    metrics = {"scenario": self.scenario.name, "controller": self.label, **self.metrics.value()}
+                    with writing(self.mcap.path):
+                        written.insert(0, self.mcap.close(self.npz.path.read_bytes(), metrics, drawn))
         return written
 
     def partial_metrics(self) -> dict[str, Any]:
@@ -117,11 +138,12 @@ class _Sinks:
 
 
 def stream_run(scenario: Scenario, out_dir: str | Path | None = None, *, quiet: bool = True,
-               chunk_rows: int = CHUNK_ROWS) -> StreamedRun:
+               chunk_rows: int = CHUNK_ROWS, file_format: str = "csv") -> StreamedRun:
     """Runs `scenario` with its controller, streaming the rows (see the
     module): with `out_dir` (created if missing; an existing file or a
     folder that cannot be written raises OSError before the run),
-    result.csv and result.npz are written there as
+    result.csv (`file_format` "mcap": result.mcap, as
+    :meth:`Result.to_mcap` writes it) and result.npz are written there as
     the run goes (the same files as :meth:`Result.to_csv` and
     :meth:`Result.to_npz` of the whole run). Unless `quiet`, a progress bar
     of the rows on a terminal. A run that diverges ends with the chunk where
@@ -136,6 +158,8 @@ def stream_run(scenario: Scenario, out_dir: str | Path | None = None, *, quiet: 
 
     if not isinstance(chunk_rows, int) or chunk_rows < 1:
         raise ValueError(f"argument 'chunk_rows' must be an int >= 1, got {chunk_rows!r}")
+    if file_format not in FILE_FORMATS:
+        raise ValueError(f"argument 'file_format' must be one of {FILE_FORMATS}, got {file_format!r}")
     out = check_output_dir(out_dir) if out_dir is not None else None
     config = simulation_config(scenario)
     rows = round(scenario.duration / scenario.dt) + 1
@@ -143,7 +167,7 @@ def stream_run(scenario: Scenario, out_dir: str | Path | None = None, *, quiet: 
     spec = scenario.controller
     plant = build_vehicle(scenario)
     controller = build_controller(spec, scenario)
-    sinks = _Sinks(scenario, spec.name, out, rows, thrusters, quiet)
+    sinks = _Sinks(scenario, spec.name, out, rows, thrusters, quiet, file_format)
     chunk = sinks.plot_rows.chunk_rows(chunk_rows)
     with progress_bar(rows, "run", unit="row", quiet=quiet) as bar:
 
@@ -164,12 +188,12 @@ def stream_run(scenario: Scenario, out_dir: str | Path | None = None, *, quiet: 
             raise
         wall = time.perf_counter() - start
     drawn = sinks.plot_rows.result()
-    written = sinks.close(drawn)
     drawn.wall_time = wall
     if sinks.errors:
         drawn.extra["controller_errors"] = sinks.errors
     if sinks.metrics.first_refused is not None:
         drawn.extra["first_refused"] = sinks.metrics.first_refused
+    written = sinks.close(drawn)  # after the above: result.mcap holds the wall time and extra
     elevation = None
     if sinks.elevation is not None:
         t, surface = (np.concatenate(parts) for parts in zip(*sinks.elevation))

@@ -178,8 +178,11 @@ class ControllerSpec:
 
 @dataclass
 class CommandSpec:
-    """Commanded trajectory: ``type`` is ``"waypoints"`` (``times``, ``poses``)
-    or a generator of :mod:`neurov.trajectories` with its keyword ``args``."""
+    """Commanded trajectory: ``type`` is ``"waypoints"`` (``times``, ``poses``),
+    ``"recorded"`` (the poses of a bag's topic, ``args`` ``file``, ``topic``
+    and ``start`` of :func:`neurov.recording.recorded_path.recorded_path`; its
+    ``times`` and ``poses`` as read) or a generator of
+    :mod:`neurov.trajectories` with its keyword ``args``."""
 
     type: str = "square"
     args: dict[str, Any] = field(default_factory=dict)
@@ -188,7 +191,11 @@ class CommandSpec:
     interpolation: str = "linear"
 
     def timed_poses(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        if self.type == "waypoints":
+        if self.type == "recorded" and self.poses is None:
+            from neurov.recording.recorded_path import recorded_path
+
+            self.times, self.poses = recorded_path(**self.args)
+        if self.type in ("waypoints", "recorded"):
             return trajectories.waypoints(self.times, self.poses)
         generator = getattr(trajectories, self.type)
         return generator(**self.args)  # type: ignore[no-any-return]

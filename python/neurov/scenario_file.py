@@ -244,9 +244,20 @@ def _centres(c: _Reader) -> dict[str, Any]:
 
 
 def _command(r: _Reader) -> CommandSpec:
-    kind = r.string("type", choices=("waypoints", "square", "lawnmower", "circle", "helix"))
+    kind = r.string("type", choices=("waypoints", "recorded", "square", "lawnmower", "circle", "helix"))
     spec = CommandSpec(type=kind, interpolation=r.string("interpolation", "linear", choices=("linear", "hold")))
-    if kind == "waypoints":
+    if kind == "recorded":
+        from neurov.recording.recorded_path import RecordedPathError, recorded_path
+
+        file = Path(r.string("file"))
+        if not file.is_absolute() and r.origin != "<scenario>":
+            file = Path(r.origin).parent / file  # beside the scenario file, as a vehicle file is
+        spec.args = {"file": str(file), "topic": r.string("topic"), "start": r.number("start", 0.0)}
+        try:
+            spec.times, spec.poses = recorded_path(**spec.args)
+        except RecordedPathError as e:
+            raise r.error(e.field, str(e)) from None
+    elif kind == "waypoints":
         times = r.raw("times")
         poses = r.raw("poses")
         try:

@@ -46,8 +46,9 @@ def scenario_file(tmp_path: Path) -> Path:
 
 def test_signature_the_cli_relies_on() -> None:
     params = inspect.signature(run_scenario_file).parameters
-    assert list(params) == ["path", "out_dir", "plot"]
+    assert list(params) == ["path", "out_dir", "plot", "file_format"]
     assert params["out_dir"].default is None and params["plot"].default is False
+    assert params["file_format"].default == "csv"
 
 
 def test_prints_metrics_after_the_transient(scenario_file: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -27,7 +27,7 @@ from neurov.identification.errors import LogError
 from neurov.identification.log import Log, make_log
 from neurov.identification.mapping import Mapping, to_neurov_frames
 
-__all__ = ["read_rosbag", "euler_from_quaternion"]
+__all__ = ["read_rosbag", "euler_from_quaternion", "stamp_ns", "topic_messages"]
 
 Array = NDArray[np.float64]
 _TOPICS = {"odometry": "nav_msgs/msg/Odometry", "wrench": "geometry_msgs/msg/WrenchStamped"}
@@ -42,17 +42,22 @@ def euler_from_quaternion(q: Array) -> Array:
     return np.column_stack([roll, pitch, yaw])
 
 
-def _stamp(msg: Any) -> int:
+def stamp_ns(msg: Any) -> int:
+    """A stamped message's header stamp in integer nanoseconds."""
     return int(msg.header.stamp.sec) * 1_000_000_000 + int(msg.header.stamp.nanosec)
 
 
-def _messages(reader: Any, topic: str, msgtype: str, where: str) -> list[Any]:
+def topic_messages(reader: Any, topic: str, msgtype: str | tuple[str, ...], where: str) -> list[Any]:
+    """The messages of `topic` in an open ``rosbags`` reader, deserialised;
+    LogError naming `where` for a topic missing or of a type not `msgtype`
+    (one of them, for a tuple)."""
+    wanted = (msgtype,) if isinstance(msgtype, str) else msgtype
     conns = [c for c in reader.connections if c.topic == topic]
     if not conns:
         raise LogError(f"{where}: no topic {topic!r} (the bag has "
                        f"{sorted({c.topic for c in reader.connections})})")
-    if conns[0].msgtype != msgtype:
-        raise LogError(f"{where}: topic {topic!r} is {conns[0].msgtype}, expected {msgtype}")
+    if conns[0].msgtype not in wanted:
+        raise LogError(f"{where}: topic {topic!r} is {conns[0].msgtype}, expected {' or '.join(wanted)}")
     return [reader.deserialize(raw, c.msgtype) for c, _, raw in reader.messages(connections=conns)]
 
 
@@ -70,15 +75,15 @@ def read_rosbag(path: str | Path, mapping: Mapping) -> Log:
             raise LogError(f"{mapping.where}: topics.{key}: expected a topic name")
     try:
         with AnyReader([path]) as reader:
-            odom = _messages(reader, topics["odometry"], _TOPICS["odometry"], str(path))
-            wrench = _messages(reader, topics["wrench"], _TOPICS["wrench"], str(path))
+            odom = topic_messages(reader, topics["odometry"], _TOPICS["odometry"], str(path))
+            wrench = topic_messages(reader, topics["wrench"], _TOPICS["wrench"], str(path))
     except LogError:
         raise
     except Exception as e:  # rosbags' own errors for a file that is not a bag
         raise LogError(f"{path}: not a readable bag: {e}") from None
     if not odom or not wrench:
         raise LogError(f"{path}: topic {topics['odometry' if not odom else 'wrench']!r} has no message")
-    t_ns = np.array([_stamp(m) for m in odom], dtype=np.int64)
+    t_ns = np.array([stamp_ns(m) for m in odom], dtype=np.int64)
     t = (t_ns - t_ns[0]) * 1e-9
     pos = np.array([[m.pose.pose.position.x, m.pose.pose.position.y, m.pose.pose.position.z]
                     for m in odom])
@@ -87,7 +92,7 @@ def read_rosbag(path: str | Path, mapping: Mapping) -> Log:
     twist = np.array([[m.twist.twist.linear.x, m.twist.twist.linear.y, m.twist.twist.linear.z,
                        m.twist.twist.angular.x, m.twist.twist.angular.y, m.twist.twist.angular.z]
                       for m in odom])
-    w_t = (np.array([_stamp(m) for m in wrench], dtype=np.int64) - t_ns[0]) * 1e-9
+    w_t = (np.array([stamp_ns(m) for m in wrench], dtype=np.int64) - t_ns[0]) * 1e-9
     w = np.array([[m.wrench.force.x, m.wrench.force.y, m.wrench.force.z,
                    m.wrench.torque.x, m.wrench.torque.y, m.wrench.torque.z] for m in wrench])
     tau = hold(t, w_t, w, mapping.max_age, f"{path}: {topics['wrench']}")

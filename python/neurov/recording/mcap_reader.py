@@ -1,0 +1,112 @@
+"""A run read back from the MCAP file :func:`neurov.recording.mcap_writer.write_mcap`
+wrote: the :class:`neurov.Result` of its ``result.npz`` attachment, with
+its scenario (from its ``scenario.toml`` attachment, read as the file it
+came from), wall time and extra."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from neurov.errors import RecordingError
+from neurov.npz_file import NpzFile
+from neurov.result import SERIES, Result
+from neurov.scenario import Scenario
+
+__all__ = ["MAX_RESULT_BYTES", "read_mcap", "result_from_npz"]
+
+MAX_RESULT_BYTES = 1 << 34
+"""The largest result.npz attachment read (16 GiB; a day at 5 Hz is about 100 MB)."""
+
+_FLAGS = ("controller_status", "plant_status", "faults")
+
+
+def read_mcap(path: str | Path, scenario: Scenario | None = None) -> Result:
+    """The run recorded in the MCAP file `path`, equal to the result that
+    wrote it. The scenario is the recording's own (its scenario file's text,
+    read with the file's original path as its origin, so that a vehicle file
+    beside it is found), or `scenario` if given (needed for a run of a
+    scenario built in Python). Raises :class:`neurov.errors.RecordingError`
+    naming the file for one that is missing, not MCAP, or not a neurov run."""
+    try:
+        from mcap.exceptions import McapError
+        from mcap.reader import make_reader
+    except ImportError:
+        raise RecordingError("reading an MCAP recording needs mcap: pip install 'neurov[ros]'") from None
+
+    path = Path(path)
+    if not path.is_file():
+        raise RecordingError(f"{path}: no such MCAP file")
+    try:
+        with path.open("rb") as f:
+            reader = make_reader(f)
+            attachments = {a.name: a.data for a in reader.iter_attachments()}
+            metadata = {m.name: dict(m.metadata) for m in reader.iter_metadata()}
+    except (McapError, ValueError, EOFError, OSError) as e:
+        raise RecordingError(f"{path}: not a readable MCAP file ({type(e).__name__}: {e})") from None
+    if "result.npz" not in attachments:
+        raise RecordingError(f"{path}: no attachment 'result.npz': not a run written by neurov "
+                             "(Result.to_mcap, neurov run --format mcap) or a run that stopped before "
+                             "its end; its messages read with any ROS 2 reader, but not back into a Result")
+    info = {**metadata.get("neurov", {}), **metadata.get("scenario", {})}
+    if scenario is None:
+        scenario = _scenario(attachments, info, path)
+    result = result_from_npz(attachments["result.npz"], scenario, f"{path}: attachment result.npz")
+    try:
+        result.wall_time = float(json.loads(info.get("wall_time", "0")))
+        result.extra = dict(json.loads(info.get("extra", "{}")))
+    except (ValueError, TypeError) as e:
+        raise RecordingError(f"{path}: metadata neurov: wall_time/extra: not JSON ({e})") from None
+    return result
+
+
+def _scenario(attachments: dict[str, bytes], info: dict[str, str], path: Path) -> Scenario:
+    from neurov.files import tomllib
+    from neurov.scenario_file import scenario_from_mapping
+
+    text = attachments.get("scenario.toml")
+    if text is None:
+        raise RecordingError(f"{path}: no attachment 'scenario.toml' (the run's scenario "
+                             f"{info.get('scenario', '?')!r} was not read from a file): "
+                             "give it, read_mcap(path, scenario=...)")
+    try:
+        data = tomllib.loads(text.decode("utf-8"))
+    except (UnicodeDecodeError, tomllib.TOMLDecodeError) as e:
+        raise RecordingError(f"{path}: attachment scenario.toml: not valid TOML ({e})") from None
+    scenario = scenario_from_mapping(data, info.get("source") or f"{path}:scenario.toml")
+    from neurov.recording.mcap_writer import plain
+
+    # The file's scenario is the run's unless it was changed in Python after it was read.
+    recorded, rebuilt = json.loads(info.get("describe", "null")), plain(scenario.describe())
+    if recorded is not None and recorded != rebuilt:
+        changed = sorted(k for k in recorded if recorded.get(k) != rebuilt.get(k))
+        raise RecordingError(f"{path}: the run's scenario differs from its file scenario.toml in "
+                             f"{', '.join(changed)} (changed in Python after it was read): give it, "
+                             "read_mcap(path, scenario=...)")
+    return scenario
+
+
+def result_from_npz(data: bytes, scenario: Scenario, where: str) -> Result:
+    """The :class:`neurov.Result` of the bytes of a result.npz
+    (:meth:`neurov.Result.to_npz`), for `scenario`; errors name `where`."""
+    arrays: dict[str, Any] = {}
+    with NpzFile(data, RecordingError, MAX_RESULT_BYTES, where) as npz:
+        rows: list[int] = []
+
+        def check(name: str) -> Any:
+            def _check(shape: tuple[int, ...], dtype: np.dtype) -> None:
+                want = np.uint8 if name in _FLAGS else np.float64
+                if dtype != want or not shape or (rows and shape[0] != rows[0]):
+                    raise RecordingError(f"{where}: array '{name}' is {dtype} of shape {shape}, expected "
+                                         f"{np.dtype(want)} with {rows[0] if rows else 'N'} rows")
+                rows[:] = rows or [shape[0]]
+            return _check
+
+        for name in SERIES:
+            arrays[name] = np.array(npz.array(name, check(name)))
+        text = {k: npz.array(k, lambda shape, dtype: None) for k in ("controller", "diverged")}
+    return Result(scenario=scenario, controller=str(text["controller"]), diverged=bool(text["diverged"]),
+                  **arrays)
