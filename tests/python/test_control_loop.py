@@ -108,6 +108,13 @@ def test_the_loop_is_an_interconnection_of_the_three_systems() -> None:
     assert np.allclose(response.outputs[6:].T, result.nu, rtol=0, atol=1e-9 * np.max(np.abs(result.nu)))
 
 
+@pytest.mark.parametrize("duration", [2.5, 0.5])
+def test_time_grid_is_the_runs_rows(duration: float) -> None:
+    # 12.5 and 2.5 periods: the C++ rounds half away from zero, Python's round() to even.
+    scenario = shipped("paper_fig3", duration=duration, use_thrusters=False)
+    assert np.array_equal(nc.time_grid(scenario), neurov.simulate(scenario).t)
+
+
 def test_unmodelled_features_are_named() -> None:
     with pytest.raises(ValueError, match=r"argument 'scenario' \('paper_fig3'\).*thrusters \(use_thrusters"):
         nc.closed_loop(shipped("paper_fig3"))

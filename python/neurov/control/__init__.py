@@ -61,9 +61,9 @@ __all__ = [
 ]
 
 #: eta (x, y, z [m]; phi, theta, psi [rad]) then nu (u, v, w [m/s]; p, q, r [rad/s]).
-STATE_NAMES = ("x", "y", "z", "phi", "theta", "psi", "u", "v", "w", "p", "q", "r")
+STATE_NAMES: tuple[str, ...] = ("x", "y", "z", "phi", "theta", "psi", "u", "v", "w", "p", "q", "r")
 #: tau: forces [N] along and moments [N m] about the body axes.
-INPUT_NAMES = ("tau_X", "tau_Y", "tau_Z", "tau_K", "tau_M", "tau_N")
+INPUT_NAMES: tuple[str, ...] = ("tau_X", "tau_Y", "tau_Z", "tau_K", "tau_M", "tau_N")
 
 
 def _require_vehicle(vehicle: Any) -> None:

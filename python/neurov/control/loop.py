@@ -121,8 +121,13 @@ def closed_loop(scenario: Scenario, controller: ControllerSpec | Any = None, *,
 def time_grid(scenario: Scenario) -> Array:
     """The rows' times of the scenario's run, t_k = k dt for k = 0 ...
     round(duration / dt), computed as neurov's loop computes them."""
-    sim = scenario.simulation
-    return np.arange(int(round(sim.duration / sim.dt)) + 1) * sim.dt
+    from neurov.simulation import build_vehicle
+
+    _require_scenario(scenario)
+    # The C++ counts the rows (round half away from zero, as Python's round does not).
+    rows = _core.Simulator(build_vehicle(scenario), scenario.simulation).planned_steps
+    t: Array = np.arange(rows, dtype=np.float64) * scenario.simulation.dt  # float(k) * dt, as in C++
+    return t
 
 
 def command_input(scenario: Scenario, t: ArrayLike) -> Array:
@@ -133,7 +138,8 @@ def command_input(scenario: Scenario, t: ArrayLike) -> Array:
     if times.ndim != 1 or not np.all(np.isfinite(times)):
         raise ValueError(f"argument 't' must be a 1-D array of finite times, got shape {times.shape}")
     command = scenario.simulation.command
-    return np.array([command.at(float(tk)) for tk in times]).reshape(len(times), 6).T
+    poses: Array = np.array([command.at(float(tk)) for tk in times], dtype=np.float64).reshape(len(times), 6)
+    return poses.T
 
 
 def initial_state(system: ct.InputOutputSystem) -> Array:

@@ -73,7 +73,7 @@ class _Snapshot:
     pickle snapshot, in order, each raveled."""
 
     def __init__(self, obj: Any, fields: tuple[str, ...] | None) -> None:
-        self.cls = type(obj)
+        self.cls: Any = type(obj)
         self.template = obj.__getstate__()
         if fields is None:  # every numeric field but the configuration
             fields = tuple(k for k, v in self.template.items()
@@ -101,7 +101,14 @@ class _Snapshot:
         i = 0
         for f, shape, kind, n in zip(self.fields, self.shapes, self.kinds, self.sizes):
             part = x[i:i + n]
-            state[f] = kind(part[0]) if kind in (float, int, bool) else part.reshape(shape).copy()
+            if kind is bool:  # a flag: python-control may perturb it (linearize)
+                state[f] = bool(part[0] >= 0.5)
+            elif kind is int:
+                state[f] = int(round(part[0]))
+            elif kind is float:
+                state[f] = float(part[0])
+            else:
+                state[f] = part.reshape(shape).copy()
             i += n
         obj = self.cls.__new__(self.cls)
         obj.__setstate__(state)
