@@ -18,6 +18,7 @@ ct = pytest.importorskip("control", minversion="0.10")
 import neurov  # noqa: E402
 import neurov.control as nc  # noqa: E402
 from neurov.controllers import REGISTRY, build_controller  # noqa: E402
+from neurov.errors import ScenarioError  # noqa: E402
 from neurov.scenario import ControllerSpec, Scenario  # noqa: E402
 
 PD_GAINS = {"kp": [100, 100, 100, 25, 25, 25], "kd": [200, 200, 200, 50, 50, 50]}
@@ -75,6 +76,19 @@ def test_every_built_in_controller_carries_its_memory(kind: str) -> None:
     assert np.allclose(y[12:18].T, result.tau_demanded, rtol=0, atol=1e-9 * np.max(np.abs(result.tau_demanded)))
 
 
+def test_a_controller_of_unknown_layout_carries_its_whole_snapshot(monkeypatch: pytest.MonkeyPatch) -> None:
+    # A built-in controller the layout table does not name (one added later)
+    # carries every numeric field of its snapshot: the NN run that way is
+    # still neurov.simulate's.
+    from neurov.control import sampled
+
+    monkeypatch.delitem(sampled._MEMORY, "NNAdaptiveController")
+    scenario = shipped("paper_fig3", duration=4.0, use_thrusters=False)
+    reference, controller, plant = nc.scenario_systems(scenario)
+    assert controller.nstates > 64 * 24 + 6 * 64  # the centres and the weights, at least
+    assert max(relative_difference(nc.simulate(scenario), neurov.simulate(scenario)).values()) <= 1e-9
+
+
 def test_repeated_calls_step_the_controller_once() -> None:
     scenario = shipped("paper_fig3", duration=3.0, use_thrusters=False)
     controller = build_controller(scenario.controller, scenario)
@@ -116,7 +130,7 @@ def test_time_grid_is_the_runs_rows(duration: float) -> None:
 
 
 def test_unmodelled_features_are_named() -> None:
-    with pytest.raises(ValueError, match=r"argument 'scenario' \('paper_fig3'\).*thrusters \(use_thrusters"):
+    with pytest.raises(ScenarioError, match=r"argument 'scenario' \('paper_fig3'\).*thrusters \(use_thrusters"):
         nc.closed_loop(shipped("paper_fig3"))
     with pytest.raises(ValueError, match=r"thrusters.*disturbances"):
         nc.simulate(shipped("paper_fig5"))

@@ -15,6 +15,7 @@ from neurov import _core
 from neurov.control import INPUT_NAMES, STATE_NAMES
 from neurov.control.sampled import (COMMAND_NAMES, DESIRED_NAMES, controller_system, reference_system,
                                     sampled_plant)
+from neurov.errors import ScenarioError
 from neurov.scenario import ControllerSpec, Scenario
 
 import control as ct
@@ -67,7 +68,7 @@ def _require_scenario(scenario: Any) -> Scenario:
         raise TypeError(f"argument 'scenario' must be a neurov.Scenario, got {type(scenario).__name__}")
     found = unsupported_features(scenario)
     if found:
-        raise ValueError(f"argument 'scenario' ({scenario.name!r}) has what the python-control loop does not "
+        raise ScenarioError(f"argument 'scenario' ({scenario.name!r}) has what the python-control loop does not "
                          f"model: {'; '.join(found)}. Run it with neurov.simulate, or remove these "
                          "(e.g. scenario.replace(use_thrusters=False, disturbances=[]))")
     from neurov.simulation import simulation_config
@@ -82,9 +83,9 @@ def scenario_systems(scenario: Scenario, controller: ControllerSpec | Any = None
     scenario's loop, as :func:`neurov.simulate` builds them: `controller` a
     :class:`ControllerSpec` (None: the scenario's) or a built-in controller
     object (copied, in the state it is in); `vehicle` the plant (default:
-    the scenario's vehicle with its parameter overrides). ValueError names
-    what of the scenario the loop does not model
-    (:func:`unsupported_features`)."""
+    the scenario's vehicle with its parameter overrides). A
+    :class:`neurov.errors.ScenarioError` (a ValueError) names what of the
+    scenario the loop does not model (:func:`unsupported_features`)."""
     from neurov.controllers import build_controller
     from neurov.simulation import build_vehicle
 

@@ -82,12 +82,12 @@ class _Snapshot:
         self.shapes = [np.shape(self.template[f]) for f in fields]
         self.kinds = [type(self.template[f]) for f in fields]
         self.sizes = [int(np.prod(s)) for s in self.shapes]
-        self.size = sum(self.sizes)
 
-    def labels(self, prefix: str) -> list[str]:
+    def labels(self) -> list[str]:
+        """The states' names: the field's, with the flat index for an array."""
         out: list[str] = []
         for f, n in zip(self.fields, self.sizes):
-            out += [f"{prefix}{f}"] if n == 1 else [f"{prefix}{f}[{i}]" for i in range(n)]
+            out += [f] if n == 1 else [f"{f}[{i}]" for i in range(n)]
         return out
 
     def vector(self, state: dict[str, Any] | None = None) -> Array:
@@ -183,7 +183,7 @@ def controller_system(controller: Any, dt: float, *, name: str = "controller") -
     sys = ct.NonlinearIOSystem(
         lambda t, x, u, params: memo(x, u)[1], lambda t, x, u, params: memo(x, u)[0],
         inputs=list(STATE_NAMES + DESIRED_NAMES), outputs=list(INPUT_NAMES),
-        states=memory.labels(""), dt=period, name=name)
+        states=memory.labels(), dt=period, name=name)
     return _attach_x0(sys, memory.vector())
 
 
@@ -215,7 +215,7 @@ def reference_system(reference: _core.ReferenceModel, dt: float, *,
     memo = _Memo(step)
     sys = ct.NonlinearIOSystem(
         lambda t, x, u, params: memo(x, u)[1], lambda t, x, u, params: np.asarray(x)[desired],
-        inputs=list(COMMAND_NAMES), outputs=list(DESIRED_NAMES), states=memory.labels(""),
+        inputs=list(COMMAND_NAMES), outputs=list(DESIRED_NAMES), states=memory.labels(),
         dt=period, name=name)
     return _attach_x0(sys, memory.vector())
 
