@@ -9,6 +9,11 @@
 - :func:`to_time_response`: a closed-loop run (:class:`neurov.Result`) as
   ``control.TimeResponseData``, so ``control.step_info`` and python-control's
   plots work on it.
+- :mod:`neurov.control.sampled` and :mod:`neurov.control.loop`: a built-in
+  controller, the reference model and the plant sampled at the control
+  period as discrete-time systems whose updates are the C++ steps, and a
+  scenario's closed loop joined by ``control.interconnect`` (see
+  ``docs/control.md``).
 
 States are eta (NED position, ZYX Euler angles) then nu (body velocities);
 inputs are the generalised forces tau; every signal is named, so
@@ -36,17 +41,29 @@ if TYPE_CHECKING:
     from neurov.simulation import Result
 
 __all__ = [
+    "COMMAND_NAMES",
+    "DESIRED_NAMES",
     "INPUT_NAMES",
     "STATE_NAMES",
+    "closed_loop",
+    "command_input",
+    "controller_system",
+    "initial_state",
     "linearize",
     "nonlinear_system",
+    "reference_system",
+    "sampled_plant",
+    "scenario_systems",
+    "simulate",
+    "time_grid",
     "to_time_response",
+    "unsupported_features",
 ]
 
 #: eta (x, y, z [m]; phi, theta, psi [rad]) then nu (u, v, w [m/s]; p, q, r [rad/s]).
-STATE_NAMES = ("x", "y", "z", "phi", "theta", "psi", "u", "v", "w", "p", "q", "r")
+STATE_NAMES: tuple[str, ...] = ("x", "y", "z", "phi", "theta", "psi", "u", "v", "w", "p", "q", "r")
 #: tau: forces [N] along and moments [N m] about the body axes.
-INPUT_NAMES = ("tau_X", "tau_Y", "tau_Z", "tau_K", "tau_M", "tau_N")
+INPUT_NAMES: tuple[str, ...] = ("tau_X", "tau_Y", "tau_Z", "tau_K", "tau_M", "tau_N")
 
 
 def _require_vehicle(vehicle: Any) -> None:
@@ -114,3 +131,10 @@ def to_time_response(result: Result) -> ct.TimeResponseData:
         output_labels=list(STATE_NAMES), state_labels=list(STATE_NAMES),
         input_labels=list(INPUT_NAMES), sysname=f"{result.scenario.name} ({result.controller})",
         title=f"{result.scenario.name}, {result.controller} controller")
+
+
+# The discrete-time parts; imported last, as they use the names above.
+from neurov.control.sampled import (  # noqa: E402
+    COMMAND_NAMES, DESIRED_NAMES, controller_system, reference_system, sampled_plant)
+from neurov.control.loop import (  # noqa: E402
+    closed_loop, command_input, initial_state, scenario_systems, simulate, time_grid, unsupported_features)
