@@ -1,6 +1,5 @@
-"""The 3-D replay of one or more runs in the browser: ``neurov view RESULT...
---out replay.html`` and :meth:`neurov.Result.view` (needs ``neurov[view]``:
-plotly).
+"""The 3-D replay of one or more runs in the browser, behind ``neurov view``
+and :meth:`neurov.Result.view` (needs ``neurov[view]``: plotly).
 
 One self-contained HTML file (plotly.js inside, no network needed): the
 vehicle as a body oriented by its Euler angles, its thrusters as arrows
@@ -22,8 +21,8 @@ from typing import Any
 
 import numpy as np
 
+from neurov.replay_scene import FACES, MAX_FRAMES, TOP_FACES, Scene, Track, build_scene, labels_for
 from neurov.result import Result
-from neurov.replay_scene import MAX_FRAMES, TOP_FACES, FACES, Scene, Track, build_scene, labels_for
 
 __all__ = ["Replay", "replay"]
 
@@ -68,7 +67,7 @@ class _Traces:
     and its arrows (:attr:`parts`, in the order of the figure's traces)."""
 
     def __init__(self, scene: Scene) -> None:
-        self.reach = max(float(np.max(np.ptp(t.hull[0], axis=0))) for t in scene.tracks)
+        self.reach = scene.reach
         self.parts: list[tuple[int, Track, str, str, str]] = []  # (result, track, kind, colour, name)
         for i, t in enumerate(scene.tracks):
             colour = COLOURS[i % len(COLOURS)]

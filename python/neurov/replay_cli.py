@@ -1,5 +1,6 @@
-"""``neurov view RESULT... --out replay.html``: the 3-D replay of runs read
-back from their folders (see :mod:`neurov.replay`)."""
+"""The command ``neurov view``: the 3-D replay of runs read back from their
+folders (``neurov view RESULT [RESULT ...] --out replay.html``; see
+:mod:`neurov.replay`)."""
 
 from __future__ import annotations
 

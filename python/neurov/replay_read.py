@@ -14,7 +14,9 @@ than guessing a vehicle.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -36,6 +38,7 @@ _COLUMNS: dict[str, int | None] = {
     "payload_mass": 0, "eta_estimate": 6, "nu_estimate": 6,
 }
 _CODES = ("controller_status", "plant_status", "faults")
+Check = Callable[[tuple[int, ...], np.dtype], None]
 _NAMES = ("scenario", "controller", "diverged")
 
 
@@ -70,13 +73,13 @@ def read_result(path: str | Path, name: str | None = None) -> Result:
         rows = npz.header("t")[0]
         if len(rows) != 1:
             raise ResultFileError(f"{name}: array 't' has the shape {rows}, expected one row per step")
-        series = {k: np.array(npz.array(k, _series(name, k, rows[0]))) for k in SERIES}
+        series: dict[str, Any] = {k: np.array(npz.array(k, _series(name, k, rows[0]))) for k in SERIES}
     return Result(scenario=_scenario(labels["scenario"]), controller=labels["controller"],
                   diverged=diverged, extra={} if _shipped(labels["scenario"]) else {"vehicle_known": False},
                   **series)
 
 
-def _scalar(name: str, array: str):  # type: ignore[no-untyped-def]
+def _scalar(name: str, array: str) -> Check:
     def check(shape: tuple[int, ...], dtype: np.dtype) -> None:
         if shape != () or dtype.kind not in ("U", "b"):
             raise ResultFileError(f"{name}: array '{array}' is {shape} {dtype}, expected a single "
@@ -84,7 +87,7 @@ def _scalar(name: str, array: str):  # type: ignore[no-untyped-def]
     return check
 
 
-def _series(name: str, array: str, rows: int):  # type: ignore[no-untyped-def]
+def _series(name: str, array: str, rows: int) -> Check:
     columns = _COLUMNS[array]
     kind = "u" if array in _CODES else "f"
 

@@ -39,8 +39,8 @@ __all__ = ["BODY_SHARE", "MAX_FRAMES", "MAX_PATH_POINTS", "NED_TO_DISPLAY", "Sce
 Array = NDArray[np.float64]
 
 MAX_FRAMES = 150
-"""Frames of a replay by default: about 30 kB of the file per result each
-(see docs/replay.md); plotly.js itself is 4.8 MB of it."""
+"""Frames of a replay by default: 0.5 MB of the file for one run of
+``paper_fig3``, beside plotly.js's 4.8 MB (docs/replay.md)."""
 MAX_PATH_POINTS = 5000
 """Points of a drawn path at most (every k-th row and the last)."""
 BODY_SHARE = 0.06
@@ -86,6 +86,7 @@ class Scene:
     thrust_peak: float = 0.0  #: [N], the longest thrust arrow
     force_peak: float = 0.0  #: [N], the longest applied-force arrow
     flow_peak: float = 0.0  #: [m/s], the longest current or wave arrow
+    reach: float = 1.0  #: [m] the longest arrow: the largest drawn body's largest extent
     lower: Array = field(default_factory=lambda: np.zeros(3))  #: the scene's box
     upper: Array = field(default_factory=lambda: np.ones(3))
 
@@ -177,8 +178,8 @@ def build_scene(results: Sequence[Result], labels: Sequence[str], max_frames: in
     finite = np.vstack([p[np.all(np.isfinite(p), axis=1)] for p in paths] or [np.zeros((1, 3))])
     lower, upper = finite.min(axis=0), finite.max(axis=0)
     extent = float(max((upper - lower).max(), 1.0))
-    scales = [_round_up(BODY_SHARE * extent / (2 * half[0])) for half, *_ in layouts]
-    reach = max(2 * half[0] * k for (half, *_), k in zip(layouts, scales))  # the longest arrow
+    scales = [_round_up(BODY_SHARE * extent / (2 * half.max())) for half, *_ in layouts]
+    reach = max(2 * half.max() * k for (half, *_), k in zip(layouts, scales))  # the longest arrow
 
     rows = [_rows(r.t, times) for r in results]
     with_thrusters = [i for i, lay in enumerate(layouts) if lay[1] is not None]
@@ -217,7 +218,7 @@ def build_scene(results: Sequence[Result], labels: Sequence[str], max_frames: in
     half = np.full(3, max((upper - lower)[:2].max() / 2 + margin, 1.0))
     half[2] = max((upper - lower)[2] / 2 + margin, 0.25 * half[0])
     return Scene(times=times, tracks=tracks, thrust_peak=thrust_peak, force_peak=force_peak,
-                 flow_peak=flow_peak, lower=centre - half, upper=centre + half)
+                 flow_peak=flow_peak, reach=reach, lower=centre - half, upper=centre + half)
 
 
 def labels_for(results: Sequence[Result], given: Sequence[str] | None = None,
