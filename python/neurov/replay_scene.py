@@ -10,7 +10,7 @@ vehicle is not mirrored, and the horizontal view is the run plots' map
 Frames: at most ``max_frames`` times, evenly spaced from the earliest start
 to the latest end of the results; each result shows its last row at or
 before the frame's time (a run that ended early, diverged say, stays where
-it stopped). Only the frames are decimated: the paths are drawn from every
+it stopped; rows whose pose is not finite are passed over). Only the frames are decimated: the paths are drawn from every
 row (at most :data:`MAX_PATH_POINTS` points each).
 
 Sizes: a vehicle is a few tenths of a metre on a path of tens of metres, so
@@ -99,18 +99,32 @@ def frame_times(results: Sequence[Result], max_frames: int) -> Array:
     return np.linspace(min(starts), max(ends), max(count, 1))
 
 
-def _rows(t: Array, times: Array) -> NDArray[np.int64]:
-    return np.clip(np.searchsorted(t, times, side="right") - 1, 0, len(t) - 1)
+def _rows(result: Result, times: Array) -> NDArray[np.int64]:
+    """The row each frame shows: the last at or before its time whose pose
+    is finite (a diverged run's last rows may not be)."""
+    rows = np.clip(np.searchsorted(result.t, times, side="right") - 1, 0, len(result.t) - 1)
+    finite = np.all(np.isfinite(result.eta), axis=1)
+    last_finite = np.maximum.accumulate(np.where(finite, np.arange(len(finite)), 0))
+    return last_finite[rows]
 
 
 def _thinned(points: Array) -> Array:
+    if not len(points):
+        return points
     step = max(1, math.ceil(len(points) / MAX_PATH_POINTS))
     keep = np.unique(np.r_[np.arange(0, len(points), step), len(points) - 1])
     return points[keep]
 
 
 def _display(ned: Array) -> Array:
-    return ned @ NED_TO_DISPLAY.T
+    """NED points in display axes (NED_TO_DISPLAY, as a permutation: an
+    infinite coordinate stays where it is rather than making NaNs)."""
+    return ned[..., [1, 0, 2]] * np.array([1.0, 1.0, -1.0])
+
+
+def _path(ned: Array) -> Array:
+    """A drawn path: its finite points, in display axes, thinned."""
+    return _thinned(_display(ned[np.all(np.isfinite(ned), axis=1)]))
 
 
 def _layout(result: Result) -> tuple[Array, Array | None, Array | None, str]:
@@ -174,14 +188,16 @@ def build_scene(results: Sequence[Result], labels: Sequence[str], max_frames: in
     """The frames of `results` (labelled `labels`), sampled as the module says."""
     times = frame_times(results, max_frames)
     layouts = [_layout(r) for r in results]
-    paths = [_display(r.eta[:, :3]) for r in results] + [_display(r.eta_d[:, :3]) for r in results]
-    finite = np.vstack([p[np.all(np.isfinite(p), axis=1)] for p in paths] or [np.zeros((1, 3))])
+    paths = [(_path(r.eta[:, :3]), _path(r.eta_d[:, :3])) for r in results]
+    finite = np.vstack([p for pair in paths for p in pair] + [np.zeros((0, 3))])
+    if not len(finite):
+        finite = np.zeros((1, 3))
     lower, upper = finite.min(axis=0), finite.max(axis=0)
     extent = float(max((upper - lower).max(), 1.0))
     scales = [_round_up(BODY_SHARE * extent / (2 * half.max())) for half, *_ in layouts]
     reach = max(2 * half.max() * k for (half, *_), k in zip(layouts, scales))  # the longest arrow
 
-    rows = [_rows(r.t, times) for r in results]
+    rows = [_rows(r, times) for r in results]
     with_thrusters = [i for i, lay in enumerate(layouts) if lay[1] is not None]
     thrust_peak = _peak([results[i].thrusts[rows[i]] for i in with_thrusters], -1)
     force_peak = _peak([r.tau_applied[k, :3] for i, (r, k) in enumerate(zip(results, rows))
@@ -198,7 +214,7 @@ def build_scene(results: Sequence[Result], labels: Sequence[str], max_frames: in
         position = _display(eta[:, :3])
         track = Track(label=labels[i], rows=k, position=position, depth=r.eta[k, 2],
                       hull=position[:, None, :] + scale * np.einsum("fij,vj->fvi", rot, _hull(half)),
-                      travelled=_thinned(_display(r.eta[:, :3])), desired=_thinned(_display(r.eta_d[:, :3])),
+                      travelled=paths[i][0], desired=paths[i][1],
                       body_scale=scale, vehicle=vehicle)
         if positions is not None and directions is not None:
             track.thrust_base = position[:, None, :] + scale * np.einsum("fij,nj->fni", rot, positions)

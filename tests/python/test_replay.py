@@ -112,6 +112,20 @@ def test_frames_are_decimated_evenly_and_a_short_run_stays_at_its_end(sea: neuro
     assert len(build_scene([sea], ["r"], max_frames=1000).times) == len(sea.t)  # never more than rows
 
 
+def test_a_diverged_run_stays_at_its_last_finite_pose(sea: neurov.Result) -> None:
+    eta = sea.eta.copy()
+    eta[100:] = np.inf
+    thrusts = sea.thrusts.copy()
+    thrusts[100:] = np.nan
+    broken = dataclasses.replace(sea, eta=eta, thrusts=thrusts, diverged=True)
+    scene = build_scene([broken], ["r"], max_frames=31)
+    track = scene.tracks[0]
+    assert track.rows.max() == 99 and list(track.rows[-3:]) == [99] * 3
+    for part in (track.hull, track.thrust_vector, track.position, scene.lower, scene.upper):
+        assert np.all(np.isfinite(part))
+    np.testing.assert_allclose(track.position[-1], NED_TO_DISPLAY @ sea.eta[99, :3])
+
+
 def test_a_run_without_thrusters_draws_the_applied_force() -> None:
     scenario = neurov.load_scenario(scenario_path("nerov_depth_step"))
     scenario.duration = 10.0
