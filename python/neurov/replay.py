@@ -159,7 +159,7 @@ def _figure(scene: Scene, title: str) -> dict[str, Any]:
                "yaxis": {**axis, "title": {"text": "north, NED x [m]"}, "range": [lo[1], hi[1]]},
                "zaxis": {**axis, "title": {"text": "up = -depth (NED z flipped) [m]"}, "range": [lo[2], hi[2]]},
                "aspectmode": "manual", "aspectratio": dict(zip("xyz", map(float, ratio))),
-               "camera": {"eye": {"x": -1.3, "y": -1.5, "z": 0.9}}},
+               "camera": {"eye": {"x": -1.05, "y": -1.25, "z": 0.75}}},
         updatemenus=[{"type": "buttons", "direction": "left", "x": 0.02, "y": 0.02, "xanchor": "left",
                       "yanchor": "bottom", "showactive": False,
                       "buttons": [{"label": "Play", "method": "animate", "args": [None, play]},

@@ -43,7 +43,7 @@ MAX_FRAMES = 150
 ``paper_fig3``, beside plotly.js's 4.8 MB (docs/replay.md)."""
 MAX_PATH_POINTS = 5000
 """Points of a drawn path at most (every k-th row and the last)."""
-BODY_SHARE = 0.06
+BODY_SHARE = 0.1
 """The body is drawn at least this share of the scene's extent long."""
 
 NED_TO_DISPLAY = np.array([[0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, -1.0]])
