@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 from neurov import cli
 from neurov.errors import ResultFileError
+from neurov.replay import replay
 from neurov.replay_read import read_result
 from neurov.replay_scene import NED_TO_DISPLAY, build_scene
 from neurov.result import SERIES
@@ -176,7 +177,7 @@ def test_several_runs_on_one_path_are_told_apart(sea: neurov.Result) -> None:
     names = [d["name"] for d in spec["data"]]
     assert names.count("desired") == 1  # one shared desired path
     assert any(n.startswith("NN adaptive:") for n in names) and any(n.startswith("PD:") for n in names)
-    same = neurov.replay.replay([sea, sea], max_frames=2, names=["a", "b"]).spec
+    same = replay([sea, sea], max_frames=2, names=["a", "b"]).spec
     assert {d["name"].split(":")[0] for d in same["data"][1:]} == {"NN adaptive (a)", "NN adaptive (b)"}
 
 
@@ -188,7 +189,7 @@ def test_several_runs_on_one_path_are_told_apart(sea: neurov.Result) -> None:
 ])
 def test_bad_arguments_are_named(sea: neurov.Result, args: dict, message: str) -> None:
     with pytest.raises((ValueError, TypeError), match=message.replace("[", r"\[").replace("]", r"\]")):
-        neurov.replay.replay(**{"results": [sea], **args})
+        replay(**{"results": [sea], **args})
 
 
 def test_import_neurov_does_not_import_plotly() -> None:
