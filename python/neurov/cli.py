@@ -98,6 +98,22 @@ def _parser() -> argparse.ArgumentParser:
                        help="no progress bars (there are none either when stderr is not a terminal)")
     study.set_defaults(usage_of=study)
 
+    view = sub.add_parser(
+        "view",
+        help="write a 3-D replay of runs as one HTML file (needs neurov[view])",
+        description="Writes one self-contained HTML file (plotly.js inside: it opens offline) that "
+        "replays runs in 3-D: the vehicle with its thrusters (or the applied force), the desired "
+        "and the travelled path, the current and the waves at the vehicle, a time slider and "
+        "play/pause. Several runs are drawn on one path to compare them. See docs/replay.md.",
+    )
+    view.add_argument("results", nargs="+", metavar="RESULT",
+                      help="a run folder written by 'neurov run --out DIR', or its result.npz")
+    view.add_argument("--out", default="replay.html", metavar="FILE",
+                      help="the HTML file to write (default: replay.html)")
+    view.add_argument("--frames", type=int, default=None, metavar="N",
+                      help="at most N frames (default: 150)")
+    view.set_defaults(usage_of=view)
+
     from neurov.identification.cli import add_parser as add_identify
 
     add_identify(sub, _EXIT_STATUS)
@@ -174,6 +190,12 @@ def main(argv: Sequence[str] | None = None) -> int:
             main_study(args.study, args.out, args.workers, args.scheduler, executor=args.executor,
                        table_format=args.table_format, plots=not args.no_plots,
                        batch_size=args.batch_size, quiet=args.quiet)
+        elif args.command == "view":
+            if args.frames is not None and args.frames < 2:
+                args.usage_of.error("--frames must be >= 2")
+            from neurov.replay_cli import main_view
+
+            return main_view(args.results, args.out, args.frames)
         elif args.command == "identify":
             from neurov.identification.cli import run as run_identify
 

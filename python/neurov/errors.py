@@ -25,6 +25,7 @@ __all__ = [
     "NeurovError",
     "RecordingError",
     "RefusedStepsWarning",
+    "ResultFileError",
     "ScenarioError",
     "SchemaError",
     "StudyError",
@@ -73,3 +74,8 @@ class RefusedStepsWarning(RuntimeWarning):
     returned something that is not six finite real numbers): the run went
     on under the scenario's ``refused_step_policy``, so its numbers are not
     the controller's. ``result.first_refusal`` gives the first error."""
+
+
+class ResultFileError(NeurovError):
+    """A run's result file or folder that cannot be read back: names the
+    file (or the command-line argument) and what was expected."""

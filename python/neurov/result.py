@@ -246,6 +246,17 @@ class Result:
 
         return to_time_response(self)
 
+    def view(self, *others: Result, **options: Any) -> Any:
+        """The 3-D replay of this run, and of `others` on the same path to
+        compare them (needs ``neurov[view]``: plotly): a
+        :class:`neurov.replay.Replay`, which Jupyter shows inline and
+        ``.write_html(path)`` writes as one file that opens offline.
+        `options`: those of :func:`neurov.replay.replay` (``labels``,
+        ``title``, ``max_frames``)."""
+        from neurov.replay import replay
+
+        return replay([self, *others], **options)
+
     def summary_json(self, after: float | None = None) -> str:
         return json.dumps({"scenario": self.scenario.name, "controller": self.controller,
                            **self.metrics(after)}, indent=2)

@@ -300,8 +300,9 @@ def _limits_from_mapping(table: Any, where: str) -> Any:
 def load_thrusters(path: str | Path) -> dict[str, Any] | None:
     """The ``[thrusters]`` table of a vehicle file as arrays (``matrix``
     (6, n), ``max_thrust``, ``min_thrust`` (n,), ``time_constant``, ``curves``
-    (n ThrusterCurveConfig, or None), ``supply_voltage`` and ``names`` (or
-    None)), or None if the
+    (n ThrusterCurveConfig, or None), ``supply_voltage``, ``names`` (or
+    None) and ``positions`` ((n, 3), or None for a file that gives a
+    ``matrix``)), or None if the
     file has none. With curves, absent limits are the curves' thrust at their
     end commands. Errors name the file and the field."""
     return read_vehicle_file(path).thrusters
@@ -331,6 +332,7 @@ def thrusters_from_mapping(table: Any, where: str) -> dict[str, Any]:
             raise VehicleFileError(f"{where}.{key}: expected finite numbers")
         return a
 
+    pos = None
     if "matrix" in table:
         if "positions" in table or "directions" in table:
             raise VehicleFileError(f"{where}: give either 'matrix' or 'positions' and 'directions'")
@@ -396,8 +398,10 @@ def thrusters_from_mapping(table: Any, where: str) -> dict[str, Any]:
     if curves is not None and "time_constant" in table:
         raise VehicleFileError(f"{where}.time_constant: with a curve the lag is the curve's "
                                "(give 'time_constant' in [thrusters.curve])")
+    # positions: where the thrusters sit (None for a matrix), for drawing them (neurov view).
     out = {"matrix": matrix, "max_thrust": max_thrust, "min_thrust": min_thrust,
-           "time_constant": float(tc), "curves": curves, "supply_voltage": voltage, "names": names}
+           "time_constant": float(tc), "curves": curves, "supply_voltage": voltage, "names": names,
+           "positions": pos}
     if curves is not None:
         _check_layout(out, where)
     return out
