@@ -177,14 +177,18 @@ def test_few_samples_are_drawn_as_points(tmp_path: Path) -> None:
     assert plot_boxes(study, table, tmp_path / "boxes.png").is_file()
     fig = box_figure(study, table)
     ax = fig.axes[0]
-    (points,) = [c for c in ax.collections if c.get_gid() == "samples"]
+    points = [c for c in ax.collections if str(c.get_gid()).startswith("controller:")]
+    assert len(points) == len(study.controllers)
+    offsets = np.concatenate([p.get_offsets() for p in points])
     mine = table[table["scenario"] == study.scenarios[0].name]
-    np.testing.assert_array_equal(np.sort(points.get_offsets()[:, 1]), np.sort(mine[study.ranking_metric]))
-    # Each controller's points sit around its own tick.
-    x = points.get_offsets()[:, 0]
-    assert np.all(np.abs(x - np.repeat(np.arange(1, len(study.controllers) + 1), 3)) < 0.5)
-    assert not ax.lines  # no boxes
-    assert ax.get_ylabel() == "RMS position error [m]"
+    np.testing.assert_array_equal(np.sort(offsets[:, 0]), np.sort(mine[study.ranking_metric]))
+    # Each controller's points sit around its own row, named at the left.
+    for row, (c, p) in enumerate(zip(study.controllers, points), start=1):
+        assert p.get_gid() == f"controller:{c}"
+        assert np.all(np.abs(p.get_offsets()[:, 1] - row) < 0.5)
+    assert [t.get_text() for t in ax.get_yticklabels()] == [study.label(c) for c in study.controllers]
+    assert not ax.patches  # no boxes
+    assert ax.get_xlabel() == "RMS position error [m]"
     assert "rmse_position_m" not in fig.get_suptitle()
 
 
@@ -192,15 +196,28 @@ def test_many_samples_are_drawn_as_boxes() -> None:
     study, table = _study_table(samples=FEW_SAMPLES)
     fig = box_figure(study, table)
     ax = fig.axes[0]
-    assert not [c for c in ax.collections if c.get_gid() == "samples"]
-    assert len(ax.lines) >= 5 * len(study.controllers)  # box, median, two whiskers, two caps each
-    _assert_units_on_y(fig)
-
-
-def _assert_units_on_y(fig: Figure) -> None:
+    assert not [c for c in ax.collections if str(c.get_gid()).startswith("controller:")]
+    assert len(ax.patches) == len(study.controllers)  # one box each
+    assert len(ax.lines) >= 5 * len(study.controllers)  # median, two whiskers, two caps each
     for ax in fig.axes:
         if ax.get_visible():
-            assert UNIT.search(ax.get_ylabel()), ax.get_title()
+            assert UNIT.search(ax.get_xlabel()), ax.get_title()
+
+
+def test_every_row_of_box_panels_names_the_controllers() -> None:
+    # The league's twenty scenarios: seven rows of panels.
+    study, table = _study_table(samples=1)
+    study = dataclasses.replace(study, scenarios=load_study("league").scenarios)
+    fig = box_figure(study, table)
+    names = [study.label(c) for c in study.controllers]
+    panels = [ax for ax in fig.axes if ax.get_visible()]
+    rows = sorted({round(ax.get_position().y0, 6) for ax in panels})
+    assert len(rows) == 7
+    for y0 in rows:
+        left = min((ax for ax in panels if round(ax.get_position().y0, 6) == y0),
+                   key=lambda ax: ax.get_position().x0)
+        assert all(tick.label1.get_visible() for tick in left.yaxis.get_major_ticks())
+        assert [t.get_text() for t in left.get_yticklabels()] == names
 
 
 def _records(study: object, scenario: str, scale: float) -> dict:
