@@ -24,7 +24,7 @@ from neurov.plotting.study import FEW_SAMPLES, BandPlotter, box_figure, plot_box
 from neurov.scenario import ThrusterFailure
 from neurov.simulation import Result, simulate
 from neurov.study import load_study, metric_names
-from plot_runs import PD, nn_and_pd, square
+from plot_runs import PD, assert_demanded_and_applied, nn_and_pd, square
 
 UNIT = re.compile(r"\[[^\]]+\]")
 SQUARE = square("figures_square", 12.0)
@@ -75,11 +75,8 @@ def test_every_axis_of_every_run_and_paper_figure_has_a_unit(runs: list[Result],
 def test_fig4_draws_forces_and_moments_on_separate_axes(runs: list[Result]) -> None:
     forces, moments, thrusts = figure_inputs(runs[0]).axes
     assert "[N]" in forces.get_ylabel() and "[N m]" in moments.get_ylabel()
-    assert [line.get_label() for line in forces.lines] == ["X (surge)", "Y (sway)", "Z (heave)"]
-    assert [line.get_label() for line in moments.lines] == ["K (roll)", "M (pitch)", "N (yaw)"]
-    for i in range(3):
-        np.testing.assert_array_equal(forces.lines[i].get_ydata(), runs[0].tau_demanded[:, i])
-        np.testing.assert_array_equal(moments.lines[i].get_ydata(), runs[0].tau_demanded[:, 3 + i])
+    assert_demanded_and_applied(forces, runs[0], range(3))
+    assert_demanded_and_applied(moments, runs[0], range(3, 6))
     assert len(thrusts.lines) == runs[0].thrusts.shape[1]
 
 
