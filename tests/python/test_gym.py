@@ -267,6 +267,20 @@ def test_an_action_that_is_not_real_numbers_is_named_and_changes_nothing(action:
     assert env.unwrapped._sim.steps == 0
 
 
+def test_render_shows_the_time_and_the_depth() -> None:
+    env = TrackingEnv("paper_fig3", render_mode="rgb_array")
+    env.reset(seed=0)
+    first = env.render()
+    for _ in range(15):
+        env.step(np.array([0.0, 0.0, 0.3, 0, 0, 0]))  # heave only: the top view hardly moves
+    later = env.render()
+    assert env.unwrapped._sim.state[0][2] > 0.05
+    # The time and depth line above the map, and the depth bar right of it, changed.
+    assert not np.array_equal(first[:40], later[:40])
+    bar = slice(int(0.80 * 480), int(0.89 * 480))
+    assert not np.array_equal(first[:, bar], later[:, bar])
+
+
 def test_render_before_reset_says_reset_first() -> None:
     env = TrackingEnv("paper_fig3", render_mode="rgb_array")
     with pytest.raises(gymnasium.error.ResetNeeded, match=r"call reset\(\) before render\(\)"):
