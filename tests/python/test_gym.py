@@ -26,6 +26,11 @@ PACKAGE = Path(neurov.__file__).resolve().parent
 def test_check_env_passes_in_both_action_modes() -> None:
     check_env(TrackingEnv("paper_fig3"), skip_render_check=True)
     check_env(TrackingEnv("nerov_square_disturbed", action="thrusters"), skip_render_check=True)
+    # BlueROV2 Heavy: eight thrusters, one action each (docs/gymnasium.md).
+    heavy = TrackingEnv("bluerov2_square", action="thrusters")
+    assert heavy.action_space.shape == (8,)
+    check_env(heavy, skip_render_check=True)
+    check_env(TrackingEnv("bluerov2_square"), skip_render_check=True)
 
 
 def test_make_after_import_and_in_module_id_form() -> None:
