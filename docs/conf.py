@@ -35,6 +35,9 @@ extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.autosummary",
     "sphinx.ext.mathjax",
+    # MathJax shipped with the site (_static/mathjax), not loaded from a CDN:
+    # the equations render offline.
+    "sphinx-mathjax-offline",
     "breathe",
 ]
 

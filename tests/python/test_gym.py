@@ -26,6 +26,11 @@ PACKAGE = Path(neurov.__file__).resolve().parent
 def test_check_env_passes_in_both_action_modes() -> None:
     check_env(TrackingEnv("paper_fig3"), skip_render_check=True)
     check_env(TrackingEnv("nerov_square_disturbed", action="thrusters"), skip_render_check=True)
+    # BlueROV2 Heavy: eight thrusters, one action each (docs/gymnasium.md).
+    heavy = TrackingEnv("bluerov2_square", action="thrusters")
+    assert heavy.action_space.shape == (8,)
+    check_env(heavy, skip_render_check=True)
+    check_env(TrackingEnv("bluerov2_square"), skip_render_check=True)
 
 
 def test_make_after_import_and_in_module_id_form() -> None:
@@ -265,6 +270,20 @@ def test_an_action_that_is_not_real_numbers_is_named_and_changes_nothing(action:
     with pytest.raises(TypeError, match=r"argument 'action' must hold real numbers \(shape \(6,\)\)"):
         env.step(action)
     assert env.unwrapped._sim.steps == 0
+
+
+def test_render_shows_the_time_and_the_depth() -> None:
+    env = TrackingEnv("paper_fig3", render_mode="rgb_array")
+    env.reset(seed=0)
+    first = env.render()
+    for _ in range(15):
+        env.step(np.array([0.0, 0.0, 0.3, 0, 0, 0]))  # heave only: the top view hardly moves
+    later = env.render()
+    assert env.unwrapped._sim.state[0][2] > 0.05
+    # The time and depth line above the map, and the depth bar right of it, changed.
+    assert not np.array_equal(first[:40], later[:40])
+    bar = slice(int(0.80 * 480), int(0.89 * 480))
+    assert not np.array_equal(first[:, bar], later[:, bar])
 
 
 def test_render_before_reset_says_reset_first() -> None:

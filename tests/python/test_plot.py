@@ -13,7 +13,7 @@ from matplotlib.figure import Figure
 from neurov import plot
 from neurov.scenario import ThrusterFailure
 from neurov.simulation import Result, simulate
-from plot_runs import PD, nn_and_pd, square
+from plot_runs import PD, assert_demanded_and_applied, nn_and_pd, square
 
 SCENARIO = square("plot_square", 20.0)
 
@@ -86,15 +86,28 @@ def test_errors(runs: list[Result]) -> None:
     np.testing.assert_allclose(fig.axes[0].lines[1].get_ydata(), runs[1].eta[:, 0] - runs[1].eta_d[:, 0])
     np.testing.assert_allclose(fig.axes[5].lines[0].get_ydata(), np.degrees(runs[0].error[:, 5]))
     assert legend_texts(fig.axes[0])[0].startswith("NN adaptive (RMS ")
-    assert len(plot.errors(runs).axes) == 4
+    assert len(plot.errors(runs, dofs=(0, 1, 2, 5)).axes) == 4
+
+
+def test_errors_leave_out_the_dofs_no_run_has_an_error_in() -> None:
+    from neurov.scenario import load_scenario
+    from neurov.scenario import SCENARIO_DIR
+
+    depth = simulate(load_scenario(SCENARIO_DIR / "nerov_depth_step.toml").replace(duration=12.0))
+    fig = plot.errors(depth)
+    assert [ax.get_ylabel() for ax in fig.axes] == ["z error [m]"]
+    assert "no error in x, y, yaw (not drawn)" in fig.axes[0].get_title()
+    # Asked for, a DOF without error is drawn and says so.
+    asked = plot.errors(depth, dofs=(0, 2))
+    assert len(asked.axes) == 2
+    assert [t.get_text() for t in asked.axes[0].texts] == ["no x error in any run"]
 
 
 def test_control_inputs_with_thrusts(runs: list[Result]) -> None:
     fig = plot.control_inputs(runs[0])
     forces, moments, thrusts = fig.axes
-    assert len(forces.lines) == 6 and len(moments.lines) == 6
-    np.testing.assert_array_equal(forces.lines[0].get_ydata(), runs[0].tau_demanded[:, 0])
-    np.testing.assert_array_equal(moments.lines[5].get_ydata(), runs[0].tau_applied[:, 5])
+    assert_demanded_and_applied(forces, runs[0], range(3))
+    assert_demanded_and_applied(moments, runs[0], range(3, 6))
     # Six thrusters plus the limits, +-250 N.
     assert len(thrusts.lines) == 6 + 2
     assert sorted(line.get_ydata()[0] for line in thrusts.lines[6:]) == [-250.0, 250.0]
@@ -110,10 +123,28 @@ def test_control_inputs_marks_a_failure() -> None:
     assert any(t.get_text() == "T3 fails" for t in thrusts.texts)  # index 2 is the third thruster
 
 
+def test_control_inputs_show_where_the_thrusters_cannot_give_the_demand() -> None:
+    from neurov.scenario import load_scenario
+
+    path = Path(__file__).resolve().parents[2] / "examples" / "scenarios" / "thrusters_failure.toml"
+    result = simulate(load_scenario(path).replace(duration=100.0))  # T1 fails at 60 s
+    forces, moments = plot.control_inputs(result).axes[:2]
+    both = assert_demanded_and_applied(forces, result, range(3)) + \
+        assert_demanded_and_applied(moments, result, range(3, 6))
+    assert both > 0
+    # The gap shaded, the demanded dashed line drawn over the applied one.
+    assert forces.collections and moments.collections
+    lines = forces.lines
+    for k, line in enumerate(lines):
+        if line.get_gid() == "demanded":
+            assert lines[k - 1].get_gid() == "applied" and line.get_linestyle() != "-"
+
+
 def test_control_inputs_without_thrusters(no_thrusters: Result) -> None:
     fig = plot.control_inputs(no_thrusters)
     assert len(fig.axes) == 2
-    assert all(len(ax.lines) == 6 for ax in fig.axes)
+    assert_demanded_and_applied(fig.axes[0], no_thrusters, range(3))
+    assert_demanded_and_applied(fig.axes[1], no_thrusters, range(3, 6))
 
 
 def test_adaptive_norm(runs: list[Result]) -> None:

@@ -25,7 +25,7 @@ from neurov.plotting.study import FEW_SAMPLES, BandPlotter, box_figure, plot_box
 from neurov.scenario import ThrusterFailure
 from neurov.simulation import Result, simulate
 from neurov.study import load_study, metric_names
-from plot_runs import PD, nn_and_pd, square
+from plot_runs import PD, assert_demanded_and_applied, nn_and_pd, square
 
 UNIT = re.compile(r"\[[^\]]+\]")
 SQUARE = square("figures_square", 12.0)
@@ -76,11 +76,8 @@ def test_every_axis_of_every_run_and_paper_figure_has_a_unit(runs: list[Result],
 def test_fig4_draws_forces_and_moments_on_separate_axes(runs: list[Result]) -> None:
     forces, moments, thrusts = figure_inputs(runs[0]).axes
     assert "[N]" in forces.get_ylabel() and "[N m]" in moments.get_ylabel()
-    assert [line.get_label() for line in forces.lines] == ["X (surge)", "Y (sway)", "Z (heave)"]
-    assert [line.get_label() for line in moments.lines] == ["K (roll)", "M (pitch)", "N (yaw)"]
-    for i in range(3):
-        np.testing.assert_array_equal(forces.lines[i].get_ydata(), runs[0].tau_demanded[:, i])
-        np.testing.assert_array_equal(moments.lines[i].get_ydata(), runs[0].tau_demanded[:, 3 + i])
+    assert_demanded_and_applied(forces, runs[0], range(3))
+    assert_demanded_and_applied(moments, runs[0], range(3, 6))
     assert len(thrusts.lines) == runs[0].thrusts.shape[1]
 
 
@@ -179,14 +176,18 @@ def test_few_samples_are_drawn_as_points(tmp_path: Path) -> None:
     assert plot_boxes(study, table, tmp_path / "boxes.png").is_file()
     fig = box_figure(study, table)
     ax = fig.axes[0]
-    (points,) = [c for c in ax.collections if c.get_gid() == "samples"]
+    points = [c for c in ax.collections if str(c.get_gid()).startswith("controller:")]
+    assert len(points) == len(study.controllers)
+    offsets = np.concatenate([p.get_offsets() for p in points])
     mine = table[table["scenario"] == study.scenarios[0].name]
-    np.testing.assert_array_equal(np.sort(points.get_offsets()[:, 1]), np.sort(mine[study.ranking_metric]))
-    # Each controller's points sit around its own tick.
-    x = points.get_offsets()[:, 0]
-    assert np.all(np.abs(x - np.repeat(np.arange(1, len(study.controllers) + 1), 3)) < 0.5)
-    assert not ax.lines  # no boxes
-    assert ax.get_ylabel() == "RMS position error [m]"
+    np.testing.assert_array_equal(np.sort(offsets[:, 0]), np.sort(mine[study.ranking_metric]))
+    # Each controller's points sit around its own row, named at the left.
+    for row, (c, p) in enumerate(zip(study.controllers, points), start=1):
+        assert p.get_gid() == f"controller:{c}"
+        assert np.all(np.abs(p.get_offsets()[:, 1] - row) < 0.5)
+    assert [t.get_text() for t in ax.get_yticklabels()] == [study.label(c) for c in study.controllers]
+    assert not ax.patches  # no boxes
+    assert ax.get_xlabel() == "RMS position error [m]"
     assert "rmse_position_m" not in fig.get_suptitle()
 
 
@@ -194,15 +195,28 @@ def test_many_samples_are_drawn_as_boxes() -> None:
     study, table = _study_table(samples=FEW_SAMPLES)
     fig = box_figure(study, table)
     ax = fig.axes[0]
-    assert not [c for c in ax.collections if c.get_gid() == "samples"]
-    assert len(ax.lines) >= 5 * len(study.controllers)  # box, median, two whiskers, two caps each
-    _assert_units_on_y(fig)
-
-
-def _assert_units_on_y(fig: Figure) -> None:
+    assert not [c for c in ax.collections if str(c.get_gid()).startswith("controller:")]
+    assert len(ax.patches) == len(study.controllers)  # one box each
+    assert len(ax.lines) >= 5 * len(study.controllers)  # median, two whiskers, two caps each
     for ax in fig.axes:
         if ax.get_visible():
-            assert UNIT.search(ax.get_ylabel()), ax.get_title()
+            assert UNIT.search(ax.get_xlabel()), ax.get_title()
+
+
+def test_every_row_of_box_panels_names_the_controllers() -> None:
+    # The league's twenty scenarios: seven rows of panels.
+    study, table = _study_table(samples=1)
+    study = dataclasses.replace(study, scenarios=load_study("league").scenarios)
+    fig = box_figure(study, table)
+    names = [study.label(c) for c in study.controllers]
+    panels = [ax for ax in fig.axes if ax.get_visible()]
+    rows = sorted({round(ax.get_position().y0, 6) for ax in panels})
+    assert len(rows) == 7
+    for y0 in rows:
+        left = min((ax for ax in panels if round(ax.get_position().y0, 6) == y0),
+                   key=lambda ax: ax.get_position().x0)
+        assert all(tick.label1.get_visible() for tick in left.yaxis.get_major_ticks())
+        assert [t.get_text() for t in left.get_yticklabels()] == names
 
 
 def _records(study: object, scenario: str, scale: float) -> dict:

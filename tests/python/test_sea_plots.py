@@ -17,6 +17,7 @@ from neurov.scenario import load_scenario
 from neurov.simulation import simulate
 from neurov.study.spec import SCENARIO_DIR
 
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "scenarios"
 SEA_STATE_4 = SCENARIO_DIR / "nerov_square_sea_state_4.toml"
 
 
@@ -67,7 +68,9 @@ def test_realised_spectrum_of_a_long_run_matches_the_target() -> None:
 def test_sea_figures_draw_what_the_run_met() -> None:
     r = simulate(load_scenario(SEA_STATE_4).replace(duration=200.0))
     fig = sea.sea_flow(r)
-    axes = fig.axes
+    axes = {ax.get_gid(): ax for ax in fig.axes}
+    assert list(axes) == ["current", "orbital velocity", "elevation above", "payload"]
+    axes = list(axes.values())
     np.testing.assert_array_equal(axes[0].lines[0].get_ydata(), r.current[:, 0])
     np.testing.assert_array_equal(axes[1].lines[2].get_ydata(), r.wave_velocity[:, 2])
     np.testing.assert_array_equal(axes[2].lines[0].get_ydata(), r.wave_elevation)
@@ -77,6 +80,17 @@ def test_sea_figures_draw_what_the_run_met() -> None:
     target, realised = fig.axes[0].lines[:2]
     np.testing.assert_allclose(target.get_ydata(), sea.target_spectrum(r.scenario.waves, target.get_xdata()))
     np.testing.assert_array_equal(realised.get_ydata(), sea.realised_spectrum(r)[1])
+
+
+def test_a_constant_current_is_stated_not_drawn_flat() -> None:
+    # A steady 0.3 m/s eastward current, no waves, no payload.
+    r = simulate(load_scenario(EXAMPLES / "lawnmower_pd_current.toml").replace(duration=5.0))
+    assert sea.has_sea(r)
+    fig = sea.sea_flow(r)
+    (ax,) = fig.axes
+    assert not ax.axison and not ax.lines
+    assert "current N 0, E 0.3, D 0 m/s" in ax.texts[0].get_text()
+    assert "payload 0 kg" in ax.texts[0].get_text()
 
 
 def test_shallow_rows_are_shaded_and_a_calm_run_has_no_wave_figure() -> None:

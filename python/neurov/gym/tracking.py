@@ -265,7 +265,8 @@ class TrackingEnv(gymnasium.Env):
 
     def render(self) -> NDArray[np.uint8] | None:
         """The top view (north up, east right) as an RGB array: the commanded
-        poses, the desired and the true path so far, and the vehicle's heading.
+        poses, the desired and the true path so far, the vehicle's heading,
+        its depth against the desired one within the box, and the time.
         Before the first reset(), gymnasium's ResetNeeded."""
         if self.render_mode is None:
             return None
@@ -273,6 +274,8 @@ class TrackingEnv(gymnasium.Env):
             raise gymnasium.error.ResetNeeded("TrackingEnv.render: call reset() before render()")
         from neurov.gym.render import top_view
 
-        heading = float(self._sim.state[0][5])
-        return top_view(np.asarray(self._config.command.poses), np.asarray(self._track), heading,
-                        self.box_low, self.box_high)
+        eta = self._sim.state[0]
+        o = self._sim.observation
+        return top_view(np.asarray(self._config.command.poses), np.asarray(self._track), float(eta[5]),
+                        self.box_low, self.box_high, t=float(o.t), depth=float(eta[2]),
+                        depth_desired=float(o.eta_d[2]))

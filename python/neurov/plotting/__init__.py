@@ -8,6 +8,7 @@
 - :mod:`neurov.plotting.paper`: the paper's Figs. 3-5 (``neurov paper``).
 - :mod:`neurov.plotting.study`: a study's box plots and error bands
   (``neurov study``).
+- :mod:`neurov.plotting.colours`: one colour per controller in every study figure.
 - :mod:`neurov.plotting.labels`: what every figure calls things (thrusters
   T1 to Tn, each metric in words with its unit); :mod:`neurov.plotting.paths`:
   the start and direction marks of X-Y paths.

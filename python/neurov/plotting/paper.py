@@ -16,6 +16,7 @@ from matplotlib.figure import Figure
 
 from neurov.plotting.labels import thruster_label
 from neurov.plotting.paths import mark_start_and_direction
+from neurov.plotting.runs import demanded_and_applied
 from neurov.simulation import Result
 
 __all__ = ["figure_inputs", "figure_xy", "figure_yaw"]
@@ -46,27 +47,25 @@ def figure_xy(runs: list[Result], title: str) -> Figure:
 
 
 def figure_inputs(run: Result) -> Figure:
-    """Fig. 4: the demanded forces [N] and moments [N m] on separate axes,
-    then each thruster's thrust [N] when the run used thrusters."""
+    """Fig. 4: the forces [N] and moments [N m] on separate axes, demanded
+    against applied (:func:`neurov.plotting.runs.demanded_and_applied`: one
+    line where they agree, the gap shaded where the thrusters saturate), then
+    each thruster's thrust [N] when the run used thrusters."""
     has_thrusts = run.thrusts.shape[1] > 0
     panels = 3 if has_thrusts else 2
-    fig = Figure(figsize=(8.0, 2.3 * panels + 0.6), layout="constrained")
+    fig = Figure(figsize=(9.5, 2.3 * panels + 0.6), layout="constrained")
     axes = fig.subplots(panels, 1, sharex=True, squeeze=False)[:, 0]
-    for ax, dofs, names, what in (
-        (axes[0], range(0, 3), ("X (surge)", "Y (sway)", "Z (heave)"), "force demanded [N]"),
-        (axes[1], range(3, 6), ("K (roll)", "M (pitch)", "N (yaw)"), "moment demanded [N m]"),
-    ):
-        for i, name in zip(dofs, names):
-            ax.plot(run.t, run.tau_demanded[:, i], label=name, linewidth=1.0)
+    for ax, dofs, what in ((axes[0], range(0, 3), "force [N]"), (axes[1], range(3, 6), "moment [N m]")):
+        demanded_and_applied(ax, run.t, run.tau_demanded, run.tau_applied, dofs)
         ax.set_ylabel(what)
-        ax.legend(ncol=3, fontsize=7, loc="upper right")
+        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
         ax.grid(True, alpha=0.3)
     axes[0].set_title(f"Control inputs: {run.controller} ({run.scenario.name})")
     if has_thrusts:
         for i in range(run.thrusts.shape[1]):
             axes[2].plot(run.t, run.thrusts[:, i], label=thruster_label(i), linewidth=1.0)
         axes[2].set_ylabel("thrust [N]")
-        axes[2].legend(ncol=6, fontsize=7, loc="upper right")
+        axes[2].legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
         axes[2].grid(True, alpha=0.3)
     axes[-1].set_xlabel("t [s]")
     return fig

@@ -31,7 +31,7 @@ from neurov.plotting.labels import thruster_label
 from neurov.plotting.paths import mark_start_and_direction
 from neurov.simulation import Result
 
-__all__ = ["adaptive_norm", "control_inputs", "dof_time", "errors", "save", "xy_path"]
+__all__ = ["adaptive_norm", "control_inputs", "demanded_and_applied", "dof_time", "errors", "save", "xy_path"]
 
 DOF_LABELS = ("x (north)", "y (east)", "z (depth)", "roll φ", "pitch θ", "yaw ψ")
 DOF_UNITS = ("m", "m", "m", "deg", "deg", "deg")
@@ -182,16 +182,25 @@ def dof_time(results: Result | Sequence[Result], dofs: Sequence[int] = (0, 1, 2,
     return fig
 
 
-def errors(results: Result | Sequence[Result], dofs: Sequence[int] = (0, 1, 2, 5),
+def errors(results: Result | Sequence[Result], dofs: Sequence[int] | None = None,
            labels: Sequence[str] | None = None, title: str | None = None) -> Figure:
     """Tracking error eta - eta_d per DOF over time (m for positions, deg for
     angles), one line per run; the legend gives each run's RMS error over the
     metrics window of ``Result.metrics()`` (t >= 10 s, stated there) and the
     skipped transient is shaded.
 
-    One axes per DOF in `dofs`, one line per run in each."""
+    One axes per DOF in `dofs`, one line per run in each. Without `dofs`:
+    x, y, z and yaw, less those no run has an error in (a depth step's x, y
+    and yaw), which the title names instead of drawing three flat panels; a
+    DOF asked for in `dofs` is drawn, with a note if it has no error."""
     runs = _as_list(results)
     names = _labels(runs, labels)
+    quiet: list[int] = []
+    if dofs is None:
+        asked = [0, 1, 2, 5]
+        flat = [d for d in asked if all(_no_error(r, d) for r in runs)]
+        dofs = [d for d in asked if d not in flat] or asked[:1]
+        quiet = [d for d in flat if d not in dofs]
     dofs = _dofs(dofs)
     fig = Figure(figsize=(8.0, 1.9 * len(dofs) + 0.8), layout="constrained")
     axes = fig.subplots(len(dofs), 1, sharex=True, squeeze=False)[:, 0]
@@ -205,13 +214,25 @@ def errors(results: Result | Sequence[Result], dofs: Sequence[int] = (0, 1, 2, 5
                     label=f"{lab} (RMS {rms:.3g} {DOF_UNITS[d]} over t ≥ {start:g} s)")
             if i == 0 and start > r.t[0]:
                 ax.axvspan(r.t[0], start, color="0.92", zorder=0)
+        if all(_no_error(r, d) for r in runs):
+            ax.text(0.5, 0.5, f"no {DOF_LABELS[d].split()[0]} error in any run", transform=ax.transAxes,
+                    ha="center", va="center", fontsize=9, color="0.3")
         ax.set_ylabel(f"{DOF_LABELS[d].split()[0]} error [{DOF_UNITS[d]}]")
         ax.grid(True, **_GRID)
         ax.legend(loc="best", fontsize=7)
     axes[-1].set_xlabel("t [s]")
-    axes[0].set_title(title or _default_title(runs, "Tracking error η − η_d"))
+    heading = title or _default_title(runs, "Tracking error η − η_d")
+    if quiet:
+        heading += f"\nno error in {', '.join(DOF_LABELS[d].split()[0] for d in quiet)} (not drawn)"
+    axes[0].set_title(heading)
     _warn_diverged(axes[0], runs, names)
     return fig
+
+
+def _no_error(r: Result, dof: int) -> bool:
+    """True if the run's `dof` error stays within 1e-9 (m or rad) all run."""
+    e = r.error[:, dof]
+    return bool(np.all(np.abs(e[np.isfinite(e)]) <= 1e-9)) and bool(np.isfinite(e).all())
 
 
 def _thrust_limits(result: Result) -> tuple[np.ndarray, np.ndarray] | None:
@@ -227,16 +248,39 @@ def _thrust_limits(result: Result) -> tuple[np.ndarray, np.ndarray] | None:
     return t["min_thrust"], t["max_thrust"]
 
 
-def control_inputs(result: Result, show_thrusts: bool = True, title: str | None = None) -> Figure:
-    """The control of one run: demanded tau (solid) and the tau the plant
-    actually received (dashed: after thrust allocation, saturation, lag and
-    failures, mean over each control interval), forces [N] in the first
-    panel and moments [N m] in the second, one colour per DOF. With thrusters
-    and `show_thrusts`, a third panel holds each thruster's thrust [N] with
-    the limits as dotted grey lines (one per distinct limit value).
+def demanded_and_applied(ax: Axes, t: np.ndarray, demanded: np.ndarray, applied: np.ndarray,
+                         dofs: Sequence[int]) -> None:
+    """Draws, for each DOF in `dofs`, the tau the controller demanded and the
+    tau the plant received, one colour per DOF: a DOF whose applied tau is
+    the demanded one all run is one solid line ("applied = demanded"); where
+    they differ (saturation, allocation, lag, a failed thruster) the applied
+    tau is solid, the demanded dashed on top of it and the gap between them
+    shaded, so that a saturated stretch is seen. One legend entry per line."""
+    for j, i in enumerate(dofs):
+        colour = _COLOURS[j % len(_COLOURS)]
+        d, a = demanded[:, i], applied[:, i]
+        scale = max(1.0, float(np.max(np.abs(d), initial=0.0)))
+        gap = np.abs(d - a) > 1e-6 * scale
+        if not gap.any():
+            ax.plot(t, a, color=colour, linewidth=1.2, label=f"{FORCE_NAMES[i]} applied = demanded")
+            continue
+        ax.plot(t, a, color=colour, linewidth=1.6, label=f"{FORCE_NAMES[i]} applied", gid="applied")
+        ax.plot(t, d, color=colour, linewidth=1.0, linestyle=(0, (4, 2)), label=f"{FORCE_NAMES[i]} demanded",
+                gid="demanded")
+        ax.fill_between(t, d, a, where=gap, color=colour, alpha=0.2, linewidth=0, interpolate=True)
 
-    Axes: 2, or 3 with thrusts. Lines: 6 in each of the first two panels; the
-    thrust panel has one per thruster plus the limit lines."""
+
+def control_inputs(result: Result, show_thrusts: bool = True, title: str | None = None) -> Figure:
+    """The control of one run: demanded tau and the tau the plant actually
+    received (after thrust allocation, saturation, lag and failures, mean
+    over each control interval; :func:`demanded_and_applied`), forces [N] in
+    the first panel and moments [N m] in the second, one colour per DOF. With
+    thrusters and `show_thrusts`, a third panel holds each thruster's thrust
+    [N] with the limits as dotted grey lines (one per distinct limit value).
+
+    Axes: 2, or 3 with thrusts. Lines: one per DOF where applied = demanded,
+    two (applied, demanded) where they differ; the thrust panel has one per
+    thruster plus the limit lines."""
     if not isinstance(result, Result):
         raise TypeError(f"argument 'result' must be a neurov.simulation.Result, got {type(result).__name__}")
     result = for_plotting(result)
@@ -245,12 +289,7 @@ def control_inputs(result: Result, show_thrusts: bool = True, title: str | None 
     fig = Figure(figsize=(9.5, 2.5 * panels + 0.6), layout="constrained")
     axes = fig.subplots(panels, 1, sharex=True, squeeze=False)[:, 0]
     for ax, block, unit in ((axes[0], range(0, 3), "N"), (axes[1], range(3, 6), "N m")):
-        for j, i in enumerate(block):
-            colour = _COLOURS[j]
-            ax.plot(result.t, result.tau_demanded[:, i], color=colour, linewidth=1.1,
-                    label=f"{FORCE_NAMES[i]} demanded")
-            ax.plot(result.t, result.tau_applied[:, i], color=colour, linewidth=1.1,
-                    linestyle="--", alpha=0.8, label=f"{FORCE_NAMES[i]} applied")
+        demanded_and_applied(ax, result.t, result.tau_demanded, result.tau_applied, block)
         ax.set_ylabel(f"{'force' if unit == 'N' else 'moment'} [{unit}]")
         ax.grid(True, **_GRID)
         # Outside the axes: inside, a legend hides the largest values, which

@@ -7,6 +7,7 @@ wave_spectrum.png for a scenario with a sea (docs/disturbances.md).
 from __future__ import annotations
 
 import math
+import textwrap
 
 import numpy as np
 from matplotlib.figure import Figure
@@ -76,30 +77,66 @@ def wave_spectrum(result: Result, title: str | None = None) -> Figure:
     return fig
 
 
+def _constant(series: np.ndarray) -> bool:
+    """True if `series` (rows over time) holds one value all run long."""
+    x = np.asarray(series, dtype=np.float64)
+    return x.size == 0 or bool(np.all(np.ptp(x, axis=0) <= 1e-12 * max(1.0, float(np.max(np.abs(x))))))
+
+
+def _values(series: np.ndarray, unit: str, names: tuple[str, ...] = ()) -> str:
+    row = np.atleast_1d(np.asarray(series, dtype=np.float64)[0]) if len(series) else np.zeros(max(1, len(names)))
+    if names:
+        return ", ".join(f"{n} {v:g}" for n, v in zip(names, row)) + f" {unit}"
+    return f"{row[0]:g} {unit}"
+
+
 def sea_flow(result: Result, title: str | None = None) -> Figure:
     """The flow the vehicle met: the current and the orbital velocity at the
-    vehicle (NED), the surface elevation above it and the payload in effect;
-    rows where the vehicle was above the wave model's minimum depth shaded."""
+    vehicle (NED), the surface elevation above it and the payload in effect,
+    one panel each for those that change during the run; those that do not
+    (a constant current, no waves, no payload) are stated under the title
+    instead of drawn flat. Rows where the vehicle was above the wave model's
+    minimum depth are shaded. Each panel's legend is outside it, on the right."""
     r = for_plotting(result)
-    fig = Figure(figsize=(8.0, 8.0), layout="constrained")
-    axes = fig.subplots(4, 1, sharex=True)
-    for ax, name, series in ((axes[0], "current", r.current), (axes[1], "orbital velocity", r.wave_velocity)):
-        for k in range(3):
-            ax.plot(r.t, series[:, k], linewidth=1.0, label=f"{name} {_AXES[k]}")
-        ax.plot(r.t, np.linalg.norm(series, axis=1), color="black", linewidth=0.8, label="|v|")
-        ax.set_ylabel(f"{name} [m/s]")
-        ax.legend(loc="upper right", fontsize=7, ncol=4)
-    axes[2].plot(r.t, r.wave_elevation, color="tab:blue", linewidth=1.0)
-    axes[2].set_ylabel("elevation above [m]")
-    axes[3].step(r.t, r.payload_mass, where="post", color="tab:brown")
-    axes[3].set_ylabel("payload [kg]")
-    axes[3].set_xlabel("t [s]")
+    quantities = [("current", "current [m/s]", r.current, "m/s", _AXES),
+                  ("orbital velocity", "orbital velocity [m/s]", r.wave_velocity, "m/s", _AXES),
+                  ("elevation above", "elevation above [m]", r.wave_elevation, "m", ()),
+                  ("payload", "payload [kg]", r.payload_mass, "kg", ())]
+    drawn = [q for q in quantities if not _constant(q[2])]
+    constant = [f"{name} {_values(series, unit, names)}" for name, _, series, unit, names in quantities
+                if _constant(series)]
+    panels = max(1, len(drawn))
+    fig = Figure(figsize=(8.0, 1.9 * panels + 1.0), layout="constrained")
+    axes = list(fig.subplots(panels, 1, sharex=True, squeeze=False)[:, 0])
+    for ax, (name, ylabel, series, _, names) in zip(axes, drawn):
+        if names:
+            for k in range(3):
+                ax.plot(r.t, series[:, k], linewidth=1.0, label=f"{names[k]}")
+            ax.plot(r.t, np.linalg.norm(series, axis=1), color="black", linewidth=0.8, label="|v|")
+            ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, borderaxespad=0)
+        elif name == "payload":
+            ax.step(r.t, series, where="post", color="tab:brown")
+        else:
+            ax.plot(r.t, series, color="tab:blue", linewidth=1.0)
+        ax.set_ylabel(ylabel)
+        ax.set_gid(name)
+    if not drawn:
+        # Nothing changed: the values in words, not an empty panel.
+        axes[0].set_axis_off()
+        axes[0].text(0.5, 0.5, "constant all run:\n" + "\n".join(constant), transform=axes[0].transAxes,
+                     ha="center", va="center", fontsize=10)
+        constant = []
+    else:
+        axes[-1].set_xlabel("t [s]")
     shallow = (np.asarray(result.faults) & _SHALLOW_BIT) != 0
     for ax in axes:
         ax.grid(True, **_GRID)
         if shallow.any():
             ax.fill_between(result.t, 0, 1, where=shallow, transform=ax.get_xaxis_transform(),
                             color="tab:red", alpha=0.15, linewidth=0, step="post")
-    axes[0].set_title(title or f"{result.scenario.name}: the flow at the vehicle"
-                      + (" (red: above the wave model's minimum depth)" if shallow.any() else ""))
+    heading = (title or f"{result.scenario.name}: the flow at the vehicle"
+               + (" (red: above the wave model's minimum depth)" if shallow.any() else ""))
+    if constant:
+        heading += "\n" + "\n".join(textwrap.wrap("constant all run: " + "; ".join(constant), 90))
+    axes[0].set_title(heading, fontsize=10)
     return fig

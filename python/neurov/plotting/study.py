@@ -4,6 +4,7 @@ the runs' decimated error series, never from the runs themselves."""
 
 from __future__ import annotations
 
+import inspect
 import math
 import warnings
 from collections.abc import Mapping
@@ -12,6 +13,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pandas as pd
+from matplotlib.axes import Axes
 from matplotlib.collections import LineCollection
 from matplotlib.figure import Figure
 from matplotlib.ticker import LogFormatter, NullLocator
@@ -20,6 +22,7 @@ if TYPE_CHECKING:
     from neurov.scenario import Scenario
     from neurov.study import Study
 
+from neurov.plotting.colours import OTHERS_GREY, controller_colours
 from neurov.plotting.labels import metric_label
 
 __all__ = ["FEW_SAMPLES", "BandPlotter", "box_figure", "plot_bands", "plot_boxes"]
@@ -28,6 +31,12 @@ __all__ = ["FEW_SAMPLES", "BandPlotter", "box_figure", "plot_bands", "plot_boxes
 #: Below this many finite values a box (quartiles, 5th-95th percentile
 #: whiskers) says more than the data can: those runs are drawn as points.
 FEW_SAMPLES = 10
+
+
+# matplotlib 3.10 names it orientation and deprecates vert (3.6-3.9 know only vert).
+_HORIZONTAL: dict[str, Any] = ({"orientation": "horizontal"}
+                               if "orientation" in inspect.signature(Axes.boxplot).parameters
+                               else {"vert": False})
 
 
 def _spread(n: int) -> np.ndarray:
@@ -51,29 +60,36 @@ class _PlainLog(LogFormatter):
 
 
 def box_figure(study: Study, table: pd.DataFrame) -> Figure:
-    """The ranking metric per controller, one panel per scenario: a box
-    (quartiles, whiskers 5th-95th percentile) where a controller has at least
-    :data:`FEW_SAMPLES` finite runs, each run as a point (with a median tick
-    when there are two or more) where it has fewer. Every panel puts each
-    controller at the same place, named under the bottom panel of each
-    column."""
+    """The ranking metric per controller, one panel per scenario, the
+    controllers as rows named at the left of every row of panels (a reader of
+    any panel finds the names beside it): a box (quartiles, whiskers
+    5th-95th percentile) where a controller has at least :data:`FEW_SAMPLES`
+    finite runs, each run as a point (with a median tick when there are two
+    or more) where it has fewer; each controller in its colour
+    (:func:`neurov.plotting.colours.controller_colours`), the first row on top."""
     metric = study.ranking_metric
     n = len(study.scenarios)
     cols = min(3, n)
     nrows = math.ceil(n / cols)
-    # Fixed margins [in], room for the slanted controller names at the bottom:
-    # a layout engine measures every label of every panel, several times.
-    width, height = 4.8 * cols, 2.7 * nrows + 2.4
+    names = [study.label(c) for c in study.controllers]
+    colours = controller_colours(study.controllers)
+    # Fixed margins [in], room for the names at the left: a layout engine
+    # measures every label of every panel, several times.
+    left = 0.25 + 0.062 * max(len(x) for x in names)
+    panel_w, panel_h, gap_w, gap_h = 3.6, 0.24 * len(names) + 0.3, 0.35, 0.95
+    width = left + panel_w * cols + gap_w * (cols - 1) + 0.2
+    # Two title lines, more where they wrap in a narrow figure.
+    top = 0.35 + 0.2 * (1 + math.ceil(7.5 / width))
+    height = top + panel_h * nrows + gap_h * (nrows - 1) + 0.6
     fig = Figure(figsize=(width, height))
-    fig.subplots_adjust(left=0.9 / width, right=1 - 0.2 / width, bottom=1.9 / height,
-                        top=1 - 1.0 / height, wspace=0.3, hspace=0.35)
-    axes = fig.subplots(nrows, cols, squeeze=False, sharex=True)
+    fig.subplots_adjust(left=left / width, right=1 - 0.2 / width, bottom=0.6 / height,
+                        top=1 - top / height, wspace=gap_w / panel_w, hspace=gap_h / panel_h)
+    axes = fig.subplots(nrows, cols, squeeze=False, sharey=True)
     groups = {key: g[metric].to_numpy(dtype=np.float64)
               for key, g in table.groupby(["scenario", "controller"], sort=False)}
     label = metric_label(metric)
-    names = [study.label(c) for c in study.controllers]
     any_box = any_points = any_median = False
-    for k, (ax, s) in enumerate(zip(axes.flat, study.scenarios)):
+    for ax, s in zip(axes.flat, study.scenarios):
         data: dict[int, np.ndarray] = {}
         failures: dict[int, int] = {}
         for i, c in enumerate(study.controllers):
@@ -82,44 +98,48 @@ def box_figure(study: Study, table: pd.DataFrame) -> Figure:
                 continue
             data[i + 1] = vals[np.isfinite(vals)]
             failures[i + 1] = len(vals) - len(data[i + 1])
-        boxed = [x for x, d in data.items() if len(d) >= FEW_SAMPLES]
+        boxed = [y for y, d in data.items() if len(d) >= FEW_SAMPLES]
         if boxed:
-            ax.boxplot([data[x] for x in boxed], positions=boxed, whis=(5, 95), showfliers=True,
-                       manage_ticks=False)
+            parts = ax.boxplot([data[y] for y in boxed], positions=boxed, whis=(5, 95), showfliers=True,
+                               manage_ticks=False, patch_artist=True, **_HORIZONTAL,
+                               medianprops={"color": "black"})
+            for y, box in zip(boxed, parts["boxes"]):
+                box.set(facecolor=colours[study.controllers[y - 1]], alpha=0.6,
+                        gid=f"controller:{study.controllers[y - 1]}")
             any_box = True
-        few = [x for x, d in data.items() if 0 < len(d) < FEW_SAMPLES]
-        if few:
-            ax.scatter(np.concatenate([x + _spread(len(data[x])) for x in few]),
-                       np.concatenate([data[x] for x in few]), s=14, color="C0", alpha=0.8, zorder=3,
-                       gid="samples")
-            ticks = [x for x in few if len(data[x]) > 1]
-            if ticks:
-                ax.hlines([float(np.median(data[x])) for x in ticks], [x - 0.3 for x in ticks],
-                          [x + 0.3 for x in ticks], color="C1", lw=1.5, zorder=4, gid="median")
+        few = [y for y, d in data.items() if 0 < len(d) < FEW_SAMPLES]
+        for y in few:
+            c = study.controllers[y - 1]
+            ax.scatter(data[y], y + _spread(len(data[y])), s=14, color=colours[c], alpha=0.9, zorder=3,
+                       gid=f"controller:{c}")
+            if len(data[y]) > 1:
+                ax.vlines(float(np.median(data[y])), y - 0.3, y + 0.3, color="black", lw=1.5, zorder=4,
+                          gid="median")
                 any_median = True
             any_points = True
         if data and all(v > 0 for d in data.values() for v in d):
-            ax.set_yscale("log")
+            ax.set_xscale("log")
             # Plain numbers (0.3, not 3 x 10^-1): narrower, so the label beside them fits.
-            ax.yaxis.set_major_formatter(_PlainLog())
-            ax.yaxis.set_minor_formatter(_PlainLog(labelOnlyBase=False, minor_thresholds=(1, 0.4)))
-        # Alternately high and low: neighbours' notes would overlap.
-        for j, x in enumerate(x for x, nf in failures.items() if nf):
-            ax.annotate(f"{failures[x]} not finite", (x, 1.0 - 0.07 * (j % 2)),
-                        xycoords=("data", "axes fraction"), ha="center", va="top", fontsize=7, color="C3")
+            ax.xaxis.set_major_formatter(_PlainLog())
+            ax.xaxis.set_minor_formatter(_PlainLog(labelOnlyBase=False, minor_thresholds=(1, 0.4)))
+        for y, nf in failures.items():
+            if nf:
+                ax.annotate(f"{nf} not finite", (1.0, y), xycoords=("axes fraction", "data"),
+                            xytext=(-2, 0), textcoords="offset points", ha="right", va="center",
+                            fontsize=7, color="C3")
         ax.set_title(s.name, fontsize=10, y=1.0)
-        ax.set_ylabel(label, fontsize=8)
-        ax.yaxis.set_label_coords(-0.13, 0.5)
-        ax.grid(True, axis="y", alpha=0.3)
+        ax.set_xlabel(label, fontsize=8)
+        ax.grid(True, axis="x", alpha=0.3)
         ax.tick_params(which="both", labelsize=7)
-        # The bottom panel of each column, even above an empty cell of the last row.
-        if k + cols >= n:
-            ax.xaxis.set_tick_params(labelbottom=True)
-    axes[0, 0].set_xlim(0.5, len(names) + 0.5)
-    axes[0, 0].set_xticks(range(1, len(names) + 1), names)
+        # Every row's first panel names the controllers (sharey hides the others' names).
+        ax.yaxis.set_tick_params(labelleft=True)
+    axes[0, 0].set_ylim(len(names) + 0.5, 0.5)  # the study's first controller on top
+    axes[0, 0].set_yticks(range(1, len(names) + 1), names)
+    for ax in axes[:, 1:].flat:
+        ax.yaxis.set_tick_params(labelleft=False)
     for ax in axes.flat:
-        for t in ax.get_xticklabels():
-            t.set(rotation=40, ha="right", fontsize=8)
+        for t in ax.get_yticklabels():
+            t.set(fontsize=8)
     for ax in list(axes.flat)[n:]:
         ax.set_visible(False)
     how = []
@@ -128,7 +148,8 @@ def box_figure(study: Study, table: pd.DataFrame) -> Figure:
     if any_points:
         how.append(f"points: each run (under {FEW_SAMPLES} per controller)"
                    + (", bar: median" if any_median else ""))
-    fig.suptitle(f"{study.name}: {label} over {study.samples} sample(s); " + "; ".join(how))
+    fig.suptitle(f"{study.name}: {label} over {study.samples} sample(s)\n" + "; ".join(how), fontsize=10,
+                 wrap=True, y=1 - 0.12 / height, va="top")
     return fig
 
 
@@ -138,11 +159,6 @@ def _fixed_positions(ax: Any) -> None:
     at every draw, which costs more than drawing the panel."""
     ax.xaxis.set_label_coords(0.5, -0.16)
     ax.yaxis.set_label_coords(-0.2, 0.5)
-
-
-def _colour(i: int) -> str:
-    # Matplotlib's cycle with black for its grey (C7): grey marks the other controllers.
-    return ("C0", "C1", "C2", "C3", "C4", "C5", "C6", "C8", "C9", "k")[i % 10]
 
 
 def _curves(study: Study, records: Mapping[tuple[str, str, int], Mapping[str, Any]],
@@ -198,11 +214,14 @@ class BandPlotter:
         names = study.controllers
         cols = min(5, len(names))
         rows = math.ceil(len(names) / cols)
-        width, height = 3.2 * cols, 2.6 * rows + 0.6
+        # The title wraps in a narrow figure (few controllers): room for its lines.
+        width = 3.2 * cols
+        top = 0.3 + 0.2 * math.ceil(11.0 / width)
+        height = 2.6 * rows + 0.3 + top
         self.fig = fig = Figure(figsize=(width, height))
         # Fixed margins [in] instead of a layout engine: laid out once, not per figure.
         fig.subplots_adjust(left=0.75 / width, right=1 - 0.2 / width, bottom=0.55 / height,
-                            top=1 - 0.6 / height, wspace=0.12, hspace=0.22)
+                            top=1 - top / height, wspace=0.12, hspace=0.22)
         axes = fig.subplots(rows, cols, squeeze=False, sharex=True, sharey=True)
         self.axes = dict(zip(names, axes.flat))
         for ax in list(axes.flat)[len(names):]:
@@ -210,11 +229,13 @@ class BandPlotter:
         self.others: dict[str, LineCollection] = {}
         self.median: dict[str, Any] = {}
         self.band: dict[str, Any] = {}
+        colours = controller_colours(names)
         for i, (c, ax) in enumerate(self.axes.items()):
             # One artist for the nine or so grey lines: drawn per artist, not per point.
-            self.others[c] = ax.add_collection(LineCollection([], colors="0.8", linewidths=0.6),
+            self.others[c] = ax.add_collection(LineCollection([], colors=OTHERS_GREY, linewidths=0.6,
+                                                              gid="others"),
                                                autolim=False)
-            self.median[c] = ax.plot([], [], color=_colour(i), lw=1.2, gid="median")[0]
+            self.median[c] = ax.plot([], [], color=colours[c], lw=1.2, gid=f"controller:{c}")[0]
             ax.axvline(study.after, color="0.5", lw=0.6, ls=":")
             _fixed_positions(ax)
             ax.set_yscale("log")
@@ -228,7 +249,8 @@ class BandPlotter:
                 ax.set_xlabel("t [s]", fontsize=8)
                 ax.xaxis.set_tick_params(labelbottom=True)
             ax.tick_params(labelsize=7)
-        self.title = fig.suptitle("", fontsize=10)
+        # wrap: a study of two controllers is narrower than its title.
+        self.title = fig.suptitle("", fontsize=10, wrap=True, y=1 - 0.12 / height, va="top")
 
     def draw(self, records: Mapping[tuple[str, str, int], Mapping[str, Any]], scenario: Scenario,
              path: Path, dpi: int = 100) -> Path:
@@ -247,7 +269,7 @@ class BandPlotter:
             self.median[c].set_data(t, med)
             if study.samples > 1:
                 self.band[c] = ax.fill_between(t, lo, hi, color=self.median[c].get_color(), alpha=0.25,
-                                               lw=0)
+                                               lw=0, gid=f"controller:{c}")
         shown = np.concatenate([m[i] for m in curves.values() for i in (1, 3)] or [np.ones(1)])
         positive = shown[np.isfinite(shown) & (shown > 0)]
         medians = np.concatenate([m[1] for m in curves.values()] or [np.ones(1)])

@@ -23,7 +23,8 @@ FIGURE_STATE = "figures.json"
 #: Part of every figure's digest: raised when the drawing changes within a
 #: release, so that a study folder drawn by the old code is redrawn.
 #: 2: few samples as points, metric labels in words, fixed layouts.
-FIGURE_STYLE = 2
+#: 3: one colour per controller, horizontal boxes named on every row, titles that wrap.
+FIGURE_STYLE = 3
 
 
 def _digest(*parts: object) -> str:
