@@ -62,13 +62,23 @@ def test_a_realistic_scenario_runs_and_its_controller_gets_the_estimate(real: st
 def test_the_realism_study_pairs_each_disturbed_scenario_with_its_realistic_twin() -> None:
     study = load_study("realism")
     names = [s.name for s in study.scenarios]
-    assert names == [n for pair in TWINS for n in pair]
+    # The BlueROV2 square's realistic run also on its tether, after its twins.
+    expected = [n for pair in TWINS for n in pair]
+    expected.insert(expected.index("bluerov2_square_realistic") + 1, "bluerov2_square_tether")
+    assert names == expected
     assert set(study.controllers) == set(REGISTRY) | {"linear_nominal"}
     robustness = load_study("robustness")
     assert study.perturbations == robustness.perturbations and study.seed == robustness.seed
     for scenario in study.scenarios:
         for c in study.controllers:
             assert study.spec_for(c, scenario).type == c.removesuffix("_nominal")
+
+
+def test_the_tethered_square_is_the_realistic_square_on_its_tether() -> None:
+    a, b = _toml("bluerov2_square_realistic"), _toml("bluerov2_square_tether")
+    assert {k: v for k, v in a.items() if k not in {"name", "description"}} == \
+        {k: v for k, v in b.items() if k not in {"name", "description", "tether"}}
+    assert b["tether"]["length"] > 0
 
 
 def test_the_realism_study_gives_every_controller_the_gains_of_the_earlier_studies() -> None:
