@@ -193,7 +193,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         elif args.command == "view":
             if args.frames is not None and args.frames < 2:
                 args.usage_of.error("--frames must be >= 2")
-            from neurov.replay_cli import main_view
+            from neurov.replay.command import main_view
 
             return main_view(args.results, args.out, args.frames)
         elif args.command == "identify":

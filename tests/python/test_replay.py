@@ -1,6 +1,6 @@
-"""The 3-D replay without a browser: what it draws where (neurov.replay_scene),
+"""The 3-D replay without a browser: what it draws where (neurov.replay.scene),
 the page it writes (neurov.replay), the runs it reads back
-(neurov.replay_read) and `neurov view`'s errors (the browser:
+(neurov.replay.reading) and `neurov view`'s errors (the browser:
 test_replay_browser.py)."""
 
 from __future__ import annotations
@@ -16,8 +16,8 @@ import pytest
 from neurov import cli
 from neurov.errors import ResultFileError
 from neurov.replay import replay
-from neurov.replay_read import read_result
-from neurov.replay_scene import NED_TO_DISPLAY, build_scene
+from neurov.replay.reading import read_result
+from neurov.replay.scene import NED_TO_DISPLAY, build_scene
 from neurov.result import SERIES
 from neurov.run import write_outputs
 from neurov.scenario import scenario_path
@@ -193,7 +193,7 @@ def test_bad_arguments_are_named(sea: neurov.Result, args: dict, message: str) -
 
 
 def test_import_neurov_does_not_import_plotly() -> None:
-    code = ("import sys, neurov, neurov.cli, neurov.replay, neurov.replay_scene; neurov.cli._parser(); "
+    code = ("import sys, neurov, neurov.cli, neurov.replay, neurov.replay.scene; neurov.cli._parser(); "
             "assert 'plotly' not in sys.modules, 'plotly imported'")
     subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, text=True)
 

@@ -31,9 +31,9 @@ def _name(path: Path) -> str:
 
 
 def main_view(results: Sequence[str], out: str, frames: int | None = None) -> int:
-    """Reads each RESULT (:func:`neurov.replay_read.read_result`), writes
+    """Reads each RESULT (:func:`neurov.replay.reading.read_result`), writes
     the replay to `out`; returns the exit status (1 without plotly)."""
-    from neurov.replay_read import read_result
+    from neurov.replay.reading import read_result
 
     path = _check_out(out)
     runs = [read_result(r, name=f"RESULT {r!r}") for r in results]

@@ -7,7 +7,7 @@ scaled by thrust (a run with thrusters) or the applied force (one without),
 the desired and the travelled path, the current and the wave velocity at the
 vehicle, a time slider and play/pause, and the time and each vehicle's depth
 above the scene. What is sampled and how it is scaled:
-:mod:`neurov.replay_scene`.
+:mod:`neurov.replay.scene`.
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from neurov.replay_scene import FACES, MAX_FRAMES, TOP_FACES, Scene, Track, build_scene, labels_for
+from neurov.replay.scene import FACES, MAX_FRAMES, TOP_FACES, Scene, Track, build_scene, labels_for
 from neurov.result import Result
 
 __all__ = ["Replay", "replay"]
@@ -149,7 +149,7 @@ def _figure(scene: Scene, title: str) -> dict[str, Any]:
     steps = [{"method": "animate", "label": f"{time:.1f}", "args": [[f"{f}"], jump]}
              for f, time in enumerate(scene.times)]
     size = scene.upper - scene.lower
-    ratio = size / size[0]  # one scale on every axis (see replay_scene)
+    ratio = size / size[0]  # one scale on every axis (see neurov.replay.scene)
     axis = {"backgroundcolor": "#f7f9fc", "showbackground": True}
     lo, hi = scene.lower.tolist(), scene.upper.tolist()
     layout = dict(
