@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import importlib.resources
 import pickle
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -42,3 +43,16 @@ def test_each_builds_runs_in_cpp_and_snapshots(name: str) -> None:
     twin = pickle.loads(pickle.dumps(ctl))
     u = (np.full(6, 0.1), np.full(6, 0.05), np.zeros(6), np.zeros(6), np.zeros(6))
     assert ctl.step(*u).tobytes() == twin.step(*u).tobytes()
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_each_reads_from_a_scenario_file_with_its_defaults(name: str, tmp_path: Path) -> None:
+    """A file gives only the type: the fields the builder fills from the
+    scenario (dt, the nominal theta or vehicle) are checked beside stand-ins,
+    not refused as the struct's empty defaults."""
+    path = tmp_path / "s.toml"
+    path.write_text(f'name = "t"\nduration = 1.0\n[command]\ntype = "square"\nside = 4.0\n'
+                    f'[controller]\ntype = "{name}"\n', encoding="utf-8")
+    scenario = neurov.load_scenario(path)
+    assert scenario.controller.type == name
+    assert type(build_controller(scenario.controller, scenario)) is _core.BUILT_IN_CONTROLLERS[name]
