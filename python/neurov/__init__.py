@@ -8,22 +8,13 @@ from typing import TYPE_CHECKING
 
 from neurov import centres, errors, trajectories
 from neurov._core import (
+    BUILT_IN_CONTROLLERS as _BUILT_IN_CONTROLLERS,
     MAX_CENTRES,
     MAX_SUBSTEPS,
     MAX_WAVE_COMPONENTS,
     THETA_NAMES,
-    ComputedTorqueConfig,
-    ComputedTorqueController,
-    LinearAdaptiveConfig,
-    LinearAdaptiveController,
     allocate_thrust,
     run_closed_loop,
-    NNAdaptiveConfig,
-    NNAdaptiveController,
-    PDConfig,
-    PDController,
-    PIDConfig,
-    PIDController,
     RbfNetwork,
     ReferenceModel,
     RefusedStepPolicy,
@@ -31,8 +22,6 @@ from neurov._core import (
     Saturation,
     SensorFaultKind,
     SimulationConfig,
-    SlidingModeConfig,
-    SlidingModeController,
     Status,
     Vehicle,
     __version__,
@@ -89,16 +78,6 @@ __all__ = [
     "simulate",
     "simulate_many",
     "trajectories",
-    "ComputedTorqueConfig",
-    "ComputedTorqueController",
-    "LinearAdaptiveConfig",
-    "LinearAdaptiveController",
-    "NNAdaptiveConfig",
-    "NNAdaptiveController",
-    "PDConfig",
-    "PDController",
-    "PIDConfig",
-    "PIDController",
     "RbfNetwork",
     "RefusedStepPolicy",
     "RefusedStepsWarning",
@@ -107,8 +86,6 @@ __all__ = [
     "SimulationConfig",
     "ReferenceModel",
     "RobustModification",
-    "SlidingModeConfig",
-    "SlidingModeController",
     "Status",
     "NeurovError",
     "ValidationError",
@@ -131,9 +108,18 @@ __all__ = [
     "tune",
 ]
 
+# The controller classes and their configurations, from the C++ list of
+# built-in controllers (neurov._core.BUILT_IN_CONTROLLERS).
+_CONTROLLER_CLASSES = {c.__name__: c for cls in _BUILT_IN_CONTROLLERS.values() for c in (cls, cls.Config)}
+globals().update(_CONTROLLER_CLASSES)
+__all__ += list(_CONTROLLER_CLASSES)
+
 _check_kernel_request()
 
 if TYPE_CHECKING:
+    # Type checkers do not run the loop above: they read the controller
+    # classes from the stub of the compiled module.
+    from neurov._core_stubs.control import *  # noqa: F403
     import os
     from typing import Any
 

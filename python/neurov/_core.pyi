@@ -38,6 +38,7 @@ from ._core_stubs.model import (
     singularity_threshold as singularity_threshold,
 )
 from ._core_stubs.control import (
+    BUILT_IN_CONTROLLERS as BUILT_IN_CONTROLLERS,
     ComputedTorqueConfig as ComputedTorqueConfig,
     ComputedTorqueController as ComputedTorqueController,
     LinearAdaptiveConfig as LinearAdaptiveConfig,
@@ -54,6 +55,8 @@ from ._core_stubs.control import (
     RobustModification as RobustModification,
     SlidingModeConfig as SlidingModeConfig,
     SlidingModeController as SlidingModeController,
+    SuperTwistingConfig as SuperTwistingConfig,
+    SuperTwistingController as SuperTwistingController,
     tracking_error as tracking_error,
 )
 from ._core_stubs.sim import (

@@ -15,13 +15,9 @@ from neurov import _core
 __all__ = ["BUILT_IN_CONTROLLERS", "OWN_FAILURES", "Controller", "ControllerCall", "as_real_numbers",
            "describe_failures", "is_built_in", "own_failures", "require_controller"]
 
-#: The compiled controllers: a run with one of these is the all-C++ loop.
-BUILT_IN_CONTROLLERS: tuple[type, ...] = tuple(
-    getattr(_core, name) for name in (
-        "NNAdaptiveController", "LinearAdaptiveController", "PDController", "PIDController",
-        "SlidingModeController", "ComputedTorqueController",
-    ) if hasattr(_core, name)
-)
+#: The compiled controllers (the C++ list, neurov._core.BUILT_IN_CONTROLLERS):
+#: a run with one of these is the all-C++ loop.
+BUILT_IN_CONTROLLERS: tuple[type, ...] = tuple(_core.BUILT_IN_CONTROLLERS.values())
 
 
 @runtime_checkable

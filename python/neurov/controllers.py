@@ -5,8 +5,9 @@ studies and the command line. A controller's gains are its C++ config struct
 (``neurov._core.PDConfig`` ...), with the C++ defaults and validator; an
 entry adds only what the core cannot know: the fields the builder fills from
 the scenario (the control period, the nominal model) and options that are
-Python's work (the NN centres' placement). Adding a controller: its C++
-header, one binding line, one :func:`register` call here, its stub line.
+Python's work (the NN centres' placement). The entries come from
+``neurov._core.BUILT_IN_CONTROLLERS``, the C++ list of built-in controllers:
+adding one there adds it here.
 """
 
 from __future__ import annotations
@@ -162,23 +163,47 @@ def _build_linear(spec: ControllerSpec, scenario: Scenario) -> Any:
     return _core.LinearAdaptiveController(_configured(spec, dt=scenario.dt, theta0=theta0))
 
 
-register(ControllerType(
-    "nn", "NN adaptive", _core.NNAdaptiveConfig, _build_nn, managed=("dt",),
-    options={"width": 30.0, "centres": {"method": "sobol", "n": 64}, "inputs": "si"}, keys={"lambda": "lambda_"}))
-register(ControllerType(
-    "linear", "linear adaptive", _core.LinearAdaptiveConfig, _build_linear, managed=("dt", "theta0"),
-    options={"theta0": "zero", "theta0_scale": 1.0}, keys={"lambda": "lambda_"}))
-register(ControllerType(
-    "pd", "PD", _core.PDConfig, lambda spec, scenario: _core.PDController(_configured(spec))))
-register(ControllerType(
-    "pid", "PID", _core.PIDConfig,
-    lambda spec, scenario: _core.PIDController(_configured(spec, dt=scenario.dt)), managed=("dt",)))
-register(ControllerType(
-    "smc", "sliding mode", _core.SlidingModeConfig,
-    lambda spec, scenario: _core.SlidingModeController(
-        _configured(spec, theta=_core.regressor_parameters(_nominal(scenario)))),
-    managed=("theta",), keys={"lambda": "lambda_"}))
-register(ControllerType(
-    "computed_torque", "computed torque", _core.ComputedTorqueConfig,
-    lambda spec, scenario: _core.ComputedTorqueController(_configured(spec, vehicle=_nominal(scenario))),
-    managed=("vehicle",), keys={"lambda": "lambda_"}))
+def _build_from_config(cls: type) -> Callable[[ControllerSpec, Scenario], Any]:
+    """The builder of a controller whose managed fields are only those the
+    scenario always fills (:data:`_FROM_SCENARIO`)."""
+
+    def build(spec: ControllerSpec, scenario: Scenario) -> Any:
+        fill = {name: value(scenario) for name, value in _FROM_SCENARIO.items() if hasattr(spec.config, name)}
+        return cls(_configured(spec, **fill))
+
+    return build
+
+
+#: The config fields a builder fills from the scenario, by name: the
+#: control period, and the nominal model as theta or as a Vehicle.
+_FROM_SCENARIO: dict[str, Callable[[Scenario], Any]] = {
+    "dt": lambda scenario: scenario.dt,
+    "theta": lambda scenario: _core.regressor_parameters(_nominal(scenario)),
+    "vehicle": _nominal,
+}
+
+#: What a controller adds to its C++ class in Python: options and the
+#: builder that reads them (every other built-in controller is built from its
+#: config alone).
+_PYTHON_LEVEL: dict[str, dict[str, Any]] = {
+    "nn": {"build": _build_nn, "managed": ("dt",),
+           "options": {"width": 30.0, "centres": {"method": "sobol", "n": 64}, "inputs": "si"}},
+    "linear": {"build": _build_linear, "managed": ("dt", "theta0"),
+               "options": {"theta0": "zero", "theta0_scale": 1.0}},
+}
+
+
+def _register_built_ins() -> None:
+    """One entry per compiled controller, in the order of the C++ list
+    (neurov/control/built_in_controllers.hpp)."""
+    for name, cls in _core.BUILT_IN_CONTROLLERS.items():
+        fields = set(dir(cls.Config))
+        extra = _PYTHON_LEVEL.get(name, {})
+        register(ControllerType(
+            name, cls.title, cls.Config, extra.get("build", _build_from_config(cls)),
+            managed=extra.get("managed", tuple(f for f in _FROM_SCENARIO if f in fields)),
+            options=extra.get("options", {}),
+            keys={"lambda": "lambda_"} if "lambda_" in fields else {}))
+
+
+_register_built_ins()

@@ -96,8 +96,8 @@ CurrentStep = _core.CurrentStep
 
 
 class ControllerSpec:
-    """A controller: its ``type`` (a name in :data:`neurov.controllers.REGISTRY`:
-    ``"nn"``, ``"linear"``, ``"pd"``, ``"pid"``, ``"smc"``, ``"computed_torque"``),
+    """A controller: its ``type`` (a name in :data:`neurov.controllers.REGISTRY`, the keys of
+    ``neurov._core.BUILT_IN_CONTROLLERS``: ``"nn"``, ``"pd"``, ``"super_twisting"``, ...),
     a ``label``, its gains as the type's bound C++ config (``config``; the C++
     defaults and validator) and the type's Python options (the NN's
     ``width`` and ``centres``; the linear controller's ``theta0`` mode

@@ -206,11 +206,14 @@ def _controller(r: _Reader) -> ControllerSpec:
     r.finish()
     inverse = {v: k for k, v in kind.keys.items()}
     checked = spec.config
-    if "vehicle" in kind.managed and checked.vehicle is None:
+    if "vehicle" in kind.managed and checked.vehicle is None or "theta" in kind.managed:
         # The plant model is the scenario's, put in when the controller is
         # built: the gains are checked here beside a valid stand-in.
         checked = copy.copy(checked)
-        checked.vehicle = _core.Vehicle.nerov()
+        if "vehicle" in kind.managed:
+            checked.vehicle = _core.Vehicle.nerov()
+        else:
+            checked.theta = _core.regressor_parameters(_core.Vehicle.nerov())
     _validated(checked, r.origin, {n: r._name(inverse.get(n, n)) for n in field_names(spec.config)})
     if kind.name == "nn" and not spec.width > 0:
         raise r.error("width", f"expected a number > 0, got {spec.width}")

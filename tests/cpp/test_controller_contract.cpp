@@ -4,7 +4,8 @@
 // accepted steps give a finite tau, reset() returns to the state create()
 // left, the DesiredState overload is the 5-vector step, an unconfigured
 // controller refuses, and the diagnostics hook reports the controller's own
-// memory. A new controller joins by one line in Controllers and a draw_gains.
+// memory. Every controller of the C++ list (BuiltInControllers) is in it; one
+// whose defaults are not a working configuration has a draw_gains.
 // (test_reliability_*.cpp sweep every hostile value through every entry.)
 #include <cmath>
 #include <limits>
@@ -76,6 +77,26 @@ void draw_gains(NNAdaptiveConfig<S>& c, Rng& rng) {
   c.sigma_m = S(0.1);
 }
 
+template <typename Config, typename = void>
+struct has_theta : std::false_type {};
+template <typename Config>
+struct has_theta<Config, std::void_t<decltype(Config::theta)>> : std::true_type {};
+template <typename Config, typename = void>
+struct has_kd : std::false_type {};
+template <typename Config>
+struct has_kd<Config, std::void_t<decltype(Config::kd)>> : std::true_type {};
+
+/// Any other controller: its defaults, with K_d drawn and the nominal model
+/// set when it has them.
+template <typename Config>
+void draw_gains(Config& c, Rng& rng) {
+  if constexpr (has_kd<Config>::value) c.kd = rng.vec6<typename decltype(c.kd)::Scalar>(10, 200);
+  if constexpr (has_theta<Config>::value) {
+    using S = typename decltype(c.theta)::Scalar;
+    EXPECT_TRUE(regressor_parameters(nerov_parameters<S>(), c.theta).ok());
+  }
+}
+
 template <typename Ctl>
 Ctl make(Rng& rng) {
   typename Ctl::Config c;
@@ -107,21 +128,30 @@ template <typename S, int N>
 S memory(const NNAdaptiveController<S, N>& c) {
   return c.weights().norm();
 }
-/// PD, sliding mode and computed torque keep none.
+template <typename Ctl, typename = void>
+struct has_state_name : std::false_type {};
 template <typename Ctl>
-typename Ctl::Scalar memory(const Ctl&) {
-  return 0;
+struct has_state_name<Ctl, std::void_t<decltype(Ctl::kStateName)>> : std::true_type {};
+
+/// A controller with a named (6,) state remembers it; PD, sliding mode and
+/// computed torque keep none.
+template <typename Ctl>
+typename Ctl::Scalar memory(const Ctl& c) {
+  if constexpr (has_state_name<Ctl>::value)
+    return c.state().norm();
+  else
+    return 0;
 }
 
 template <typename Ctl>
 class ControllerContract : public ::testing::Test {};
+// Every built-in controller in float and double, and the NN with a fixed
+// number of centres.
+template <typename... F, typename... D>
+::testing::Types<F..., D..., NNAdaptiveController<float, 8>> contract_types(TypeList<F...>,
+                                                                           TypeList<D...>);
 using Controllers =
-    ::testing::Types<PDController<float>, PDController<double>, PIDController<float>,
-                     PIDController<double>, SlidingModeController<float>,
-                     SlidingModeController<double>, LinearAdaptiveController<float>,
-                     LinearAdaptiveController<double>, NNAdaptiveController<float>,
-                     NNAdaptiveController<double>, NNAdaptiveController<float, 8>,
-                     ComputedTorqueController<float>, ComputedTorqueController<double>>;
+    decltype(contract_types(BuiltInControllers<float>{}, BuiltInControllers<double>{}));
 TYPED_TEST_SUITE(ControllerContract, Controllers);
 
 // ------------------------------------------------------------ observations

@@ -1,6 +1,7 @@
 // Everything in neurov's C++ library.
 #pragma once
 
+#include "neurov/control/built_in_controllers.hpp"
 #include "neurov/control/computed_torque_controller.hpp"
 #include "neurov/control/controller_base.hpp"
 #include "neurov/control/desired_state.hpp"

@@ -8,6 +8,8 @@
 
 #include "bindings.hpp"
 #include "fields.hpp"
+#include "generic_controller.hpp"
+#include "neurov/control/built_in_controllers.hpp"
 #include "neurov/control/computed_torque_controller.hpp"
 #include "neurov/control/linear_adaptive_controller.hpp"
 #include "neurov/control/nn_controller.hpp"
@@ -58,23 +60,18 @@ RobustModification parse_modification(py::handle obj) {
   return RobustModification::none;
 }
 
-void bind_controller_configs(py::module_& m) {
-  py::enum_<RobustModification>(m, "RobustModification",
-                                "Robust modification of the NN controller's adaptive law.")
-      .value("none", RobustModification::none, "The paper's pure gradient law.")
-      .value("sigma", RobustModification::sigma, "Leakage: W_dot += -sigma_m W Gamma_w.")
-      .value("e_modification", RobustModification::e_modification,
-             "Leakage in proportion to the error: W_dot += -kappa ||J^-1 s|| W Gamma_w.")
-      .value("projection", RobustModification::projection,
-             "After each update, W scaled back onto ||W||_F <= w_max.");
-
+// The configurations with bindings of their own; any other built-in
+// controller's comes from its config_fields (generic_controller.hpp).
+void bind_config(py::module_& m, TypeTag<PDController<double>>) {
   using PD = PDConfig<double>;
   config_fields<PD>(m, "PDConfig", "PDController")
       .vector("kp", &PD::kp, kKpDoc)
       .vector("kd", &PD::kd, kKdDoc)
       .validator("PD controller")
       .finish();
+}
 
+void bind_config(py::module_& m, TypeTag<PIDController<double>>) {
   using PID = PIDConfig<double>;
   config_fields<PID>(m, "PIDConfig", "PIDController")
       .vector("kp", &PID::kp, kKpDoc)
@@ -84,7 +81,9 @@ void bind_controller_configs(py::module_& m) {
       .value("dt", &PID::dt, kDtDoc)
       .validator("PID controller")
       .finish();
+}
 
+void bind_config(py::module_& m, TypeTag<SlidingModeController<double>>) {
   using SMC = SlidingModeConfig<double>;
   sliding_fields<SMC>(m, "SlidingModeConfig", "SlidingModeController")
       .vector("k", &SMC::k, "Switching gain K (6,), >= 0 [N, N m].")
@@ -93,7 +92,9 @@ void bind_controller_configs(py::module_& m) {
               "The nominal model's theta (24,), e.g. regressor_parameters(vehicle).")
       .validator("sliding-mode controller")
       .finish();
+}
 
+void bind_config(py::module_& m, TypeTag<LinearAdaptiveController<double>>) {
   using Lin = LinearAdaptiveConfig<double>;
   sliding_fields<Lin>(m, "LinearAdaptiveConfig", "LinearAdaptiveController")
       .vector_or_number("gamma", &Lin::gamma,
@@ -105,7 +106,9 @@ void bind_controller_configs(py::module_& m) {
               "regressor_parameters(vehicle).")
       .validator("linear adaptive controller")
       .finish();
+}
 
+void bind_config(py::module_& m, TypeTag<NNAdaptiveController<double>>) {
   using NN = NNAdaptiveConfig<double>;
   sliding_fields<NN>(m, "NNAdaptiveConfig", "NNAdaptiveController",
                      "K_d, diagonal (6,), >= 0 (0 leaves the network alone).")
@@ -124,7 +127,9 @@ void bind_controller_configs(py::module_& m) {
              "No adaptation while ||s|| < dead_zone (0 disables), >= 0.")
       .validator("NN controller")
       .finish();
+}
 
+void bind_config(py::module_& m, TypeTag<ComputedTorqueController<double>>) {
   using CT = ComputedTorqueConfig<double>;
   sliding_fields<CT>(m, "ComputedTorqueConfig", "ComputedTorqueController")
       .field(
@@ -143,6 +148,24 @@ void bind_controller_configs(py::module_& m) {
           "The nominal model, a Vehicle (None until set).")
       .validator("computed-torque controller")
       .finish();
+}
+
+template <typename Controller>
+void bind_config(py::module_& m, TypeTag<Controller>) {
+  bind_generic_config<Controller>(m);
+}
+
+void bind_controller_configs(py::module_& m) {
+  py::enum_<RobustModification>(m, "RobustModification",
+                                "Robust modification of the NN controller's adaptive law.")
+      .value("none", RobustModification::none, "The paper's pure gradient law.")
+      .value("sigma", RobustModification::sigma, "Leakage: W_dot += -sigma_m W Gamma_w.")
+      .value("e_modification", RobustModification::e_modification,
+             "Leakage in proportion to the error: W_dot += -kappa ||J^-1 s|| W Gamma_w.")
+      .value("projection", RobustModification::projection,
+             "After each update, W scaled back onto ||W||_F <= w_max.");
+
+  for_each_type(BuiltInControllers<double>{}, [&m](auto tag) { bind_config(m, tag); });
 }
 
 }  // namespace neurov::bindings

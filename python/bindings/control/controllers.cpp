@@ -9,6 +9,8 @@
 
 #include "bindings.hpp"
 #include "controller_bindings.hpp"
+#include "generic_controller.hpp"
+#include "neurov/control/built_in_controllers.hpp"
 #include "neurov/control/computed_torque_controller.hpp"
 #include "neurov/control/linear_adaptive_controller.hpp"
 #include "neurov/control/nn_controller.hpp"
@@ -128,7 +130,9 @@ ParameterVector<double> theta0_from(py::handle theta0, const char* name) {
 
 }  // namespace
 
-void bind_controllers(py::module_& m) {
+// The controllers with bindings of their own; any other built-in
+// controller's come from generic_controller.hpp.
+void bind_controller(py::module_& m, TypeTag<NNController>) {
   // --- NN adaptive controller -------------------------------------------------
   py::class_<NNController> nn(
       m, "NNAdaptiveController",
@@ -206,7 +210,9 @@ void bind_controllers(py::module_& m) {
           "modification",
           [](const NNController& c) { return std::string(to_string(c.config().modification)); },
           "The robust modification in use.");
+}
 
+void bind_controller(py::module_& m, TypeTag<LinController>) {
   // --- linear adaptive controller ---------------------------------------------
   py::class_<LinController> lin(
       m, "LinearAdaptiveController",
@@ -241,7 +247,9 @@ void bind_controllers(py::module_& m) {
       },
       "Current estimate theta_hat (24,); assignable.");
   def_model_output<LinController>(lin, "Phi theta_hat of the last step, shape (6,).");
+}
 
+void bind_controller(py::module_& m, TypeTag<PD>) {
   // --- PD ------------------------------------------------------------------
   py::class_<PD> pd(m, "PDController",
                     "PD baseline in the earth frame: tau = -J^T (K_p eta_tilde + K_d eta_tilde_dot).");
@@ -253,7 +261,9 @@ void bind_controllers(py::module_& m) {
       [](PD& c, const py::dict&, const TrackingError<double>& e, Status s) {
         return c.restore(e, s);
       });
+}
 
+void bind_controller(py::module_& m, TypeTag<PID>) {
   // --- PID ------------------------------------------------------------------
   py::class_<PID> pid(
       m, "PIDController",
@@ -277,7 +287,9 @@ void bind_controllers(py::module_& m) {
   pid.def_property_readonly(
       "integral", [](const PID& c) { return Vec6(c.integral()); },
       "The integrator state z (6,), the limited time integral of eta_tilde.");
+}
 
+void bind_controller(py::module_& m, TypeTag<SMC>) {
   // --- sliding mode -----------------------------------------------------------
   py::class_<SMC> smc(
       m, "SlidingModeController",
@@ -294,7 +306,9 @@ void bind_controllers(py::module_& m) {
   def_common<SMC>(smc);
   def_model_controller<SMC>(smc, "sliding-mode controller",
                            "The nominal model's f of the last step, shape (6,).");
+}
 
+void bind_controller(py::module_& m, TypeTag<CT>) {
   // --- computed torque ---------------------------------------------------------
   py::class_<CT> ct(
       m, "ComputedTorqueController",
@@ -315,6 +329,28 @@ void bind_controllers(py::module_& m) {
   def_model_controller<CT>(
       ct, "computed-torque controller",
       "M nu_r_dot + C(nu) nu_r + D(nu) nu_r + g(eta) of the last step, shape (6,).");
+}
+
+template <typename Controller>
+void bind_controller(py::module_& m, TypeTag<Controller>) {
+  bind_generic_controller<Controller>(m);
+}
+
+void bind_controllers(py::module_& m) {
+  // Every class also says what it is in a scenario file, and
+  // BUILT_IN_CONTROLLERS maps those type names to the classes: the Python
+  // registry and the choice of the all-C++ loop read it.
+  py::dict built_in;
+  for_each_type(BuiltInControllers<double>{}, [&m, &built_in](auto tag) {
+    using Controller = typename decltype(tag)::type;
+    bind_controller(m, tag);
+    py::object cls = py::type::of<Controller>();
+    cls.attr("type_name") = Controller::kTypeName;
+    cls.attr("title") = Controller::kTitle;
+    cls.attr("Config") = py::type::of<typename Controller::Config>();
+    built_in[Controller::kTypeName] = cls;
+  });
+  m.attr("BUILT_IN_CONTROLLERS") = built_in;
 }
 
 }  // namespace neurov::bindings

@@ -6,12 +6,7 @@
 
 #include "bindings.hpp"
 #include "numpy_args.hpp"
-#include "neurov/control/computed_torque_controller.hpp"
-#include "neurov/control/linear_adaptive_controller.hpp"
-#include "neurov/control/nn_controller.hpp"
-#include "neurov/control/pd_controller.hpp"
-#include "neurov/control/pid_controller.hpp"
-#include "neurov/control/sliding_mode_controller.hpp"
+#include "neurov/control/built_in_controllers.hpp"
 #include "neurov/sim/closed_loop.hpp"
 #include "result.hpp"
 
@@ -85,12 +80,10 @@ void def_run(py::module_& m) {
 }  // namespace
 
 void bind_closed_loop(py::module_& m) {
-  def_run<NNAdaptiveController<double>>(m);
-  def_run<LinearAdaptiveController<double>>(m);
-  def_run<PDController<double>>(m);
-  def_run<PIDController<double>>(m);
-  def_run<SlidingModeController<double>>(m);
-  def_run<ComputedTorqueController<double>>(m);
+  // One overload per built-in controller: pybind11 picks it by the
+  // controller's class.
+  for_each_type(BuiltInControllers<double>{},
+                [&m](auto tag) { def_run<typename decltype(tag)::type>(m); });
 }
 
 }  // namespace neurov::bindings

@@ -164,6 +164,20 @@ class SlidingModeConfig(_SlidingConfig):
     theta: _ArrayField = ...
     """The nominal model's theta (24,), e.g. ``regressor_parameters(vehicle)``."""
 
+class SuperTwistingConfig(_SlidingConfig):
+    """Configuration of :class:`SuperTwistingController`."""
+
+    alpha: _ArrayField = ...
+    """alpha, gain of |s|^(1/2) sgn(s) per unit inertia (6,), > 0."""
+    beta: _ArrayField = ...
+    """beta, integral gain per unit inertia (6,), > 0."""
+    force_limit: _ArrayField = ...
+    """Largest force of the sliding terms per DOF (6,), > 0 [N, N m] (anti-windup of the integral term)."""
+    theta: _ArrayField = ...
+    """The nominal model's theta (24,), e.g. ``regressor_parameters(vehicle)``."""
+    dt: _FloatField = ...
+    """Control period [s], > 0: the implicit step."""
+
 class LinearAdaptiveConfig(_SlidingConfig):
     """Configuration of :class:`LinearAdaptiveController`."""
 
@@ -225,6 +239,16 @@ class _Controller:
     """Filtered tracking error s of the last step, shape (6,)."""
     tracking: _ReadOnly[_Tracking] = ...
     """Tracking error and virtual reference of the last step (a dict of (6,) arrays)."""
+    type_name: ClassVar[str]
+    """Its ``type`` in a scenario file (a key of :data:`BUILT_IN_CONTROLLERS`)."""
+    title: ClassVar[str]
+    """Its name in tables and plots."""
+    Config: ClassVar[type]
+    """Its configuration class."""
+
+BUILT_IN_CONTROLLERS: dict[str, type[_Controller]]
+"""The built-in controllers, type name -> class, in the order of the C++ list
+(neurov/control/built_in_controllers.hpp)."""
 
 class NNAdaptiveController(_Controller):
     """Direct adaptive RBF-network controller (eq. 35, 37).
@@ -407,3 +431,32 @@ class ComputedTorqueController(_Controller):
     """A copy of the configuration the controller was built from."""
     model_output: _ReadOnly[_Array] = ...
     """M nu_r_dot + C(nu) nu_r + D(nu) nu_r + g(eta) of the last step, shape (6,)."""
+
+class SuperTwistingController(_Controller):
+    """Super-twisting sliding-mode controller, implicit (chattering-free) discretisation.
+
+    ``tau = Phi theta - J^T M (c s + alpha |s|^(1/2) sgn(s) + v)``,
+    ``v_dot = beta sgn(s)``, ``c = K_d / M``, evaluated at the s of the next
+    step that it predicts (Brogliato, Polyakov and Efimov 2020); the sliding
+    terms are limited to force_limit and v does not wind up.
+    """
+
+    @overload
+    def __init__(self, config: SuperTwistingConfig) -> None:
+        """Builds the controller from its configuration object; ``ValueError`` names a bad field."""
+    @overload
+    def __init__(
+        self,
+        lambda_: _ArrayLike,
+        kd: _ArrayLike,
+        alpha: _ArrayLike,
+        beta: _ArrayLike,
+        force_limit: _ArrayLike,
+        theta: _ArrayLike,
+        dt: SupportsFloat = 0.2,
+    ) -> None:
+        """The configuration's fields by name (see SuperTwistingConfig); ``ValueError`` names a bad one."""
+    config: _ReadOnly[SuperTwistingConfig] = ...
+    """A copy of the configuration the controller was built from."""
+    integral: _ReadOnly[_Array] = ...
+    """The integral term v (6,), in units of s per second."""

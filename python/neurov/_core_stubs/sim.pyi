@@ -18,6 +18,7 @@ from .control import (
     PDController,
     PIDController,
     SlidingModeController,
+    SuperTwistingController,
 )
 from .core import (
     Status,
@@ -447,6 +448,8 @@ def run_closed_loop(vehicle: Vehicle, controller: PIDController, config: Simulat
 def run_closed_loop(vehicle: Vehicle, controller: SlidingModeController, config: SimulationConfig) -> _SimulationResult: ...
 @overload
 def run_closed_loop(vehicle: Vehicle, controller: ComputedTorqueController, config: SimulationConfig) -> _SimulationResult: ...
+@overload
+def run_closed_loop(vehicle: Vehicle, controller: SuperTwistingController, config: SimulationConfig) -> _SimulationResult: ...
 
 @overload
 def run_closed_loop_chunks(vehicle: Vehicle, controller: NNAdaptiveController, config: SimulationConfig, chunk_rows: int,
@@ -471,6 +474,9 @@ def run_closed_loop_chunks(vehicle: Vehicle, controller: SlidingModeController, 
                            on_rows: Callable[[_SimulationResult], None]) -> None: ...
 @overload
 def run_closed_loop_chunks(vehicle: Vehicle, controller: ComputedTorqueController, config: SimulationConfig, chunk_rows: int,
+                           on_rows: Callable[[_SimulationResult], None]) -> None: ...
+@overload
+def run_closed_loop_chunks(vehicle: Vehicle, controller: SuperTwistingController, config: SimulationConfig, chunk_rows: int,
                            on_rows: Callable[[_SimulationResult], None]) -> None: ...
 
 # The simulator stepped from Python (neurov/sim/simulator.hpp)

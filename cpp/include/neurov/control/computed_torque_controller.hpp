@@ -38,6 +38,7 @@ class ComputedTorqueController
  public:
   using typename Base::Vec6;
 
+  NEUROV_CONTROLLER_NAMES("computed_torque", "computed torque", "ComputedTorqueController")
   NEUROV_CONTROLLER_CONSTRUCTORS(ComputedTorqueController, "computed-torque controller")
 
   /// Validates the gains and the nominal vehicle and builds its M once.

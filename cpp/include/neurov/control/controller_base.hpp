@@ -46,6 +46,15 @@
 #define NEUROV_CONTROLLER_CONSTRUCTORS(Controller, what) Controller() = default;
 #endif
 
+/// A built-in controller's names (control/built_in_controllers.hpp): its
+/// `type` in a scenario file, its name in tables and plots, and its Python
+/// class (whose configuration class is the same name with Config for
+/// Controller).
+#define NEUROV_CONTROLLER_NAMES(type_name, title, class_name)  \
+  static constexpr const char* kTypeName = type_name;          \
+  static constexpr const char* kTitle = title;                 \
+  static constexpr const char* kClassName = class_name;
+
 namespace neurov {
 
 /// The gains every law on the filtered error s shares: Lambda in
@@ -214,6 +223,9 @@ class VectorStateControllerBase : public ControllerBase<Derived, ScalarT, Config
     state_.setZero();
     this->reset_common();
   }
+
+  /// The (6,) state restore() puts back, for snapshots.
+  const Vec6& state() const noexcept { return state_; }
 
   /// A snapshot's state put back (ControllerBase::restore) with the vector;
   /// false, and nothing changed, for a non-finite one.

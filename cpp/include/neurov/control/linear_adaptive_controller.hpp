@@ -42,6 +42,7 @@ class LinearAdaptiveController
   /// theta_hat is what the closed loop logs per step.
   static constexpr int kLoggedParameters = kRegressorParameters;
 
+  NEUROV_CONTROLLER_NAMES("linear", "linear adaptive", "LinearAdaptiveController")
   NEUROV_CONTROLLER_CONSTRUCTORS(LinearAdaptiveController, "linear adaptive controller")
 
   /// Back to theta0 and a zero history.

@@ -109,6 +109,7 @@ class NNAdaptiveController
   using BasisVector = typename Network::BasisVector;
   using WeightMatrix = typename Network::WeightMatrix;
 
+  NEUROV_CONTROLLER_NAMES("nn", "NN adaptive", "NNAdaptiveController")
   NNAdaptiveController() = default;
 
 #if NEUROV_HAS_EXCEPTIONS

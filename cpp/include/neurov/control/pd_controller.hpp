@@ -27,6 +27,7 @@ class PDController : public ControllerBase<PDController<ScalarT>, ScalarT, PDCon
   friend Base;
 
  public:
+  NEUROV_CONTROLLER_NAMES("pd", "PD", "PDController")
   NEUROV_CONTROLLER_CONSTRUCTORS(PDController, "PD controller")
 
  private:

@@ -43,6 +43,7 @@ class PIDController
   using typename Base::Scalar;
   using typename Base::Vec6;
 
+  NEUROV_CONTROLLER_NAMES("pid", "PID", "PIDController")
   NEUROV_CONTROLLER_CONSTRUCTORS(PIDController, "PID controller")
 
   /// The integrator state z (the time integral of eta_tilde, limited).

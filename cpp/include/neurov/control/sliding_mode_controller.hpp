@@ -43,6 +43,7 @@ class SlidingModeController
  public:
   using typename Base::Vec6;
 
+  NEUROV_CONTROLLER_NAMES("smc", "sliding mode", "SlidingModeController")
   NEUROV_CONTROLLER_CONSTRUCTORS(SlidingModeController, "sliding-mode controller")
 
  private:
