@@ -59,8 +59,9 @@ def _parser() -> argparse.ArgumentParser:
         help="run a scenario file",
         description="Runs one scenario file (TOML; the format and the shipped examples are in "
         "docs/running.md), prints its metrics over t >= 10 s (the start-up transient skipped; "
-        "half the run if it is shorter than 20 s), and with --out writes result.csv, result.npz "
-        "and metrics.json. A run that diverges still writes everything it simulated and exits "
+        "half the run if it is shorter than 20 s), and with --out writes result.csv, result.npz, "
+        "metrics.json and scenario.toml (a copy of the scenario file; neurov.load_result reads the "
+        "folder back). A run that diverges still writes everything it simulated and exits "
         "with status 3.",
         epilog=_EXIT_STATUS, formatter_class=argparse.RawDescriptionHelpFormatter,
     )

@@ -24,6 +24,7 @@ __all__ = [
     "FactoryError",
     "NeurovError",
     "RefusedStepsWarning",
+    "ResultFileError",
     "ScenarioError",
     "SchemaError",
     "StudyError",
@@ -47,6 +48,11 @@ class VehicleFileError(NeurovError):
 
 class WeightsFileError(NeurovError):
     """A weights file that cannot be read, or does not fit the network."""
+
+
+class ResultFileError(NeurovError):
+    """A run's file (result.npz, .csv, .parquet or its folder) that cannot be
+    loaded back: names the file and what was expected of it."""
 
 
 class StudyError(NeurovError):
