@@ -171,5 +171,6 @@ def markdown_table() -> str:
             cols += " (a `neurov.Status` name)"
         elif spec.kind == "bits":
             cols += " (an integer, its bits)"
-        rows.append(f"| `{spec.name}` | {cols} | {spec.unit or '–'} | {spec.description} |")
+        cells = (f"`{spec.name}`", cols, spec.unit or "–", spec.description)
+        rows.append("| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |")  # a | inside splits a cell
     return "\n".join(rows) + "\n"

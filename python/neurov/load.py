@@ -116,7 +116,8 @@ def _result(path: Path, series: dict[str, Any], given: Scenario | str | Path | N
         raise ResultFileError(f"{path}: {series['thrusts'].shape[1]} thrust columns, but scenario "
                               f"{scenario.name!r} has {thrusters} thrusters")
     controller = meta.get("controller", written.get("controller", scenario.controller.name))
-    diverged = meta.get("diverged", written.get("diverged", rows < planned))
+    # Only a divergence ends a run early, unless it was stopped (a partial folder).
+    diverged = meta.get("diverged", written.get("diverged", rows < planned and written.get("partial") is not True))
     return Result(scenario=scenario, controller=str(controller), diverged=bool(diverged),
                   extra={"loaded_from": str(path)}, **series)
 
@@ -186,4 +187,5 @@ READERS: dict[str, Callable[[Path, Any], Result]] = {
     ".parquet": _read_parquet,
 }
 """The readers of :func:`load_result` by file suffix: ``reader(path,
-scenario)`` (`scenario` as given to load_result, or None) -> Result."""
+scenario)`` (`scenario` as given to load_result, or None) -> Result. A
+reader of another format (an MCAP recording, say) is one more entry."""

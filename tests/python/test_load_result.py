@@ -209,3 +209,18 @@ def test_bad_files_are_refused_naming_them(folder: tuple[Path, Result, dict[str,
     with pytest.raises(ResultFileError, match=r"broken\.npz: not a \.npz archive"):
         neurov.load_result(tmp_path / "broken.npz", scenario=run.scenario)
     assert zipfile.is_zipfile(out / "result.npz")
+
+
+def test_a_stopped_run_is_not_a_diverged_one(folder: tuple[Path, Result, dict[str, Any]], tmp_path: Path) -> None:
+    import pandas as pd
+
+    out, run, _ = folder
+    kept = tmp_path / "run.partial"  # what a Ctrl-C leaves: some CSV rows and a partial metrics.json
+    kept.mkdir()
+    pd.read_csv(out / "result.csv").iloc[:5].to_csv(kept / "result.csv", index=False)
+    (kept / "metrics.json").write_text(json.dumps({"scenario": "load_back", "controller": "linear",
+                                                   "partial": True}))
+    loaded = neurov.load_result(kept, scenario=run.scenario)
+    assert len(loaded.t) == 5 and not loaded.diverged
+    (kept / "metrics.json").unlink()
+    assert neurov.load_result(kept, scenario=run.scenario).diverged  # fewer rows, nothing says stopped
