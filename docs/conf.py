@@ -101,4 +101,14 @@ def setup(app: Any) -> None:
     app.connect("autodoc-process-docstring", _escape_core_docstring)
 
 
+def _write_result_series() -> None:
+    """The result's columns (docs/running.md includes them), from the C++ table."""
+    from neurov.columns import markdown_table
+
+    generated = DOCS / "_build" / "generated"
+    generated.mkdir(parents=True, exist_ok=True)
+    (generated / "result_series.md").write_text(markdown_table(), encoding="utf-8")
+
+
 _run_doxygen()
+_write_result_series()

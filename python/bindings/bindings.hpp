@@ -23,6 +23,7 @@ void bind_controller_configs(pybind11::module_& m);
 void bind_controllers(pybind11::module_& m);
 // sim/
 void bind_sim_config(pybind11::module_& m);
+void bind_result_series(pybind11::module_& m);
 void bind_simulator(pybind11::module_& m);
 void bind_closed_loop(pybind11::module_& m);
 

@@ -26,6 +26,7 @@ PYBIND11_MODULE(_core, m) {
   bind_controller_configs(m);
   bind_controllers(m);
   bind_sim_config(m);
+  bind_result_series(m);
   bind_simulator(m);
   bind_closed_loop(m);
 }

@@ -54,6 +54,7 @@ from neurov.simulator import Observation, Simulator
 from neurov.errors import NeurovError, RefusedStepsWarning, ValidationError, VehicleFileError
 from neurov import weights  # noqa: F401  (attaches NNAdaptiveController.save/load)
 from neurov.identification import identify
+from neurov.load import load_result
 
 __all__ = [
     "MAX_CENTRES",
@@ -73,6 +74,7 @@ __all__ = [
     "Simulator",
     "ThrusterFailure",
     "allocate_thrust",
+    "load_result",
     "load_scenario",
     "run_closed_loop",
     "simulate",

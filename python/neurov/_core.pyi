@@ -73,6 +73,7 @@ from ._core_stubs.sim import (
     MAX_WAVE_COMPONENTS as MAX_WAVE_COMPONENTS,
     Observation as Observation,
     PayloadEvent as PayloadEvent,
+    RESULT_SERIES as RESULT_SERIES,
     RefusedStepPolicy as RefusedStepPolicy,
     SensorFault as SensorFault,
     SensorFaultKind as SensorFaultKind,

@@ -59,8 +59,9 @@ def _parser() -> argparse.ArgumentParser:
         help="run a scenario file",
         description="Runs one scenario file (TOML; the format and the shipped examples are in "
         "docs/running.md), prints its metrics over t >= 10 s (the start-up transient skipped; "
-        "half the run if it is shorter than 20 s), and with --out writes result.csv, result.npz "
-        "and metrics.json. A run that diverges still writes everything it simulated and exits "
+        "half the run if it is shorter than 20 s), and with --out writes result.csv, result.npz, "
+        "metrics.json and scenario.toml (a copy of the scenario file; neurov.load_result reads the "
+        "folder back). A run that diverges still writes everything it simulated and exits "
         "with status 3.",
         epilog=_EXIT_STATUS, formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -107,11 +108,15 @@ def _parser() -> argparse.ArgumentParser:
         "play/pause. Several runs are drawn on one path to compare them. See docs/replay.md.",
     )
     view.add_argument("results", nargs="+", metavar="RESULT",
-                      help="a run folder written by 'neurov run --out DIR', or its result.npz")
+                      help="a run folder written by 'neurov run --out DIR', or a result file "
+                      "(result.npz, .csv, .parquet or .mcap)")
     view.add_argument("--out", default="replay.html", metavar="FILE",
                       help="the HTML file to write (default: replay.html)")
     view.add_argument("--frames", type=int, default=None, metavar="N",
                       help="at most N frames (default: 150)")
+    view.add_argument("--scenario", default=None, metavar="SCENARIO",
+                      help="the runs' scenario (a file or a shipped name), for a result file with no "
+                      "scenario.toml beside it")
     view.set_defaults(usage_of=view)
 
     from neurov.identification.cli import add_parser as add_identify
@@ -195,7 +200,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                 args.usage_of.error("--frames must be >= 2")
             from neurov.replay.command import main_view
 
-            return main_view(args.results, args.out, args.frames)
+            return main_view(args.results, args.out, args.frames, args.scenario)
         elif args.command == "identify":
             from neurov.identification.cli import run as run_identify
 

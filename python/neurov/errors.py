@@ -55,6 +55,12 @@ class RecordingError(NeurovError):
     """A recording (MCAP, ROS 2 bag) that cannot be read: names the file, the topic or the field."""
 
 
+class ResultFileError(NeurovError):
+    """A run's file (result.npz, .csv, .parquet or its folder) that cannot be
+    loaded back: names the file (or the command-line argument) and what was
+    expected of it."""
+
+
 class StudyError(NeurovError):
     """A study that cannot be run: names the file and the field."""
 
@@ -74,8 +80,3 @@ class RefusedStepsWarning(RuntimeWarning):
     returned something that is not six finite real numbers): the run went
     on under the scenario's ``refused_step_policy``, so its numbers are not
     the controller's. ``result.first_refusal`` gives the first error."""
-
-
-class ResultFileError(NeurovError):
-    """A run's result file or folder that cannot be read back: names the
-    file (or the command-line argument) and what was expected."""

@@ -24,15 +24,16 @@ CSV_BLOCK_ROWS = 20_000
 
 
 class CsvWriter:
-    """Writes named float columns to a CSV file with a header row, each number
-    as the shortest text that reads back to the same float64: through
-    pyarrow's C++ writer when pyarrow is installed (``neurov[parquet]``; about
-    four times faster), else Python's csv module. Use as a context manager;
-    :meth:`write` appends rows."""
+    """Writes named columns to a CSV file with a header row, each number as
+    the shortest text that reads back to the same float64 (integers and
+    strings as they are): through pyarrow's C++ writer when pyarrow is
+    installed (``neurov[parquet]``; about four times faster), else Python's
+    csv module. `columns` gives the names and the dtypes (a first block of
+    rows, say). Use as a context manager; :meth:`write` appends rows."""
 
-    def __init__(self, path: str | Path, names: list[str]) -> None:
+    def __init__(self, path: str | Path, columns: dict[str, Any]) -> None:
         self.path = Path(path)
-        self.names = list(names)
+        self.names = list(columns)
         self._file: IO[str] | None = None
         self._csv: Any = None
         self._arrow: Any = None
@@ -45,7 +46,8 @@ class CsvWriter:
             self._csv.writerow(self.names)
             return
         self._pa = pa
-        self._schema = pa.schema([(name, pa.float64()) for name in self.names])
+        self._schema = pa.schema([(name, pa.from_numpy_dtype(np.asarray(c).dtype) if np.asarray(c).dtype.kind != "U"
+                                   else pa.string()) for name, c in columns.items()])
         options = pacsv.WriteOptions(quoting_style="none")
         self._arrow = pacsv.CSVWriter(str(self.path), self._schema, write_options=options)
 
@@ -60,7 +62,9 @@ class CsvWriter:
         for start in range(0, rows, CSV_BLOCK_ROWS):
             block = slice(start, start + CSV_BLOCK_ROWS)
             if self._arrow is not None:
-                self._arrow.write_batch(self._pa.record_batch([c[block] for c in values], schema=self._schema))
+                self._arrow.write_batch(self._pa.record_batch(
+                    [self._pa.array(c[block], type=f.type) for c, f in zip(values, self._schema)],
+                    schema=self._schema))
             else:
                 self._csv.writerows(zip(*(c[block].tolist() for c in values)))
             if progress is not None:

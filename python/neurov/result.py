@@ -13,23 +13,18 @@ from numpy.typing import NDArray
 
 from neurov import _core
 from neurov.metrics import TRANSIENT_S, MetricsWindow, metrics_start
+from neurov.columns import SERIES, table_columns
 from neurov.scenario import Scenario
 
 __all__ = ["SERIES", "TRANSIENT_S", "Result", "metrics_start"]
 
 Array = NDArray[np.float64]
 
-SERIES = (
-    "t", "eta", "nu", "eta_d", "eta_d_dot", "tau_demanded", "tau_applied", "disturbance", "s",
-    "thrusts", "theta", "adaptive_norm", "controller_status", "plant_status", "faults",
-    "current", "wave_velocity", "wave_elevation", "payload_mass", "eta_estimate", "nu_estimate",
-)
-
-
-
 @dataclass
 class Result:
-    """Time series of one closed-loop run; rows at t_k = k dt."""
+    """Time series of one closed-loop run; rows at t_k = k dt. The arrays are
+    the series of :data:`neurov._core.RESULT_SERIES` (their units and
+    meaning there), in its order."""
 
     scenario: Scenario
     controller: str
@@ -42,6 +37,8 @@ class Result:
     tau_applied: Array
     disturbance: Array
     s: Array
+    eta_estimate: Array  #: (N, 6) the pose the controller was given (measured or estimated)
+    nu_estimate: Array  #: (N, 6) the body velocity the controller was given
     thrusts: Array
     theta: Array
     adaptive_norm: Array
@@ -52,8 +49,6 @@ class Result:
     wave_velocity: Array  #: (N, 3) NED orbital velocity at the vehicle [m/s]
     wave_elevation: Array  #: (N,) surface elevation above the vehicle [m]
     payload_mass: Array  #: (N,) payload mass in effect [kg]
-    eta_estimate: Array  #: (N, 6) the pose the controller was given (measured or estimated)
-    nu_estimate: Array  #: (N, 6) the body velocity the controller was given
     diverged: bool
     wall_time: float = 0.0
     extra: dict[str, Any] = field(default_factory=dict)
@@ -113,82 +108,34 @@ class Result:
         return (f"diverged at t = {self.t[-1]:g} s: plant status {plant}, controller status {ctrl}; "
                 f"{len(self.t)} of {round(self.scenario.duration / self.scenario.dt) + 1} rows simulated")
 
-    def columns(self) -> dict[str, Array]:
-        """Flat named columns (one per DOF, thruster and parameter)."""
-        cols: dict[str, Array] = {"t": self.t}
-        dof = ("x", "y", "z", "phi", "theta", "psi")
-        body = ("u", "v", "w", "p", "q", "r")
-        for name, arr, labels in (
-            ("eta", self.eta, dof), ("nu", self.nu, body), ("eta_d", self.eta_d, dof),
-            ("eta_d_dot", self.eta_d_dot, dof), ("tau_demanded", self.tau_demanded, body),
-            ("tau_applied", self.tau_applied, body), ("disturbance", self.disturbance, body),
-            ("s", self.s, dof), ("eta_estimate", self.eta_estimate, dof),
-            ("nu_estimate", self.nu_estimate, body),
-        ):
-            for i, lab in enumerate(labels):
-                cols[f"{name}_{lab}"] = arr[:, i]
-        for i in range(self.thrusts.shape[1]):
-            cols[f"thrust_{i}"] = self.thrusts[:, i]
-        for i, n in enumerate(_core.THETA_NAMES[: self.theta.shape[1]]):
-            cols[f"theta[{n}]"] = self.theta[:, i]
-        cols["adaptive_norm"] = self.adaptive_norm
-        cols["controller_status"] = self.controller_status.astype(np.float64)
-        cols["plant_status"] = self.plant_status.astype(np.float64)
-        cols["faults"] = self.faults.astype(np.float64)
-        for name, arr in (("current", self.current), ("wave_velocity", self.wave_velocity)):
-            cols.update((f"{name}_{n}", arr[:, i]) for i, n in enumerate("NED"))
-        cols["wave_elevation"] = self.wave_elevation
-        cols["payload_mass"] = self.payload_mass
-        return cols
+    def columns(self) -> dict[str, Any]:
+        """The run as flat named columns, the CSV's and :meth:`to_pandas`'s
+        (see :mod:`neurov.columns`): ``t``, then ``eta_x`` ...
+        ``eta_psi``, ``nu_u`` ..., ``tau_demanded_X`` ..., ``thrusts_0`` ...,
+        ``theta_m`` ... (linear adaptive only), the statuses as
+        :class:`neurov.Status` names and ``faults`` as its bits."""
+        return table_columns({name: getattr(self, name) for name in SERIES})
 
     def to_pandas(self) -> Any:
         """The run as a tidy :class:`pandas.DataFrame`: one row per control
-        step, indexed by time ``t`` [s]. Columns: the pose ``x, y, z, phi,
-        theta, psi`` [m, rad]; the body velocities ``u, v, w, p, q, r``; the
-        desired pose ``x_d`` ... ``psi_d`` and its rate ``x_d_dot`` ...;
-        the demanded generalised force ``tau_X`` ... ``tau_N`` [N, N m] and the
-        applied one ``tau_applied_X`` ...; the disturbance ``d_X`` ...; the
-        sliding variable ``s_x`` ... ``s_psi``; the thrusts ``thrust_0`` ... [N]; the
-        adapted parameters ``theta[m]`` ... (linear adaptive only); the
-        ``adaptive_norm``; ``controller_status`` and ``plant_status`` as
-        :class:`neurov.Status` names; and the fault flags ``fault_freeze``,
-        ``fault_dropout``, ``fault_noise_burst``, ``fault_thruster`` and
-        ``pitch_limited`` and ``shallow`` (bits 1, 2, 4, 8, 16, 32 of :attr:`faults`);
-        the sea at the vehicle ``current_N, current_E, current_D``,
-        ``wave_velocity_N`` ... [m/s], ``wave_elevation`` [m], the
-        ``payload_mass`` in effect [kg], and what the controller was given
-        (the measurement or the estimate) ``x_est`` ... ``psi_est``,
-        ``u_est`` ... ``r_est``."""
+        step, indexed by time ``t`` [s], with the columns of
+        :meth:`columns` (the CSV's header is ``t`` and these); the
+        statuses are categorical (of every :class:`neurov.Status` name)."""
         import pandas as pd
 
-        pose, body = ("x", "y", "z", "phi", "theta", "psi"), ("u", "v", "w", "p", "q", "r")
-        force = ("X", "Y", "Z", "K", "M", "N")
-        cols: dict[str, Any] = {}
-        for arr, names in ((self.eta, pose), (self.nu, body), (self.eta_d, [f"{n}_d" for n in pose]),
-                           (self.eta_d_dot, [f"{n}_d_dot" for n in pose]),
-                           (self.tau_demanded, [f"tau_{n}" for n in force]),
-                           (self.tau_applied, [f"tau_applied_{n}" for n in force]),
-                           (self.disturbance, [f"d_{n}" for n in force]),
-                           (self.s, [f"s_{n}" for n in pose]),
-                           (self.eta_estimate, [f"{n}_est" for n in pose]),
-                           (self.nu_estimate, [f"{n}_est" for n in body])):
-            cols.update((n, arr[:, i]) for i, n in enumerate(names))
-        cols.update((f"thrust_{i}", self.thrusts[:, i]) for i in range(self.thrusts.shape[1]))
-        cols.update((f"theta[{n}]", self.theta[:, i])
-                    for i, n in enumerate(_core.THETA_NAMES[: self.theta.shape[1]]))
-        cols["adaptive_norm"] = self.adaptive_norm
-        statuses = [s.name for s in sorted(_core.Status.__members__.values(), key=int)]
+        from neurov.columns import STATUS_NAMES
+
+        cols: dict[str, Any] = self.columns()
+        t = cols.pop("t")
         for name in ("controller_status", "plant_status"):
-            codes = getattr(self, name).astype(np.int64)
-            cols[name] = pd.Categorical.from_codes(codes, categories=statuses)
-        for bit, name in enumerate(("fault_freeze", "fault_dropout", "fault_noise_burst", "fault_thruster",
-                                    "pitch_limited", "shallow")):
-            cols[name] = (self.faults & (1 << bit)) != 0
-        for name, arr in (("current", self.current), ("wave_velocity", self.wave_velocity)):
-            cols.update((f"{name}_{n}", arr[:, i]) for i, n in enumerate("NED"))
-        cols["wave_elevation"] = self.wave_elevation
-        cols["payload_mass"] = self.payload_mass
-        return pd.DataFrame(cols, index=pd.Index(self.t, name="t"))
+            cols[name] = pd.Categorical(cols[name], categories=STATUS_NAMES)
+        return pd.DataFrame(cols, index=pd.Index(t, name="t"))
+
+    def to_parquet(self, path: str | Path) -> Path:
+        """Writes :meth:`to_pandas` to a Parquet file (needs pyarrow,
+        ``neurov[parquet]``); :func:`neurov.load_result` reads it back."""
+        self.to_pandas().to_parquet(path)
+        return Path(path)
 
     def to_csv(self, path: str | Path, quiet: bool = True) -> Path:
         """Writes every column of :meth:`columns` to a CSV file with a header
@@ -201,7 +148,7 @@ class Result:
 
         cols = self.columns()
         with progress_bar(len(self.t), Path(path).name, unit="row", quiet=quiet) as bar, \
-                CsvWriter(path, list(cols)) as writer:
+                CsvWriter(path, cols) as writer:
             writer.write(cols, progress=bar)
         return Path(path)
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import json
 import math
+import shutil
 import sys
 from pathlib import Path
 from typing import Any, TextIO
@@ -34,8 +35,10 @@ FIGURES = ("xy.png", "dofs.png", "errors.png", "inputs.png", "adaptive_norm.png"
 SEA_FIGURES = ("sea.png", "wave_spectrum.png")
 """Also written for a run with a sea: the flow it met (a current, waves or a
 payload change) and, with waves, their realised spectrum against the target."""
-OUTPUT_NAMES = ("result.csv", "result.mcap", "result.npz", "metrics.json", *FIGURES, *SEA_FIGURES)
-"""The files a run writes in its folder (see :mod:`neurov.run_folder`)."""
+OUTPUT_NAMES = ("result.csv", "result.mcap", "result.npz", "metrics.json", "scenario.toml", *FIGURES, *SEA_FIGURES)
+"""The files a run writes in its folder (see :mod:`neurov.run_folder`);
+scenario.toml is the scenario file run, copied as it was (written by
+:func:`run_scenario_file`, so that :func:`neurov.load_result` finds it)."""
 
 
 def finite_or_none(value: Any) -> Any:
@@ -165,8 +168,9 @@ def run_scenario_file(path: str | Path, out_dir: str | Path | None = None,
 
     With `out_dir` (checked before the run: an existing file or a folder
     that cannot be written raises OSError), writes result.csv (`file_format`
-    "mcap": result.mcap, a ROS 2 recording, see docs/recordings.md), result.npz and
-    metrics.json there, and with `plot` also xy.png, dofs.png, errors.png,
+    "mcap": result.mcap, a ROS 2 recording, see docs/recordings.md),
+    result.npz, metrics.json and scenario.toml (a copy of the scenario file)
+    there, and with `plot` also xy.png, dofs.png, errors.png,
     inputs.png and adaptive_norm.png (and, with a sea, sea.png and
     wave_spectrum.png). `plot` without `out_dir` raises
     ValueError.
@@ -191,7 +195,8 @@ def run_scenario_file(path: str | Path, out_dir: str | Path | None = None,
         raise ValueError("argument 'plot' needs 'out_dir': the figures are written as PNG files there")
     if file_format != "csv" and out_dir is None:
         raise ValueError(f"argument 'file_format' {file_format!r} needs 'out_dir': the rows are written there")
-    scenario = load_scenario(scenario_path(path))
+    source = scenario_path(path)
+    scenario = load_scenario(source)
     folder = RunFolder(out_dir, OUTPUT_NAMES) if out_dir is not None else None
     with stopping(folder):
         run = stream_run(scenario, folder.path if folder is not None else None, quiet=False,
@@ -205,6 +210,8 @@ def run_scenario_file(path: str | Path, out_dir: str | Path | None = None,
         print(format_metrics(result, metrics), file=stream)
         if folder is not None:
             written = [*run.written, write_metrics(metrics, folder.path)]
+            with writing(folder.path / "scenario.toml"):
+                written.append(Path(shutil.copyfile(source, folder.path / "scenario.toml")))
             if plot:
                 written += write_figures(result, folder.path, quiet=False, sea=run.sea, elevation=run.elevation)
             out = folder.commit()

@@ -87,7 +87,7 @@ class _Sinks:
                 cols = chunk.columns()
                 with writing(self.out / "result.csv"):
                     if self.csv is None:
-                        self.csv = CsvWriter(self.out / "result.csv", list(cols))
+                        self.csv = CsvWriter(self.out / "result.csv", cols)
                     self.csv.write(cols)
             with writing(self.npz.path):
                 self.npz.append({name: getattr(chunk, name) for name in SERIES})

@@ -37,36 +37,39 @@ def test_one_row_per_step_indexed_by_time(run: Result) -> None:
 
 def test_columns_hold_the_result_arrays(run: Result) -> None:
     df = run.to_pandas()
+    pose, body, force = ("x", "y", "z", "phi", "theta", "psi"), ("u", "v", "w", "p", "q", "r"), "XYZKMN"
     blocks = {
-        ("x", "y", "z", "phi", "theta", "psi"): run.eta,
-        ("u", "v", "w", "p", "q", "r"): run.nu,
-        ("x_d", "y_d", "z_d", "phi_d", "theta_d", "psi_d"): run.eta_d,
-        ("x_d_dot", "y_d_dot", "z_d_dot", "phi_d_dot", "theta_d_dot", "psi_d_dot"): run.eta_d_dot,
-        ("tau_X", "tau_Y", "tau_Z", "tau_K", "tau_M", "tau_N"): run.tau_demanded,
-        ("tau_applied_X", "tau_applied_Y", "tau_applied_Z", "tau_applied_K", "tau_applied_M",
-         "tau_applied_N"): run.tau_applied,
-        ("d_X", "d_Y", "d_Z", "d_K", "d_M", "d_N"): run.disturbance,
-        ("s_x", "s_y", "s_z", "s_phi", "s_theta", "s_psi"): run.s,
+        tuple(f"eta_{n}" for n in pose): run.eta,
+        tuple(f"nu_{n}" for n in body): run.nu,
+        tuple(f"eta_d_{n}" for n in pose): run.eta_d,
+        tuple(f"eta_d_dot_{n}" for n in pose): run.eta_d_dot,
+        tuple(f"tau_demanded_{n}" for n in force): run.tau_demanded,
+        tuple(f"tau_applied_{n}" for n in force): run.tau_applied,
+        tuple(f"disturbance_{n}" for n in force): run.disturbance,
+        tuple(f"s_{n}" for n in pose): run.s,
+        tuple(f"eta_estimate_{n}" for n in pose): run.eta_estimate,
+        tuple(f"nu_estimate_{n}" for n in body): run.nu_estimate,
+        ("current_N", "current_E", "current_D"): run.current,
     }
     for names, arr in blocks.items():
         np.testing.assert_array_equal(df[list(names)].to_numpy(), arr)
     n = run.thrusts.shape[1]
     assert n == 6
-    np.testing.assert_array_equal(df[[f"thrust_{i}" for i in range(n)]].to_numpy(), run.thrusts)
-    np.testing.assert_array_equal(df[[f"theta[{k}]" for k in THETA_NAMES]].to_numpy(), run.theta)
+    np.testing.assert_array_equal(df[[f"thrusts_{i}" for i in range(n)]].to_numpy(), run.thrusts)
+    np.testing.assert_array_equal(df[[f"theta_{k}" for k in THETA_NAMES]].to_numpy(), run.theta)
     np.testing.assert_array_equal(df["adaptive_norm"].to_numpy(), run.adaptive_norm)
 
 
-def test_statuses_are_names_and_faults_are_flags(run: Result) -> None:
+def test_statuses_are_names_and_faults_are_bits(run: Result) -> None:
     df = run.to_pandas()
     for col in ("controller_status", "plant_status"):
         assert [Status(int(c)).name for c in getattr(run, col)] == df[col].astype(str).tolist()
     assert set(df["plant_status"].astype(str)) == {"ok"}
     t = df.index.to_numpy()
-    # The freeze covers [4, 6); the thruster is out from 8 s on.
-    np.testing.assert_array_equal(df["fault_freeze"].to_numpy(), (t >= 4.0 - 1e-9) & (t < 6.0 - 1e-9))
-    np.testing.assert_array_equal(df["fault_thruster"].to_numpy(), t >= 8.0 - 1e-9)
-    assert not df["fault_dropout"].any() and not df["fault_noise_burst"].any()
-    for bit, col in enumerate(("fault_freeze", "fault_dropout", "fault_noise_burst", "fault_thruster",
-                               "pitch_limited")):
-        np.testing.assert_array_equal(df[col].to_numpy(), (run.faults >> bit) & 1 == 1)
+    faults = df["faults"].to_numpy()
+    assert faults.dtype == np.uint8
+    np.testing.assert_array_equal(faults, run.faults)
+    # The freeze (bit 1) covers [4, 6); the thruster (bit 8) is out from 8 s on.
+    np.testing.assert_array_equal(faults & 1 != 0, (t >= 4.0 - 1e-9) & (t < 6.0 - 1e-9))
+    np.testing.assert_array_equal(faults & 8 != 0, t >= 8.0 - 1e-9)
+    assert not np.any(faults & (2 | 4))

@@ -175,8 +175,8 @@ def test_what_the_controller_was_given_is_exported(tmp_path: Path) -> None:
     np.testing.assert_array_equal(cols["eta_estimate_x"], r.eta_estimate[:, 0])
     np.testing.assert_array_equal(cols["nu_estimate_r"], r.nu_estimate[:, 5])
     df = r.to_pandas()
-    np.testing.assert_array_equal(df["psi_est"].to_numpy(), r.eta_estimate[:, 5])
-    np.testing.assert_array_equal(df["u_est"].to_numpy(), r.nu_estimate[:, 0])
+    np.testing.assert_array_equal(df["eta_estimate_psi"].to_numpy(), r.eta_estimate[:, 5])
+    np.testing.assert_array_equal(df["nu_estimate_u"].to_numpy(), r.nu_estimate[:, 0])
     with np.load(r.to_npz(tmp_path / "r.npz")) as z:
         np.testing.assert_array_equal(z["eta_estimate"], r.eta_estimate)
     header = (r.to_csv(tmp_path / "r.csv")).read_text().splitlines()[0].replace('"', "").split(",")

@@ -6,6 +6,7 @@ test_replay_browser.py)."""
 from __future__ import annotations
 
 import dataclasses
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -16,7 +17,7 @@ import pytest
 from neurov import cli
 from neurov.errors import ResultFileError
 from neurov.replay import replay
-from neurov.replay.reading import read_result
+from neurov.load import load_result
 from neurov.replay.scene import NED_TO_DISPLAY, build_scene
 from neurov.result import SERIES
 from neurov.run import write_outputs
@@ -37,6 +38,9 @@ def sea() -> neurov.Result:
 def run_dir(sea: neurov.Result, tmp_path_factory: pytest.TempPathFactory) -> Path:
     out = tmp_path_factory.mktemp("runs") / "sea"
     write_outputs(sea, sea.metrics(), out)
+    # The folder neurov run writes: its scenario beside the result (30 s here).
+    text = Path(scenario_path("bluerov2_square_sea_state_3")).read_text(encoding="utf-8")
+    (out / "scenario.toml").write_text(re.sub(r"(?m)^duration = .*$", "duration = 30.0", text), encoding="utf-8")
     return out
 
 
@@ -202,21 +206,12 @@ def test_import_neurov_does_not_import_plotly() -> None:
 
 def test_a_run_folder_reads_back_whole(sea: neurov.Result, run_dir: Path) -> None:
     for path in (run_dir, run_dir / "result.npz"):
-        back = read_result(path)
+        back = load_result(path)
         for name in SERIES:
             np.testing.assert_array_equal(getattr(back, name), getattr(sea, name), err_msg=name)
             assert getattr(back, name).dtype == getattr(sea, name).dtype
         assert (back.controller, back.diverged, back.scenario.name) == (sea.controller, False, sea.scenario.name)
-        assert back.scenario.use_thrusters and "vehicle_known" not in back.extra
-
-
-def test_a_scenario_not_shipped_gets_a_plain_body_and_the_force(sea: neurov.Result, tmp_path: Path) -> None:
-    own = dataclasses.replace(sea, scenario=sea.scenario.replace(name="my_own_square"))
-    write_outputs(own, own.metrics(), tmp_path / "own")
-    back = read_result(tmp_path / "own")
-    assert back.extra["vehicle_known"] is False
-    track = build_scene([back], ["r"], max_frames=3).tracks[0]
-    assert track.thrust_vector is None and track.force_vector is not None and track.vehicle == "vehicle not known"
+        assert back.scenario.use_thrusters
 
 
 # --- neurov view ----------------------------------------------------------------
@@ -290,5 +285,5 @@ def test_neurov_view_needs_two_frames(run_dir: Path, capsys: pytest.CaptureFixtu
 
 def test_result_file_error_is_a_neurov_error() -> None:
     assert issubclass(ResultFileError, neurov.NeurovError)
-    with pytest.raises(ResultFileError, match="^x: no such file"):
-        read_result("x-missing", name="x")
+    with pytest.raises(ResultFileError, match="^x-missing: no such file"):
+        load_result("x-missing")

@@ -74,8 +74,9 @@ def test_no_files_without_out_dir(scenario_file: Path, tmp_path: Path, monkeypat
 def test_writes_results(scenario_file: Path, tmp_path: Path) -> None:
     out = tmp_path / "out" / "deeper"
     result, metrics = run_scenario_file(scenario_file, out_dir=out)
-    assert sorted(p.name for p in out.iterdir()) == ["metrics.json", "result.csv", "result.npz"]
+    assert sorted(p.name for p in out.iterdir()) == ["metrics.json", "result.csv", "result.npz", "scenario.toml"]
     assert json.loads((out / "metrics.json").read_text()) == metrics
+    assert (out / "scenario.toml").read_bytes() == scenario_file.read_bytes()
     with (out / "result.csv").open(newline="") as f:
         rows = list(csv.reader(f))
     assert rows[0][0] == "t" and len(rows) == len(result.t) + 1 == 52

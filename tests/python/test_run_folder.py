@@ -109,7 +109,8 @@ def test_a_folder_with_other_files_keeps_them_and_holds_one_run(scenario: Path, 
     (out / "xy.png").write_bytes(b"an older run's figure")
     # This run writes no figures: the older run's are not left beside its files.
     assert cli.main(["run", str(scenario), "--out", str(out)]) == 0
-    assert sorted(p.name for p in out.iterdir()) == ["metrics.json", "notes.txt", "result.csv", "result.npz"]
+    assert sorted(p.name for p in out.iterdir()) == ["metrics.json", "notes.txt", "result.csv", "result.npz",
+                                                    "scenario.toml"]
     assert (out / "notes.txt").read_text() == "keep me"
     _no_staging_left(tmp_path)
     _no_staging_left(out)
@@ -120,7 +121,7 @@ def test_rerun_replaces_an_old_run_folder_whole(scenario: Path, tmp_path: Path) 
     assert cli.main(["run", str(scenario), "--out", str(out)]) == 0
     (out / "xy.png").write_bytes(b"an older run's figure")
     assert cli.main(["run", str(scenario), "--out", str(out)]) == 0
-    assert sorted(p.name for p in out.iterdir()) == ["metrics.json", "result.csv", "result.npz"]
+    assert sorted(p.name for p in out.iterdir()) == ["metrics.json", "result.csv", "result.npz", "scenario.toml"]
     with np.load(out / "result.npz") as data:
         assert len(data["t"]) == 21
     _no_staging_left(tmp_path)
@@ -186,6 +187,6 @@ def test_out_dot_writes_into_the_current_folder(scenario: Path, tmp_path: Path,
     here.mkdir()
     monkeypatch.chdir(here)
     assert cli.main(["run", str(scenario), "--out", "."]) == 0
-    assert sorted(p.name for p in here.iterdir()) == ["metrics.json", "result.csv", "result.npz"]
+    assert sorted(p.name for p in here.iterdir()) == ["metrics.json", "result.csv", "result.npz", "scenario.toml"]
     assert Path.cwd() == here
     _no_staging_left(tmp_path)

@@ -267,7 +267,7 @@ def test_to_csv_has_a_header_and_one_row_per_step(result: Result, tmp_path: Path
     with path.open(newline="") as f:
         rows = list(csv.reader(f))
     header, body = rows[0], rows[1:]
-    assert header[0] == "t" and "eta_x" in header and "tau_demanded_r" in header and "adaptive_norm" in header
+    assert header[0] == "t" and "eta_x" in header and "tau_demanded_N" in header and "adaptive_norm" in header
     assert len(body) == len(result.t)
     assert all(len(r) == len(header) for r in body)
     col = header.index("eta_psi")

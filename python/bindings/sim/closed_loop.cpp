@@ -2,6 +2,7 @@
 // in one call, the GIL released.
 #include <pybind11/pybind11.h>
 
+#include <string>
 #include <utility>
 
 #include "bindings.hpp"
@@ -30,18 +31,17 @@ py::dict run(const Vehicle<double>& vehicle, Controller& controller,
   return result_dict(std::move(result));
 }
 
-constexpr const char* kDoc =
-    "Runs a closed loop in C++ with the configuration `config` (a SimulationConfig) and "
-    "returns a dict of arrays (rows at t_k = k dt): t, eta, nu, eta_d, eta_d_dot, "
-    "tau_demanded, tau_applied, disturbance, s, thrusts, theta, adaptive_norm, "
-    "controller_status, plant_status, faults, current, wave_velocity, wave_elevation, "
-    "payload_mass, and diverged (bool). The controller is used as "
-    "given and left in its final state. The faults column has bits 1 freeze, 2 dropout, 4 "
-    "noise burst, 8 a thruster below full efficiency, 16 the row's eta_d came from a "
-    "pitch-limited reference step (command or reference held at +-(pi/2 - 0.2) rad), 32 the "
-    "vehicle above the wave model's minimum depth. A bad "
-    "configuration raises ValueError naming the field. neurov.simulate(scenario) is the "
-    "friendly front end.";
+/// The docstring names the series from the one table (neurov/sim/result.hpp).
+const char* run_doc() {
+  static const std::string doc =
+      "Runs a closed loop in C++ with the configuration `config` (a SimulationConfig) and "
+      "returns a dict of arrays (rows at t_k = k dt), one per entry of RESULT_SERIES (" +
+      result_series_names() +
+      "), and diverged (bool). The controller is used as given and left in its final state. A "
+      "bad configuration raises ValueError naming the field. neurov.simulate(scenario) is the "
+      "friendly front end.";
+  return doc.c_str();
+}
 
 /// The loop runs without the GIL; it is taken back only to hand a chunk to
 /// `on_rows`, whose exception ends the run and propagates.
@@ -71,7 +71,7 @@ constexpr const char* kChunksDoc =
 template <typename Controller>
 void def_run(py::module_& m) {
   m.def("run_closed_loop", &run<Controller>, py::arg("vehicle"), py::arg("controller"),
-        py::arg("config"), kDoc);
+        py::arg("config"), run_doc());
   m.def("run_closed_loop_chunks", &run_chunks<Controller>, py::arg("vehicle"),
         py::arg("controller"), py::arg("config"), py::arg("chunk_rows"), py::arg("on_rows"),
         kChunksDoc);

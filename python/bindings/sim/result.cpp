@@ -3,7 +3,14 @@
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
 
+#include <sstream>
+#include <string>
+#include <type_traits>
 #include <utility>
+#include <vector>
+
+#include "bindings.hpp"
+#include "neurov/model/regressor.hpp"
 
 namespace neurov::bindings {
 
@@ -39,29 +46,53 @@ py::dict result_dict(const SimulationResult<double>& r) {
 
 py::dict result_dict(SimulationResult<double>&& r) {
   py::dict d;
-  d["t"] = hand_over(std::move(r.t));
-  d["eta"] = hand_over(std::move(r.eta));
-  d["nu"] = hand_over(std::move(r.nu));
-  d["eta_d"] = hand_over(std::move(r.eta_d));
-  d["eta_d_dot"] = hand_over(std::move(r.eta_d_dot));
-  d["tau_demanded"] = hand_over(std::move(r.tau_demanded));
-  d["tau_applied"] = hand_over(std::move(r.tau_applied));
-  d["disturbance"] = hand_over(std::move(r.disturbance));
-  d["s"] = hand_over(std::move(r.s));
-  d["eta_estimate"] = hand_over(std::move(r.eta_estimate));
-  d["nu_estimate"] = hand_over(std::move(r.nu_estimate));
-  d["thrusts"] = hand_over(std::move(r.thrusts));
-  d["theta"] = hand_over(std::move(r.theta));
-  d["adaptive_norm"] = hand_over(std::move(r.adaptive_norm));
-  d["controller_status"] = hand_over(std::move(r.controller_status));
-  d["plant_status"] = hand_over(std::move(r.plant_status));
-  d["faults"] = hand_over(std::move(r.faults));
-  d["current"] = hand_over(std::move(r.current));
-  d["wave_velocity"] = hand_over(std::move(r.wave_velocity));
-  d["wave_elevation"] = hand_over(std::move(r.wave_elevation));
-  d["payload_mass"] = hand_over(std::move(r.payload_mass));
+  r.visit([&d](const SeriesSpec& spec, auto& series) {
+    d[spec.name] = hand_over(std::move(series));
+  });
   d["diverged"] = r.diverged;
   return d;
+}
+
+/// Each series' numpy dtype, by its index in kResultSeries: from the type of
+/// the member the table declares, not written a second time.
+const std::vector<std::string>& series_dtypes() {
+  static const std::vector<std::string> dtypes = [] {
+    std::vector<std::string> out;
+    SimulationResult<double> probe;
+    probe.visit([&out](const SeriesSpec&, auto& series) {
+      using T = typename std::decay_t<decltype(series)>::Scalar;
+      out.push_back(py::str(py::dtype::of<T>()));
+    });
+    return out;
+  }();
+  return dtypes;
+}
+
+std::string result_series_names() {
+  std::string names;
+  for (const SeriesSpec& spec : kResultSeries) names += std::string(names.empty() ? "" : ", ") + spec.name;
+  return names;
+}
+
+void bind_result_series(py::module_& m) {
+  // Plain tuples (neurov.columns names their fields): (name, width or None,
+  // varies_with, labels, unit, dtype, kind, description).
+  static const char* const kinds[] = {"real", "status", "bits"};
+  py::list all;
+  for (const SeriesSpec& s : kResultSeries) {
+    py::list labels;
+    if (s.width == kPerParameter) {
+      for (int i = 0; i < kRegressorParameters; ++i) labels.append(theta_name(i));
+    } else {
+      std::istringstream words(s.labels);
+      for (std::string w; words >> w;) labels.append(w);
+    }
+    const char* varies = s.width == kPerThruster ? "thrusters" : s.width == kPerParameter ? "parameters" : "";
+    all.append(py::make_tuple(s.name, s.width > 0 ? py::object(py::int_(s.width)) : py::none(), varies,
+                              py::tuple(labels), s.unit, series_dtypes()[&s - kResultSeries],
+                              kinds[static_cast<int>(s.kind)], s.description));
+  }
+  m.attr("RESULT_SERIES") = py::tuple(all);
 }
 
 }  // namespace neurov::bindings

@@ -4,6 +4,8 @@
 
 #include <pybind11/pybind11.h>
 
+#include <string>
+
 #include "neurov/sim/result.hpp"
 
 namespace neurov::bindings {
@@ -12,5 +14,7 @@ namespace neurov::bindings {
 pybind11::dict result_dict(const SimulationResult<double>& r);
 /// Takes the arrays out of `r` without copying them (numpy views them).
 pybind11::dict result_dict(SimulationResult<double>&& r);
+/// The series' names, comma-separated, in the table's order (for docstrings).
+std::string result_series_names();
 
 }  // namespace neurov::bindings

@@ -392,9 +392,17 @@ class SimulationConfig(_ValidatedFields):
 def buoyancy_in_water(water_density: SupportsFloat, displaced_volume: SupportsFloat) -> float:
     """B = rho g V [N]: the buoyancy of displaced_volume [m^3] in water of water_density [kg/m^3]."""
 
+RESULT_SERIES: tuple[tuple[str, int | None, str, tuple[str, ...], str, str, str, str], ...]
+"""The series a run logs (NEUROV_RESULT_SERIES in neurov/sim/result.hpp), in
+the order of the CSV's columns, each (name, width or None where it varies,
+varies_with, labels, unit, dtype, kind, description); :func:`run_closed_loop`
+returns one array per entry. :data:`neurov.columns.RESULT_SERIES` names the
+fields."""
+
 @type_check_only
 class _SimulationResult(TypedDict):
-    """What :func:`run_closed_loop` returns: one row per control step t_k = k dt."""
+    """What :func:`run_closed_loop` returns: one row per control step t_k = k dt,
+    one array per entry of :data:`RESULT_SERIES` (in its order)."""
 
     t: _Array
     eta: _Array
@@ -430,10 +438,8 @@ class _SimulationResult(TypedDict):
 def run_closed_loop(vehicle: Vehicle, controller: NNAdaptiveController, config: SimulationConfig) -> _SimulationResult:
     """Runs a closed loop in C++ with ``config`` and returns a dict of arrays (rows at t_k = k dt).
 
-    Keys: t, eta, nu, eta_d, eta_d_dot, tau_demanded, tau_applied,
-    disturbance, s, thrusts, theta, adaptive_norm, controller_status,
-    plant_status, faults, current, wave_velocity, wave_elevation, payload_mass,
-    and diverged (bool). The controller is used as given and
+    Keys: one per entry of :data:`RESULT_SERIES` (t, eta, nu, ...), and
+    diverged (bool). The controller is used as given and
     left in its final state; the GIL is released meanwhile. A bad configuration
     raises ValueError naming the field. ``neurov.simulate(scenario)`` is the
     friendly front end.

@@ -1,5 +1,6 @@
 """A neurov run's own log (``result.npz``, ``result.csv`` or a Parquet
-file of :meth:`neurov.Result.to_pandas`-style columns) as a :class:`Log`.
+file of :meth:`neurov.Result.to_pandas`, :meth:`neurov.Result.to_parquet`)
+as a :class:`Log`; the columns are named as in :mod:`neurov.columns`.
 
 The pose and velocity are the ones the controller was given
 (``eta_estimate``, ``nu_estimate``: what a real vehicle's sensors and
@@ -14,13 +15,13 @@ from typing import Any
 
 import numpy as np
 
+from neurov.columns import RESULT_SERIES, column_names
 from neurov.identification.errors import LogError
 from neurov.identification.log import Log, make_log
 
 __all__ = ["read_neurov_log", "log_from_result"]
 
-_DOF = ("x", "y", "z", "phi", "theta", "psi")
-_BODY = ("u", "v", "w", "p", "q", "r")
+_SPECS = {spec.name: spec for spec in RESULT_SERIES}
 
 
 def log_from_result(result: Any, source: str = "<result>") -> Log:
@@ -31,8 +32,8 @@ def log_from_result(result: Any, source: str = "<result>") -> Log:
 
 
 def _columns(frame: dict[str, Any], path: Path) -> Log:
-    def block(name: str, labels: tuple[str, ...]) -> Any:
-        names = [f"{name}_{lab}" for lab in labels]
+    def block(name: str) -> Any:
+        names = column_names(_SPECS[name], _SPECS[name].width)
         missing = [c for c in names if c not in frame]
         if missing:
             raise LogError(f"{path}: missing column(s) {missing} (a neurov result.csv has them)")
@@ -40,10 +41,10 @@ def _columns(frame: dict[str, Any], path: Path) -> Log:
 
     if "t" not in frame:
         raise LogError(f"{path}: missing column 't'")
-    current = block("current", ("N", "E", "D")) if "current_N" in frame else None
-    disturbance = block("disturbance", _BODY) if "disturbance_u" in frame else 0.0
-    return make_log(str(path), frame["t"], block("eta_estimate", _DOF), block("nu_estimate", _BODY),
-                    block("tau_applied", _BODY) + disturbance, current)
+    current = block("current") if "current_N" in frame else None
+    disturbance = block("disturbance") if "disturbance_X" in frame else 0.0
+    return make_log(str(path), frame["t"], block("eta_estimate"), block("nu_estimate"),
+                    block("tau_applied") + disturbance, current)
 
 
 def read_neurov_log(path: str | Path) -> Log:
@@ -74,6 +75,8 @@ def read_neurov_log(path: str | Path) -> Log:
         import pandas as pd
 
         frame = pd.read_parquet(path)
+        if frame.index.name == "t":
+            frame = frame.reset_index()
         return _columns({str(k): frame[k].to_numpy() for k in frame.columns}, path)
     raise LogError(f"{path}: unknown log format {suffix!r} (expected .npz, .csv or .parquet from "
                    "neurov run, or a mapping file for other logs)")

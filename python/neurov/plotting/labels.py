@@ -5,7 +5,7 @@ legend and a failure note never disagree.
 
 Thrusters are numbered as a reader counts, T1 to Tn: T1 is the first column
 of the vehicle file's thruster matrix, which scenario files and arrays index
-as 0 (``thruster_failures`` ``index = 0``, the CSV column ``thrust_0``).
+as 0 (``thruster_failures`` ``index = 0``, the CSV column ``thrusts_0``).
 """
 
 from __future__ import annotations

@@ -9,20 +9,16 @@ import json
 from pathlib import Path
 from typing import Any
 
-import numpy as np
 
+from neurov.columns import npz_series
 from neurov.errors import RecordingError
-from neurov.npz_file import NpzFile
-from neurov.result import SERIES, Result
+from neurov.result import Result
 from neurov.scenario import Scenario
 
 __all__ = ["MAX_RESULT_BYTES", "read_mcap", "result_from_npz"]
 
 MAX_RESULT_BYTES = 1 << 34
 """The largest result.npz attachment read (16 GiB; a day at 5 Hz is about 100 MB)."""
-
-_FLAGS = ("controller_status", "plant_status", "faults")
-
 
 def read_mcap(path: str | Path, scenario: Scenario | None = None) -> Result:
     """The run recorded in the MCAP file `path`, equal to the result that
@@ -92,21 +88,9 @@ def _scenario(attachments: dict[str, bytes], info: dict[str, str], path: Path) -
 def result_from_npz(data: bytes, scenario: Scenario, where: str) -> Result:
     """The :class:`neurov.Result` of the bytes of a result.npz
     (:meth:`neurov.Result.to_npz`), for `scenario`; errors name `where`."""
-    arrays: dict[str, Any] = {}
-    with NpzFile(data, RecordingError, MAX_RESULT_BYTES, where) as npz:
-        rows: list[int] = []
-
-        def check(name: str) -> Any:
-            def _check(shape: tuple[int, ...], dtype: np.dtype) -> None:
-                want = np.uint8 if name in _FLAGS else np.float64
-                if dtype != want or not shape or (rows and shape[0] != rows[0]):
-                    raise RecordingError(f"{where}: array '{name}' is {dtype} of shape {shape}, expected "
-                                         f"{np.dtype(want)} with {rows[0] if rows else 'N'} rows")
-                rows[:] = rows or [shape[0]]
-            return _check
-
-        for name in SERIES:
-            arrays[name] = np.array(npz.array(name, check(name)))
-        text = {k: npz.array(k, lambda shape, dtype: None) for k in ("controller", "diverged")}
-    return Result(scenario=scenario, controller=str(text["controller"]), diverged=bool(text["diverged"]),
-                  **arrays)
+    series, meta = npz_series(data, where, RecordingError, MAX_RESULT_BYTES)
+    missing = [k for k in ("controller", "diverged") if k not in meta]
+    if missing:
+        raise RecordingError(f"{where}: no array {missing[0]!r} (not a neurov result)")
+    return Result(scenario=scenario, controller=str(meta["controller"]), diverged=bool(meta["diverged"]),
+                  **series)

@@ -1,5 +1,5 @@
-"""The command ``neurov view``: the 3-D replay of runs read back from their
-folders (``neurov view RESULT [RESULT ...] --out replay.html``; see
+"""The command ``neurov view``: the 3-D replay of runs read back
+(:func:`neurov.load_result`) from their folders or files (``neurov view RESULT [RESULT ...] --out replay.html``; see
 :mod:`neurov.replay`)."""
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
-from neurov.errors import ResultFileError
+from neurov.errors import NeurovError, ResultFileError
 
 __all__ = ["main_view"]
 
@@ -30,13 +30,21 @@ def _name(path: Path) -> str:
     return folder.resolve().name or str(path)
 
 
-def main_view(results: Sequence[str], out: str, frames: int | None = None) -> int:
-    """Reads each RESULT (:func:`neurov.replay.reading.read_result`), writes
-    the replay to `out`; returns the exit status (1 without plotly)."""
-    from neurov.replay.reading import read_result
+def main_view(results: Sequence[str], out: str, frames: int | None = None,
+              scenario: str | None = None) -> int:
+    """Reads each RESULT back (:func:`neurov.load_result`: a run folder or a
+    result file, its scenario the one beside it unless `scenario` names
+    one), writes the replay to `out`; returns the exit status (1 without
+    plotly). A RESULT that cannot be read is named and nothing is written."""
+    from neurov.load import load_result
 
     path = _check_out(out)
-    runs = [read_result(r, name=f"RESULT {r!r}") for r in results]
+    runs = []
+    for r in results:
+        try:
+            runs.append(load_result(r, scenario))
+        except NeurovError as e:
+            raise ResultFileError(f"RESULT {r!r}: {e}") from None
     from neurov.replay import MAX_FRAMES, replay
 
     try:

@@ -130,9 +130,6 @@ def _path(ned: Array) -> Array:
 def _layout(result: Result) -> tuple[Array, Array | None, Array | None, str]:
     """The body's half extents (x, y, z), the thrusters' positions and unit
     directions (None without thrusters in the run) and the vehicle's name."""
-    if result.extra.get("vehicle_known") is False:
-        # A scenario not shipped and not at hand: a nominal body, no thrusters.
-        return np.array([0.5, 0.3, 0.2]), None, None, "vehicle not known"
     data = result.scenario.vehicle_data()
     name = str(data.parameters.get("name") or data.path.stem)
     t = data.thrusters
