@@ -224,3 +224,15 @@ def test_a_stopped_run_is_not_a_diverged_one(folder: tuple[Path, Result, dict[st
     assert len(loaded.t) == 5 and not loaded.diverged
     (kept / "metrics.json").unlink()
     assert neurov.load_result(kept, scenario=run.scenario).diverged  # fewer rows, nothing says stopped
+
+
+def test_a_recording_loads_back_as_the_run_that_wrote_it(tmp_path: Path) -> None:
+    pytest.importorskip("mcap_ros2")
+    scenario = neurov.load_scenario(scenario_path("paper_fig3"))
+    scenario.duration = 4.0
+    result = neurov.simulate(scenario)
+    result.to_mcap(tmp_path / "run.mcap")
+    back = neurov.load_result(tmp_path / "run.mcap", scenario=scenario)
+    for name in SERIES:
+        np.testing.assert_array_equal(getattr(back, name), getattr(result, name), err_msg=name)
+    assert back.metrics() == result.metrics()

@@ -196,7 +196,7 @@ def test_neurov_run_format_mcap_streams_the_same_recording(tmp_path: Path) -> No
 
     scenario = _write(tmp_path, "sensed.toml", SENSED)
     assert main(["run", str(scenario), "--out", str(tmp_path / "out"), "--format", "mcap"]) == 0
-    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["metrics.json", "result.mcap", "result.npz"]
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["metrics.json", "result.mcap", "result.npz", "scenario.toml"]
     back = read_mcap(tmp_path / "out" / "result.mcap")
     again = neurov.simulate(load_scenario(scenario))
     for name in SERIES:

@@ -235,15 +235,14 @@ def _npz_without(run_dir: Path, path: Path, **changes: object) -> Path:
 
 @pytest.mark.parametrize(("make", "message"), [
     (lambda d, t: t / "missing", "RESULT '{p}': no such file or folder"),
-    (lambda d, t: t, "RESULT '{p}': a folder without result.npz"),
-    (lambda d, t: d / "result.csv", "RESULT '{p}': a .csv file, not a run"),
-    (lambda d, t: d / "metrics.json", "RESULT '{p}': a .json file, not a run"),
+    (lambda d, t: t, "RESULT '{p}': a folder without a run's result file"),
+    (lambda d, t: d / "metrics.json", "RESULT '{p}': unknown kind of result file '.json'"),
     (lambda d, t: _written(t / "x.npz", b"not a zip"), "RESULT '{p}': not a .npz archive"),
-    (lambda d, t: _npz_without(d, t / "x.npz", eta=None), "RESULT '{p}': not a neurov result: missing array(s) eta"),
+    (lambda d, t: _npz_without(d, t / "x.npz", eta=None), "RESULT '{p}': array 'eta' is missing"),
     (lambda d, t: _npz_without(d, t / "x.npz", eta=np.zeros((151, 5))),
-     "RESULT '{p}': array 'eta' is (151, 5) float64, expected 151 rows of 6 columns of floats"),
+     "RESULT '{p}': array 'eta' is float64 (151, 5), expected float64 (151, 6)"),
     (lambda d, t: _npz_without(d, t / "x.npz", faults=np.zeros(151)),
-     "RESULT '{p}': array 'faults' is (151,) float64, expected 151 values of unsigned integers"),
+     "RESULT '{p}': array 'faults' is float64 (151,), expected uint8 (151)"),
 ])
 def test_neurov_view_names_a_bad_result(run_dir: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str],
                                         make, message: str) -> None:

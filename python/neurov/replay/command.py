@@ -44,7 +44,9 @@ def main_view(results: Sequence[str], out: str, frames: int | None = None,
         try:
             runs.append(load_result(r, scenario))
         except NeurovError as e:
-            raise ResultFileError(f"RESULT {r!r}: {e}") from None
+            said = str(e)
+            said = said.removeprefix(f"{r}: ").removeprefix(f"{Path(r)}: ")  # the path once, as given
+            raise ResultFileError(f"RESULT {r!r}: {said}") from None
     from neurov.replay import MAX_FRAMES, replay
 
     try:
