@@ -324,3 +324,24 @@ def test_a_factory_is_tuned_over_its_keyword_arguments(tmp_path: Path, monkeypat
     bad = write(tmp_path, tuning=FACTORY_TUNING.replace("GAIN", "gian = { range = [0.1, 1.0] }"))
     with pytest.raises(TuneError, match=r"controllers\.mine\.search: at the low end.*keyword argument 'gian'"):
         tune(bad, tmp_path / "bad", workers=1, progress=False)
+
+
+CMAES_TUNING = TUNING.replace('kp = { scale = [0.05, 20.0], log = true }',
+                              'kp = { scale = [0.05, 20.0], log = true }\nkd = { scale = [0.2, 5.0], log = true }'
+                              ).replace("seed = 1\n", 'seed = 1\nsampler = "cmaes"\n')
+
+
+def test_cmaes_searches_the_gains_and_one_seed_gives_one_search(tmp_path: Path) -> None:
+    pytest.importorskip("cmaes")
+    found = []
+    for run in ("a", "b"):
+        folder = tmp_path / run
+        folder.mkdir()
+        tuning = load_tuning(write(folder, trials=8, tuning=CMAES_TUNING))
+        tune(tuning, folder / "out", workers=1, verdict=False, plots=False, progress=False)
+        study = optuna_study(tuning, "pd", open_storage(folder / "out"))
+        assert len(study.trials) == 8
+        # CMA-ES proposed the trials after its first (its state is kept in the study).
+        assert any(k.startswith("cma:") for t in study.trials for k in t.system_attrs)
+        found.append([t.params for t in study.trials])
+    assert found[0] == found[1]
