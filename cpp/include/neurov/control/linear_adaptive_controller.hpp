@@ -77,10 +77,7 @@ class LinearAdaptiveController
   /// tau and theta_hat are finite.
   bool control(const TrackingError<ScalarT>& e, const Vec6& nu, Vec6& tau) noexcept {
     const auto& c = this->config_;
-    const auto& trig = e.kinematics.trig;
-    const RegressorMatrix<ScalarT> phi =
-        regressor<ScalarT>(e.nu_r_dot, e.nu_r, nu, trig.sin_phi, trig.cos_phi, trig.sin_theta,
-                           trig.cos_theta);
+    const RegressorMatrix<ScalarT> phi = reference_regressor(e, nu);
     const Parameters theta_next =
         theta_hat_ -
         c.dt * c.gamma.cwiseProduct(phi.transpose() * e.kinematics.apply_inverse(e.s));

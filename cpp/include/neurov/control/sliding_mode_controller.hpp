@@ -50,10 +50,7 @@ class SlidingModeController
   /// f = Phi theta_nominal, then the switching term on sat(s / phi).
   bool control(const TrackingError<ScalarT>& e, const Vec6& nu, Vec6& tau) noexcept {
     const auto& c = this->config_;
-    const auto& trig = e.kinematics.trig;
-    const Vec6 f_hat = regressor<ScalarT>(e.nu_r_dot, e.nu_r, nu, trig.sin_phi, trig.cos_phi,
-                                          trig.sin_theta, trig.cos_theta) *
-                       c.theta;
+    const Vec6 f_hat = reference_regressor(e, nu) * c.theta;
     Vec6 sat;
     for (int i = 0; i < 6; ++i)
       sat(i) = std::max(ScalarT(-1), std::min(ScalarT(1), e.s(i) / c.phi(i)));

@@ -124,10 +124,7 @@ class SuperTwistingController
   /// f = Phi theta_nominal, then the implicit super-twisting step per DOF.
   bool control(const TrackingError<Scalar>& e, const Vec6& nu, Vec6& tau) noexcept {
     const auto& c = this->config_;
-    const auto& trig = e.kinematics.trig;
-    const Vec6 f_hat = regressor<Scalar>(e.nu_r_dot, e.nu_r, nu, trig.sin_phi, trig.cos_phi,
-                                         trig.sin_theta, trig.cos_theta) *
-                       c.theta;
+    const Vec6 f_hat = reference_regressor(e, nu) * c.theta;
     const Vec6 m = detail::nominal_inertia(c.theta);
     const Scalar h = c.dt;
     Vec6 force, v_next;

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "neurov/model/kinematics.hpp"
+#include "neurov/model/regressor.hpp"
 #include "neurov/core/status.hpp"
 #include "neurov/core/types.hpp"
 
@@ -55,6 +56,17 @@ inline Status compute_tracking_error(const Vector6<Scalar>& eta, const Vector6<S
   out.nu_r = nu_r;
   out.nu_r_dot = nu_r_dot;
   return Status::ok;
+}
+
+/// Phi at the virtual reference: Phi(nu_r_dot, nu_r, nu) at the measured
+/// attitude, so that Phi theta is the model's force along the reference (the
+/// laws on f = Phi theta: linear adaptive, sliding mode, super-twisting).
+template <typename Scalar>
+inline RegressorMatrix<Scalar> reference_regressor(const TrackingError<Scalar>& e,
+                                                   const Vector6<Scalar>& nu) noexcept {
+  const auto& trig = e.kinematics.trig;
+  return regressor<Scalar>(e.nu_r_dot, e.nu_r, nu, trig.sin_phi, trig.cos_phi, trig.sin_theta,
+                           trig.cos_theta);
 }
 
 }  // namespace neurov
