@@ -158,20 +158,25 @@ def _pwm(thrust: np.ndarray, curve: neurov._core.ThrusterCurveConfig) -> np.ndar
     return np.where(thrust == 0, 1500, np.round(cmd)).astype(int)
 
 
-def test_an_ardusub_tlog_fits_within_the_run_s_intervals(tmp_path: Path) -> None:
+def _ardusub_run() -> tuple[neurov.Result, dict, np.ndarray]:
+    """A noisy BlueROV2 run, its thrusters, and the whole force (the
+    excitation included) as the eight thrusters' integer PWM."""
+    r = excitation_run("bluerov2", 30.0, noise=0.01)
+    thrusters = neurov.vehicle_file.load_thrusters(preset_path("bluerov2_heavy"))
+    tau = r.tau_applied + r.disturbance
+    f = np.array([neurov.allocate_thrust(thrusters["matrix"], x)[0] for x in tau])
+    pwm = np.column_stack([_pwm(f[:, i], c) for i, c in enumerate(thrusters["curves"])])
+    return r, thrusters, pwm
+
+
+def _write_tlog(path: Path, r: neurov.Result, pwm: np.ndarray) -> None:
     import struct
 
     from pymavlink.dialects.v20 import ardupilotmega as mavlink
 
-    r = excitation_run("bluerov2", 30.0, noise=0.01)
-    thrusters = neurov.vehicle_file.load_thrusters(preset_path("bluerov2_heavy"))
-    tau = r.tau_applied + r.disturbance
-    # The whole force (the excitation included) as the eight thrusters' PWM.
-    f = np.array([neurov.allocate_thrust(thrusters["matrix"], x)[0] for x in tau])
-    pwm = np.column_stack([_pwm(f[:, i], c) for i, c in enumerate(thrusters["curves"])])
     mav = mavlink.MAVLink(None, srcSystem=1, srcComponent=1)
     eta, nu = r.eta_estimate, r.nu_estimate
-    with open(tmp_path / "dive.tlog", "wb") as out:
+    with open(path, "wb") as out:
         for k, t in enumerate(r.t):
             ms = int(round(t * 1e3))
             v_ned = neurov.rotation(*eta[k, 3:]) @ nu[k, :3]
@@ -179,6 +184,11 @@ def test_an_ardusub_tlog_fits_within_the_run_s_intervals(tmp_path: Path) -> None
                         mavlink.MAVLink_local_position_ned_message(ms, *eta[k, :3], *v_ned),
                         mavlink.MAVLink_servo_output_raw_message(ms * 1000, 0, *pwm[k])):
                 out.write(struct.pack(">Q", 1_700_000_000_000_000 + ms * 1000) + msg.pack(mav))
+
+
+def test_an_ardusub_tlog_fits_within_the_run_s_intervals(tmp_path: Path) -> None:
+    r, thrusters, pwm = _ardusub_run()
+    _write_tlog(tmp_path / "dive.tlog", r, pwm)
     (tmp_path / "map.toml").write_text('format = "tlog"\n')
     log = read_log(tmp_path / "dive.tlog", tmp_path / "map.toml", thrusters)
     # float32 values; 1 us of PWM is up to 0.2 N of a T200's thrust.
@@ -201,3 +211,72 @@ def test_an_ardusub_tlog_fits_within_the_run_s_intervals(tmp_path: Path) -> None
     (tmp_path / "nerov.toml").write_text('format = "tlog"\n')
     with pytest.raises(LogError, match=r"needs the template's \[thrusters\] with a \[thrusters.curve\]"):
         neurov.identify(tmp_path / "dive.tlog", preset_path("nerov"), mapping=tmp_path / "nerov.toml")
+
+
+def _dataflash_fmt(type_id: int, name: str, fmt: str, columns: str) -> bytes:
+    """A DataFlash FMT message (type 128, ArduPilot's own layout
+    "BBnNZ"): it defines message `type_id` as `name` with the struct `fmt`."""
+    import struct
+
+    length = 3 + struct.calcsize("<" + fmt)
+    return b"\xa3\x95\x80" + struct.pack("<BB4s16s64s", type_id, length, name.encode(), fmt.encode(),
+                                          columns.encode())
+
+
+def _write_dataflash(path: Path, r: neurov.Result, pwm: np.ndarray, *, rcou: bool = True) -> None:
+    """The run as an ArduSub DataFlash log, byte by byte (pymavlink has no
+    DataFlash writer): FMT messages, then ATT (degrees), IMU (rad/s; a
+    second IMU, I = 1, with other values), XKF1 (EKF3 core 0, and core 1
+    with other values) and RCOU (integer PWM) at each row."""
+    import struct
+
+    types = {"ATT": (129, "Qffffff", "TimeUS,DesRoll,Roll,DesPitch,Pitch,DesYaw,Yaw"),
+             "IMU": (130, "QBffffff", "TimeUS,I,GyrX,GyrY,GyrZ,AccX,AccY,AccZ"),
+             "XKF1": (131, "QBffffffffff", "TimeUS,C,Roll,Pitch,Yaw,VN,VE,VD,dPD,PN,PE,PD"),
+             "RCOU": (132, "Q" + "H" * 14, "TimeUS," + ",".join(f"C{i}" for i in range(1, 15)))}
+    if not rcou:
+        del types["RCOU"]
+
+    def msg(name: str, *values: float) -> bytes:
+        type_id, fmt, _ = types[name]
+        return b"\xa3\x95" + bytes([type_id]) + struct.pack("<" + fmt, *values)
+
+    eta, nu = r.eta_estimate, r.nu_estimate
+    with open(path, "wb") as out:
+        for name, (type_id, fmt, cols) in types.items():
+            out.write(_dataflash_fmt(type_id, name, fmt, cols))
+        for k, t in enumerate(r.t):
+            us = int(round(t * 1e6))
+            deg = np.degrees(eta[k, 3:])
+            v_ned = neurov.rotation(*eta[k, 3:]) @ nu[k, :3]
+            out.write(msg("ATT", us, *(x for d in deg for x in (0.0, d))))
+            out.write(msg("IMU", us, 0, *nu[k, 3:], 0.0, 0.0, -9.81))
+            out.write(msg("IMU", us, 1, *(nu[k, 3:] + 0.5), 0.0, 0.0, -9.81))
+            for core, off in ((0, 0.0), (1, 3.0)):
+                out.write(msg("XKF1", us, core, *deg, *(v_ned + off), 0.0, *(eta[k, :3] + off)))
+            if rcou:
+                out.write(msg("RCOU", us, *pwm[k], *[1500] * (14 - pwm.shape[1])))
+
+
+def test_an_ardusub_dataflash_log_reads_as_its_tlog(tmp_path: Path) -> None:
+    r, thrusters, pwm = _ardusub_run()
+    _write_tlog(tmp_path / "dive.tlog", r, pwm)
+    _write_dataflash(tmp_path / "dive.bin", r, pwm)
+    (tmp_path / "tlog.toml").write_text('format = "tlog"\n')
+    (tmp_path / "bin.toml").write_text('format = "dataflash"\n')
+    tlog = read_log(tmp_path / "dive.tlog", tmp_path / "tlog.toml", thrusters)
+    log = read_log(tmp_path / "dive.bin", tmp_path / "bin.toml", thrusters)
+    _compare(log, log_from_result(r), 1e-5, tau_atol=0.5)
+    # The same integer PWM: the same force to the last bit.
+    np.testing.assert_array_equal(log.tau, tlog.tau)
+    a = neurov.identify(log, preset_path("bluerov2_heavy"), replicates=20, output_error=False)
+    b = neurov.identify(tlog, preset_path("bluerov2_heavy"), replicates=20, output_error=False)
+    assert a.fitted == b.fitted
+    # float32 degrees against float32 radians: the fits agree to far inside their intervals.
+    np.testing.assert_allclose(a.theta, b.theta, rtol=1e-4, atol=1e-6)
+    _write_dataflash(tmp_path / "norc.bin", r, pwm, rcou=False)
+    with pytest.raises(LogError, match=r"norc\.bin: no RCOU message"):
+        read_log(tmp_path / "norc.bin", tmp_path / "bin.toml", thrusters)
+    (tmp_path / "nine.toml").write_text('format = "dataflash"\nservo_channels = [1, 2, 3, 4, 5, 6, 7, 9]\n')
+    nine = read_log(tmp_path / "dive.bin", tmp_path / "nine.toml", thrusters)
+    assert not np.allclose(nine.tau, log.tau)  # channel 9 is not thruster 8's

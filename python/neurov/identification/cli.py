@@ -40,11 +40,20 @@ def add_parser(sub: Any, epilog: str) -> None:
                    help="RK4 steps per log interval in the output error and free runs (default 1)")
     p.add_argument("--block", type=float, default=5.0, metavar="SECONDS",
                    help="length of the bootstrap's blocks (default 5 s)")
-    p.add_argument("--velocity-lag", type=float, default=0.0, metavar="SECONDS",
+    p.add_argument("--velocity-lag", type=_lag, default=0.0, metavar="SECONDS|auto",
                    help="the estimator's lag of the linear velocity behind the motion, undone "
-                        "before fitting (default 0)")
+                        "before fitting; 'auto' estimates it from the data (default 0)")
     p.add_argument("--water-density", type=float, default=None, metavar="KG_M3",
                    help="the water of the logs, for a template that gives its displaced volume")
+
+
+def _lag(text: str) -> float | str:
+    if text == "auto":
+        return text
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected seconds or 'auto', got {text!r}") from None
 
 
 def run(args: argparse.Namespace) -> int:

@@ -65,20 +65,27 @@ def _segments(logs: list[Log], segment_s: float) -> list[_Segment]:
     return out
 
 
-def _simulate_segment(vehicle: Any, seg: _Segment, nu0: Array, substeps: int) -> Array:
-    """nu at the segment's rows 0..steps, started from the measured pose and `nu0`."""
-    log = seg.log
-    eta = log.eta[seg.start].copy()
-    nu = nu0.copy()
-    out = np.empty((seg.steps + 1, 6))
-    out[0] = nu
-    for j in range(seg.steps):
-        k = seg.start + j
-        h = (log.t[k + 1] - log.t[k]) / substeps
-        for _ in range(substeps):
-            eta, nu = _core.rk4_step(vehicle, eta, nu, log.tau[k], h, log.current[k])
-        out[j + 1] = nu
-    return out
+def simulate_segments(vehicle: Any, segs: list[_Segment], starts: Array, substeps: int) -> Array:
+    """The body velocities of every segment at its rows 0..steps, each
+    started from its measured pose and its row of `starts` (len(segs), 6),
+    driven by the log's force held over each interval, stacked in segment
+    order. All segments go through this one call (independent runs of one
+    vehicle: the shape of a batch of simulations)."""
+    out = []
+    for seg, nu0 in zip(segs, starts):
+        log = seg.log
+        eta = log.eta[seg.start].copy()
+        nu = np.array(nu0, dtype=np.float64)
+        path = np.empty((seg.steps + 1, 6))
+        path[0] = nu
+        for j in range(seg.steps):
+            k = seg.start + j
+            h = (log.t[k + 1] - log.t[k]) / substeps
+            for _ in range(substeps):
+                eta, nu = _core.rk4_step(vehicle, eta, nu, log.tau[k], h, log.current[k])
+            path[j + 1] = nu
+        out.append(path)
+    return np.concatenate(out)
 
 
 @dataclass
@@ -91,6 +98,7 @@ class ShootingFit:
     blocks: Blocks
     cost: float
     nfev: int
+    rms: float = 0.0  #: RMS of the scaled residual at the solution (comparable across logs)
 
 
 def _profiled_blocks(jac: Any, fun: Array, p: int, segs: list[_Segment], seg_blocks: Any) -> Blocks:
@@ -145,8 +153,7 @@ def fit_output_error(logs: list[Log], template: dict[str, Any], theta0: Array, f
         theta[fitted] = x[:p]
         vehicle = _core.Vehicle(**vehicle_parameters(template, theta))
         starts = x[p:].reshape(-1, 6)
-        pred = np.concatenate([_simulate_segment(vehicle, s, starts[k], substeps)
-                               for k, s in enumerate(segs)])
+        pred = simulate_segments(vehicle, segs, starts, substeps)
         return ((pred - measured) / scale).reshape(-1)
 
     lo_t, hi_t = bounds(fitted, template)
@@ -178,4 +185,6 @@ def fit_output_error(logs: list[Log], template: dict[str, Any], theta0: Array, f
     theta[fitted] = np.clip(sol.x[:p] + blocks.solve(), lo_t, hi_t)
     at = theta0.copy()
     at[fitted] = sol.x[:p]
-    return ShootingFit(theta, at, blocks, float(sol.cost), int(sol.nfev))
+    fun = np.asarray(sol.fun)
+    return ShootingFit(theta, at, blocks, float(sol.cost), int(sol.nfev),
+                       float(np.sqrt(np.mean(fun**2))))
