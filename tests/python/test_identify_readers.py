@@ -86,7 +86,11 @@ def _quaternion(rpy: np.ndarray) -> np.ndarray:
                      cr * cp * sy - sr * sp * cy, cr * cp * cy + sr * sp * sy])
 
 
-def _write_bag(path: Path, r: neurov.Result, ros1: bool) -> None:
+def _write_bag(path: Path, r: neurov.Result, ros1: bool, sensors: bool = False) -> None:
+    """The run as a bag: odometry and the body wrench; with `sensors` also
+    an IMU, a pressure sensor (fresh water at 997 kg/m^3, 101000 Pa at the
+    surface) and the thrusters' thrusts (NEROV's six, unstamped, the bag's
+    receive time)."""
     from rosbags.typesys import Stores, get_typestore
 
     store = get_typestore(Stores.ROS1_NOETIC if ros1 else Stores.ROS2_HUMBLE)
@@ -104,6 +108,15 @@ def _write_bag(path: Path, r: neurov.Result, ros1: bool) -> None:
     with writer:
         c_odom = writer.add_connection("/rov/odometry", odom_t, typestore=store)
         c_wrench = writer.add_connection("/rov/wrench", wrench_t, typestore=store)
+        imu_t, pressure_t = "sensor_msgs/msg/Imu", "sensor_msgs/msg/FluidPressure"
+        cmd_t = "std_msgs/msg/Float64MultiArray"
+        if sensors:
+            c_imu = writer.add_connection("/rov/imu", imu_t, typestore=store)
+            c_pressure = writer.add_connection("/rov/pressure", pressure_t, typestore=store)
+            c_cmd = writer.add_connection("/rov/thrusters", cmd_t, typestore=store)
+            matrix = neurov.vehicle_file.load_thrusters(preset_path("nerov"))["matrix"]
+            # Each thruster's thrust that gives the body wrench (neurov's frame) exactly.
+            thrust = (np.linalg.solve(matrix, (r.tau_applied + r.disturbance).T)).T
         for k, t in enumerate(r.t):
             ns = int(round(t * 1e9))
             stamp = T["builtin_interfaces/msg/Time"](sec=ns // 10**9, nanosec=ns % 10**9)
@@ -126,6 +139,20 @@ def _write_bag(path: Path, r: neurov.Result, ros1: bool) -> None:
                 torque=v3(x=tau[k, 3], y=tau[k, 4], z=tau[k, 5])))
             writer.write(c_odom, ns, serialize(odom, odom_t))
             writer.write(c_wrench, ns, serialize(wrench, wrench_t))
+            if sensors:
+                imu = T[imu_t](header=header, orientation=pose.pose.orientation,
+                               orientation_covariance=np.zeros(9),
+                               angular_velocity=twist.twist.angular, angular_velocity_covariance=np.zeros(9),
+                               linear_acceleration=v3(x=0.0, y=0.0, z=9.81),
+                               linear_acceleration_covariance=np.zeros(9))
+                depth = -eta[k, 2]
+                pressure = T[pressure_t](header=header, fluid_pressure=101000.0 + 997.0 * 9.80665 * depth,
+                                         variance=0.0)
+                layout = T["std_msgs/msg/MultiArrayLayout"](dim=[], data_offset=0)
+                cmd = T[cmd_t](layout=layout, data=np.ascontiguousarray(thrust[k], dtype=np.float64))
+                writer.write(c_imu, ns, serialize(imu, imu_t))
+                writer.write(c_pressure, ns, serialize(pressure, pressure_t))
+                writer.write(c_cmd, ns, serialize(cmd, cmd_t))
 
 
 def test_ros2_and_ros1_bags_give_the_run_s_own_fit(tmp_path: Path) -> None:
@@ -144,6 +171,48 @@ def test_ros2_and_ros1_bags_give_the_run_s_own_fit(tmp_path: Path) -> None:
                                                                                     "/rov/thrust"))
     with pytest.raises(LogError, match=r"run\.bag: no topic '/rov/thrust'"):
         read_log(tmp_path / "run.bag", tmp_path / "wrong.toml")
+
+
+SENSOR_MAP = """format = "rosbag"
+body_frame = "flu"
+world_frame = "enu"
+water_density = 997.0
+surface_pressure = 101000.0
+thruster_command = "N"
+[topics]
+odometry = "/rov/odometry"
+imu = "/rov/imu"
+pressure = "/rov/pressure"
+thrusters = "/rov/thrusters"
+"""
+
+
+def test_imu_pressure_and_thruster_topics_give_the_run_s_own_fit(tmp_path: Path) -> None:
+    r = excitation_run("nerov", 20.0)
+    thrusters = neurov.vehicle_file.load_thrusters(preset_path("nerov"))
+    (tmp_path / "map.toml").write_text(SENSOR_MAP)
+    reference = neurov.identify(log_from_result(r), preset_path("nerov"), replicates=20,
+                                output_error=False)
+    for ros1, name in ((False, "run_ros2"), (True, "run.bag")):
+        _write_bag(tmp_path / name, r, ros1, sensors=True)
+        log = read_log(tmp_path / name, tmp_path / "map.toml", thrusters)
+        _compare(log, log_from_result(r), 1e-9)
+        # The ROS 1 bag through identify's own reading (path and mapping).
+        fit = neurov.identify(tmp_path / name if ros1 else log, preset_path("nerov"),
+                              mapping=tmp_path / "map.toml", replicates=20, output_error=False)
+        np.testing.assert_allclose(fit.theta, reference.theta, rtol=1e-7)
+    bad = {"no_density": SENSOR_MAP.replace("water_density = 997.0\n", ""),
+           "pwm": SENSOR_MAP.replace('thruster_command = "N"', 'thruster_command = "pwm"'),
+           "both": SENSOR_MAP + 'wrench = "/rov/wrench"\n',
+           "typo": SENSOR_MAP + 'imus = "/rov/imu"\n'}
+    errors = {"no_density": r"no_density\.toml: water_density: expected a number > 0 \(needed with a pressure",
+              "pwm": r"run\.bag: /rov/thrusters: PWM commands need the template's \[thrusters\.curve\]",
+              "both": r"both\.toml: topics: expected one of 'wrench' and 'thrusters'",
+              "typo": r"typo\.toml: topics\.imus: unknown"}
+    for key, text in bad.items():
+        (tmp_path / f"{key}.toml").write_text(text)
+        with pytest.raises(LogError, match=errors[key]):
+            read_log(tmp_path / "run.bag", tmp_path / f"{key}.toml", thrusters)
 
 
 def _pwm(thrust: np.ndarray, curve: neurov._core.ThrusterCurveConfig) -> np.ndarray:

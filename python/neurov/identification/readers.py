@@ -25,7 +25,7 @@ def read_log(path: str | Path, mapping: str | Path | None = None, thrusters: Any
     if m.format == "rosbag":
         from neurov.identification.rosbag_log import read_rosbag
 
-        return read_rosbag(path, m)
+        return read_rosbag(path, m, thrusters)
     if m.format == "tlog":
         from neurov.identification.tlog_log import read_tlog
 
