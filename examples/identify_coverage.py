@@ -61,7 +61,7 @@ def main() -> None:
         hits.append(inside)
         errors.append((fit.theta - truth)[fit.fitted])
         print(f"seed {seed}: {inside.sum()} of {inside.size} intervals cover the truth"
-              + "".join(f"; {w}" for w in fit.warnings if w.startswith("velocity lag")), flush=True)
+              + "".join(f"; {w}" for w in fit.warnings if "velocity lag" in w or "staircase" in w), flush=True)
     hits_a, err = np.array(hits), np.array(errors)
     print(f"coverage: {hits_a.mean():.3f} over {hits_a.size} intervals ({a.runs} runs of {a.duration:g} s)")
     names = [neurov.THETA_NAMES[i] for i in fit.fitted]

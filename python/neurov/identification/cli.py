@@ -43,6 +43,10 @@ def add_parser(sub: Any, epilog: str) -> None:
     p.add_argument("--velocity-lag", type=_lag, default=0.0, metavar="SECONDS|auto",
                    help="the estimator's lag of the linear velocity behind the motion, undone "
                         "before fitting; 'auto' estimates it from the data (default 0)")
+    p.add_argument("--estimator", choices=("auto", "on", "off"), default="auto",
+                   help="model an estimator that holds the linear velocity between sensor updates "
+                        "(an EKF's staircase) in the output error: auto (where the logs show one), "
+                        "on or off (default auto)")
     p.add_argument("--water-density", type=float, default=None, metavar="KG_M3",
                    help="the water of the logs, for a template that gives its displaced volume")
 
@@ -73,7 +77,8 @@ def run(args: argparse.Namespace) -> int:
     result = identify(args.logs, vehicle, free=args.free, heldout=args.heldout, out=args.out,
                       mapping=args.mapping, output_error=not args.equation_error_only,
                       substeps=args.substeps, block_s=args.block, water_density=args.water_density,
-                      velocity_lag=args.velocity_lag)
+                      velocity_lag=args.velocity_lag,
+                      estimator={"auto": "auto", "on": True, "off": False}[args.estimator])
     print(report_text(result), end="")
     if result.out is not None:
         print(f"wrote {result.out}")
