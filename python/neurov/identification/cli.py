@@ -9,7 +9,7 @@ __all__ = ["add_parser", "run"]
 
 DESCRIPTION = (
     "Fits a vehicle file to logs of the vehicle moving under known forces: neurov runs' result.npz "
-    "or result.csv, or other logs (CSV, ROS 1/2 bags, ArduSub .tlog) described by a --mapping file. "
+    "or result.csv, or other logs (CSV, ROS 1/2 bags, ArduSub .tlog or DataFlash .bin) described by a --mapping file. "
     "The free parameters (default: added mass, linear and quadratic damping of every DOF) are "
     "fitted by equation error on the regressor, then by output error over short segments; the "
     "rest is the template's. Prints each parameter's estimate and 95 % interval (a block "
