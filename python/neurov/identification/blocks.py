@@ -60,7 +60,8 @@ class Blocks:
 
     def solve(self, weights: Array | None = None) -> Array:
         w = np.ones(self.count) if weights is None else weights
-        x = np.linalg.solve(np.tensordot(w, self.gram, 1), np.tensordot(w, self.rhs, 1))
+        x = np.asarray(np.linalg.solve(np.tensordot(w, self.gram, 1), np.tensordot(w, self.rhs, 1)),
+                       dtype=np.float64)
         return x if self.keep is None else x[:self.keep]
 
     def bootstrap(self, replicates: int, seed: int) -> Array:

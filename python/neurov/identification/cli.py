@@ -51,6 +51,9 @@ def add_parser(sub: Any, epilog: str) -> None:
                    help="the water of the logs, for a template that gives its displaced volume")
 
 
+_ESTIMATOR: dict[str, bool | str] = {"auto": "auto", "on": True, "off": False}
+
+
 def _lag(text: str) -> float | str:
     if text == "auto":
         return text
@@ -78,7 +81,7 @@ def run(args: argparse.Namespace) -> int:
                       mapping=args.mapping, output_error=not args.equation_error_only,
                       substeps=args.substeps, block_s=args.block, water_density=args.water_density,
                       velocity_lag=args.velocity_lag,
-                      estimator={"auto": "auto", "on": True, "off": False}[args.estimator])
+                      estimator=_ESTIMATOR[args.estimator])
     print(report_text(result), end="")
     if result.out is not None:
         print(f"wrote {result.out}")
