@@ -6,12 +6,13 @@ the true value printed (docs/identification.md quotes its output).
 
     PYTHONPATH=python python examples/identify_coverage.py bluerov2 --runs 10 --duration 60
     PYTHONPATH=python python examples/identify_coverage.py bluerov2 --realistic --runs 5
-    PYTHONPATH=python python examples/identify_coverage.py bluerov2 --realistic --velocity-lag auto
+    PYTHONPATH=python python examples/identify_coverage.py bluerov2 --realistic --velocity-lag auto --estimator off
 
 Without --realistic the measurement is the true state plus white noise
 (``[noise]``: 0.01 m/s on u, v, w, 0.002 on the rates and angles); with it,
-the scenario's sensors, EKF and one-period delay (--velocity-lag auto
-estimates the EKF's velocity lag from each log).
+the scenario's sensors, EKF and one-period delay; the EKF's updates are
+modelled in the output error unless --estimator off (--velocity-lag auto
+estimates a lag instead).
 """
 
 from __future__ import annotations
@@ -37,6 +38,8 @@ def main() -> None:
     p.add_argument("--noise", type=float, default=0.01)
     p.add_argument("--velocity-lag", default="0", metavar="SECONDS|auto",
                    help="passed to neurov.identify (the EKF's velocity lag; 'auto' estimates it)")
+    p.add_argument("--estimator", choices=("auto", "on", "off"), default="auto",
+                   help="passed to neurov.identify: model the EKF's updates in the output error")
     a = p.parse_args()
     template = read_vehicle_file(preset_path(PRESETS[a.vehicle]))
     q = template.parameters
@@ -55,7 +58,8 @@ def main() -> None:
             s.noise_nu = np.array([a.noise] * 3 + [a.noise / 5] * 3)
             s.noise_eta = np.array([0.0] * 3 + [a.noise / 5] * 3)
         fit = neurov.identify(log_from_result(neurov.simulate(s)), preset_path(PRESETS[a.vehicle]),
-                              replicates=200, velocity_lag=lag)
+                              replicates=200, velocity_lag=lag,
+                              estimator={"auto": "auto", "on": True, "off": False}[a.estimator])
         lo, hi = fit.interval[fit.fitted].T
         inside = (lo <= truth[fit.fitted]) & (truth[fit.fitted] <= hi)
         hits.append(inside)
