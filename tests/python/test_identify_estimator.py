@@ -5,10 +5,11 @@ staircase), modelled in the output error; and a lag estimated from the data."""
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from identify_runs import excitation_run, true_theta
 
 import neurov
-from neurov.identification import make_log
+from neurov.identification import IdentificationError, make_log
 from neurov.identification.estimator_model import refresh_rows, staircase
 from neurov.vehicle_file import preset_path
 
@@ -50,3 +51,19 @@ def test_a_log_sampled_at_every_row_is_no_staircase() -> None:
     r = excitation_run("nerov", 20.0, noise=0.01)
     log = make_log("run", r.t, r.eta_estimate, r.nu_estimate, r.tau_applied + r.disturbance)
     assert not staircase(log)
+
+
+def test_a_lag_is_estimated_from_the_data() -> None:
+    r = excitation_run("nerov", 20.0)
+    nu = r.nu.copy()
+    nu[2:, :3] = nu[:-2, :3]  # the linear velocities two rows (0.1 s) late
+    late = make_log("late", r.t, r.eta, nu, r.tau_applied + r.disturbance)
+    fit = neurov.identify(late, preset_path("nerov"), free="added_mass,linear_damping", replicates=20,
+                          velocity_lag="auto")
+    assert any(w.startswith("velocity lag estimated from the data: 0.1 s") for w in fit.warnings)
+    truth = true_theta("nerov")
+    np.testing.assert_allclose(fit.theta[4:7], truth[4:7], rtol=1e-3)
+    with pytest.raises(IdentificationError, match="velocity_lag='auto' .* needs the output-error stage"):
+        neurov.identify(late, preset_path("nerov"), velocity_lag="auto", output_error=False)
+    with pytest.raises(IdentificationError, match="velocity_lag: expected seconds >= 0 or 'auto', got 'soon'"):
+        neurov.identify(late, preset_path("nerov"), velocity_lag="soon")
