@@ -6,10 +6,13 @@ the true value printed (docs/identification.md quotes its output).
 
     PYTHONPATH=python python examples/identify_coverage.py bluerov2 --runs 10 --duration 60
     PYTHONPATH=python python examples/identify_coverage.py bluerov2 --realistic --runs 5
+    PYTHONPATH=python python examples/identify_coverage.py bluerov2 --realistic --velocity-lag auto --estimator off
 
 Without --realistic the measurement is the true state plus white noise
 (``[noise]``: 0.01 m/s on u, v, w, 0.002 on the rates and angles); with it,
-the scenario's sensors, EKF and one-period delay.
+the scenario's sensors, EKF and one-period delay; the EKF's updates are
+modelled in the output error unless --estimator off (--velocity-lag auto
+estimates a lag instead).
 """
 
 from __future__ import annotations
@@ -33,6 +36,10 @@ def main() -> None:
     p.add_argument("--duration", type=float, default=60.0)
     p.add_argument("--realistic", action="store_true")
     p.add_argument("--noise", type=float, default=0.01)
+    p.add_argument("--velocity-lag", default="0", metavar="SECONDS|auto",
+                   help="passed to neurov.identify (the EKF's velocity lag; 'auto' estimates it)")
+    p.add_argument("--estimator", choices=("auto", "on", "off"), default="auto",
+                   help="passed to neurov.identify: model the EKF's updates in the output error")
     a = p.parse_args()
     template = read_vehicle_file(preset_path(PRESETS[a.vehicle]))
     q = template.parameters
@@ -41,6 +48,7 @@ def main() -> None:
             "added_mass": [0.7 * x for x in q["added_mass"]]}
     truth = np.asarray(neurov.regressor_parameters(template.vehicle(over)))
     name = f"{a.vehicle}_excitation{'_realistic' if a.realistic else ''}.toml"
+    lag = a.velocity_lag if a.velocity_lag == "auto" else float(a.velocity_lag)
     hits = []
     errors = []
     for seed in range(a.runs):
@@ -50,12 +58,14 @@ def main() -> None:
             s.noise_nu = np.array([a.noise] * 3 + [a.noise / 5] * 3)
             s.noise_eta = np.array([0.0] * 3 + [a.noise / 5] * 3)
         fit = neurov.identify(log_from_result(neurov.simulate(s)), preset_path(PRESETS[a.vehicle]),
-                              replicates=200)
+                              replicates=200, velocity_lag=lag,
+                              estimator={"auto": "auto", "on": True, "off": False}[a.estimator])
         lo, hi = fit.interval[fit.fitted].T
         inside = (lo <= truth[fit.fitted]) & (truth[fit.fitted] <= hi)
         hits.append(inside)
         errors.append((fit.theta - truth)[fit.fitted])
-        print(f"seed {seed}: {inside.sum()} of {inside.size} intervals cover the truth", flush=True)
+        print(f"seed {seed}: {inside.sum()} of {inside.size} intervals cover the truth"
+              + "".join(f"; {w}" for w in fit.warnings if "velocity lag" in w or "staircase" in w), flush=True)
     hits_a, err = np.array(hits), np.array(errors)
     print(f"coverage: {hits_a.mean():.3f} over {hits_a.size} intervals ({a.runs} runs of {a.duration:g} s)")
     names = [neurov.THETA_NAMES[i] for i in fit.fitted]

@@ -86,7 +86,11 @@ def _quaternion(rpy: np.ndarray) -> np.ndarray:
                      cr * cp * sy - sr * sp * cy, cr * cp * cy + sr * sp * sy])
 
 
-def _write_bag(path: Path, r: neurov.Result, ros1: bool) -> None:
+def _write_bag(path: Path, r: neurov.Result, ros1: bool, sensors: bool = False) -> None:
+    """The run as a bag: odometry and the body wrench; with `sensors` also
+    an IMU, a pressure sensor (fresh water at 997 kg/m^3, 101000 Pa at the
+    surface) and the thrusters' thrusts (NEROV's six, unstamped, the bag's
+    receive time)."""
     from rosbags.typesys import Stores, get_typestore
 
     store = get_typestore(Stores.ROS1_NOETIC if ros1 else Stores.ROS2_HUMBLE)
@@ -104,6 +108,15 @@ def _write_bag(path: Path, r: neurov.Result, ros1: bool) -> None:
     with writer:
         c_odom = writer.add_connection("/rov/odometry", odom_t, typestore=store)
         c_wrench = writer.add_connection("/rov/wrench", wrench_t, typestore=store)
+        imu_t, pressure_t = "sensor_msgs/msg/Imu", "sensor_msgs/msg/FluidPressure"
+        cmd_t = "std_msgs/msg/Float64MultiArray"
+        if sensors:
+            c_imu = writer.add_connection("/rov/imu", imu_t, typestore=store)
+            c_pressure = writer.add_connection("/rov/pressure", pressure_t, typestore=store)
+            c_cmd = writer.add_connection("/rov/thrusters", cmd_t, typestore=store)
+            matrix = neurov.vehicle_file.load_thrusters(preset_path("nerov"))["matrix"]
+            # Each thruster's thrust that gives the body wrench (neurov's frame) exactly.
+            thrust = (np.linalg.solve(matrix, (r.tau_applied + r.disturbance).T)).T
         for k, t in enumerate(r.t):
             ns = int(round(t * 1e9))
             stamp = T["builtin_interfaces/msg/Time"](sec=ns // 10**9, nanosec=ns % 10**9)
@@ -126,6 +139,20 @@ def _write_bag(path: Path, r: neurov.Result, ros1: bool) -> None:
                 torque=v3(x=tau[k, 3], y=tau[k, 4], z=tau[k, 5])))
             writer.write(c_odom, ns, serialize(odom, odom_t))
             writer.write(c_wrench, ns, serialize(wrench, wrench_t))
+            if sensors:
+                imu = T[imu_t](header=header, orientation=pose.pose.orientation,
+                               orientation_covariance=np.zeros(9),
+                               angular_velocity=twist.twist.angular, angular_velocity_covariance=np.zeros(9),
+                               linear_acceleration=v3(x=0.0, y=0.0, z=9.81),
+                               linear_acceleration_covariance=np.zeros(9))
+                depth = -eta[k, 2]
+                pressure = T[pressure_t](header=header, fluid_pressure=101000.0 + 997.0 * 9.80665 * depth,
+                                         variance=0.0)
+                layout = T["std_msgs/msg/MultiArrayLayout"](dim=[], data_offset=0)
+                cmd = T[cmd_t](layout=layout, data=np.ascontiguousarray(thrust[k], dtype=np.float64))
+                writer.write(c_imu, ns, serialize(imu, imu_t))
+                writer.write(c_pressure, ns, serialize(pressure, pressure_t))
+                writer.write(c_cmd, ns, serialize(cmd, cmd_t))
 
 
 def test_ros2_and_ros1_bags_give_the_run_s_own_fit(tmp_path: Path) -> None:
@@ -146,6 +173,48 @@ def test_ros2_and_ros1_bags_give_the_run_s_own_fit(tmp_path: Path) -> None:
         read_log(tmp_path / "run.bag", tmp_path / "wrong.toml")
 
 
+SENSOR_MAP = """format = "rosbag"
+body_frame = "flu"
+world_frame = "enu"
+water_density = 997.0
+surface_pressure = 101000.0
+thruster_command = "N"
+[topics]
+odometry = "/rov/odometry"
+imu = "/rov/imu"
+pressure = "/rov/pressure"
+thrusters = "/rov/thrusters"
+"""
+
+
+def test_imu_pressure_and_thruster_topics_give_the_run_s_own_fit(tmp_path: Path) -> None:
+    r = excitation_run("nerov", 20.0)
+    thrusters = neurov.vehicle_file.load_thrusters(preset_path("nerov"))
+    (tmp_path / "map.toml").write_text(SENSOR_MAP)
+    reference = neurov.identify(log_from_result(r), preset_path("nerov"), replicates=20,
+                                output_error=False)
+    for ros1, name in ((False, "run_ros2"), (True, "run.bag")):
+        _write_bag(tmp_path / name, r, ros1, sensors=True)
+        log = read_log(tmp_path / name, tmp_path / "map.toml", thrusters)
+        _compare(log, log_from_result(r), 1e-9)
+        # The ROS 1 bag through identify's own reading (path and mapping).
+        fit = neurov.identify(tmp_path / name if ros1 else log, preset_path("nerov"),
+                              mapping=tmp_path / "map.toml", replicates=20, output_error=False)
+        np.testing.assert_allclose(fit.theta, reference.theta, rtol=1e-7)
+    bad = {"no_density": SENSOR_MAP.replace("water_density = 997.0\n", ""),
+           "pwm": SENSOR_MAP.replace('thruster_command = "N"', 'thruster_command = "pwm"'),
+           "both": SENSOR_MAP + 'wrench = "/rov/wrench"\n',
+           "typo": SENSOR_MAP + 'imus = "/rov/imu"\n'}
+    errors = {"no_density": r"no_density\.toml: water_density: expected a number > 0 \(needed with a pressure",
+              "pwm": r"run\.bag: /rov/thrusters: PWM commands need the template's \[thrusters\.curve\]",
+              "both": r"both\.toml: topics: expected one of 'wrench' and 'thrusters'",
+              "typo": r"typo\.toml: topics\.imus: unknown"}
+    for key, text in bad.items():
+        (tmp_path / f"{key}.toml").write_text(text)
+        with pytest.raises(LogError, match=errors[key]):
+            read_log(tmp_path / "run.bag", tmp_path / f"{key}.toml", thrusters)
+
+
 def _pwm(thrust: np.ndarray, curve: neurov._core.ThrusterCurveConfig) -> np.ndarray:
     """The integer PWM an ESC gets for each thrust: the curve's table inverted
     either side of its dead band (the curve is at its reference voltage)."""
@@ -158,20 +227,25 @@ def _pwm(thrust: np.ndarray, curve: neurov._core.ThrusterCurveConfig) -> np.ndar
     return np.where(thrust == 0, 1500, np.round(cmd)).astype(int)
 
 
-def test_an_ardusub_tlog_fits_within_the_run_s_intervals(tmp_path: Path) -> None:
+def _ardusub_run() -> tuple[neurov.Result, dict, np.ndarray]:
+    """A noisy BlueROV2 run, its thrusters, and the whole force (the
+    excitation included) as the eight thrusters' integer PWM."""
+    r = excitation_run("bluerov2", 30.0, noise=0.01)
+    thrusters = neurov.vehicle_file.load_thrusters(preset_path("bluerov2_heavy"))
+    tau = r.tau_applied + r.disturbance
+    f = np.array([neurov.allocate_thrust(thrusters["matrix"], x)[0] for x in tau])
+    pwm = np.column_stack([_pwm(f[:, i], c) for i, c in enumerate(thrusters["curves"])])
+    return r, thrusters, pwm
+
+
+def _write_tlog(path: Path, r: neurov.Result, pwm: np.ndarray) -> None:
     import struct
 
     from pymavlink.dialects.v20 import ardupilotmega as mavlink
 
-    r = excitation_run("bluerov2", 30.0, noise=0.01)
-    thrusters = neurov.vehicle_file.load_thrusters(preset_path("bluerov2_heavy"))
-    tau = r.tau_applied + r.disturbance
-    # The whole force (the excitation included) as the eight thrusters' PWM.
-    f = np.array([neurov.allocate_thrust(thrusters["matrix"], x)[0] for x in tau])
-    pwm = np.column_stack([_pwm(f[:, i], c) for i, c in enumerate(thrusters["curves"])])
     mav = mavlink.MAVLink(None, srcSystem=1, srcComponent=1)
     eta, nu = r.eta_estimate, r.nu_estimate
-    with open(tmp_path / "dive.tlog", "wb") as out:
+    with open(path, "wb") as out:
         for k, t in enumerate(r.t):
             ms = int(round(t * 1e3))
             v_ned = neurov.rotation(*eta[k, 3:]) @ nu[k, :3]
@@ -179,6 +253,11 @@ def test_an_ardusub_tlog_fits_within_the_run_s_intervals(tmp_path: Path) -> None
                         mavlink.MAVLink_local_position_ned_message(ms, *eta[k, :3], *v_ned),
                         mavlink.MAVLink_servo_output_raw_message(ms * 1000, 0, *pwm[k])):
                 out.write(struct.pack(">Q", 1_700_000_000_000_000 + ms * 1000) + msg.pack(mav))
+
+
+def test_an_ardusub_tlog_fits_within_the_run_s_intervals(tmp_path: Path) -> None:
+    r, thrusters, pwm = _ardusub_run()
+    _write_tlog(tmp_path / "dive.tlog", r, pwm)
     (tmp_path / "map.toml").write_text('format = "tlog"\n')
     log = read_log(tmp_path / "dive.tlog", tmp_path / "map.toml", thrusters)
     # float32 values; 1 us of PWM is up to 0.2 N of a T200's thrust.
@@ -201,3 +280,72 @@ def test_an_ardusub_tlog_fits_within_the_run_s_intervals(tmp_path: Path) -> None
     (tmp_path / "nerov.toml").write_text('format = "tlog"\n')
     with pytest.raises(LogError, match=r"needs the template's \[thrusters\] with a \[thrusters.curve\]"):
         neurov.identify(tmp_path / "dive.tlog", preset_path("nerov"), mapping=tmp_path / "nerov.toml")
+
+
+def _dataflash_fmt(type_id: int, name: str, fmt: str, columns: str) -> bytes:
+    """A DataFlash FMT message (type 128, ArduPilot's own layout
+    "BBnNZ"): it defines message `type_id` as `name` with the struct `fmt`."""
+    import struct
+
+    length = 3 + struct.calcsize("<" + fmt)
+    return b"\xa3\x95\x80" + struct.pack("<BB4s16s64s", type_id, length, name.encode(), fmt.encode(),
+                                          columns.encode())
+
+
+def _write_dataflash(path: Path, r: neurov.Result, pwm: np.ndarray, *, rcou: bool = True) -> None:
+    """The run as an ArduSub DataFlash log, byte by byte (pymavlink has no
+    DataFlash writer): FMT messages, then ATT (degrees), IMU (rad/s; a
+    second IMU, I = 1, with other values), XKF1 (EKF3 core 0, and core 1
+    with other values) and RCOU (integer PWM) at each row."""
+    import struct
+
+    types = {"ATT": (129, "Qffffff", "TimeUS,DesRoll,Roll,DesPitch,Pitch,DesYaw,Yaw"),
+             "IMU": (130, "QBffffff", "TimeUS,I,GyrX,GyrY,GyrZ,AccX,AccY,AccZ"),
+             "XKF1": (131, "QBffffffffff", "TimeUS,C,Roll,Pitch,Yaw,VN,VE,VD,dPD,PN,PE,PD"),
+             "RCOU": (132, "Q" + "H" * 14, "TimeUS," + ",".join(f"C{i}" for i in range(1, 15)))}
+    if not rcou:
+        del types["RCOU"]
+
+    def msg(name: str, *values: float) -> bytes:
+        type_id, fmt, _ = types[name]
+        return b"\xa3\x95" + bytes([type_id]) + struct.pack("<" + fmt, *values)
+
+    eta, nu = r.eta_estimate, r.nu_estimate
+    with open(path, "wb") as out:
+        for name, (type_id, fmt, cols) in types.items():
+            out.write(_dataflash_fmt(type_id, name, fmt, cols))
+        for k, t in enumerate(r.t):
+            us = int(round(t * 1e6))
+            deg = np.degrees(eta[k, 3:])
+            v_ned = neurov.rotation(*eta[k, 3:]) @ nu[k, :3]
+            out.write(msg("ATT", us, *(x for d in deg for x in (0.0, d))))
+            out.write(msg("IMU", us, 0, *nu[k, 3:], 0.0, 0.0, -9.81))
+            out.write(msg("IMU", us, 1, *(nu[k, 3:] + 0.5), 0.0, 0.0, -9.81))
+            for core, off in ((0, 0.0), (1, 3.0)):
+                out.write(msg("XKF1", us, core, *deg, *(v_ned + off), 0.0, *(eta[k, :3] + off)))
+            if rcou:
+                out.write(msg("RCOU", us, *pwm[k], *[1500] * (14 - pwm.shape[1])))
+
+
+def test_an_ardusub_dataflash_log_reads_as_its_tlog(tmp_path: Path) -> None:
+    r, thrusters, pwm = _ardusub_run()
+    _write_tlog(tmp_path / "dive.tlog", r, pwm)
+    _write_dataflash(tmp_path / "dive.bin", r, pwm)
+    (tmp_path / "tlog.toml").write_text('format = "tlog"\n')
+    (tmp_path / "bin.toml").write_text('format = "dataflash"\n')
+    tlog = read_log(tmp_path / "dive.tlog", tmp_path / "tlog.toml", thrusters)
+    log = read_log(tmp_path / "dive.bin", tmp_path / "bin.toml", thrusters)
+    _compare(log, log_from_result(r), 1e-5, tau_atol=0.5)
+    # The same integer PWM: the same force to the last bit.
+    np.testing.assert_array_equal(log.tau, tlog.tau)
+    a = neurov.identify(log, preset_path("bluerov2_heavy"), replicates=20, output_error=False)
+    b = neurov.identify(tlog, preset_path("bluerov2_heavy"), replicates=20, output_error=False)
+    assert a.fitted == b.fitted
+    # float32 degrees against float32 radians: the fits agree to far inside their intervals.
+    np.testing.assert_allclose(a.theta, b.theta, rtol=1e-4, atol=1e-6)
+    _write_dataflash(tmp_path / "norc.bin", r, pwm, rcou=False)
+    with pytest.raises(LogError, match=r"norc\.bin: no RCOU message"):
+        read_log(tmp_path / "norc.bin", tmp_path / "bin.toml", thrusters)
+    (tmp_path / "nine.toml").write_text('format = "dataflash"\nservo_channels = [1, 2, 3, 4, 5, 6, 7, 9]\n')
+    nine = read_log(tmp_path / "dive.bin", tmp_path / "nine.toml", thrusters)
+    assert not np.allclose(nine.tau, log.tau)  # channel 9 is not thruster 8's

@@ -34,10 +34,13 @@ def block_ids(segment_of_row: NDArray[np.int64], times: Array, block_s: float) -
 
 @dataclass(frozen=True)
 class Blocks:
-    """G_b = A_b^T A_b and h_b = A_b^T b_b of each block b (p unknowns)."""
+    """G_b = A_b^T A_b and h_b = A_b^T b_b of each block b (p unknowns);
+    with `keep`, the solutions are the first `keep` unknowns (the rest are
+    nuisance unknowns estimated with them, an estimator's gains)."""
 
     gram: Array  #: (B, p, p)
     rhs: Array  #: (B, p)
+    keep: int | None = None
 
     @staticmethod
     def from_rows(a: Array, b: Array, ids: NDArray[np.int64]) -> Blocks:
@@ -57,13 +60,15 @@ class Blocks:
 
     def solve(self, weights: Array | None = None) -> Array:
         w = np.ones(self.count) if weights is None else weights
-        return np.linalg.solve(np.tensordot(w, self.gram, 1), np.tensordot(w, self.rhs, 1))
+        x = np.asarray(np.linalg.solve(np.tensordot(w, self.gram, 1), np.tensordot(w, self.rhs, 1)),
+                       dtype=np.float64)
+        return x if self.keep is None else x[:self.keep]
 
     def bootstrap(self, replicates: int, seed: int) -> Array:
         """(replicates, p) solutions with the blocks drawn with replacement;
         a draw whose normal matrix is singular is drawn again."""
         rng = np.random.default_rng(seed)
-        out = np.empty((replicates, self.gram.shape[1]))
+        out = np.empty((replicates, self.gram.shape[1] if self.keep is None else self.keep))
         k = 0
         tries = 0
         while k < replicates:

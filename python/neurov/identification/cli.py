@@ -9,7 +9,7 @@ __all__ = ["add_parser", "run"]
 
 DESCRIPTION = (
     "Fits a vehicle file to logs of the vehicle moving under known forces: neurov runs' result.npz "
-    "or result.csv, or other logs (CSV, ROS 1/2 bags, ArduSub .tlog) described by a --mapping file. "
+    "or result.csv, or other logs (CSV, ROS 1/2 bags, ArduSub .tlog or DataFlash .bin) described by a --mapping file. "
     "The free parameters (default: added mass, linear and quadratic damping of every DOF) are "
     "fitted by equation error on the regressor, then by output error over short segments; the "
     "rest is the template's. Prints each parameter's estimate and 95 % interval (a block "
@@ -40,11 +40,27 @@ def add_parser(sub: Any, epilog: str) -> None:
                    help="RK4 steps per log interval in the output error and free runs (default 1)")
     p.add_argument("--block", type=float, default=5.0, metavar="SECONDS",
                    help="length of the bootstrap's blocks (default 5 s)")
-    p.add_argument("--velocity-lag", type=float, default=0.0, metavar="SECONDS",
+    p.add_argument("--velocity-lag", type=_lag, default=0.0, metavar="SECONDS|auto",
                    help="the estimator's lag of the linear velocity behind the motion, undone "
-                        "before fitting (default 0)")
+                        "before fitting; 'auto' estimates it from the data (default 0)")
+    p.add_argument("--estimator", choices=("auto", "on", "off"), default="auto",
+                   help="model an estimator that holds the linear velocity between sensor updates "
+                        "(an EKF's staircase) in the output error: auto (where the logs show one), "
+                        "on or off (default auto)")
     p.add_argument("--water-density", type=float, default=None, metavar="KG_M3",
                    help="the water of the logs, for a template that gives its displaced volume")
+
+
+_ESTIMATOR: dict[str, bool | str] = {"auto": "auto", "on": True, "off": False}
+
+
+def _lag(text: str) -> float | str:
+    if text == "auto":
+        return text
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected seconds or 'auto', got {text!r}") from None
 
 
 def run(args: argparse.Namespace) -> int:
@@ -64,7 +80,8 @@ def run(args: argparse.Namespace) -> int:
     result = identify(args.logs, vehicle, free=args.free, heldout=args.heldout, out=args.out,
                       mapping=args.mapping, output_error=not args.equation_error_only,
                       substeps=args.substeps, block_s=args.block, water_density=args.water_density,
-                      velocity_lag=args.velocity_lag)
+                      velocity_lag=args.velocity_lag,
+                      estimator=_ESTIMATOR[args.estimator])
     print(report_text(result), end="")
     if result.out is not None:
         print(f"wrote {result.out}")

@@ -14,6 +14,8 @@ from neurov import _core
 from neurov.identification.equation_error import equation_rows, fit_linear
 from neurov.identification.errors import IdentificationError
 from neurov.identification.heldout import HeldOut, held_out
+from neurov.identification.estimator_model import staircase
+from neurov.identification.lag import profile_lag
 from neurov.identification.log import Log, advance_linear_velocity
 from neurov.identification.output_error import bounds, fit_output_error
 from neurov.identification.parameters import GROUPS, free_indices, template_theta, vehicle_parameters
@@ -102,7 +104,7 @@ def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Pat
              output_error: bool = True, substeps: int = 1, window_s: float = 0.5,
              block_s: float = 5.0, replicates: int = 200, seed: int = 0,
              water_density: float | None = None, segment_s: float = 2.0,
-             velocity_lag: float = 0.0) -> Identification:
+             velocity_lag: float | str = 0.0, estimator: bool | str = "auto") -> Identification:
     """Fits the `free` parameters (default: added mass, linear and quadratic
     damping of every DOF; also ``mass``, ``inertia``, ``restoring`` for W - B
     and z_g W - z_b B) of the template vehicle file `vehicle` to `logs`
@@ -113,30 +115,49 @@ def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Pat
     free run on each; with `out`, writes the fitted vehicle file.
     Stage 2's shooting segments are `segment_s` seconds long.
     `velocity_lag` [s] moves the logs' linear velocities that much earlier,
-    for an estimator's lag (docs/identification.md, the worked example)."""
+    for an estimator's lag; ``"auto"`` estimates it from the data
+    (:mod:`neurov.identification.lag`). `estimator` models in stage 2 an
+    estimator that holds the linear velocity between a sensor's updates
+    (:mod:`neurov.identification.estimator_model`): ``"auto"`` where a log's
+    linear velocity is such a staircase, True, or False (docs/identification.md,
+    the worked example)."""
     items = logs if isinstance(logs, list) else [logs]
     read = [x if isinstance(x, Log) else read_log(x, mapping, _thrusters(vehicle)) for x in items]
     if not read:
         raise IdentificationError("no log given")
-    read = [advance_linear_velocity(log, velocity_lag) for log in read]
     template = read_vehicle_file(vehicle)
     if water_density is not None:
         template = template.in_water(water_density)
     theta0 = template_theta(template.vehicle(), str(vehicle))
     free_idx = free_indices(free)
-    rows = equation_rows(read, window_s=window_s, block_s=block_s)
-    lin = fit_linear(rows, theta0, free_idx)
-    theta1 = lin.theta.copy()
+    if estimator == "auto":
+        model_estimator = output_error and any(staircase(log) for log in read)
+    elif isinstance(estimator, bool):
+        model_estimator = estimator and output_error
+    else:
+        raise IdentificationError(f"estimator: expected True, False or 'auto', got {estimator!r}")
+
+    def stages(logs_: list[Log]) -> _Stages:
+        return _fit_stages(logs_, template.parameters, theta0, free_idx, output_error,
+                           window_s=window_s, block_s=block_s, segment_s=segment_s, substeps=substeps,
+                           estimator=model_estimator)
+
+    lag_note: list[str] = []
+    if velocity_lag == "auto":
+        if not output_error:
+            raise IdentificationError("velocity_lag='auto' is judged by the output-error residual: "
+                                      "it needs the output-error stage")
+        lag, read, st, profile = profile_lag(read, stages, lambda x: x.rms)
+        lag_note.append("velocity lag estimated from the data: " + f"{lag:g} s (output-error RMS " +
+                        ", ".join(f"{r:.4g} at {l:g} s" for l, r in profile) + ")")
+    elif isinstance(velocity_lag, (int, float)) and not isinstance(velocity_lag, bool):
+        read = [advance_linear_velocity(log, float(velocity_lag)) for log in read]
+        st = stages(read)
+    else:
+        raise IdentificationError(f"velocity_lag: expected seconds >= 0 or 'auto', got {velocity_lag!r}")
+    rows, lin, theta, blocks, offset = st.rows, st.lin, st.theta, st.blocks, st.offset
     lo, hi = bounds(lin.fitted, template.parameters)
-    theta1[lin.fitted] = np.clip(theta1[lin.fitted], lo, hi)
-    stages = "equation error"
-    theta, blocks = theta1, lin.blocks
-    offset = np.zeros(24)
-    if output_error:
-        oe = fit_output_error(read, template.parameters, theta1, lin.fitted, segment_s=segment_s,
-                              substeps=substeps, block_s=block_s)
-        theta, blocks, offset = oe.theta, oe.blocks, oe.at
-        stages = "equation error, then output error"
+    stages_done = "equation error, then output error" if output_error else "equation error"
     try:
         samples = blocks.bootstrap(replicates, seed)
     except np.linalg.LinAlgError:
@@ -149,8 +170,12 @@ def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Pat
     interval[lin.fitted] = np.clip(q, lo[:, None], hi[:, None])
     result = Identification(template=template, logs=read, theta_template=theta0, theta=theta,
                             theta_stage1=lin.theta, fitted=lin.fitted, reasons=lin.reasons,
-                            interval=interval, condition=lin.condition, stages=stages)
-    result.warnings = _warnings(read, rows, lin, interval, theta)
+                            interval=interval, condition=lin.condition, stages=stages_done)
+    if st.gain is not None:
+        lag_note.append("the logs' linear velocity is held between sensor updates (an estimator's "
+                        "staircase): modelled in the output error, update gains (u, v, w) "
+                        + ", ".join(f"{g:.3f}" for g in st.gain))
+    result.warnings = lag_note + _warnings(read, rows, lin, interval, theta)
     fitted_vehicle = result.vehicle()
     for h in heldout or []:
         hl = h if isinstance(h, Log) else read_log(h, mapping, _thrusters(vehicle))
@@ -163,6 +188,34 @@ def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Pat
                                         name=f"{_name(vehicle)} (fitted)",
                                         source=f"neurov identify from {', '.join(l.source for l in read)}")
     return result
+
+
+@dataclass
+class _Stages:
+    rows: Any
+    lin: Any
+    theta: Array
+    blocks: Any
+    offset: Array
+    rms: float
+    gain: Array | None = None
+
+
+def _fit_stages(logs: list[Log], template: dict[str, Any], theta0: Array, free_idx: list[int],
+                output_error: bool, *, window_s: float, block_s: float, segment_s: float,
+                substeps: int, estimator: bool) -> _Stages:
+    """Stage 1, then (`output_error`) stage 2 from it: the estimate, the
+    blocks of its bootstrap and the offset their samples are taken from."""
+    rows = equation_rows(logs, window_s=window_s, block_s=block_s)
+    lin = fit_linear(rows, theta0, free_idx)
+    theta1 = lin.theta.copy()
+    lo, hi = bounds(lin.fitted, template)
+    theta1[lin.fitted] = np.clip(theta1[lin.fitted], lo, hi)
+    if not output_error:
+        return _Stages(rows, lin, theta1, lin.blocks, np.zeros(24), float("nan"))
+    oe = fit_output_error(logs, template, theta1, lin.fitted, segment_s=segment_s,
+                          substeps=substeps, block_s=block_s, estimator=estimator)
+    return _Stages(rows, lin, oe.theta, oe.blocks, oe.at, oe.rms, oe.gain)
 
 
 def _name(path: str | Path) -> str:

@@ -1,7 +1,7 @@
 """The mapping file: which of a log's signals is which, in which units and
 frames. A TOML file::
 
-    format = "csv"              # csv | rosbag | tlog
+    format = "csv"              # csv | rosbag | tlog | dataflash
     body_frame = "frd"          # frd (x forward, y starboard, z down: neurov's) or flu (ROS)
     world_frame = "ned"         # ned (neurov's) or enu (ROS)
     time = { column = "time", unit = "s" }    # s | ms | us | ns
@@ -45,7 +45,8 @@ UNITS: dict[str, dict[str, float]] = {
 }
 KINDS = {"eta": ("length",) * 3 + ("angle",) * 3, "nu": ("velocity",) * 3 + ("rate",) * 3,
          "tau": ("force",) * 3 + ("moment",) * 3}
-_TOP = {"format", "body_frame", "world_frame", "time", "signals", "topics", "servo_channels", "max_age"}
+_TOP = {"format", "body_frame", "world_frame", "time", "signals", "topics", "servo_channels", "max_age",
+        "water_density", "surface_pressure", "thruster_command"}
 
 
 class Mapping:
@@ -56,7 +57,7 @@ class Mapping:
             if key not in _TOP:
                 raise LogError(f"{where}: unknown field {key!r} (expected one of {sorted(_TOP)})")
         self.where = where
-        self.format = _choice(data, "format", ("csv", "rosbag", "tlog"), where, "csv")
+        self.format = _choice(data, "format", ("csv", "rosbag", "tlog", "dataflash"), where, "csv")
         self.body_frame = _choice(data, "body_frame", ("frd", "flu"), where, "frd")
         self.world_frame = _choice(data, "world_frame", ("ned", "enu"), where, "ned")
         if (self.body_frame, self.world_frame) not in (("frd", "ned"), ("flu", "enu")):

@@ -13,8 +13,8 @@ __all__ = ["read_log"]
 
 
 def read_log(path: str | Path, mapping: str | Path | None = None, thrusters: Any = None) -> Log:
-    """A log from `path`: with `mapping`, a CSV, a ROS bag or an ArduSub
-    telemetry log as the mapping file says (a tlog's PWM goes through
+    """A log from `path`: with `mapping`, a CSV, a ROS bag, an ArduSub
+    telemetry log or DataFlash log as the mapping file says (a tlog's or DataFlash log's PWM goes through
     `thrusters`, the template's ``[thrusters]`` table); without, a neurov
     run's result.npz, result.csv or Parquet file."""
     if mapping is None:
@@ -25,11 +25,15 @@ def read_log(path: str | Path, mapping: str | Path | None = None, thrusters: Any
     if m.format == "rosbag":
         from neurov.identification.rosbag_log import read_rosbag
 
-        return read_rosbag(path, m)
+        return read_rosbag(path, m, thrusters)
     if m.format == "tlog":
         from neurov.identification.tlog_log import read_tlog
 
         return read_tlog(path, m, thrusters)
+    if m.format == "dataflash":
+        from neurov.identification.dataflash_log import read_dataflash
+
+        return read_dataflash(path, m, thrusters)
     from neurov.identification.csv_mapping import read_mapped_csv
 
     return read_mapped_csv(path, m)

@@ -1,17 +1,37 @@
-"""ROS 1 and ROS 2 bags through ``rosbags`` (no ROS installation): the
-pose and body velocity from a ``nav_msgs/msg/Odometry`` topic (its time
-base: the messages' header stamps, integer nanoseconds), the force from a
-``geometry_msgs/msg/WrenchStamped`` topic in the body frame, held from its
-latest message (the zero-order hold of the command) and cut where older
-than the mapping's ``max_age``. The mapping file (see
+"""ROS 1 and ROS 2 bags through ``rosbags`` (no ROS installation), from
+the topics the mapping file names:
+
+- ``odometry`` (``nav_msgs/msg/Odometry``, required): the time base (its
+  header stamps, integer nanoseconds), the position and the body twist (a
+  DVL's velocity, as a vehicle's odometry gives it);
+- ``imu`` (``sensor_msgs/msg/Imu``, optional): the attitude (its orientation)
+  and the body rates (its angular velocity) instead of the odometry's;
+- ``pressure`` (``sensor_msgs/msg/FluidPressure``, optional): the depth
+  instead of the odometry's z, depth = (p - surface_pressure) / (rho g) with
+  the mapping's ``water_density`` (required with it) and ``surface_pressure``
+  (default 101325 Pa), g = 9.80665 m/s^2;
+- the force, one of: ``wrench`` (``geometry_msgs/msg/WrenchStamped``, the
+  body wrench) or ``thrusters`` (``std_msgs/msg/Float64MultiArray``, one
+  command per thruster, stamped by the bag's receive time as it has no
+  header): ``thruster_command = "N"`` (thrusts, through the template's
+  configuration matrix) or ``"pwm"`` (through its thruster curves, as a
+  tlog's PWM).
+
+Every signal but the odometry is held from its latest message onto the time
+base (the zero-order hold of a command) and cut where older than the
+mapping's ``max_age``. The mapping file (see
 :mod:`neurov.identification.mapping`)::
 
     format = "rosbag"
     body_frame = "flu"          # REP 103: base_link forward-left-up
     world_frame = "enu"         # odom / map east-north-up
+    water_density = 997.0       # kg/m^3, with a pressure topic
+    thruster_command = "N"      # N or pwm, with a thrusters topic
     [topics]
     odometry = "/rov/odometry"
-    wrench = "/rov/thrust_wrench"
+    imu = "/rov/imu"
+    pressure = "/rov/pressure"
+    thrusters = "/rov/thruster_commands"   # or wrench = "/rov/thrust_wrench"
 """
 
 from __future__ import annotations
@@ -30,7 +50,11 @@ from neurov.identification.mapping import Mapping, to_neurov_frames
 __all__ = ["read_rosbag", "euler_from_quaternion", "stamp_ns", "topic_messages"]
 
 Array = NDArray[np.float64]
-_TOPICS = {"odometry": "nav_msgs/msg/Odometry", "wrench": "geometry_msgs/msg/WrenchStamped"}
+_TOPICS = {"odometry": "nav_msgs/msg/Odometry", "wrench": "geometry_msgs/msg/WrenchStamped",
+           "imu": "sensor_msgs/msg/Imu", "pressure": "sensor_msgs/msg/FluidPressure",
+           "thrusters": "std_msgs/msg/Float64MultiArray"}
+G = 9.80665  # m/s^2, standard gravity (as pressure sensors' depth uses)
+SURFACE_PRESSURE = 101325.0  # Pa, the standard atmosphere
 
 
 def euler_from_quaternion(q: Array) -> Array:
@@ -61,30 +85,88 @@ def topic_messages(reader: Any, topic: str, msgtype: str | tuple[str, ...], wher
     return [reader.deserialize(raw, c.msgtype) for c, _, raw in reader.messages(connections=conns)]
 
 
-def read_rosbag(path: str | Path, mapping: Mapping) -> Log:
+def _received(reader: Any, topic: str) -> list[int]:
+    """The bag's receive times [ns] of `topic`'s messages (for unstamped ones)."""
+    conns = [c for c in reader.connections if c.topic == topic]
+    return [int(ns) for _, ns, _ in reader.messages(connections=conns)]
+
+
+def _topics(mapping: Mapping) -> dict[str, str]:
+    topics = mapping.data.get("topics")
+    where = mapping.where
+    if not isinstance(topics, dict):
+        raise LogError(f"{where}: topics: expected a table naming 'odometry' and 'wrench' or 'thrusters'")
+    for key, name in topics.items():
+        if key not in _TOPICS:
+            raise LogError(f"{where}: topics.{key}: unknown (expected some of {sorted(_TOPICS)})")
+        if not isinstance(name, str):
+            raise LogError(f"{where}: topics.{key}: expected a topic name, got {name!r}")
+    if "odometry" not in topics:
+        raise LogError(f"{where}: topics.odometry: expected a topic name (the time base and velocity)")
+    if ("wrench" in topics) == ("thrusters" in topics):
+        raise LogError(f"{where}: topics: expected one of 'wrench' and 'thrusters' for the force")
+    return topics
+
+
+def _positive(mapping: Mapping, key: str, default: float | None) -> float:
+    v = mapping.data.get(key, default)
+    if v is None:
+        raise LogError(f"{mapping.where}: {key}: expected a number > 0 (needed with a pressure topic)")
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not v > 0:
+        raise LogError(f"{mapping.where}: {key}: expected a number > 0, got {v!r}")
+    return float(v)
+
+
+def _thrust(mapping: Mapping, commands: Array, thrusters: dict[str, Any] | None, where: str) -> Array:
+    """The body wrench of per-thruster commands."""
+    unit = mapping.data.get("thruster_command", "N")
+    if unit not in ("N", "pwm"):
+        raise LogError(f"{mapping.where}: thruster_command: expected 'N' or 'pwm', got {unit!r}")
+    if thrusters is None:
+        raise LogError(f"{where}: thruster commands need the template's [thrusters] to become a force")
+    n = thrusters["matrix"].shape[1]
+    if commands.shape[1] != n:
+        raise LogError(f"{where}: {commands.shape[1]} values per message, expected {n} (the "
+                       "template's thrusters)")
+    if unit == "N":
+        return commands @ np.asarray(thrusters["matrix"]).T
+    if thrusters.get("curves") is None:
+        raise LogError(f"{where}: PWM commands need the template's [thrusters.curve] to become thrust")
+    from neurov.identification.tlog_log import pwm_force
+
+    return pwm_force(commands, thrusters)
+
+
+def read_rosbag(path: str | Path, mapping: Mapping, thrusters: dict[str, Any] | None = None) -> Log:
     from rosbags.highlevel import AnyReader
 
     path = Path(path)
     if not path.exists():
         raise LogError(f"{path}: no such bag")
-    topics = mapping.data.get("topics")
-    if not isinstance(topics, dict):
-        raise LogError(f"{mapping.where}: topics: expected a table naming 'odometry' and 'wrench'")
-    for key in _TOPICS:
-        if not isinstance(topics.get(key), str):
-            raise LogError(f"{mapping.where}: topics.{key}: expected a topic name")
+    topics = _topics(mapping)
+    density = _positive(mapping, "water_density", None) if "pressure" in topics else 0.0
+    p0 = _positive(mapping, "surface_pressure", SURFACE_PRESSURE) if "pressure" in topics else 0.0
+    msgs: dict[str, list[Any]] = {}
     try:
         with AnyReader([path]) as reader:
-            odom = topic_messages(reader, topics["odometry"], _TOPICS["odometry"], str(path))
-            wrench = topic_messages(reader, topics["wrench"], _TOPICS["wrench"], str(path))
+            for key, topic in topics.items():
+                msgs[key] = topic_messages(reader, topic, _TOPICS[key], str(path))
+            received = _received(reader, topics["thrusters"]) if "thrusters" in topics else []
     except LogError:
         raise
     except Exception as e:  # rosbags' own errors for a file that is not a bag
         raise LogError(f"{path}: not a readable bag: {e}") from None
-    if not odom or not wrench:
-        raise LogError(f"{path}: topic {topics['odometry' if not odom else 'wrench']!r} has no message")
+    for key, found in msgs.items():
+        if not found:
+            raise LogError(f"{path}: topic {topics[key]!r} has no message")
+    odom = msgs["odometry"]
     t_ns = np.array([stamp_ns(m) for m in odom], dtype=np.int64)
     t = (t_ns - t_ns[0]) * 1e-9
+
+    def held(key: str, values: Array, stamps: Any = None) -> Array:
+        ns = np.array([stamp_ns(m) for m in msgs[key]] if stamps is None else stamps, dtype=np.int64)
+        return hold(t, (ns - t_ns[0]) * 1e-9, values, mapping.max_age, f"{path}: {topics[key]}")
+
     pos = np.array([[m.pose.pose.position.x, m.pose.pose.position.y, m.pose.pose.position.z]
                     for m in odom])
     quat = np.array([[m.pose.pose.orientation.x, m.pose.pose.orientation.y,
@@ -92,10 +174,35 @@ def read_rosbag(path: str | Path, mapping: Mapping) -> Log:
     twist = np.array([[m.twist.twist.linear.x, m.twist.twist.linear.y, m.twist.twist.linear.z,
                        m.twist.twist.angular.x, m.twist.twist.angular.y, m.twist.twist.angular.z]
                       for m in odom])
-    w_t = (np.array([stamp_ns(m) for m in wrench], dtype=np.int64) - t_ns[0]) * 1e-9
-    w = np.array([[m.wrench.force.x, m.wrench.force.y, m.wrench.force.z,
-                   m.wrench.torque.x, m.wrench.torque.y, m.wrench.torque.z] for m in wrench])
-    tau = hold(t, w_t, w, mapping.max_age, f"{path}: {topics['wrench']}")
-    eta = np.hstack([pos, euler_from_quaternion(quat)])
+    angles = euler_from_quaternion(quat)
+    if "imu" in msgs:
+        imu = msgs["imu"]
+        q = np.array([[m.orientation.x, m.orientation.y, m.orientation.z, m.orientation.w] for m in imu])
+        w = np.array([[m.angular_velocity.x, m.angular_velocity.y, m.angular_velocity.z] for m in imu])
+        both = held("imu", np.hstack([q, w]))
+        ok = np.all(np.isfinite(both), axis=1)
+        angles = np.full_like(angles, np.nan)
+        angles[ok] = euler_from_quaternion(both[ok, :4])
+        twist[:, 3:] = both[:, 4:]
+    if "pressure" in msgs:
+        depth = held("pressure", np.array([[(m.fluid_pressure - p0) / (density * G)]
+                                           for m in msgs["pressure"]]))[:, 0]
+        pos[:, 2] = -depth if mapping.world_frame == "enu" else depth
+    if "wrench" in msgs:
+        w = np.array([[m.wrench.force.x, m.wrench.force.y, m.wrench.force.z,
+                       m.wrench.torque.x, m.wrench.torque.y, m.wrench.torque.z] for m in msgs["wrench"]])
+        tau = held("wrench", w)
+    else:
+        where = f"{path}: {topics['thrusters']}"
+        rows = [np.asarray(m.data, dtype=np.float64) for m in msgs["thrusters"]]
+        if len({r.size for r in rows}) != 1:
+            raise LogError(f"{where}: the messages hold different numbers of commands")
+        commands = held("thrusters", np.vstack(rows), received)
+        # The configuration matrix acts in neurov's body frame: the force it
+        # gives is turned back into the log's frame with the rest below.
+        tau = _thrust(mapping, commands, thrusters, where)
+        if mapping.body_frame == "flu":
+            tau = tau * np.array([1, -1, -1, 1, -1, -1.0])
+    eta = np.hstack([pos, angles])
     eta, nu, tau = to_neurov_frames(eta, twist, tau, mapping.body_frame, mapping.world_frame)
     return make_log(str(path), t, eta, nu, tau)

@@ -28,12 +28,13 @@ from neurov.identification.errors import LogError
 from neurov.identification.log import Log, make_log
 from neurov.identification.mapping import Mapping
 
-__all__ = ["read_tlog"]
+__all__ = ["pwm_force", "read_tlog", "servo_channels"]
 
 Array = NDArray[np.float64]
 
 
-def _channels(mapping: Mapping, n: int) -> list[int]:
+def servo_channels(mapping: Mapping, n: int) -> list[int]:
+    """The servo output (1..16) of each of the `n` thrusters, from the mapping."""
     ch = mapping.data.get("servo_channels", list(range(1, n + 1)))
     if not (isinstance(ch, list) and len(ch) == n and all(isinstance(c, int) and 1 <= c <= 16 for c in ch)):
         raise LogError(f"{mapping.where}: servo_channels: expected {n} servo numbers from 1 to 16 "
@@ -41,17 +42,35 @@ def _channels(mapping: Mapping, n: int) -> list[int]:
     return ch
 
 
-def read_tlog(path: str | Path, mapping: Mapping, thrusters: dict[str, Any] | None) -> Log:
-    from pymavlink import mavutil
-
-    path = Path(path)
+def check_thrusters(path: Path, thrusters: dict[str, Any] | None) -> dict[str, Any]:
+    """`thrusters`, checked: LogError naming `path` when it is missing or
+    when the template has no thruster curves to turn PWM into thrust."""
     if not path.is_file():
         raise LogError(f"{path}: no such file")
     if thrusters is None or thrusters.get("curves") is None:
         raise LogError(f"{path}: a telemetry log's PWM needs the template's [thrusters] with a "
                        "[thrusters.curve] to become a force")
-    n = thrusters["matrix"].shape[1]
-    channels = _channels(mapping, n)
+    return thrusters
+
+
+def pwm_force(pwm: Array, thrusters: dict[str, Any]) -> Array:
+    """The body wrench (n, 6) of PWM rows (n, thrusters) through the
+    template's thruster curves at its supply voltage and its configuration
+    matrix; a row with a missing PWM stays NaN."""
+    curves, volts = thrusters["curves"], thrusters["supply_voltage"]
+    thrust = np.full_like(pwm, np.nan)
+    ok = np.all(np.isfinite(pwm), axis=1)
+    for i, c in enumerate(curves):
+        thrust[ok, i] = [c.static_thrust(float(x), volts) for x in pwm[ok, i]]
+    return thrust @ thrusters["matrix"].T
+
+
+def read_tlog(path: str | Path, mapping: Mapping, thrusters: dict[str, Any] | None) -> Log:
+    from pymavlink import mavutil
+
+    path = Path(path)
+    thrusters = check_thrusters(path, thrusters)
+    channels = servo_channels(mapping, thrusters["matrix"].shape[1])
     rows: dict[str, list[Any]] = {"ATTITUDE": [], "LOCAL_POSITION_NED": [], "SERVO_OUTPUT_RAW": []}
     conn = mavutil.mavlink_connection(str(path), dialect="ardupilotmega")
     try:
@@ -78,12 +97,7 @@ def read_tlog(path: str | Path, mapping: Mapping, thrusters: dict[str, Any] | No
     so_t = np.array([m.time_usec for m in so], dtype=np.float64) * 1e-6
     pwm = np.array([[getattr(m, f"servo{c}_raw") for c in channels] for m in so], dtype=np.float64)
     pwm_held = hold(t, so_t, pwm, mapping.max_age, f"{path}: SERVO_OUTPUT_RAW")
-    curves, volts = thrusters["curves"], thrusters["supply_voltage"]
-    thrust = np.full_like(pwm_held, np.nan)
-    ok = np.all(np.isfinite(pwm_held), axis=1)
-    for i, c in enumerate(curves):
-        thrust[ok, i] = [c.static_thrust(float(x), volts) for x in pwm_held[ok, i]]
-    tau = thrust @ thrusters["matrix"].T
+    tau = pwm_force(pwm_held, thrusters)
     nu = np.full((len(t), 6), np.nan)
     nu[:, 3:] = rates
     for k in np.flatnonzero(np.all(np.isfinite(held), axis=1)):

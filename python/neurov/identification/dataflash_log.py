@@ -1,0 +1,102 @@
+"""ArduSub's onboard DataFlash logs (``.bin``) through ``pymavlink``
+(``mavutil.mavlink_connection`` reads DataFlash with its ``DFReader``).
+
+The messages are ArduPilot's log messages, at their logging rates: the time
+base is ATT's ``TimeUS`` (``Roll``, ``Pitch``, ``Yaw`` in degrees); the body
+rates are IMU's ``GyrX``, ``GyrY``, ``GyrZ`` [rad/s] of the first IMU
+(``I`` = 0); the position and NED velocity are the EKF's: XKF1 (EKF3) of
+core ``C`` = 0, or NKF1 (EKF2) in older logs (``PN``, ``PE``, ``PD``, ``VN``,
+``VE``, ``VD``; depth from the barometer is fused there), the velocity turned
+into the body frame; RCOU's ``C1``..``C14`` are the servo outputs' PWM, which
+go through the template's thruster curves and configuration matrix as a
+tlog's SERVO_OUTPUT_RAW does (:mod:`neurov.identification.tlog_log`). Each
+signal is held onto the time base and cut where older than ``max_age``. The
+mapping file::
+
+    format = "dataflash"
+    servo_channels = [1, 2, 3, 4, 5, 6, 7, 8]   # the RCOU channel of each thruster (default 1..n)
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from neurov import _core
+from neurov.identification.alignment import hold
+from neurov.identification.errors import LogError
+from neurov.identification.log import Log, make_log
+from neurov.identification.mapping import Mapping
+from neurov.identification.tlog_log import check_thrusters, pwm_force, servo_channels
+
+__all__ = ["read_dataflash"]
+
+Array = NDArray[np.float64]
+_WANTED = ("ATT", "IMU", "XKF1", "NKF1", "RCOU")
+
+
+def _messages(path: Path) -> dict[str, list[Any]]:
+    from pymavlink import mavutil
+
+    rows: dict[str, list[Any]] = {name: [] for name in _WANTED}
+    try:
+        conn = mavutil.mavlink_connection(str(path))
+    except Exception as e:  # DFReader's own errors for a file that is not DataFlash
+        raise LogError(f"{path}: not a readable DataFlash log: {e}") from None
+    try:
+        while True:
+            m = conn.recv_match(type=list(_WANTED))
+            if m is None:
+                break
+            rows[m.get_type()].append(m)
+    finally:
+        conn.close()
+    return rows
+
+
+def _first_instance(found: list[Any], field: str) -> list[Any]:
+    """The messages of instance 0 (the first IMU, the primary EKF core)."""
+    return [m for m in found if int(getattr(m, field, 0)) == 0]
+
+
+def read_dataflash(path: str | Path, mapping: Mapping, thrusters: dict[str, Any] | None) -> Log:
+    path = Path(path)
+    thrusters = check_thrusters(path, thrusters)
+    channels = servo_channels(mapping, thrusters["matrix"].shape[1])
+    rows = _messages(path)
+    ekf = "XKF1" if rows["XKF1"] else "NKF1"
+    for name in ("ATT", "IMU", ekf, "RCOU"):
+        if not rows[name]:
+            what = "XKF1 (EKF3) or NKF1 (EKF2)" if name == ekf else name
+            raise LogError(f"{path}: no {what} message (ArduSub logs it with the LOG_BITMASK "
+                           "parameter's attitude, IMU, EKF and RC output bits)")
+    att = rows["ATT"]
+    t_us = np.array([m.TimeUS for m in att], dtype=np.float64)
+    t = t_us * 1e-6
+    angles = np.radians(np.array([[m.Roll, m.Pitch, m.Yaw] for m in att], dtype=np.float64))
+    angles[:, 2] = (angles[:, 2] + np.pi) % (2 * np.pi) - np.pi
+    imu = _first_instance(rows["IMU"], "I")
+    gyro = hold(t, np.array([m.TimeUS for m in imu], dtype=np.float64) * 1e-6,
+                np.array([[m.GyrX, m.GyrY, m.GyrZ] for m in imu], dtype=np.float64),
+                mapping.max_age, f"{path}: IMU")
+    kf = _first_instance(rows[ekf], "C")
+    state = hold(t, np.array([m.TimeUS for m in kf], dtype=np.float64) * 1e-6,
+                 np.array([[m.PN, m.PE, m.PD, m.VN, m.VE, m.VD] for m in kf], dtype=np.float64),
+                 mapping.max_age, f"{path}: {ekf}")
+    rc = rows["RCOU"]
+    try:
+        pwm = np.array([[getattr(m, f"C{c}") for c in channels] for m in rc], dtype=np.float64)
+    except AttributeError as e:
+        raise LogError(f"{path}: RCOU has no field for a servo channel of {mapping.where}'s "
+                       f"servo_channels ({e})") from None
+    pwm_held = hold(t, np.array([m.TimeUS for m in rc], dtype=np.float64) * 1e-6, pwm,
+                    mapping.max_age, f"{path}: RCOU")
+    nu = np.full((len(t), 6), np.nan)
+    nu[:, 3:] = gyro
+    for k in np.flatnonzero(np.all(np.isfinite(state), axis=1)):
+        nu[k, :3] = _core.rotation(*angles[k]).T @ state[k, 3:]
+    eta = np.hstack([state[:, :3], angles])
+    return make_log(str(path), t, eta, nu, pwm_force(pwm_held, thrusters))
