@@ -347,3 +347,33 @@ def test_cmaes_searches_the_gains_and_one_seed_gives_one_search(tmp_path: Path) 
         assert any(k.startswith("cma:") for t in study.trials for k in t.system_attrs)
         found.append([t.params for t in study.trials])
     assert found[0] == found[1]
+
+
+GP_TUNING = CMAES_TUNING.replace('sampler = "cmaes"', 'sampler = "gp"')
+
+
+@pytest.mark.slow  # 25 s on an idle core, most of it importing PyTorch and fitting the process
+def test_gp_searches_the_gains_and_one_seed_gives_one_search(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    # Optuna's GPSampler needs PyTorch, which CI does not install: exercised where torch is.
+    pytest.importorskip("torch")
+    proposed: list[dict[str, float]] = []
+    real = optuna.samplers.GPSampler.sample_relative
+
+    def spy(self, study, trial, space):  # type: ignore[no-untyped-def]
+        out = real(self, study, trial, space)
+        proposed.append(out)
+        return out
+
+    monkeypatch.setattr(optuna.samplers.GPSampler, "sample_relative", spy)
+    found = []
+    for run in ("a", "b"):
+        folder = tmp_path / run
+        folder.mkdir()
+        tuning = load_tuning(write(folder, trials=12, tuning=GP_TUNING))
+        tune(tuning, folder / "out", workers=1, verdict=False, plots=False, progress=False)
+        study = optuna_study(tuning, "pd", open_storage(folder / "out"))
+        assert len(study.trials) == 12
+        found.append([t.params for t in study.trials])
+    # The Gaussian process proposed the trials after its ten random ones (both parameters at once).
+    assert sum(1 for p in proposed if set(p) == {"kp", "kd"}) >= 2
+    assert found[0] == found[1]
