@@ -88,10 +88,13 @@ def evaluate(tuning: Tuning, controller: str, values: Mapping[str, Any], runner:
                 values_per_run.append(s.failure_penalty)
             else:
                 values_per_run.append(float(rec["row"][s.objective]))
+            # Judged after each run, whatever the batches the runs came in, so that
+            # the trials do not depend on the number of workers; never after the last.
             if pruning is not None and len(values_per_run) < total:
-                # The last run is never pruned on: the trial is whole by then.
                 pruning.report(float(agg(values_per_run)), len(values_per_run) - 1)
-        return pruning is not None and len(values_per_run) < total and bool(pruning.should_prune())
+                if pruning.should_prune():
+                    return True  # the batch's later runs are not counted
+        return False
 
     runner.run(study, take)
     runs = len(values_per_run)
