@@ -1,7 +1,8 @@
 """Pruning: a seeded tuning on two scenarios where the median rule stops
 bad trials after the first scenario, counts them against the budget, writes
 them to trials.csv as pruned, and still lands within 10 % of the optimum a
-grid finds."""
+grid finds; and a trial is judged after the same run whatever the
+batches its runs come back in."""
 
 from __future__ import annotations
 
@@ -66,3 +67,44 @@ def test_without_a_pruner_every_trial_runs_whole(tmp_path: Path) -> None:
     study = optuna_study(tuning, "pd", open_storage(tmp_path / "out"))
     assert [t.state for t in study.trials] == [optuna.trial.TrialState.COMPLETE] * 6
     assert {t.user_attrs["runs"] for t in study.trials} == {6}
+
+
+class Batches:
+    """A runner that hands the runs back `size` at a time, as workers do."""
+
+    def __init__(self, size: int) -> None:
+        self.size = size
+
+    def run(self, study, on_runs):  # type: ignore[no-untyped-def]
+        from neurov.study.one_run import plan_runs
+        from neurov.tuning.trial_runs import run_keys_safely
+
+        keys = [(k.scenario, k.controller, k.sample) for k in plan_runs(study)]
+        out = []
+        for i in range(0, len(keys), self.size):
+            new = run_keys_safely(study, keys[i:i + self.size])
+            out += new
+            if on_runs(new):
+                break
+        return out
+
+
+class PruneAtThirdRun:
+    def __init__(self) -> None:
+        self.steps: list[int] = []
+
+    def report(self, value: float, step: int) -> None:
+        self.steps.append(step)
+
+    def should_prune(self) -> bool:
+        return self.steps[-1] >= 2
+
+
+@pytest.mark.parametrize("size", [1, 2, 4])
+def test_a_trial_is_pruned_after_the_same_run_whatever_the_batches(tmp_path: Path, size: int) -> None:
+    tuning = load_tuning(_two_scenarios(tmp_path, 4, "median"))
+    pruning = PruneAtThirdRun()
+    outcome = evaluate(tuning, "pd", {"kp": 1.0}, Batches(size), pruning=pruning)  # type: ignore[arg-type]
+    assert outcome.pruned and outcome.runs == 3 and pruning.steps == [0, 1, 2]
+    whole = evaluate(tuning, "pd", {"kp": 1.0}, Batches(size))  # type: ignore[arg-type]
+    assert not whole.pruned and whole.runs == 6
