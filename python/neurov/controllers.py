@@ -104,15 +104,26 @@ def default_centre_box(scenario: Scenario) -> tuple[Array, Array]:
     return low, high
 
 
-def make_centres(spec: ControllerSpec, low: Array, high: Array) -> Array:
+def make_centres(spec: ControllerSpec, low: Array, high: Array, scenario: Scenario | None = None) -> Array:
     """The (N, 24) centres a controller spec asks for; `low`/`high` is the box
-    used when the spec gives none."""
+    used when the spec gives none; `scenario` the run's, for centres along
+    its commanded path (``method = "path"``)."""
     c = spec.centres
     if isinstance(c, np.ndarray):
         return np.asarray(c, dtype=np.float64)
     method = c.get("method", "sobol")
     if method == "grid":
         return centre_placement.grid(c["axes"])
+    if method == "path":
+        if scenario is None:
+            raise ValueError("centres.method 'path' places the centres on a scenario's path: give the scenario")
+        from neurov.network import along_path
+
+        centres = along_path(scenario, int(c.get("n", 64)), seed=int(c.get("seed", 0)))
+        if spec.options.get("inputs") == "normalised":
+            offset, scale = input_normalisation(scenario)
+            centres = (centres - offset) * scale
+        return centres
     if spec.options.get("inputs") == "normalised":
         # The network sees x_hat, in which the scenario's box is [-1, 1]^24.
         low, high = np.full(24, -1.0), np.full(24, 1.0)
@@ -146,7 +157,7 @@ def input_normalisation(scenario: Scenario) -> tuple[Array, Array]:
 
 
 def _build_nn(spec: ControllerSpec, scenario: Scenario) -> Any:
-    centres = make_centres(spec, *default_centre_box(scenario))
+    centres = make_centres(spec, *default_centre_box(scenario), scenario)
     if spec.options.get("inputs") == "normalised":
         network = _core.RbfNetwork(centres, spec.width, *input_normalisation(scenario))
     else:

@@ -30,7 +30,7 @@ A scenario file (all tables but ``[command]`` and ``[controller]`` optional)::
     lambda = 0.5
     kd = [200, 200, 200, 50, 50, 50]
 
-    [controller.centres]    # the NN's centres: sobol | latin_hypercube | grid
+    [controller.centres]    # the NN's centres: sobol | latin_hypercube | grid | path
     n = 64                  # at most 65536 (neurov.MAX_CENTRES; a grid's too)
 
     [[disturbances]]

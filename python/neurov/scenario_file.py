@@ -221,9 +221,14 @@ def _controller(r: _Reader) -> ControllerSpec:
 
 
 def _centres(c: _Reader) -> dict[str, Any]:
-    method = c.string("method", "sobol", choices=("sobol", "latin_hypercube", "grid"))
+    method = c.string("method", "sobol", choices=("sobol", "latin_hypercube", "grid", "path"))
     centres: dict[str, Any] = {"method": method}
-    if method == "grid":
+    if method == "path":
+        # On the scenario's desired trajectory (neurov.network.path_centres): no box to give.
+        centres["n"] = c.integer("n", 64, minimum=1,
+                                 maximum=(_core.MAX_CENTRES, "the most a network takes, neurov.MAX_CENTRES"))
+        centres["seed"] = c.integer("seed", 0)
+    elif method == "grid":
         axes = c.raw("axes", None)
         if not isinstance(axes, Mapping) or not axes:
             raise c.error("axes", "expected a table {input = [low, high, count], ...}")

@@ -103,12 +103,12 @@ class Interrupt:
     def __init__(self, at: int | None = None) -> None:
         self.at, self.calls, self.seen = at, 0, []
 
-    def __call__(self, tuning, controller, values, runner):  # type: ignore[no-untyped-def]
+    def __call__(self, tuning, controller, values, runner, **kw):  # type: ignore[no-untyped-def]
         self.calls += 1
         if self.calls == self.at:
             raise KeyboardInterrupt
         self.seen.append(dict(values))
-        return evaluate(tuning, controller, values, runner)
+        return evaluate(tuning, controller, values, runner, **kw)
 
 
 def test_interrupted_tuning_resumes_without_repeating_finished_trials(tmp_path: Path) -> None:
@@ -144,9 +144,9 @@ from neurov.tuning.objective import evaluate
 from neurov.tuning.search import open_storage, run_trials
 from neurov.tuning.trial_runs import TrialRunner
 
-def slow(tuning, controller, values, runner):
+def slow(tuning, controller, values, runner, **kw):
     time.sleep(0.4)  # long enough that the two processes' trials interleave
-    return evaluate(tuning, controller, values, runner)
+    return evaluate(tuning, controller, values, runner, **kw)
 
 out = Path(sys.argv[2])
 print(run_trials(load_tuning(sys.argv[1]), "pd", open_storage(out), TrialRunner(1), evaluator=slow))
@@ -216,6 +216,7 @@ def _metric_of_sample(tuning, sample):  # type: ignore[no-untyped-def]
     ('trials = 8', 'trials = 0', ("tune.trials", ">= 1")),
     ('objective = "rmse_position_m"', 'objective = "rmse"', ("tune.objective", "not a metric")),
     ('seed = 1\n', 'seed = 1\nsampler = "anneal"\n', ("tune.sampler", "'tpe'")),
+    ('seed = 1\n', 'seed = 1\npruner = "hyperband"\n', ("tune.pruner", "'median'", "'none'")),
     ('[controllers.pd.search]\nkp = { scale = [0.05, 20.0], log = true }', '',
      ("controllers: no controller has a search table",)),
     ('kp = { scale = [0.05, 20.0], log = true }', '"kd[2]" = { range = [-10.0, 100.0] }',
@@ -249,9 +250,10 @@ def test_the_verdict_runs_tuned_and_hand_set_gains_on_other_plants(tmp_path: Pat
     assert out.verdict.summary is not None
     assert train.settings.test_seed == 4  # the study seed (3) plus one
     runs = (tmp_path / "out" / "trials.csv").read_text().splitlines()
-    assert runs[0].startswith("controller,trial,objective,feasible,runs,failures,failure_reasons,seconds,param_kp")
+    assert runs[0].startswith("controller,trial,state,objective,pruned_value,feasible,runs,failures,failure_reasons,"
+                              "seconds,param_kp")
     assert len(runs) == 4
-    assert math.isfinite(float(runs[1].split(",")[2]))
+    assert math.isfinite(float(runs[1].split(",")[3]))
     # A larger budget later: the new trials only, and the verdict of the new best gains.
     more = tune(write(tmp_path, trials=5), tmp_path / "out", workers=1, plots=False, progress=False)
     assert more.ran == 2 and more.verdict is not None
@@ -344,4 +346,34 @@ def test_cmaes_searches_the_gains_and_one_seed_gives_one_search(tmp_path: Path) 
         # CMA-ES proposed the trials after its first (its state is kept in the study).
         assert any(k.startswith("cma:") for t in study.trials for k in t.system_attrs)
         found.append([t.params for t in study.trials])
+    assert found[0] == found[1]
+
+
+GP_TUNING = CMAES_TUNING.replace('sampler = "cmaes"', 'sampler = "gp"')
+
+
+@pytest.mark.slow  # 25 s on an idle core, most of it importing PyTorch and fitting the process
+def test_gp_searches_the_gains_and_one_seed_gives_one_search(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    # Optuna's GPSampler needs PyTorch, which CI does not install: exercised where torch is.
+    pytest.importorskip("torch")
+    proposed: list[dict[str, float]] = []
+    real = optuna.samplers.GPSampler.sample_relative
+
+    def spy(self, study, trial, space):  # type: ignore[no-untyped-def]
+        out = real(self, study, trial, space)
+        proposed.append(out)
+        return out
+
+    monkeypatch.setattr(optuna.samplers.GPSampler, "sample_relative", spy)
+    found = []
+    for run in ("a", "b"):
+        folder = tmp_path / run
+        folder.mkdir()
+        tuning = load_tuning(write(folder, trials=12, tuning=GP_TUNING))
+        tune(tuning, folder / "out", workers=1, verdict=False, plots=False, progress=False)
+        study = optuna_study(tuning, "pd", open_storage(folder / "out"))
+        assert len(study.trials) == 12
+        found.append([t.params for t in study.trials])
+    # The Gaussian process proposed the trials after its ten random ones (both parameters at once).
+    assert sum(1 for p in proposed if set(p) == {"kp", "kd"}) >= 2
     assert found[0] == found[1]

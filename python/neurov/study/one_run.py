@@ -50,7 +50,7 @@ def resolved_spec(study: Study, controller: int, scenario: int) -> ControllerSpe
         sc = study.scenarios[scenario]
         spec = study.spec_for(study.controllers[controller], sc)
         if spec.type == "nn" and not isinstance(spec.centres, np.ndarray):
-            spec = spec.replace(centres=make_centres(spec, *default_centre_box(sc)))
+            spec = spec.replace(centres=make_centres(spec, *default_centre_box(sc), sc))
         study.cache[key] = spec
     return spec
 

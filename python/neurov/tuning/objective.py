@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from neurov.study.one_run import plan_runs
 from neurov.study.spec import StudyError
 from neurov.study.tables import failed_runs
 from neurov.tuning.reading import trial_study
@@ -32,6 +33,8 @@ class TrialOutcome:
     """Why runs failed: ``"diverged"``, ``"rmse_position_m > 1"``, an exception's type and message."""
     feasible: bool = True
     seconds: float = 0.0
+    pruned: bool = False
+    """Stopped by the pruner after `runs` of the trial's runs."""
 
     @property
     def failure_rate(self) -> float:
@@ -50,8 +53,15 @@ def _reason(row: Mapping[str, Any], metric: str, bounds: Mapping[str, float]) ->
     return "failed"
 
 
-def evaluate(tuning: Tuning, controller: str, values: Mapping[str, Any], runner: TrialRunner) -> TrialOutcome:
-    """Runs the trial `values` of `controller` and returns its penalised aggregate."""
+def evaluate(tuning: Tuning, controller: str, values: Mapping[str, Any], runner: TrialRunner,
+             pruning: Any = None) -> TrialOutcome:
+    """Runs the trial `values` of `controller` and returns its penalised aggregate.
+
+    `pruning` (an Optuna trial, or anything with its ``report(value, step)``
+    and ``should_prune()``) is told the running aggregate after each run, in
+    the study's order (scenario by scenario, plant by plant; step = runs in
+    minus one), and may stop the trial before its last run: the outcome is
+    then ``pruned``, its value the running aggregate when it stopped."""
     s = tuning.settings
     start = time.perf_counter()
     try:
@@ -61,30 +71,38 @@ def evaluate(tuning: Tuning, controller: str, values: Mapping[str, Any], runner:
         n = s.train_samples * len(tuning.study_table.get("scenarios", [1]))
         return TrialOutcome(s.failure_penalty, n, n, {f"refused: {e}": n}, feasible=False,
                             seconds=time.perf_counter() - start)
-    records = runner.run(study)
+    total = len(plan_runs(study))
+    agg = np.mean if s.aggregate == "mean" else np.median
     reasons: Counter[str] = Counter()
     values_per_run: list[float] = []
-    rows = [r["row"] for r in records if "row" in r]
-    failed = failed_runs(pd.DataFrame(rows), study.failure).tolist() if rows else []
-    i = 0
-    for rec in records:
-        if "error" in rec:
-            reasons[rec["error"]] += 1
-            values_per_run.append(s.failure_penalty)
-            continue
-        row = rec["row"]
-        if failed[i]:
-            reasons[_reason(row, s.objective, study.failure)] += 1
-            values_per_run.append(s.failure_penalty)
-        else:
-            values_per_run.append(float(row[s.objective]))
-        i += 1
-    runs = len(records)
+
+    def take(records: list[dict[str, Any]]) -> bool:
+        rows = [r["row"] for r in records if "row" in r]
+        failed = iter(failed_runs(pd.DataFrame(rows), study.failure).tolist() if rows else [])
+        for rec in records:
+            if "error" in rec:
+                reasons[rec["error"]] += 1
+                values_per_run.append(s.failure_penalty)
+            elif next(failed):
+                reasons[_reason(rec["row"], s.objective, study.failure)] += 1
+                values_per_run.append(s.failure_penalty)
+            else:
+                values_per_run.append(float(rec["row"][s.objective]))
+            # Judged after each run, whatever the batches the runs came in, so that
+            # the trials do not depend on the number of workers; never after the last.
+            if pruning is not None and len(values_per_run) < total:
+                pruning.report(float(agg(values_per_run)), len(values_per_run) - 1)
+                if pruning.should_prune():
+                    return True  # the batch's later runs are not counted
+        return False
+
+    runner.run(study, take)
+    runs = len(values_per_run)
     failures = sum(reasons.values())
-    agg = np.mean if s.aggregate == "mean" else np.median
     value = float(agg(values_per_run))
+    pruned = runs < total
     feasible = s.max_failure_rate is None or failures / runs <= s.max_failure_rate
-    if not feasible:
+    if not feasible and not pruned:
         # Infeasible whatever its aggregate: worth no more than a trial whose every run failed.
         value = max(value, s.failure_penalty)
-    return TrialOutcome(value, runs, failures, dict(reasons), feasible, time.perf_counter() - start)
+    return TrialOutcome(value, runs, failures, dict(reasons), feasible, time.perf_counter() - start, pruned)

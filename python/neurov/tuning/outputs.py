@@ -25,16 +25,32 @@ def _finished(study: Any) -> list[Any]:
                   key=lambda t: t.number)
 
 
+def _judged(study: Any) -> list[Any]:
+    """The finished trials and those the pruner stopped, in number order."""
+    import optuna
+
+    S = optuna.trial.TrialState
+    return sorted((t for t in study.get_trials(deepcopy=False, states=(S.COMPLETE, S.PRUNED))
+                   if t.state == S.COMPLETE or t.user_attrs.get("reason") == "pruned"), key=lambda t: t.number)
+
+
 def trials_table(tuning: Tuning, studies: dict[str, Any]) -> pd.DataFrame:
-    """One row per trial of every controller: its parameters, objective,
-    failures (and why) and time. Trials cut short (interrupted, or past the
-    budget) are left out: they have no objective."""
+    """One row per trial of every controller: its state (``complete`` or
+    ``pruned``), parameters, objective, failures (and why) and time. A pruned
+    trial has no objective: ``pruned_value`` is its running objective when the
+    pruner stopped it after ``runs`` runs. Trials cut short otherwise
+    (interrupted, or past the budget) are left out."""
+    import optuna
+
     rows = []
     for controller, study in studies.items():
-        for t in _finished(study):
+        for t in _judged(study):
             reasons = t.user_attrs.get("reasons", {})
+            pruned = t.state != optuna.trial.TrialState.COMPLETE
+            last = t.intermediate_values[max(t.intermediate_values)] if pruned and t.intermediate_values else None
             rows.append({
-                "controller": controller, "trial": t.number, "objective": t.value,
+                "controller": controller, "trial": t.number, "state": "pruned" if pruned else "complete",
+                "objective": None if pruned else t.value, "pruned_value": last,
                 "feasible": t.user_attrs.get("feasible", True), "runs": t.user_attrs.get("runs"),
                 "failures": t.user_attrs.get("failures"),
                 "failure_reasons": "; ".join(f"{n} x {r}" for r, n in reasons.items()),

@@ -18,7 +18,7 @@ from neurov.scenario_file import _Reader
 from neurov.study.reading import STUDY_DIR, study_from_mapping
 from neurov.study.spec import Study, StudyError, metric_names
 from neurov.tuning.space import apply_values, vehicle_tables
-from neurov.tuning.spec import AGGREGATES, SAMPLERS, SearchParameter, TuneError, TuneSettings, Tuning
+from neurov.tuning.spec import AGGREGATES, PRUNERS, SAMPLERS, SearchParameter, TuneError, TuneSettings, Tuning
 
 __all__ = ["TUNING_DIR", "load_tuning", "tuning_from_mapping", "tuning_path", "verdict_study", "trial_study"]
 
@@ -59,6 +59,7 @@ def _settings(r: _Reader, study_seed: int) -> TuneSettings:
     if needs and importlib.util.find_spec(needs) is None:
         raise r.error("sampler", f"Optuna's {sampler!r} sampler needs the package {needs!r} "
                       f"(pip install {needs}), or choose 'tpe' or 'random'")
+    pruner = r.string("pruner", TuneSettings.pruner, choices=PRUNERS)
     seed = r.integer("seed", 0)
     train = r.integer("train_samples", 20, minimum=1)
     test = r.integer("test_samples", 50, minimum=1)
@@ -73,7 +74,7 @@ def _settings(r: _Reader, study_seed: int) -> TuneSettings:
     hand = r.boolean("hand_set_in_verdict", True)
     r.finish()
     return TuneSettings(trials=trials, objective=objective, aggregate=aggregate, failure_penalty=penalty,
-                        max_failure_rate=rate if rate >= 0 else None, sampler=sampler, seed=seed,
+                        max_failure_rate=rate if rate >= 0 else None, sampler=sampler, pruner=pruner, seed=seed,
                         train_samples=train, test_samples=test, test_seed=test_seed,
                         test_scenarios=tuple(held), hand_set_in_verdict=hand)
 

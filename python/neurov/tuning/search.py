@@ -22,14 +22,16 @@ from neurov.tuning.space import suggest
 from neurov.tuning.spec import TuneError, Tuning
 from neurov.tuning.trial_runs import TrialRunner
 
-__all__ = ["STORAGE_NAME", "TuneInterrupted", "counted_trials", "open_storage", "optuna_study", "run_trials",
-           "study_name"]
+__all__ = ["OVER_BUDGET", "STORAGE_NAME", "TuneInterrupted", "counted_trials", "open_storage", "optuna_study",
+           "pruner", "run_trials", "study_name"]
 
 STORAGE_NAME = "tuning.db"
 # A process that dies mid-trial leaves its trial "running"; without a
 # heartbeat for this long, the next process marks it failed (and redoes it).
 HEARTBEAT_SECONDS = 10
 GRACE_SECONDS = 60
+# The reason of a trial pruned unrun because the budget was spent when it started.
+OVER_BUDGET = "over budget"
 
 
 class TuneInterrupted(KeyboardInterrupt):
@@ -164,7 +166,8 @@ def optuna_study(tuning: Tuning, controller: str, storage: Any) -> Any:
     import optuna
 
     name = study_name(tuning, controller)
-    study = optuna.create_study(storage=storage, study_name=name, direction="minimize", load_if_exists=True)
+    study = optuna.create_study(storage=storage, study_name=name, direction="minimize", load_if_exists=True,
+                                pruner=pruner(tuning.settings.pruner, tuning.settings.train_samples))
     fp = fingerprint(tuning, controller)
     old = study.user_attrs.get("fingerprint")
     if old is None:
@@ -177,11 +180,25 @@ def optuna_study(tuning: Tuning, controller: str, storage: Any) -> Any:
 
 
 def counted_trials(study: Any) -> list[Any]:
-    """The trials that use the budget: finished or running, in number order."""
+    """The trials that use the budget: finished, pruned by the pruner or
+    running (not those pruned unrun past the budget), in number order."""
     import optuna
 
-    states = (optuna.trial.TrialState.COMPLETE, optuna.trial.TrialState.RUNNING)
-    return sorted(study.get_trials(deepcopy=False, states=states), key=lambda t: t.number)
+    S = optuna.trial.TrialState
+    return sorted((t for t in study.get_trials(deepcopy=False, states=(S.COMPLETE, S.PRUNED, S.RUNNING))
+                   if t.user_attrs.get("reason") != OVER_BUDGET), key=lambda t: t.number)
+
+
+def pruner(name: str, train_samples: int) -> Any:
+    """Optuna's pruner for ``[tune] pruner``. The median rule judges a trial
+    at each run against the finished trials' running objective at the same
+    run (the same scenario and plant, hence fair), from the sixth trial on
+    and once the first scenario's plants are all in."""
+    import optuna
+
+    if name == "none":
+        return optuna.pruners.NopPruner()
+    return optuna.pruners.MedianPruner(n_startup_trials=5, n_warmup_steps=train_samples - 1)
 
 
 def run_trials(tuning: Tuning, controller: str, storage: Any, runner: TrialRunner,
@@ -211,11 +228,11 @@ def run_trials(tuning: Tuning, controller: str, storage: Any, runner: TrialRunne
         nonlocal ran
         ahead = [t for t in counted_trials(study) if t.number < trial.number]
         if len(ahead) >= s.trials:
-            trial.set_user_attr("reason", "over budget")
+            trial.set_user_attr("reason", OVER_BUDGET)
             study.stop()
             raise optuna.TrialPruned()
         try:
-            outcome = evaluator(tuning, controller, suggest(trial, params), runner)
+            outcome = evaluator(tuning, controller, suggest(trial, params), runner, pruning=trial)
         except BaseException:
             trial.set_user_attr("reason", "interrupted")  # Optuna marks it failed
             raise
@@ -225,6 +242,9 @@ def run_trials(tuning: Tuning, controller: str, storage: Any, runner: TrialRunne
         ran += 1
         if on_trial is not None:
             on_trial(trial.number, outcome)
+        if outcome.pruned:
+            trial.set_user_attr("reason", "pruned")
+            raise optuna.TrialPruned()  # Optuna keeps its last reported value
         return outcome.value
 
     left = s.trials - len(counted_trials(study))

@@ -8,10 +8,12 @@ from typing import Any
 
 from neurov.study.spec import StudyError
 
-__all__ = ["AGGREGATES", "SAMPLERS", "SearchParameter", "TuneError", "TuneSettings", "Tuning"]
+__all__ = ["AGGREGATES", "PRUNERS", "SAMPLERS", "SearchParameter", "TuneError", "TuneSettings", "Tuning"]
 
 SAMPLERS = ("tpe", "cmaes", "gp", "random")
 AGGREGATES = ("mean", "median")
+# "median": Optuna's MedianPruner on the running objective after each run; "none": every trial runs whole.
+PRUNERS = ("median", "none")
 
 
 class TuneError(StudyError):
@@ -49,6 +51,9 @@ class TuneSettings:
     failure_penalty: float = 10.0
     max_failure_rate: float | None = None
     sampler: str = "tpe"
+    pruner: str = "median"
+    """Stops a trial whose running objective is worse than the median of the
+    finished trials' at the same run (docs/tuning.md, "Pruning")."""
     seed: int = 0
     train_samples: int = 20
     test_samples: int = 50

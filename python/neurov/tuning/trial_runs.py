@@ -12,7 +12,7 @@ import concurrent.futures as cf
 from concurrent.futures.process import BrokenProcessPool
 import os
 import signal
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
 from neurov.study.executors import default_batch_size, split_batches
@@ -84,18 +84,34 @@ class TrialRunner:
                 signal.signal(signal.SIGINT, previous)
         return self._pool
 
-    def run(self, study: Study) -> list[dict[str, Any]]:
-        """Every run of `study`, in the study's order."""
+    def run(self, study: Study, on_runs: Callable[[list[dict[str, Any]]], bool] | None = None,
+            ) -> list[dict[str, Any]]:
+        """The runs of `study` in the study's order. `on_runs` is given each
+        next records in that order as they come in (a run or a batch at a
+        time); when it returns True the runs not yet started are cancelled
+        and the records so far returned (a pruned trial)."""
         keys = plan_runs(study)
+        flat = [(k.scenario, k.controller, k.sample) for k in keys]
         if self.workers == 1 and not self.scheduler:
-            return run_keys_safely(study, [(k.scenario, k.controller, k.sample) for k in keys])
+            out: list[dict[str, Any]] = []
+            for k in flat:
+                out += run_keys_safely(study, [k])
+                if on_runs is not None and on_runs(out[-1:]):
+                    break
+            return out
         batches = split_batches(keys, default_batch_size(len(keys), self.workers))
-        if self.scheduler:
-            return self._run_dask(study, batches)
-        pool = self._processes()
         try:
-            futures = [pool.submit(run_keys_safely, study, b) for b in batches]
-            return [rec for f in futures for rec in f.result()]
+            futures = self._submit_dask(study, batches) if self.scheduler else \
+                [self._processes().submit(run_keys_safely, study, b) for b in batches]
+            out = []
+            for i, f in enumerate(futures):
+                new = f.result()
+                out += new
+                if on_runs is not None and on_runs(new):
+                    for g in futures[i + 1:]:
+                        g.cancel()  # those already running finish unread
+                    break
+            return out
         except BrokenProcessPool:
             # A worker that died (a user's extension crashing) takes the pool
             # with it: the trial's runs are failures, and a new pool serves the next.
@@ -103,14 +119,13 @@ class TrialRunner:
             return [{"key": [study.scenarios[k.scenario].name, study.controllers[k.controller], k.sample],
                      "error": "a worker process died during the trial"} for k in keys]
 
-    def _run_dask(self, study: Study, batches: list[list[tuple[int, int, int]]]) -> list[dict[str, Any]]:
+    def _submit_dask(self, study: Study, batches: list[list[tuple[int, int, int]]]) -> list[Any]:
         if self._client is None:
             from dask.distributed import Client
 
             self._client = Client(self.scheduler)
         future = self._client.scatter(study, broadcast=True)
-        futures = [self._client.submit(run_keys_safely, future, b, pure=False) for b in batches]
-        return [rec for f in futures for rec in f.result()]
+        return [self._client.submit(run_keys_safely, future, b, pure=False) for b in batches]
 
     def close(self) -> None:
         if self._pool is not None:
