@@ -9,7 +9,7 @@ from collections.abc import Sequence
 
 __all__ = ["main"]
 
-# The numbers are neurov.run.EXIT_DIVERGED and its neighbours; written out
+# The numbers are neurov.running.command.EXIT_DIVERGED and its neighbours; written out
 # here so that --help answers without importing numpy.
 _EXIT_STATUS = """exit status:
   0    success
@@ -160,8 +160,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     # Commands import lazily so that --help answers at once.
     try:
         if args.command == "paper":
-            from neurov.paper import diverged_runs, run_paper
-            from neurov.run import EXIT_DIVERGED
+            from neurov.paper.experiments import diverged_runs, run_paper
+            from neurov.running.command import EXIT_DIVERGED
 
             bad = diverged_runs(run_paper(args.out))
             if bad:
@@ -173,7 +173,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             if args.file_format != "csv" and args.out is None:
                 args.usage_of.error(f"--format {args.file_format} needs --out DIR")
             from neurov.errors import RefusedStepsWarning
-            from neurov.run import EXIT_DIVERGED, refusal_message, run_scenario_file
+            from neurov.running.command import EXIT_DIVERGED, refusal_message, run_scenario_file
 
             with warnings.catch_warnings():
                 # Said below and in the printout, without a warning's source line.

@@ -13,7 +13,7 @@ import pytest
 
 import neurov
 from neurov import _core, centres
-from neurov.scenario import ScenarioError, load_scenario
+from neurov.config.scenario import ScenarioError, load_scenario
 from neurov.study import StudyError, load_study
 
 SCENARIO = """

@@ -15,7 +15,7 @@ from identify_runs import excitation_run
 import neurov
 from neurov.identification import LogError, read_log
 from neurov.identification.neurov_log import log_from_result
-from neurov.vehicle_file import preset_path
+from neurov.config.vehicle_file import preset_path
 
 ENU_FLU = np.array([1, -1, -1, 1, -1, -1.0])
 
@@ -164,7 +164,7 @@ def test_an_ardusub_tlog_fits_within_the_run_s_intervals(tmp_path: Path) -> None
     from pymavlink.dialects.v20 import ardupilotmega as mavlink
 
     r = excitation_run("bluerov2", 30.0, noise=0.01)
-    thrusters = neurov.vehicle_file.load_thrusters(preset_path("bluerov2_heavy"))
+    thrusters = neurov.config.vehicle_file.load_thrusters(preset_path("bluerov2_heavy"))
     tau = r.tau_applied + r.disturbance
     # The whole force (the excitation included) as the eight thrusters' PWM.
     f = np.array([neurov.allocate_thrust(thrusters["matrix"], x)[0] for x in tau])

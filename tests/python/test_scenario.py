@@ -11,9 +11,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from neurov.scenario import ScenarioError, load_scenario
-from neurov.simulation import simulate
-from neurov.vehicle_file import preset_path
+from neurov.config.scenario import ScenarioError, load_scenario
+from neurov.running.simulation import simulate
+from neurov.config.vehicle_file import preset_path
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = sorted((ROOT / "examples" / "scenarios").glob("*.toml"))

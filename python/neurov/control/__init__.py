@@ -38,7 +38,7 @@ except ImportError as exc:  # pragma: no cover - depends on the environment
     ) from exc
 
 if TYPE_CHECKING:
-    from neurov.simulation import Result
+    from neurov.running.simulation import Result
 
 __all__ = [
     "COMMAND_NAMES",
@@ -121,7 +121,7 @@ def to_time_response(result: Result) -> ct.TimeResponseData:
     ``control.step_info(resp.outputs[2], resp.time)`` gives the heave step's
     rise time, overshoot and settling time; ``resp.plot()`` draws it.
     """
-    from neurov.simulation import Result
+    from neurov.running.simulation import Result
 
     if not isinstance(result, Result):
         raise TypeError(f"argument 'result' must be a neurov.Result, got {type(result).__name__}")

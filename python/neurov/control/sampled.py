@@ -158,7 +158,7 @@ def controller_system(controller: Any, dt: float, *, name: str = "controller") -
     A step the controller refuses (a NaN input, the pitch singularity) raises
     ValueError: python-control's simulation has no refused-step policy.
     """
-    from neurov.controller import BUILT_IN_CONTROLLERS, is_built_in
+    from neurov.laws.protocol import BUILT_IN_CONTROLLERS, is_built_in
 
     if not is_built_in(controller):
         names = ", ".join(c.__name__ for c in BUILT_IN_CONTROLLERS)

@@ -18,7 +18,7 @@ from neurov.identification.log import Log, advance_linear_velocity
 from neurov.identification.output_error import bounds, fit_output_error
 from neurov.identification.parameters import GROUPS, free_indices, template_theta, vehicle_parameters
 from neurov.identification.readers import read_log
-from neurov.vehicle_file import VehicleFile, read_vehicle_file
+from neurov.config.vehicle_file import VehicleFile, read_vehicle_file
 
 __all__ = ["Identification", "identify"]
 

@@ -10,10 +10,10 @@ from pathlib import Path
 from typing import Any
 
 
-from neurov.columns import npz_series
+from neurov.results.columns import npz_series
 from neurov.errors import RecordingError
-from neurov.result import Result
-from neurov.scenario import Scenario
+from neurov.results.timeseries import Result
+from neurov.config.scenario import Scenario
 
 __all__ = ["MAX_RESULT_BYTES", "read_mcap", "result_from_npz"]
 
@@ -61,7 +61,7 @@ def read_mcap(path: str | Path, scenario: Scenario | None = None) -> Result:
 
 def _scenario(attachments: dict[str, bytes], info: dict[str, str], path: Path) -> Scenario:
     from neurov.files import tomllib
-    from neurov.scenario_file import scenario_from_mapping
+    from neurov.config.reading import scenario_from_mapping
 
     text = attachments.get("scenario.toml")
     if text is None:

@@ -28,8 +28,8 @@ from neurov.errors import RecordingError
 from neurov.recording.frames import (BODY_FLU_FROM_FRD, WORLD_ENU_FROM_NED, body_to_flu, enu_quaternions,
                                      position_to_enu)
 from neurov.recording.msgdefs import msgdef
-from neurov.result import Result
-from neurov.scenario import Scenario
+from neurov.results.timeseries import Result
+from neurov.config.scenario import Scenario
 
 __all__ = ["FRAMES", "TOPICS", "McapRecorder", "plain", "stamps", "write_mcap"]
 

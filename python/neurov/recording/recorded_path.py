@@ -12,7 +12,7 @@ NED poses. A scenario names it::
 
 The times are the header stamps less the first one, plus `start`; the
 heading is unwrapped (a continuous angle, as the generators of
-:mod:`neurov.trajectories` give it).
+:mod:`neurov.config.trajectories` give it).
 """
 
 from __future__ import annotations

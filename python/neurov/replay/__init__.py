@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 
 from neurov.replay.scene import FACES, MAX_FRAMES, TOP_FACES, Scene, Track, build_scene, labels_for
-from neurov.result import Result
+from neurov.results.timeseries import Result
 
 __all__ = ["Replay", "replay"]
 
@@ -213,7 +213,7 @@ class Replay:
     def write_html(self, path: str | os.PathLike[str]) -> Path:
         """Writes :meth:`html` to `path` (a new file beside it first, then
         renamed over it: an old replay there stays whole until the new one is)."""
-        from neurov.run_folder import writing
+        from neurov.running.folder import writing
 
         path = Path(path)
         part = path.with_name(f".{path.name}.part")

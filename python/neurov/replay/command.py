@@ -36,7 +36,7 @@ def main_view(results: Sequence[str], out: str, frames: int | None = None,
     result file, its scenario the one beside it unless `scenario` names
     one), writes the replay to `out`; returns the exit status (1 without
     plotly). A RESULT that cannot be read is named and nothing is written."""
-    from neurov.load import load_result
+    from neurov.results.load import load_result
 
     path = _check_out(out)
     runs = []

@@ -32,7 +32,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from neurov import _core
-from neurov.result import Result
+from neurov.results.timeseries import Result
 
 __all__ = ["BODY_SHARE", "MAX_FRAMES", "MAX_PATH_POINTS", "NED_TO_DISPLAY", "Scene", "Track", "build_scene"]
 

@@ -13,7 +13,7 @@ from types import ModuleType
 import pandas as pd
 
 from neurov.progress import progress_bar
-from neurov.scenario import Scenario
+from neurov.config.scenario import Scenario
 from neurov.study.log import Record
 from neurov.study.spec import Study
 

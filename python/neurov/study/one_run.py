@@ -13,10 +13,10 @@ from typing import Any
 
 import numpy as np
 
-from neurov.controller import describe_failures, own_failures
+from neurov.laws.protocol import describe_failures, own_failures
 from neurov.errors import ControllerError, RefusedStepsWarning
-from neurov.metrics import METRICS, flat_metrics, metric_names
-from neurov.scenario import ControllerSpec
+from neurov.results.metrics import METRICS, flat_metrics, metric_names
+from neurov.config.scenario import ControllerSpec
 from neurov.study.sampling import sample_plant
 from neurov.study.spec import Study, vehicle_key
 
@@ -45,7 +45,7 @@ def resolved_spec(study: Study, controller: int, scenario: int) -> ControllerSpe
     key = (controller, scenario)
     spec = study.cache.get(key)
     if spec is None:
-        from neurov.controllers import default_centre_box, make_centres
+        from neurov.laws.registry import default_centre_box, make_centres
 
         sc = study.scenarios[scenario]
         spec = study.spec_for(study.controllers[controller], sc)
@@ -96,7 +96,7 @@ def error_record(study: Study, key: RunKey, kind: str, error_type: str, message:
 
 
 def _run(study: Study, key: RunKey, cpu_start: float) -> dict[str, Any]:
-    from neurov.simulation import simulate
+    from neurov.running.simulation import simulate
 
     scenario = study.scenarios[key.scenario]
     controller = study.controllers[key.controller]
@@ -111,7 +111,7 @@ def _run(study: Study, key: RunKey, cpu_start: float) -> dict[str, Any]:
     else:
         spec = resolved_spec(study, key.controller, key.scenario)
         if spec.type == "nn" and study.basis_rank:
-            from neurov.simulation import build_controller
+            from neurov.running.simulation import build_controller
             from neurov.study.basis_rank import BasisRecorder, basis_columns
 
             recorder = BasisRecorder(build_controller(spec, plant))

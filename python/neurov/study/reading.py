@@ -11,8 +11,8 @@ from pathlib import Path
 from typing import Any
 
 from neurov.files import read_toml, shipped_or_path
-from neurov.scenario import ControllerSpec, Scenario, ScenarioError, load_scenario
-from neurov.scenario_file import _controller, _Reader
+from neurov.config.scenario import ControllerSpec, Scenario, ScenarioError, load_scenario
+from neurov.config.reading import _controller, _Reader
 from neurov.study.factory import ControllerFactory, FactoryError
 from neurov.study.one_run import resolved_spec
 from neurov.study.sampling import nominal_parameters, scaled
@@ -250,7 +250,7 @@ def _check_controllers(study: Study, origin: str, per_vehicle: Mapping[str, bool
     """Builds every controller once per vehicle, so a configuration the C++
     refuses (say, modification = "sigma" without sigma_m) is named here and
     not in a worker halfway through the study."""
-    from neurov.simulation import build_controller
+    from neurov.running.simulation import build_controller
 
     first: dict[str, int] = {}
     for i, s in enumerate(study.scenarios):

@@ -15,8 +15,8 @@ from typing import Any
 import numpy as np
 
 from neurov.errors import StudyError
-from neurov.metrics import metric_names
-from neurov.scenario import ControllerSpec, Scenario
+from neurov.results.metrics import metric_names
+from neurov.config.scenario import ControllerSpec, Scenario
 from neurov.study.factory import ControllerFactory
 
 __all__ = ["ENVIRONMENT_PARAMETERS", "NORMAL_TRUNCATION", "SCENARIO_DIR", "STUDY_DIR", "VEHICLE_PARAMETERS",

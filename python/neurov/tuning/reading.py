@@ -13,8 +13,8 @@ from pathlib import Path
 from typing import Any
 
 from neurov.files import read_toml, shipped_or_path
-from neurov.scenario import ScenarioError
-from neurov.scenario_file import _Reader
+from neurov.config.scenario import ScenarioError
+from neurov.config.reading import _Reader
 from neurov.study.reading import STUDY_DIR, study_from_mapping
 from neurov.study.spec import Study, StudyError, metric_names
 from neurov.tuning.space import apply_values, vehicle_tables
@@ -96,7 +96,7 @@ def _search_parameter(key: str, spec: Any, r: _Reader, ctype: str | None,
     """One entry of a search table, checked against the controller type (None:
     a factory, whose keyword arguments are searched) and the values the
     controller's table gives."""
-    from neurov.controllers import REGISTRY
+    from neurov.laws.registry import REGISTRY
 
     m = _KEY.match(key)
     if m is None:
@@ -236,7 +236,7 @@ def tuning_from_mapping(data: Mapping[str, Any], origin: str = "<tuning>") -> Tu
 
 
 def _known_type(ctype: str) -> bool:
-    from neurov.controllers import REGISTRY
+    from neurov.laws.registry import REGISTRY
 
     return ctype in REGISTRY
 

@@ -55,7 +55,7 @@ from pathlib import Path
 from typing import Any
 
 from neurov.errors import ValidationError, VehicleFileError
-from neurov.files import read_text, read_toml
+from neurov.files import PACKAGE_DIR, read_text, read_toml
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -74,7 +74,7 @@ __all__ = [
     "read_vehicle_file",
 ]
 
-PRESET_DIR = Path(__file__).with_name("vehicles")
+PRESET_DIR = PACKAGE_DIR / "vehicles"
 
 # key -> (required, shapes accepted); () is a number, "str" a string.
 _FIELDS: dict[str, tuple[bool, tuple[Any, ...]]] = {
@@ -530,7 +530,7 @@ def _attach_file_constructors() -> None:
     from neurov._core import Vehicle
 
     def from_file(path: str | Path) -> Any:
-        """Loads a vehicle TOML file (format: :mod:`neurov.vehicle_file`). A
+        """Loads a vehicle TOML file (format: :mod:`neurov.config.vehicle_file`). A
         missing, misspelt or wrongly typed field raises
         :class:`neurov.VehicleFileError` naming the file and the field."""
         return load_vehicle(path)

@@ -15,12 +15,12 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from neurov import _core
-from neurov.scenario import ScenarioError
-from neurov.schema import SchemaError, convert, field_names
+from neurov.config.scenario import ScenarioError
+from neurov.config.schema import SchemaError, convert, field_names
 
 if TYPE_CHECKING:
-    from neurov.scenario import Scenario
-    from neurov.scenario_file import _Reader
+    from neurov.config.scenario import Scenario
+    from neurov.config.reading import _Reader
 
 __all__ = ["CURRENT_MODELS", "read_current_model", "read_payload", "read_sea", "read_tether", "read_waves",
            "check_payload"]
@@ -53,7 +53,7 @@ def _probe() -> Any:
 
 
 def _validate_section(probe: Any, origin: str, prefix: str, lists: tuple[str, ...] = ()) -> None:
-    from neurov.scenario_file import _validated
+    from neurov.config.reading import _validated
 
     keys = {name: f"{prefix}.{name}" for name in
             (*field_names(_core.GaussMarkovCurrentConfig()), *field_names(_core.WaveConfig()))}
@@ -132,7 +132,7 @@ def read_tether(r: _Reader, config: Any) -> None:
 def read_payload(r: _Reader, config: Any) -> None:
     """``[[payload]]``: the events in time order; each against the vehicle it
     changes is checked by :func:`check_payload`."""
-    from neurov.scenario_file import _tables
+    from neurov.config.reading import _tables
 
     events = []
     for pr in _tables(r, "payload"):
@@ -155,7 +155,7 @@ def check_payload(scenario: Scenario, origin: str) -> None:
     """The payload events against the scenario's vehicle (a mass that would
     leave the vehicle with mass <= 0, a buoyancy < 0, ...), by the C++
     simulator's own check; also the one current at a time rule."""
-    from neurov.scenario_file import _validated
+    from neurov.config.reading import _validated
 
     c = scenario.simulation
     if c.current_model == _core.CurrentModel.gauss_markov and len(c.current_steps):

@@ -20,10 +20,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from neurov import _core
-from neurov import centres as centre_placement
+from neurov.laws import centres as centre_placement
 
 if TYPE_CHECKING:
-    from neurov.scenario import ControllerSpec, Scenario
+    from neurov.config.scenario import ControllerSpec, Scenario
 
 __all__ = ["ControllerType", "REGISTRY", "build_controller", "default_centre_box", "input_normalisation", "make_centres",
            "register"]
@@ -52,7 +52,7 @@ class ControllerType:
 
     def fields(self) -> list[str]:
         """The config fields a file may set (TOML names)."""
-        from neurov.schema import field_names
+        from neurov.config.schema import field_names
 
         inverse = {v: k for k, v in self.keys.items()}
         return [inverse.get(f, f) for f in field_names(self.config()) if f not in self.managed]

@@ -196,7 +196,7 @@ def _is_partial(folder: Path) -> bool:
 
 
 def stopped_run(folder: RunFolder, exc: BaseException) -> BaseException:
-    """Keeps what a stopped run wrote (see :mod:`neurov.run_folder`) and
+    """Keeps what a stopped run wrote (see :mod:`neurov.running.folder`) and
     returns the exception to raise: for Ctrl-C and OSError (a full disk) one
     whose message says where the run is kept and that DIR is unchanged;
     any other exception as it was, that news printed to stderr."""

@@ -23,7 +23,7 @@ A scenario file (all tables but ``[command]`` and ``[controller]`` optional)::
 
     [command]
     type = "square"         # waypoints | square | lawnmower | circle | helix
-    side = 10.0             # the generator's arguments (neurov.trajectories)
+    side = 10.0             # the generator's arguments (neurov.config.trajectories)
 
     [controller]
     type = "nn"             # nn | linear | pd | pid | smc | computed_torque
@@ -55,7 +55,7 @@ A scenario file (all tables but ``[command]`` and ``[controller]`` optional)::
     velocity = [0.0, 0.5, 0.0]
 
 Every error names the file and the field (``controller.kd``) and says what was
-expected. The file is read by :mod:`neurov.scenario_file`; this module holds
+expected. The file is read by :mod:`neurov.config.reading`; this module holds
 what a scenario is.
 """
 
@@ -69,10 +69,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from neurov import _core, trajectories
+from neurov import _core
+from neurov.config import trajectories
 from neurov.errors import ScenarioError
-from neurov.files import shipped_or_path
-from neurov.vehicle_file import VehicleFile, preset_path, read_vehicle_file
+from neurov.files import PACKAGE_DIR, shipped_or_path
+from neurov.config.vehicle_file import VehicleFile, preset_path, read_vehicle_file
 
 __all__ = [
     "CommandSpec",
@@ -96,7 +97,7 @@ CurrentStep = _core.CurrentStep
 
 
 class ControllerSpec:
-    """A controller: its ``type`` (a name in :data:`neurov.controllers.REGISTRY`, the keys of
+    """A controller: its ``type`` (a name in :data:`neurov.laws.registry.REGISTRY`, the keys of
     ``neurov._core.BUILT_IN_CONTROLLERS``: ``"nn"``, ``"pd"``, ``"super_twisting"``, ...),
     a ``label``, its gains as the type's bound C++ config (``config``; the C++
     defaults and validator) and the type's Python options (the NN's
@@ -108,7 +109,7 @@ class ControllerSpec:
     """
 
     def __init__(self, type: str = "nn", label: str = "", config: Any = None, **fields: Any) -> None:
-        from neurov.controllers import REGISTRY
+        from neurov.laws.registry import REGISTRY
 
         if type not in REGISTRY:
             raise ValueError(f"controller type must be one of {sorted(REGISTRY)}, got {type!r}")
@@ -144,7 +145,7 @@ class ControllerSpec:
     def replace(self, **changes: Any) -> ControllerSpec:
         """A copy with some fields or options changed. A new ``type`` starts
         from that type's defaults and keeps the gains both types have."""
-        from neurov.schema import field_names
+        from neurov.config.schema import field_names
 
         kind = changes.pop("type", self.type)
         if kind == self.type:
@@ -164,14 +165,14 @@ class ControllerSpec:
 
     def describe(self) -> dict[str, Any]:
         """Everything that decides the controller, as plain data."""
-        from neurov.schema import as_dict
+        from neurov.config.schema import as_dict
 
         options = {k: (v.tolist() if isinstance(v, np.ndarray) else v) for k, v in self.options.items()}
         return {"type": self.type, "label": self.label, "config": as_dict(self.config), "options": options}
 
     @property
     def name(self) -> str:
-        from neurov.controllers import REGISTRY
+        from neurov.laws.registry import REGISTRY
 
         return self.label or REGISTRY[self.type].title
 
@@ -182,7 +183,7 @@ class CommandSpec:
     ``"recorded"`` (the poses of a bag's topic, ``args`` ``file``, ``topic``
     and ``start`` of :func:`neurov.recording.recorded_path.recorded_path`; its
     ``times`` and ``poses`` as read) or a generator of
-    :mod:`neurov.trajectories` with its keyword ``args``."""
+    :mod:`neurov.config.trajectories` with its keyword ``args``."""
 
     type: str = "square"
     args: dict[str, Any] = field(default_factory=dict)
@@ -323,7 +324,7 @@ class Scenario:
         """Everything that decides a run, as plain data (for hashing)."""
         import dataclasses
 
-        from neurov.schema import as_dict
+        from neurov.config.schema import as_dict
 
         command = {k: (v.tolist() if isinstance(v, np.ndarray) else v)
                    for k, v in dataclasses.asdict(self.command).items()}
@@ -376,7 +377,7 @@ class Scenario:
         return preset_path(self.vehicle)
 
 
-SCENARIO_DIR = Path(__file__).resolve().parent / "scenarios"
+SCENARIO_DIR = PACKAGE_DIR / "scenarios"
 """The shipped scenarios, each found by its name (the file's stem)."""
 
 
@@ -398,14 +399,14 @@ def scenario_path(name_or_path: str | Path) -> Path:
 
 def load_scenario(path: str | Path) -> Scenario:
     """Reads a scenario file; raises :class:`ScenarioError` naming the file and field."""
-    from neurov.scenario_file import read_scenario
+    from neurov.config.reading import read_scenario
 
     return read_scenario(path)
 
 
 def make_centres(spec: ControllerSpec, low: NDArray[np.float64], high: NDArray[np.float64]) -> NDArray[np.float64]:
     """The (N, 24) centres a controller spec asks for (see
-    :func:`neurov.controllers.make_centres`)."""
-    from neurov.controllers import make_centres as make
+    :func:`neurov.laws.registry.make_centres`)."""
+    from neurov.laws.registry import make_centres as make
 
     return make(spec, low, high)

@@ -16,12 +16,12 @@ from typing import Any
 import numpy as np
 
 from neurov import _core
-from neurov.decimation import PlotRows
-from neurov.export import CsvWriter, NpzWriter
-from neurov.metrics import MetricsWindow
-from neurov.result import SERIES, Result
-from neurov.run_folder import writing
-from neurov.scenario import Scenario
+from neurov.results.decimation import PlotRows
+from neurov.results.export import CsvWriter, NpzWriter
+from neurov.results.metrics import MetricsWindow
+from neurov.results.timeseries import SERIES, Result
+from neurov.running.folder import writing
+from neurov.config.scenario import Scenario
 
 __all__ = ["CHUNK_ROWS", "FILE_FORMATS", "StreamedRun", "stream_run"]
 
@@ -31,13 +31,13 @@ or result.mcap (a ROS 2 recording, :mod:`neurov.recording.mcap_writer`)."""
 
 CHUNK_ROWS = 12_000
 """About this many rows per chunk (40 minutes at 5 Hz, some 7 MB): rounded to
-a whole number of the plot buckets (see :class:`neurov.decimation.PlotRows`)."""
+a whole number of the plot buckets (see :class:`neurov.results.decimation.PlotRows`)."""
 
 
 @dataclasses.dataclass
 class StreamedRun:
     """What a streamed run leaves: `drawn`, the rows the figures draw (every
-    row of a run of at most :data:`neurov.decimation.MAX_PLOT_ROWS` rows,
+    row of a run of at most :data:`neurov.results.decimation.MAX_PLOT_ROWS` rows,
     else ``drawn.extra["plotted_rows_of"]`` holds the run's row count);
     `metrics`, :meth:`Result.metrics` of every row; `elevation`, the whole
     (t, wave_elevation) record when the scenario has waves (the realised
@@ -150,11 +150,11 @@ def stream_run(scenario: Scenario, out_dir: str | Path | None = None, *, quiet: 
     it did; an exception (e.g. Ctrl-C, a full disk) keeps the CSV rows
     written so far and a metrics.json of those rows, ``"partial": true``
     (result.npz is not written)."""
-    from neurov.controller import is_built_in
-    from neurov.controllers import build_controller
+    from neurov.laws.protocol import is_built_in
+    from neurov.laws.registry import build_controller
     from neurov.progress import progress_bar
-    from neurov.run_folder import check_output_dir
-    from neurov.simulation import build_vehicle, simulation_config
+    from neurov.running.folder import check_output_dir
+    from neurov.running.simulation import build_vehicle, simulation_config
 
     if not isinstance(chunk_rows, int) or chunk_rows < 1:
         raise ValueError(f"argument 'chunk_rows' must be an int >= 1, got {chunk_rows!r}")
@@ -179,7 +179,7 @@ def stream_run(scenario: Scenario, out_dir: str | Path | None = None, *, quiet: 
             if is_built_in(controller):
                 _core.run_closed_loop_chunks(plant, controller, config, chunk, on_rows)
             else:
-                from neurov.simulator import Simulator
+                from neurov.running.stepper import Simulator
 
                 sim = Simulator(scenario, vehicle=plant, label=spec.name, log_rows=chunk)
                 sinks.errors = sim.run(controller, on_rows=on_rows).extra.get("controller_errors", {})
@@ -212,7 +212,7 @@ def _keep_what_was_written(sinks: _Sinks, out: Path | None) -> None:
         pass
     if out is None or not sinks.metrics.rows:
         return  # nothing simulated: nothing to keep
-    from neurov.run import write_metrics
+    from neurov.running.command import write_metrics
 
     try:
         write_metrics({**sinks.partial_metrics(), "partial": True}, out)

@@ -1,4 +1,4 @@
-"""Reading a scenario file (TOML) into a :class:`neurov.scenario.Scenario`.
+"""Reading a scenario file (TOML) into a :class:`neurov.config.scenario.Scenario`.
 
 The reader checks what TOML can get wrong (a missing key, a string where a
 number goes, the wrong number of elements) and puts each value into the
@@ -20,13 +20,14 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from neurov import _core, trajectories
+from neurov import _core
+from neurov.config import trajectories
 from neurov.files import read_toml
-from neurov.scenario import CommandSpec, ControllerSpec, Scenario, ScenarioError
-from neurov.scenario_realism import REALISM_KEYS, read_realism
-from neurov.schema import SchemaError, convert, field_names
+from neurov.config.scenario import CommandSpec, ControllerSpec, Scenario, ScenarioError
+from neurov.config.realism import REALISM_KEYS, read_realism
+from neurov.config.schema import SchemaError, convert, field_names
 from neurov.errors import ValidationError
-from neurov.vehicle_file import VehicleFileError
+from neurov.config.vehicle_file import VehicleFileError
 
 __all__ = ["read_scenario", "scenario_from_mapping"]
 
@@ -184,7 +185,7 @@ def _validated(config: Any, origin: str, keys: Mapping[str, str], lists: Sequenc
 def _controller(r: _Reader) -> ControllerSpec:
     """A controller table: the type's config fields by their TOML names (the
     C++ defaults where absent), then its Python options."""
-    from neurov.controllers import REGISTRY
+    from neurov.laws.registry import REGISTRY
 
     kind = REGISTRY[r.string("type", choices=tuple(REGISTRY))]
     spec = ControllerSpec(kind.name, label=r.string("label", ""))
@@ -302,7 +303,7 @@ def _tables(r: _Reader, key: str) -> list[_Reader]:
 
 def scenario_from_mapping(data: Mapping[str, Any], origin: str = "<scenario>") -> Scenario:
     """Builds a scenario from a parsed TOML table; errors name `origin`."""
-    from neurov import scenario_sea as sea
+    from neurov.config import sea
 
     r = _Reader(data, "", origin)
     s = Scenario(source=origin if origin != "<scenario>" else "")

@@ -10,9 +10,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from neurov import _core
-from neurov.result import Result
-from neurov.controllers import build_controller, default_centre_box
-from neurov.scenario import ControllerSpec, Scenario
+from neurov.results.timeseries import Result
+from neurov.laws.registry import build_controller, default_centre_box
+from neurov.config.scenario import ControllerSpec, Scenario
 
 __all__ = [
     "Result", "build_controller", "build_vehicle", "default_centre_box", "simulate", "simulate_many",
@@ -48,7 +48,7 @@ def simulate(scenario: Scenario, controller: ControllerSpec | Any = None, *,
     an object)."""
     import time
 
-    from neurov.controller import is_built_in, require_controller
+    from neurov.laws.protocol import is_built_in, require_controller
 
     plant = vehicle if vehicle is not None else build_vehicle(scenario)
     if controller is None or isinstance(controller, ControllerSpec):
@@ -58,7 +58,7 @@ def simulate(scenario: Scenario, controller: ControllerSpec | Any = None, *,
         require_controller(controller)
         ctrl, name = controller, type(controller).__name__
         if not is_built_in(ctrl):
-            from neurov.simulator import Simulator
+            from neurov.running.stepper import Simulator
 
             return Simulator(scenario, vehicle=plant, label=label or name).run(ctrl)
     config = simulation_config(scenario)

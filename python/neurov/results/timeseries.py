@@ -12,9 +12,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from neurov import _core
-from neurov.metrics import TRANSIENT_S, MetricsWindow, metrics_start
-from neurov.columns import SERIES, table_columns
-from neurov.scenario import Scenario
+from neurov.results.metrics import TRANSIENT_S, MetricsWindow, metrics_start
+from neurov.results.columns import SERIES, table_columns
+from neurov.config.scenario import Scenario
 
 __all__ = ["SERIES", "TRANSIENT_S", "Result", "metrics_start"]
 
@@ -110,7 +110,7 @@ class Result:
 
     def columns(self) -> dict[str, Any]:
         """The run as flat named columns, the CSV's and :meth:`to_pandas`'s
-        (see :mod:`neurov.columns`): ``t``, then ``eta_x`` ...
+        (see :mod:`neurov.results.columns`): ``t``, then ``eta_x`` ...
         ``eta_psi``, ``nu_u`` ..., ``tau_demanded_X`` ..., ``thrusts_0`` ...,
         ``theta_m`` ... (linear adaptive only), the statuses as
         :class:`neurov.Status` names and ``faults`` as its bits."""
@@ -123,7 +123,7 @@ class Result:
         statuses are categorical (of every :class:`neurov.Status` name)."""
         import pandas as pd
 
-        from neurov.columns import STATUS_NAMES
+        from neurov.results.columns import STATUS_NAMES
 
         cols: dict[str, Any] = self.columns()
         t = cols.pop("t")
@@ -140,10 +140,10 @@ class Result:
     def to_csv(self, path: str | Path, quiet: bool = True) -> Path:
         """Writes every column of :meth:`columns` to a CSV file with a header
         row, each number as the shortest text that reads back to the same
-        float64, in blocks (see :class:`neurov.export.CsvWriter`: pyarrow's
+        float64, in blocks (see :class:`neurov.results.export.CsvWriter`: pyarrow's
         C++ writer when installed, about four times faster); unless `quiet`,
         a progress bar."""
-        from neurov.export import CsvWriter
+        from neurov.results.export import CsvWriter
         from neurov.progress import progress_bar
 
         cols = self.columns()
@@ -160,9 +160,9 @@ class Result:
 
     def to_npz(self, path: str | Path, quiet: bool = True) -> Path:
         """Writes the arrays of :data:`SERIES` (and :meth:`npz_arrays`) to a
-        compressed .npz, array by array (see :class:`neurov.export.NpzWriter`);
+        compressed .npz, array by array (see :class:`neurov.results.export.NpzWriter`);
         unless `quiet`, a progress bar."""
-        from neurov.export import NpzWriter
+        from neurov.results.export import NpzWriter
         from neurov.progress import progress_bar
 
         writer = NpzWriter(path)
