@@ -47,16 +47,17 @@ from neurov.config.scenario import (
     ScenarioError,
     SensorFault,
     ThrusterFailure,
-    load_scenario,
 )
 from neurov.kernels import check_kernel_request as _check_kernel_request
-from neurov.running.simulation import Result, simulate, simulate_many
 from neurov.laws.protocol import Controller
 from neurov.running.stepper import Observation, Simulator
 from neurov.errors import NeurovError, RefusedStepsWarning, ValidationError, VehicleFileError
 from neurov.laws import weights  # noqa: F401  (attaches NNAdaptiveController.save/load)
 from neurov.identification import identify
 from neurov.results.load import load_result
+from neurov.config.reading import load_scenario
+from neurov.results.timeseries import Result
+from neurov.running.simulation import simulate, simulate_many
 
 __all__ = [
     "MAX_CENTRES",

@@ -9,6 +9,10 @@ from collections.abc import Sequence
 
 __all__ = ["main"]
 
+# Each command's modules are imported inside main() once the command is
+# chosen (deferred on purpose): `neurov --help`, `--version` and a bad command
+# line answer without loading the runs, Matplotlib, pandas, SciPy or Optuna.
+
 # The numbers are neurov.running.command.EXIT_DIVERGED and its neighbours; written out
 # here so that --help answers without importing numpy.
 _EXIT_STATUS = """exit status:

@@ -47,7 +47,7 @@ def test_a_study_records_the_nn_basis_rank_without_changing_a_number(tmp_path: P
 def test_normalised_inputs_map_the_centre_box_onto_the_unit_cube() -> None:
     import neurov
     from neurov.laws.registry import default_centre_box, input_normalisation
-    from neurov.running.simulation import build_controller
+    from neurov.laws.registry import build_controller
 
     sc = neurov.load_scenario(Path(neurov.__file__).parent / "scenarios" / "paper_fig3.toml")
     spec = sc.controller.replace(width=1.0)

@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 
 import neurov
-from neurov.running.simulation import Result
+from neurov.results.timeseries import Result
 from neurov.config.vehicle_file import load_thrusters, preset_path
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -28,7 +28,7 @@ import json, sys
 import numpy as np
 import neurov
 from neurov import _core
-from neurov.config.scenario import load_scenario
+from neurov.config.reading import load_scenario
 from neurov.running.simulation import simulate
 s = load_scenario(sys.argv[1])
 if sys.argv[3] == "pd":

@@ -11,7 +11,8 @@ import pytest
 
 from neurov import THETA_NAMES, Status
 from neurov.config.scenario import CommandSpec, ControllerSpec, Scenario, SensorFault, ThrusterFailure
-from neurov.running.simulation import Result, simulate
+from neurov.results.timeseries import Result
+from neurov.running.simulation import simulate
 
 SCENARIO = Scenario(
     name="pandas_square", duration=12.0, use_thrusters=True,

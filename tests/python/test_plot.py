@@ -12,7 +12,8 @@ from matplotlib.figure import Figure
 
 from neurov import plotting as plot
 from neurov.config.scenario import ThrusterFailure
-from neurov.running.simulation import Result, simulate
+from neurov.results.timeseries import Result
+from neurov.running.simulation import simulate
 from plot_runs import PD, assert_demanded_and_applied, nn_and_pd, square
 
 SCENARIO = square("plot_square", 20.0)
@@ -90,7 +91,7 @@ def test_errors(runs: list[Result]) -> None:
 
 
 def test_errors_leave_out_the_dofs_no_run_has_an_error_in() -> None:
-    from neurov.config.scenario import load_scenario
+    from neurov.config.reading import load_scenario
     from neurov.config.scenario import SCENARIO_DIR
 
     depth = simulate(load_scenario(SCENARIO_DIR / "nerov_depth_step.toml").replace(duration=12.0))
@@ -124,7 +125,7 @@ def test_control_inputs_marks_a_failure() -> None:
 
 
 def test_control_inputs_show_where_the_thrusters_cannot_give_the_demand() -> None:
-    from neurov.config.scenario import load_scenario
+    from neurov.config.reading import load_scenario
 
     path = Path(__file__).resolve().parents[2] / "examples" / "scenarios" / "thrusters_failure.toml"
     result = simulate(load_scenario(path).replace(duration=100.0))  # T1 fails at 60 s

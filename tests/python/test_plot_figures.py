@@ -23,7 +23,8 @@ from neurov.paper.figures import figure_inputs, figure_xy, figure_yaw
 from neurov.plotting.paths import ARROWS, mark_start_and_direction
 from neurov.plotting.study import FEW_SAMPLES, BandPlotter, box_figure, plot_boxes
 from neurov.config.scenario import ThrusterFailure
-from neurov.running.simulation import Result, simulate
+from neurov.results.timeseries import Result
+from neurov.running.simulation import simulate
 from neurov.study import load_study, metric_names
 from plot_runs import PD, assert_demanded_and_applied, nn_and_pd, square
 

@@ -11,7 +11,7 @@ import pytest
 
 from neurov import _core
 from neurov.laws.registry import REGISTRY
-from neurov.config.scenario import load_scenario
+from neurov.config.reading import load_scenario
 from neurov.running.simulation import simulate
 from neurov.study import SCENARIO_DIR, load_study
 

@@ -18,7 +18,7 @@ import pytest
 import neurov
 from neurov.errors import RecordingError, ScenarioError
 from neurov.results.timeseries import SERIES
-from neurov.config.scenario import load_scenario
+from neurov.config.reading import load_scenario
 
 pytest.importorskip("mcap_ros2")
 rosbags = pytest.importorskip("rosbags")

@@ -108,7 +108,7 @@ def test_bad_file_is_a_scenario_error(tmp_path: Path) -> None:
 
 def test_diverged_metrics_are_valid_json(tmp_path: Path) -> None:
     # A diverged run has infinite errors; JSON has no Infinity, so null.
-    from neurov.running.command import finite_or_none
+    from neurov.running.folder import finite_or_none
 
     text = json.dumps(finite_or_none({"a": float("inf"), "b": [1.0, float("nan")], "c": {"d": 2}}),
                       allow_nan=False)

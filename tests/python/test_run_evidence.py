@@ -18,8 +18,9 @@ from neurov import cli
 from neurov.paper import experiments as paper
 from neurov.results.decimation import for_plotting, kept_rows
 from neurov.results.timeseries import SERIES, TRANSIENT_S, metrics_start
-from neurov.config.scenario import load_scenario
-from neurov.running.simulation import Result, simulate
+from neurov.config.reading import load_scenario
+from neurov.results.timeseries import Result
+from neurov.running.simulation import simulate
 
 ROOT = Path(__file__).resolve().parents[2]
 

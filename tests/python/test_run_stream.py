@@ -16,7 +16,7 @@ from neurov.results.decimation import PlotRows, for_plotting
 from neurov.results.timeseries import SERIES
 from neurov.running.stream import stream_run
 from neurov.config.scenario import ControllerSpec
-from neurov.running.simulation import build_vehicle
+from neurov.running.plant import build_vehicle
 
 ROOT = Path(__file__).resolve().parents[2]
 SCENARIOS = ROOT / "examples" / "scenarios"

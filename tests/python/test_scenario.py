@@ -11,7 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from neurov.config.scenario import ScenarioError, load_scenario
+from neurov.config.reading import load_scenario
+from neurov.config.scenario import ScenarioError
 from neurov.running.simulation import simulate
 from neurov.config.vehicle_file import preset_path
 

@@ -13,7 +13,7 @@ from scipy.integrate import quad
 from neurov import _core
 from neurov.plotting import sea
 from neurov.running.command import FIGURES, SEA_FIGURES, run_scenario_file
-from neurov.config.scenario import load_scenario
+from neurov.config.reading import load_scenario
 from neurov.running.simulation import simulate
 from neurov.study.spec import SCENARIO_DIR
 

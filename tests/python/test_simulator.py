@@ -20,7 +20,8 @@ import pytest
 import neurov
 from neurov import _core
 from neurov.config.scenario import ControllerSpec, CurrentStep, SensorFault, ThrusterFailure
-from neurov.running.simulation import build_controller, build_vehicle, simulation_config
+from neurov.laws.registry import build_controller
+from neurov.running.plant import build_vehicle, simulation_config
 
 ROOT = Path(__file__).resolve().parents[2]
 DURATION = 60.0

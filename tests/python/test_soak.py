@@ -25,7 +25,8 @@ import pytest
 import neurov
 from neurov import _core
 from neurov.config.scenario import Disturbance, Scenario
-from neurov.running.simulation import build_controller, build_vehicle, simulation_config
+from neurov.laws.registry import build_controller
+from neurov.running.plant import build_vehicle, simulation_config
 
 HOURS = 24
 HOUR_S = 3600.0

@@ -9,8 +9,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from neurov.config.scenario import load_scenario
-from neurov.running.simulation import build_controller
+from neurov.config.reading import load_scenario
+from neurov.laws.registry import build_controller
 from neurov.study import (
     SCENARIO_DIR,
     StudyError,

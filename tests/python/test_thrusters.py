@@ -8,7 +8,8 @@ import pytest
 
 from neurov import _core
 from neurov.config.scenario import CommandSpec, ControllerSpec, Scenario, ThrusterFailure
-from neurov.running.simulation import simulate, simulation_config
+from neurov.running.plant import simulation_config
+from neurov.running.simulation import simulate
 from neurov.config.vehicle_file import load_thrusters, preset_path
 
 NEROV = load_thrusters(preset_path("nerov"))
@@ -166,7 +167,8 @@ def test_saturating_closed_loop_scale_vs_clip() -> None:
     scenario = square_with_thrusters(duration=20.0)
 
     def run(saturation: str) -> tuple[np.ndarray, np.ndarray]:
-        from neurov.running.simulation import build_controller, build_vehicle
+        from neurov.laws.registry import build_controller
+        from neurov.running.plant import build_vehicle
 
         config = simulation_config(scenario.replace(saturation=saturation))
         config.thrusters.max_thrust = np.full(6, 5.0)

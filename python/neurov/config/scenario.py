@@ -74,6 +74,8 @@ from neurov.config import trajectories
 from neurov.errors import ScenarioError
 from neurov.files import PACKAGE_DIR, shipped_or_path
 from neurov.config.vehicle_file import VehicleFile, preset_path, read_vehicle_file
+from neurov.config.schema import as_dict, field_names
+from neurov.laws.registry import REGISTRY
 
 __all__ = [
     "CommandSpec",
@@ -84,7 +86,6 @@ __all__ = [
     "ScenarioError",
     "SensorFault",
     "ThrusterFailure",
-    "load_scenario",
     "scenario_path",
     "shipped_scenarios",
 ]
@@ -109,8 +110,6 @@ class ControllerSpec:
     """
 
     def __init__(self, type: str = "nn", label: str = "", config: Any = None, **fields: Any) -> None:
-        from neurov.laws.registry import REGISTRY
-
         if type not in REGISTRY:
             raise ValueError(f"controller type must be one of {sorted(REGISTRY)}, got {type!r}")
         kind = REGISTRY[type]
@@ -145,8 +144,6 @@ class ControllerSpec:
     def replace(self, **changes: Any) -> ControllerSpec:
         """A copy with some fields or options changed. A new ``type`` starts
         from that type's defaults and keeps the gains both types have."""
-        from neurov.config.schema import field_names
-
         kind = changes.pop("type", self.type)
         if kind == self.type:
             out = ControllerSpec(kind, self.label, copy.copy(self.config))
@@ -165,15 +162,11 @@ class ControllerSpec:
 
     def describe(self) -> dict[str, Any]:
         """Everything that decides the controller, as plain data."""
-        from neurov.config.schema import as_dict
-
         options = {k: (v.tolist() if isinstance(v, np.ndarray) else v) for k, v in self.options.items()}
         return {"type": self.type, "label": self.label, "config": as_dict(self.config), "options": options}
 
     @property
     def name(self) -> str:
-        from neurov.laws.registry import REGISTRY
-
         return self.label or REGISTRY[self.type].title
 
 
@@ -324,8 +317,6 @@ class Scenario:
         """Everything that decides a run, as plain data (for hashing)."""
         import dataclasses
 
-        from neurov.config.schema import as_dict
-
         command = {k: (v.tolist() if isinstance(v, np.ndarray) else v)
                    for k, v in dataclasses.asdict(self.command).items()}
         simulation = as_dict(self.simulation)
@@ -355,10 +346,6 @@ class Scenario:
 
     def __setstate__(self, state: dict[str, Any]) -> None:
         self.__dict__.update(state)
-
-    @staticmethod
-    def from_file(path: str | Path) -> Scenario:
-        return load_scenario(path)
 
     def vehicle_data(self) -> VehicleFile:
         """The vehicle file, read and checked once: the copy the scenario holds
@@ -395,18 +382,3 @@ def scenario_path(name_or_path: str | Path) -> Path:
     must be a shipped scenario's (a folder of that name does not hide it),
     else :class:`ScenarioError` listing them."""
     return shipped_or_path(name_or_path, SCENARIO_DIR, "scenario", ScenarioError)
-
-
-def load_scenario(path: str | Path) -> Scenario:
-    """Reads a scenario file; raises :class:`ScenarioError` naming the file and field."""
-    from neurov.config.reading import read_scenario
-
-    return read_scenario(path)
-
-
-def make_centres(spec: ControllerSpec, low: NDArray[np.float64], high: NDArray[np.float64]) -> NDArray[np.float64]:
-    """The (N, 24) centres a controller spec asks for (see
-    :func:`neurov.laws.registry.make_centres`)."""
-    from neurov.laws.registry import make_centres as make
-
-    return make(spec, low, high)

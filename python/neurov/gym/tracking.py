@@ -20,9 +20,10 @@ from numpy.typing import NDArray
 from neurov import _core
 from neurov.laws.protocol import as_real_numbers
 from neurov.gym.limits import single_dof_limits
-from neurov.config.scenario import Scenario, ScenarioError, load_scenario, scenario_path
-from neurov.running.simulation import build_vehicle, simulation_config
 from neurov.config.vehicle_file import VehicleFile, read_vehicle_file
+from neurov.config.reading import load_scenario
+from neurov.config.scenario import Scenario, ScenarioError, scenario_path
+from neurov.running.plant import build_vehicle, simulation_config
 
 __all__ = ["TrackingEnv", "resolve_scenario"]
 

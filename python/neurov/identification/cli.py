@@ -48,6 +48,7 @@ def add_parser(sub: Any, epilog: str) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    # Deferred: this module is imported for `neurov --help`; the fit needs SciPy.
     from pathlib import Path
 
     from neurov.identification.fit import identify

@@ -21,6 +21,7 @@ from numpy.typing import NDArray
 
 from neurov import _core
 from neurov.laws import centres as centre_placement
+from neurov.config.schema import field_names
 
 if TYPE_CHECKING:
     from neurov.config.scenario import ControllerSpec, Scenario
@@ -52,8 +53,6 @@ class ControllerType:
 
     def fields(self) -> list[str]:
         """The config fields a file may set (TOML names)."""
-        from neurov.config.schema import field_names
-
         inverse = {v: k for k, v in self.keys.items()}
         return [inverse.get(f, f) for f in field_names(self.config()) if f not in self.managed]
 

@@ -17,12 +17,12 @@ from typing import Any
 
 import numpy as np
 
-from neurov.config.scenario import SCENARIO_DIR, ControllerSpec, Scenario, load_scenario
 from neurov.paper.figures import figure_inputs, figure_xy, figure_yaw
-from neurov.running.command import finite_or_none
-from neurov.running.folder import RunFolder, stopping, writing
-from neurov.results.timeseries import TRANSIENT_S, metrics_start
-from neurov.running.simulation import Result, simulate
+from neurov.running.folder import RunFolder, finite_or_none, stopping, writing
+from neurov.results.timeseries import Result, TRANSIENT_S, metrics_start
+from neurov.config.reading import load_scenario
+from neurov.config.scenario import ControllerSpec, SCENARIO_DIR, Scenario
+from neurov.running.simulation import simulate
 
 __all__ = ["EXPERIMENTS", "METRIC_KEYS", "OUTPUT_NAMES", "Experiment", "diverged_runs", "fig5_caption", "paper_scenario", "run_paper"]
 

@@ -17,7 +17,7 @@ from matplotlib.figure import Figure
 from neurov.plotting.labels import thruster_label
 from neurov.plotting.paths import mark_start_and_direction
 from neurov.plotting.runs import demanded_and_applied
-from neurov.running.simulation import Result
+from neurov.results.timeseries import Result
 
 __all__ = ["figure_inputs", "figure_xy", "figure_yaw"]
 

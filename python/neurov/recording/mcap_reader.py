@@ -14,6 +14,8 @@ from neurov.results.columns import npz_series
 from neurov.errors import RecordingError
 from neurov.results.timeseries import Result
 from neurov.config.scenario import Scenario
+from neurov.config.reading import scenario_from_mapping
+from neurov.files import tomllib
 
 __all__ = ["MAX_RESULT_BYTES", "read_mcap", "result_from_npz"]
 
@@ -60,9 +62,6 @@ def read_mcap(path: str | Path, scenario: Scenario | None = None) -> Result:
 
 
 def _scenario(attachments: dict[str, bytes], info: dict[str, str], path: Path) -> Scenario:
-    from neurov.files import tomllib
-    from neurov.config.reading import scenario_from_mapping
-
     text = attachments.get("scenario.toml")
     if text is None:
         raise RecordingError(f"{path}: no attachment 'scenario.toml' (the run's scenario "

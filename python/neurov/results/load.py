@@ -32,7 +32,9 @@ import numpy as np
 from neurov.results.columns import npz_series, series_from_columns
 from neurov.errors import ResultFileError
 from neurov.results.timeseries import Result
-from neurov.config.scenario import Scenario, load_scenario, scenario_path
+from neurov.config.reading import load_scenario
+from neurov.config.scenario import Scenario, scenario_path
+from neurov.recording.mcap_reader import read_mcap
 
 __all__ = ["READERS", "RESULT_FILES", "SCENARIO_FILE", "load_result"]
 
@@ -127,8 +129,6 @@ def _read_npz(path: Path, scenario: Scenario | str | Path | None) -> Result:
 
 
 def _read_mcap(path: Path, scenario: Scenario | str | Path | None) -> Result:
-    from neurov.recording.mcap_reader import read_mcap
-
     given = load_scenario(scenario_path(scenario)) if isinstance(scenario, (str, Path)) else scenario
     return read_mcap(path, given)
 

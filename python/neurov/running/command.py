@@ -10,21 +10,21 @@ results to a folder::
 
 from __future__ import annotations
 
-import json
 import math
 import shutil
 import sys
 from pathlib import Path
 from typing import Any, TextIO
 
-from neurov.config.scenario import load_scenario, scenario_path
 from neurov.results.timeseries import Result
-from neurov.running.folder import RunFolder, check_output_dir, stopping, writing
 from neurov.running.stream import stream_run
+from neurov.config.reading import load_scenario
+from neurov.config.scenario import scenario_path
+from neurov.progress import progress_bar
+from neurov.running.folder import RunFolder, stopping, write_metrics, writing
 
-__all__ = ["EXIT_DIVERGED", "FIGURES", "OUTPUT_NAMES", "SEA_FIGURES", "check_output_dir", "finite_or_none",
-           "format_metrics", "refusal_message", "run_scenario_file", "write_figures", "write_metrics",
-           "write_outputs"]
+__all__ = ["EXIT_DIVERGED", "FIGURES", "OUTPUT_NAMES", "SEA_FIGURES", "format_metrics", "refusal_message",
+           "run_scenario_file", "write_figures", "write_outputs"]
 
 EXIT_DIVERGED = 3
 """Exit status of ``neurov run`` and ``neurov paper`` when a run diverged
@@ -39,17 +39,6 @@ OUTPUT_NAMES = ("result.csv", "result.mcap", "result.npz", "metrics.json", "scen
 """The files a run writes in its folder (see :mod:`neurov.running.folder`);
 scenario.toml is the scenario file run, copied as it was (written by
 :func:`run_scenario_file`, so that :func:`neurov.load_result` finds it)."""
-
-
-def finite_or_none(value: Any) -> Any:
-    """JSON has no inf or NaN (a diverged run has inf errors): write null."""
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    if isinstance(value, dict):
-        return {k: finite_or_none(v) for k, v in value.items()}
-    if isinstance(value, list):
-        return [finite_or_none(v) for v in value]
-    return value
 
 
 def format_metrics(result: Result, metrics: dict[str, Any]) -> str:
@@ -97,14 +86,6 @@ def refusal_message(result: Result, metrics: dict[str, Any]) -> str:
             f"{result.first_refusal}; the run went on with refused_step_policy {policy!r}")
 
 
-def write_metrics(metrics: dict[str, Any], out: Path) -> Path:
-    """metrics.json in `out` (non-finite numbers as null)."""
-    path = out / "metrics.json"
-    with writing(path):
-        path.write_text(json.dumps(finite_or_none(metrics), indent=2) + "\n", encoding="utf-8")
-    return path
-
-
 def write_figures(drawn: Result, out: Path, quiet: bool = True, *, sea: bool | None = None,
                   elevation: Result | None = None) -> list[Path]:
     """The figures of :data:`FIGURES` of the run `drawn` (and of
@@ -116,8 +97,6 @@ def write_figures(drawn: Result, out: Path, quiet: bool = True, *, sea: bool | N
     # plots does not need it.
     from neurov.plotting import runs as plots
     from neurov.plotting import sea as sea_plots
-    from neurov.progress import progress_bar
-
     figures = {
         "xy.png": plots.xy_path, "dofs.png": plots.dof_time, "errors.png": plots.errors,
         "inputs.png": plots.control_inputs, "adaptive_norm.png": plots.adaptive_norm,

@@ -17,7 +17,7 @@ from neurov import _core
 from neurov.laws.protocol import ControllerCall
 from neurov.results.timeseries import Result
 from neurov.config.scenario import Scenario
-from neurov.running.simulation import build_vehicle, simulation_config
+from neurov.running.plant import build_vehicle, simulation_config
 
 __all__ = ["Observation", "Simulator"]
 
