@@ -136,6 +136,7 @@ def tune(tuning: "str | os.PathLike[str] | Tuning", out_dir: "str | os.PathLike[
     """Tunes the controllers of a tuning file: :func:`neurov.tuning.tune`
     (imported here on first use: Optuna is an optional dependency, and
     ``import neurov`` stays cheap)."""
+    # Deferred: neurov.tuning needs Optuna and pandas.
     from neurov.tuning import tune as _tune
 
     return _tune(tuning, out_dir, **options)

@@ -18,11 +18,17 @@ PYTHON_DIR = Path(__file__).resolve().parents[2] / "python"
 MAX_RSS_MB = 40.0
 HEAVY = ("matplotlib", "scipy.stats", "pandas", "control", "gymnasium", "optuna", "mcap", "plotly")
 
+# The peak resident size of this process image: VmHWM (Linux) starts afresh
+# at exec, where ru_maxrss keeps the peak of the pytest process it was forked from.
 PROBE = """
 import json, resource, sys
 {statement}
-print(json.dumps({{"rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
-                  "heavy": [m for m in {heavy!r} if m in sys.modules]}}))
+try:
+    with open("/proc/self/status") as f:
+        rss_mb = next(int(line.split()[1]) for line in f if line.startswith("VmHWM:")) / 1024
+except OSError:
+    rss_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+print(json.dumps({{"rss_mb": rss_mb, "heavy": [m for m in {heavy!r} if m in sys.modules]}}))
 """
 
 

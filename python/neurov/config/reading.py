@@ -109,6 +109,7 @@ def _command(r: TableReader) -> CommandSpec:
     kind = r.string("type", choices=("waypoints", "recorded", "square", "lawnmower", "circle", "helix"))
     spec = CommandSpec(type=kind, interpolation=r.string("interpolation", "linear", choices=("linear", "hold")))
     if kind == "recorded":
+        # Deferred: reading a recorded path needs rosbags or mcap and SciPy.
         from neurov.recording.recorded_path import RecordedPathError, recorded_path
 
         file = Path(r.string("file"))

@@ -186,6 +186,7 @@ class CommandSpec:
 
     def timed_poses(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         if self.type == "recorded" and self.poses is None:
+            # Deferred: reading a recorded path needs rosbags or mcap and SciPy.
             from neurov.recording.recorded_path import recorded_path
 
             self.times, self.poses = recorded_path(**self.args)

@@ -273,6 +273,7 @@ class TrackingEnv(gymnasium.Env):
             return None
         if not self._track:
             raise gymnasium.error.ResetNeeded("TrackingEnv.render: call reset() before render()")
+        # Deferred: rendering draws with Matplotlib.
         from neurov.gym.render import top_view
 
         eta = self._sim.state[0]

@@ -72,6 +72,7 @@ def _scenario(attachments: dict[str, bytes], info: dict[str, str], path: Path) -
     except (UnicodeDecodeError, tomllib.TOMLDecodeError) as e:
         raise RecordingError(f"{path}: attachment scenario.toml: not valid TOML ({e})") from None
     scenario = scenario_from_mapping(data, info.get("source") or f"{path}:scenario.toml")
+    # Deferred: the writer's module needs SciPy (its frames' rotations); reading does not.
     from neurov.recording.mcap_writer import plain
 
     # The file's scenario is the run's unless it was changed in Python after it was read.
