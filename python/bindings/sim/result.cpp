@@ -75,7 +75,7 @@ std::string result_series_names() {
 }
 
 void bind_result_series(py::module_& m) {
-  // Plain tuples (neurov.results.columns names their fields): (name, width or None,
+  // Plain tuples (neurov.columns names their fields): (name, width or None,
   // varies_with, labels, unit, dtype, kind, description).
   static const char* const kinds[] = {"real", "status", "bits"};
   py::list all;
