@@ -12,8 +12,8 @@ position error of the run.
 from __future__ import annotations
 
 import neurov
-from neurov.scenario import scenario_path
-from neurov.simulation import build_controller
+from neurov.config.scenario import scenario_path
+from neurov.laws.registry import build_controller
 from neurov.study.basis_rank import BasisRecorder, rank_diagnostic
 
 

@@ -32,8 +32,8 @@ import numpy as np
 
 import neurov
 from neurov import _core
-from neurov.controller import ControllerCall
-from neurov.simulation import build_vehicle, simulation_config
+from neurov.laws.protocol import ControllerCall
+from neurov.running.plant import build_vehicle, simulation_config
 from neurov.study.spec import SCENARIO_DIR
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))

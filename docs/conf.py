@@ -103,7 +103,7 @@ def setup(app: Any) -> None:
 
 def _write_result_series() -> None:
     """The result's columns (docs/running.md includes them), from the C++ table."""
-    from neurov.columns import markdown_table
+    from neurov.results.columns import markdown_table
 
     generated = DOCS / "_build" / "generated"
     generated.mkdir(parents=True, exist_ok=True)

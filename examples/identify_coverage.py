@@ -24,7 +24,7 @@ import numpy as np
 import neurov
 from neurov.identification.neurov_log import log_from_result
 from neurov.study.spec import SCENARIO_DIR
-from neurov.vehicle_file import preset_path, read_vehicle_file
+from neurov.config.vehicle_file import preset_path, read_vehicle_file
 
 PRESETS = {"bluerov2": "bluerov2_heavy", "nerov": "nerov"}
 

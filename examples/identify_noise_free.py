@@ -16,7 +16,7 @@ import neurov
 from neurov.identification.neurov_log import log_from_result
 from neurov.identification.parameters import GROUPS
 from neurov.study.spec import SCENARIO_DIR
-from neurov.vehicle_file import preset_path
+from neurov.config.vehicle_file import preset_path
 
 ALL = "added_mass,linear_damping,quadratic_damping,mass,inertia,restoring"
 

@@ -11,11 +11,11 @@ from __future__ import annotations
 import sys
 
 import neurov
-from neurov.identification.figure import plot_identification
+from neurov.identification.plots import plot_identification
 from neurov.identification.neurov_log import log_from_result
 from neurov.identification.report import report_text
 from neurov.study.spec import SCENARIO_DIR
-from neurov.vehicle_file import preset_path, read_vehicle_file
+from neurov.config.vehicle_file import preset_path, read_vehicle_file
 
 q = read_vehicle_file(preset_path("bluerov2_heavy")).parameters
 other = {"linear_damping": [1.4 * x for x in q["linear_damping"]],

@@ -13,8 +13,9 @@ import time
 
 import numpy as np
 
-from neurov.paper import TRANSIENT, paper_scenario
-from neurov.simulation import build_controller, simulate
+from neurov.paper.experiments import TRANSIENT, paper_scenario
+from neurov.laws.registry import build_controller
+from neurov.running.simulation import simulate
 
 
 def row(label: str, result) -> str:  # type: ignore[no-untyped-def]

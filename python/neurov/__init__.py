@@ -6,7 +6,9 @@ with Eigen); this package re-exports it and adds files, scenarios and plots.
 
 from typing import TYPE_CHECKING
 
-from neurov import centres, errors, trajectories
+from neurov import errors
+from neurov.config import trajectories
+from neurov.laws import centres
 from neurov._core import (
     BUILT_IN_CONTROLLERS as _BUILT_IN_CONTROLLERS,
     MAX_CENTRES,
@@ -36,7 +38,7 @@ from neurov._core import (
     singularity_threshold,
     tracking_error,
 )
-from neurov.scenario import (
+from neurov.config.scenario import (
     CommandSpec,
     ControllerSpec,
     CurrentStep,
@@ -45,16 +47,17 @@ from neurov.scenario import (
     ScenarioError,
     SensorFault,
     ThrusterFailure,
-    load_scenario,
 )
 from neurov.kernels import check_kernel_request as _check_kernel_request
-from neurov.simulation import Result, simulate, simulate_many
-from neurov.controller import Controller
-from neurov.simulator import Observation, Simulator
+from neurov.laws.protocol import Controller
+from neurov.running.stepper import Observation, Simulator
 from neurov.errors import NeurovError, RefusedStepsWarning, ValidationError, VehicleFileError
-from neurov import weights  # noqa: F401  (attaches NNAdaptiveController.save/load)
+from neurov.laws import weights  # noqa: F401  (attaches NNAdaptiveController.save/load)
 from neurov.identification import identify
-from neurov.load import load_result
+from neurov.results.load import load_result
+from neurov.config.reading import load_scenario
+from neurov.results.timeseries import Result
+from neurov.running.simulation import simulate, simulate_many
 
 __all__ = [
     "MAX_CENTRES",
@@ -133,6 +136,7 @@ def tune(tuning: "str | os.PathLike[str] | Tuning", out_dir: "str | os.PathLike[
     """Tunes the controllers of a tuning file: :func:`neurov.tuning.tune`
     (imported here on first use: Optuna is an optional dependency, and
     ``import neurov`` stays cheap)."""
+    # Deferred: neurov.tuning needs Optuna and pandas.
     from neurov.tuning import tune as _tune
 
     return _tune(tuning, out_dir, **options)

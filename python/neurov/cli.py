@@ -9,7 +9,11 @@ from collections.abc import Sequence
 
 __all__ = ["main"]
 
-# The numbers are neurov.run.EXIT_DIVERGED and its neighbours; written out
+# Each command's modules are imported inside main() once the command is
+# chosen (deferred on purpose): `neurov --help`, `--version` and a bad command
+# line answer without loading the runs, Matplotlib, pandas, SciPy or Optuna.
+
+# The numbers are neurov.running.command.EXIT_DIVERGED and its neighbours; written out
 # here so that --help answers without importing numpy.
 _EXIT_STATUS = """exit status:
   0    success
@@ -160,8 +164,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     # Commands import lazily so that --help answers at once.
     try:
         if args.command == "paper":
-            from neurov.paper import diverged_runs, run_paper
-            from neurov.run import EXIT_DIVERGED
+            from neurov.paper.experiments import diverged_runs, run_paper
+            from neurov.running.command import EXIT_DIVERGED
 
             bad = diverged_runs(run_paper(args.out))
             if bad:
@@ -173,7 +177,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             if args.file_format != "csv" and args.out is None:
                 args.usage_of.error(f"--format {args.file_format} needs --out DIR")
             from neurov.errors import RefusedStepsWarning
-            from neurov.run import EXIT_DIVERGED, refusal_message, run_scenario_file
+            from neurov.running.command import EXIT_DIVERGED, refusal_message, run_scenario_file
 
             with warnings.catch_warnings():
                 # Said below and in the printout, without a warning's source line.

@@ -23,6 +23,9 @@ else:  # pragma: no cover - exercised on Python 3.10 only
 
 #: The largest TOML file read, in bytes (4 MiB). The shipped files are a few
 #: kB; a scenario of 10^4 waypoints of six numbers is about 0.6 MB.
+# The shipped data folders (scenarios/, studies/, tunings/, vehicles/) are here.
+PACKAGE_DIR = Path(__file__).resolve().parent
+
 MAX_FILE_BYTES = 4 * 1024 * 1024
 
 #: The deepest nesting of tables and arrays a TOML file may have. The shipped

@@ -5,8 +5,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from neurov.scenario import CommandSpec, ControllerSpec, Scenario
-from neurov.simulation import Result, simulate
+from neurov.config.scenario import CommandSpec, ControllerSpec, Scenario
+from neurov.results.timeseries import Result
+from neurov.running.simulation import simulate
 
 PD = ControllerSpec(type="pd", kp=np.full(6, 200.0), kd=np.full(6, 300.0))
 

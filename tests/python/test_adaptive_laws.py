@@ -164,7 +164,7 @@ def nn_tracking_errors(nerov: neurov.Vehicle, gamma: float) -> tuple[Array, floa
     low = np.r_[np.full(6, -0.2), np.full(12, -0.6), -3, -1, -1, -0.1, -0.1, -1]
     high = np.r_[np.full(18, 0.6), 3, 5, 1, 0.1, 0.1, 1]
     high[:6] = 0.2
-    net = neurov.RbfNetwork(neurov.centres.sobol(64, low, high, seed=3), 3.0)
+    net = neurov.RbfNetwork(neurov.laws.centres.sobol(64, low, high, seed=3), 3.0)
     ctl = neurov.NNAdaptiveController(net, np.ones(6), [200, 200, 200, 50, 50, 50], gamma, dt)
     eta, nu = np.zeros(6), np.zeros(6)
     err = np.empty(steps)

@@ -46,8 +46,8 @@ def test_a_study_records_the_nn_basis_rank_without_changing_a_number(tmp_path: P
 
 def test_normalised_inputs_map_the_centre_box_onto_the_unit_cube() -> None:
     import neurov
-    from neurov.controllers import default_centre_box, input_normalisation
-    from neurov.simulation import build_controller
+    from neurov.laws.registry import default_centre_box, input_normalisation
+    from neurov.laws.registry import build_controller
 
     sc = neurov.load_scenario(Path(neurov.__file__).parent / "scenarios" / "paper_fig3.toml")
     spec = sc.controller.replace(width=1.0)
@@ -61,7 +61,7 @@ def test_normalised_inputs_map_the_centre_box_onto_the_unit_cube() -> None:
     assert centres.min() >= -1.0 and centres.max() <= 1.0
     np.testing.assert_allclose(np.asarray(c.input_scale), scale)
     with pytest.raises(neurov.ScenarioError, match=r"controller\.inputs: expected one of \['si', 'normalised'\]"):
-        from neurov.scenario_file import scenario_from_mapping
+        from neurov.config.reading import scenario_from_mapping
 
         import tomllib
 

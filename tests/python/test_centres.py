@@ -1,4 +1,4 @@
-"""neurov.centres: where an RBF network's centres go (a grid over a few inputs,
+"""neurov.laws.centres: where an RBF network's centres go (a grid over a few inputs,
 or quasi-random points filling a box)."""
 
 from __future__ import annotations

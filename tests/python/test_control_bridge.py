@@ -12,8 +12,9 @@ ct = pytest.importorskip("control", minversion="0.10")
 
 import neurov  # noqa: E402
 import neurov.control as nc  # noqa: E402
-from neurov.scenario import CommandSpec, ControllerSpec, Scenario  # noqa: E402
-from neurov.simulation import Result, simulate  # noqa: E402
+from neurov.config.scenario import CommandSpec, ControllerSpec, Scenario  # noqa: E402
+from neurov.results.timeseries import Result  # noqa: E402
+from neurov.running.simulation import simulate
 
 
 def skew(a: np.ndarray) -> np.ndarray:

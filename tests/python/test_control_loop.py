@@ -17,9 +17,9 @@ ct = pytest.importorskip("control", minversion="0.10")
 
 import neurov  # noqa: E402
 import neurov.control as nc  # noqa: E402
-from neurov.controllers import REGISTRY, build_controller  # noqa: E402
+from neurov.laws.registry import REGISTRY, build_controller  # noqa: E402
 from neurov.errors import ScenarioError  # noqa: E402
-from neurov.scenario import ControllerSpec, Scenario  # noqa: E402
+from neurov.config.scenario import ControllerSpec, Scenario  # noqa: E402
 
 PD_GAINS = {"kp": [100, 100, 100, 25, 25, 25], "kd": [200, 200, 200, 50, 50, 50]}
 

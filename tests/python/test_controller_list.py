@@ -14,8 +14,8 @@ import pytest
 
 import neurov
 from neurov import _core
-from neurov.controller import BUILT_IN_CONTROLLERS, is_built_in
-from neurov.controllers import REGISTRY, build_controller
+from neurov.laws.protocol import BUILT_IN_CONTROLLERS, is_built_in
+from neurov.laws.registry import REGISTRY, build_controller
 
 NAMES = list(_core.BUILT_IN_CONTROLLERS)
 SQUARE = importlib.resources.files("neurov") / "scenarios" / "nerov_square.toml"

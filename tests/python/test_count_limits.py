@@ -13,7 +13,8 @@ import pytest
 
 import neurov
 from neurov import _core, centres
-from neurov.scenario import ScenarioError, load_scenario
+from neurov.config.reading import load_scenario
+from neurov.config.scenario import ScenarioError
 from neurov.study import StudyError, load_study
 
 SCENARIO = """

@@ -13,7 +13,7 @@ import reference_model as ref
 
 import neurov
 from neurov import errors
-from neurov.scenario_file import scenario_from_mapping
+from neurov.config.reading import scenario_from_mapping
 
 
 def _neurov_modules():

@@ -19,8 +19,8 @@ import numpy as np
 import pytest
 
 import neurov
-from neurov.simulation import Result
-from neurov.vehicle_file import load_thrusters, preset_path
+from neurov.results.timeseries import Result
+from neurov.config.vehicle_file import load_thrusters, preset_path
 
 ROOT = Path(__file__).resolve().parents[2]
 FAULTS = ROOT / "examples" / "scenarios" / "faults"

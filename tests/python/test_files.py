@@ -10,10 +10,11 @@ from pathlib import Path
 import pytest
 
 from neurov import cli, files
-from neurov.scenario import ScenarioError, load_scenario
-from neurov.schema import as_dict
+from neurov.config.reading import load_scenario
+from neurov.config.scenario import ScenarioError
+from neurov.config.schema import as_dict
 from neurov.study import StudyError, load_study
-from neurov.vehicle_file import VehicleFileError, load_thrusters, load_vehicle_parameters
+from neurov.config.vehicle_file import VehicleFileError, load_thrusters, load_vehicle_parameters
 
 LOADERS = [
     pytest.param(load_scenario, ScenarioError, id="scenario"),

@@ -17,8 +17,8 @@ import neurov  # noqa: E402
 import neurov.gym  # noqa: E402
 from neurov import _core  # noqa: E402
 from neurov.gym import TrackingEnv, single_dof_limits  # noqa: E402
-from neurov.simulation import build_vehicle, simulation_config  # noqa: E402
-from neurov.vehicle_file import VehicleFileError, load_limits, load_thrusters, load_vehicle  # noqa: E402
+from neurov.running.plant import build_vehicle, simulation_config  # noqa: E402
+from neurov.config.vehicle_file import VehicleFileError, load_limits, load_thrusters, load_vehicle  # noqa: E402
 
 PACKAGE = Path(neurov.__file__).resolve().parent
 

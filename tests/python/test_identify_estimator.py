@@ -11,7 +11,7 @@ from identify_runs import excitation_run, true_theta
 import neurov
 from neurov.identification import IdentificationError, make_log
 from neurov.identification.estimator_model import refresh_rows, staircase
-from neurov.vehicle_file import preset_path
+from neurov.config.vehicle_file import preset_path
 
 GAIN = np.array([0.85, 0.8, 0.9])
 

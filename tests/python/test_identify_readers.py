@@ -15,7 +15,7 @@ from identify_runs import excitation_run
 import neurov
 from neurov.identification import LogError, read_log
 from neurov.identification.neurov_log import log_from_result
-from neurov.vehicle_file import preset_path
+from neurov.config.vehicle_file import preset_path
 
 ENU_FLU = np.array([1, -1, -1, 1, -1, -1.0])
 
@@ -114,7 +114,7 @@ def _write_bag(path: Path, r: neurov.Result, ros1: bool, sensors: bool = False) 
             c_imu = writer.add_connection("/rov/imu", imu_t, typestore=store)
             c_pressure = writer.add_connection("/rov/pressure", pressure_t, typestore=store)
             c_cmd = writer.add_connection("/rov/thrusters", cmd_t, typestore=store)
-            matrix = neurov.vehicle_file.load_thrusters(preset_path("nerov"))["matrix"]
+            matrix = neurov.config.vehicle_file.load_thrusters(preset_path("nerov"))["matrix"]
             # Each thruster's thrust that gives the body wrench (neurov's frame) exactly.
             thrust = (np.linalg.solve(matrix, (r.tau_applied + r.disturbance).T)).T
         for k, t in enumerate(r.t):
@@ -189,7 +189,7 @@ thrusters = "/rov/thrusters"
 
 def test_imu_pressure_and_thruster_topics_give_the_run_s_own_fit(tmp_path: Path) -> None:
     r = excitation_run("nerov", 20.0)
-    thrusters = neurov.vehicle_file.load_thrusters(preset_path("nerov"))
+    thrusters = neurov.config.vehicle_file.load_thrusters(preset_path("nerov"))
     (tmp_path / "map.toml").write_text(SENSOR_MAP)
     reference = neurov.identify(log_from_result(r), preset_path("nerov"), replicates=20,
                                 output_error=False)
@@ -231,7 +231,7 @@ def _ardusub_run() -> tuple[neurov.Result, dict, np.ndarray]:
     """A noisy BlueROV2 run, its thrusters, and the whole force (the
     excitation included) as the eight thrusters' integer PWM."""
     r = excitation_run("bluerov2", 30.0, noise=0.01)
-    thrusters = neurov.vehicle_file.load_thrusters(preset_path("bluerov2_heavy"))
+    thrusters = neurov.config.vehicle_file.load_thrusters(preset_path("bluerov2_heavy"))
     tau = r.tau_applied + r.disturbance
     f = np.array([neurov.allocate_thrust(thrusters["matrix"], x)[0] for x in tau])
     pwm = np.column_stack([_pwm(f[:, i], c) for i, c in enumerate(thrusters["curves"])])

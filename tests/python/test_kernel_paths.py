@@ -28,11 +28,11 @@ import json, sys
 import numpy as np
 import neurov
 from neurov import _core
-from neurov.scenario import load_scenario
-from neurov.simulation import simulate
+from neurov.config.reading import load_scenario
+from neurov.running.simulation import simulate
 s = load_scenario(sys.argv[1])
 if sys.argv[3] == "pd":
-    s = s.replace(controller=neurov.scenario.ControllerSpec(type="pd", kp=np.full(6, 20.0),
+    s = s.replace(controller=neurov.config.scenario.ControllerSpec(type="pd", kp=np.full(6, 20.0),
                                                             kd=np.full(6, 20.0)))
 r = simulate(s.replace(duration=float(sys.argv[2])))
 np.savez(sys.argv[4], eta=r.eta, tau=r.tau_demanded)

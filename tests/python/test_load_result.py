@@ -14,13 +14,15 @@ import numpy as np
 import pytest
 
 import neurov
-from neurov.columns import RESULT_SERIES, SERIES
+from neurov.results.columns import RESULT_SERIES, SERIES
 from neurov.errors import ResultFileError
-from neurov.result import Result
-from neurov.run import finite_or_none, run_scenario_file
-from neurov.scenario import load_scenario, scenario_path
+from neurov.results.timeseries import Result
+from neurov.running.command import run_scenario_file
+from neurov.running.folder import finite_or_none
+from neurov.config.reading import load_scenario
 
 # A few seconds of a BlueROV2 Heavy on its thrusters, with sensors, the EKF,
+from neurov.config.scenario import scenario_path
 # waves, a current, a sinusoidal disturbance, a failing thruster and the
 # linear adaptive controller (its theta columns): every kind of column.
 SEA = """
@@ -160,9 +162,9 @@ def test_the_cpp_table_is_the_one_list(paper: Result) -> None:
     assert tuple(names) == SERIES == tuple(s.name for s in RESULT_SERIES)
     fields = [f.name for f in dataclasses.fields(Result)]
     assert fields[fields.index("t"):fields.index("diverged")] == names
-    config = neurov.simulation.simulation_config(paper.scenario)
-    raw = neurov.run_closed_loop(neurov.simulation.build_vehicle(paper.scenario),
-                                 neurov.controllers.build_controller(paper.scenario.controller, paper.scenario),
+    config = neurov.running.plant.simulation_config(paper.scenario)
+    raw = neurov.run_closed_loop(neurov.running.plant.build_vehicle(paper.scenario),
+                                 neurov.laws.registry.build_controller(paper.scenario.controller, paper.scenario),
                                  config)
     assert list(raw) == [*names, "diverged"]
     for spec in RESULT_SERIES:

@@ -1,4 +1,4 @@
-"""A metric is one entry of neurov.metrics.METRICS: added there, it reaches
+"""A metric is one entry of neurov.results.metrics.METRICS: added there, it reaches
 Result.metrics, a study's runs table, what a study may rank and bound by, the
 league table and the figures' labels, with nothing else edited."""
 
@@ -12,7 +12,7 @@ import pandas as pd
 import pytest
 
 from neurov import load_scenario, simulate
-from neurov.metrics import METRICS, Metric, metric_label, metric_names, register_metric
+from neurov.results.metrics import METRICS, Metric, metric_label, metric_names, register_metric
 from neurov.study import run_study
 from study_files import step_scenario
 
@@ -85,7 +85,7 @@ def test_a_metric_is_refused_with_its_reason(depth_in_cm: Metric) -> None:
         register_metric(Metric("depth error", "depth error [m]", lambda w: 0.0))
     with pytest.raises(ValueError, match="label of 'x_cm' must say"):
         register_metric(Metric("x_cm", " ", lambda w: 0.0))
-    with pytest.raises(TypeError, match="argument 'metric' must be a neurov.metrics.Metric"):
+    with pytest.raises(TypeError, match="argument 'metric' must be a neurov.results.metrics.Metric"):
         register_metric("rmse_depth_cm")  # type: ignore[arg-type]
 
 

@@ -10,8 +10,9 @@ import pandas as pd
 import pytest
 
 from neurov import THETA_NAMES, Status
-from neurov.scenario import CommandSpec, ControllerSpec, Scenario, SensorFault, ThrusterFailure
-from neurov.simulation import Result, simulate
+from neurov.config.scenario import CommandSpec, ControllerSpec, Scenario, SensorFault, ThrusterFailure
+from neurov.results.timeseries import Result
+from neurov.running.simulation import simulate
 
 SCENARIO = Scenario(
     name="pandas_square", duration=12.0, use_thrusters=True,

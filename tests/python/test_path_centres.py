@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 import neurov
-from neurov.controllers import input_normalisation, make_centres
-from neurov.network import along_path, path_inputs
-from neurov.scenario import ScenarioError
+from neurov.laws.registry import input_normalisation, make_centres
+from neurov.laws.path_centres import along_path, path_inputs
+from neurov.errors import ScenarioError
 
 SCENARIO = """
 name = "short_square"

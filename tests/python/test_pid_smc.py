@@ -13,9 +13,9 @@ import numpy as np
 import pytest
 
 import neurov
-from neurov.scenario import ControllerSpec, ScenarioError
-from neurov.scenario_file import scenario_from_mapping
-from neurov.simulation import simulate
+from neurov.config.scenario import ControllerSpec, ScenarioError
+from neurov.config.reading import scenario_from_mapping
+from neurov.running.simulation import simulate
 
 # This file's own seed (the points its tolerances were set on); `nerov` is
 # conftest's.

@@ -1,4 +1,4 @@
-"""neurov.plot: each function returns a Figure with the axes and lines it
+"""neurov.plotting: each function returns a Figure with the axes and lines it
 documents, showing the data it should; save writes a PNG."""
 
 from __future__ import annotations
@@ -10,9 +10,10 @@ import numpy as np
 import pytest
 from matplotlib.figure import Figure
 
-from neurov import plot
-from neurov.scenario import ThrusterFailure
-from neurov.simulation import Result, simulate
+from neurov import plotting as plot
+from neurov.config.scenario import ThrusterFailure
+from neurov.results.timeseries import Result
+from neurov.running.simulation import simulate
 from plot_runs import PD, assert_demanded_and_applied, nn_and_pd, square
 
 SCENARIO = square("plot_square", 20.0)
@@ -90,8 +91,8 @@ def test_errors(runs: list[Result]) -> None:
 
 
 def test_errors_leave_out_the_dofs_no_run_has_an_error_in() -> None:
-    from neurov.scenario import load_scenario
-    from neurov.scenario import SCENARIO_DIR
+    from neurov.config.reading import load_scenario
+    from neurov.config.scenario import SCENARIO_DIR
 
     depth = simulate(load_scenario(SCENARIO_DIR / "nerov_depth_step.toml").replace(duration=12.0))
     fig = plot.errors(depth)
@@ -124,7 +125,7 @@ def test_control_inputs_marks_a_failure() -> None:
 
 
 def test_control_inputs_show_where_the_thrusters_cannot_give_the_demand() -> None:
-    from neurov.scenario import load_scenario
+    from neurov.config.reading import load_scenario
 
     path = Path(__file__).resolve().parents[2] / "examples" / "scenarios" / "thrusters_failure.toml"
     result = simulate(load_scenario(path).replace(duration=100.0))  # T1 fails at 60 s

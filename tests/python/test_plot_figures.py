@@ -15,15 +15,16 @@ import pytest
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
-from neurov import plot
-from neurov.metrics import METRICS
-from neurov.paper import fig5_caption, paper_scenario
+from neurov import plotting as plot
+from neurov.results.metrics import METRICS
+from neurov.paper.experiments import fig5_caption, paper_scenario
 from neurov.plotting.labels import metric_label, thruster_label
-from neurov.plotting.paper import figure_inputs, figure_xy, figure_yaw
+from neurov.paper.figures import figure_inputs, figure_xy, figure_yaw
 from neurov.plotting.paths import ARROWS, mark_start_and_direction
 from neurov.plotting.study import FEW_SAMPLES, BandPlotter, box_figure, plot_boxes
-from neurov.scenario import ThrusterFailure
-from neurov.simulation import Result, simulate
+from neurov.config.scenario import ThrusterFailure
+from neurov.results.timeseries import Result
+from neurov.running.simulation import simulate
 from neurov.study import load_study, metric_names
 from plot_runs import PD, assert_demanded_and_applied, nn_and_pd, square
 

@@ -429,7 +429,8 @@ _CHILD = textwrap.dedent(
     import ctypes, json, sys
     import numpy as np
     import neurov
-    from neurov.simulation import build_controller, build_vehicle, simulation_config
+    from neurov.laws.registry import build_controller
+    from neurov.running.plant import build_vehicle, simulation_config
 
     count = ctypes.CDLL(None).neurov_alloc_count
     count.restype = ctypes.c_long

@@ -18,10 +18,11 @@ import pytest
 
 import neurov
 from neurov import _core
-from neurov.scenario import ControllerSpec
-from neurov.simulation import build_controller, simulation_config
+from neurov.config.scenario import ControllerSpec
+from neurov.laws.registry import build_controller
+from neurov.running.plant import simulation_config
 from neurov.study.spec import SCENARIO_DIR
-from neurov.vehicle_file import load_vehicle_parameters
+from neurov.config.vehicle_file import load_vehicle_parameters
 from test_simulator import busy_scenario
 from user_controllers import factories
 

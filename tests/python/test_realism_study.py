@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 from neurov import _core
-from neurov.controllers import REGISTRY
-from neurov.scenario import load_scenario
-from neurov.simulation import simulate
+from neurov.laws.registry import REGISTRY
+from neurov.config.reading import load_scenario
+from neurov.running.simulation import simulate
 from neurov.study import SCENARIO_DIR, load_study
 
 VEHICLES = ("nerov", "bluerov2")

@@ -11,8 +11,9 @@ import pytest
 
 import neurov
 from neurov import _core
-from neurov.scenario import ScenarioError, load_scenario
-from neurov.simulation import simulate
+from neurov.config.reading import load_scenario
+from neurov.config.scenario import ScenarioError
+from neurov.running.simulation import simulate
 from test_scenario import write
 
 HOVER = """
@@ -83,7 +84,7 @@ G = 9.81
 
 @pytest.mark.parametrize("rho", [1000.0, 1025.0])
 def test_buoyancy_is_rho_g_v_in_the_scenarios_water(tmp_path: Path, rho: float) -> None:
-    from neurov.simulation import build_vehicle
+    from neurov.running.plant import build_vehicle
 
     s = load_scenario(write(tmp_path, f"water_density = {rho}\n" + BLUEROV2))
     assert s.water_density == rho
@@ -104,7 +105,7 @@ def test_buoyancy_is_rho_g_v_in_the_scenarios_water(tmp_path: Path, rho: float) 
 
 
 def test_sea_water_is_the_default_and_a_given_buoyancy_stays(tmp_path: Path) -> None:
-    from neurov.simulation import build_vehicle
+    from neurov.running.plant import build_vehicle
 
     assert _core.SimulationConfig().water_density == 1025.0
     assert neurov.Vehicle.preset("bluerov2_heavy").buoyancy == pytest.approx(1025.0 * G * 0.0134, rel=1e-12)

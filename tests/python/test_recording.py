@@ -17,8 +17,8 @@ import pytest
 
 import neurov
 from neurov.errors import RecordingError, ScenarioError
-from neurov.result import SERIES
-from neurov.scenario import load_scenario
+from neurov.results.timeseries import SERIES
+from neurov.config.reading import load_scenario
 
 pytest.importorskip("mcap_ros2")
 rosbags = pytest.importorskip("rosbags")
@@ -209,7 +209,7 @@ def test_neurov_run_format_mcap_streams_the_same_recording(tmp_path: Path) -> No
 def test_a_stopped_mcap_run_keeps_its_messages(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     from neurov.cli import main
     from neurov.recording.mcap_reader import read_mcap
-    from neurov.run_stream import _Sinks
+    from neurov.running.stream import _Sinks
 
     add = _Sinks.add
 

@@ -16,7 +16,8 @@ import pytest
 
 import neurov
 from neurov import _core
-from neurov.scenario import ScenarioError, load_scenario
+from neurov.config.reading import load_scenario
+from neurov.config.scenario import ScenarioError
 
 CENTRES = np.random.default_rng(1).uniform(-1, 1, size=(4, 24))
 LAM = np.full(6, 0.5)

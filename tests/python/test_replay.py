@@ -17,11 +17,11 @@ import pytest
 from neurov import cli
 from neurov.errors import ResultFileError
 from neurov.replay import replay
-from neurov.load import load_result
+from neurov.results.load import load_result
 from neurov.replay.scene import NED_TO_DISPLAY, build_scene
-from neurov.result import SERIES
-from neurov.run import write_outputs
-from neurov.scenario import scenario_path
+from neurov.results.timeseries import SERIES
+from neurov.running.command import write_outputs
+from neurov.config.scenario import scenario_path
 
 plotly = pytest.importorskip("plotly")
 

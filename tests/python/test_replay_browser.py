@@ -18,7 +18,7 @@ from typing import Any
 import neurov
 import numpy as np
 import pytest
-from neurov.scenario import scenario_path
+from neurov.config.scenario import scenario_path
 
 BROWSER = shutil.which("chromium") or "/usr/bin/chromium"
 DRIVER = shutil.which("chromedriver") or "/usr/bin/chromedriver"

@@ -1,4 +1,4 @@
-"""neurov.run.run_scenario_file, what `neurov run SCENARIO.toml [--out DIR] [--plot]` calls."""
+"""neurov.running.command.run_scenario_file, what `neurov run SCENARIO.toml [--out DIR] [--plot]` calls."""
 
 from __future__ import annotations
 
@@ -10,8 +10,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from neurov.run import FIGURES, run_scenario_file
-from neurov.scenario import ScenarioError
+from neurov.running.command import FIGURES, run_scenario_file
+from neurov.config.scenario import ScenarioError
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -55,7 +55,7 @@ def test_prints_metrics_after_the_transient(scenario_file: Path, capsys: pytest.
     result, metrics = run_scenario_file(scenario_file)
     out = capsys.readouterr().out
     assert "short_square" in out and "NN adaptive" in out
-    # The one metrics window (neurov.result.metrics_start): 10 s, or half a run shorter than 20 s.
+    # The one metrics window (neurov.results.timeseries.metrics_start): 10 s, or half a run shorter than 20 s.
     assert "metrics over 5 s <= t <= 10 s" in out and "transient" in out
     assert "RMS position error" in out
     assert metrics["window_start_s"] == pytest.approx(5.0) and metrics["window_end_s"] == pytest.approx(10.0)
@@ -108,7 +108,7 @@ def test_bad_file_is_a_scenario_error(tmp_path: Path) -> None:
 
 def test_diverged_metrics_are_valid_json(tmp_path: Path) -> None:
     # A diverged run has infinite errors; JSON has no Infinity, so null.
-    from neurov.run import finite_or_none
+    from neurov.running.folder import finite_or_none
 
     text = json.dumps(finite_or_none({"a": float("inf"), "b": [1.0, float("nan")], "c": {"d": 2}}),
                       allow_nan=False)

@@ -14,11 +14,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from neurov import cli, paper
-from neurov.decimation import for_plotting, kept_rows
-from neurov.result import SERIES, TRANSIENT_S, metrics_start
-from neurov.scenario import load_scenario
-from neurov.simulation import Result, simulate
+from neurov import cli
+from neurov.paper import experiments as paper
+from neurov.results.decimation import for_plotting, kept_rows
+from neurov.results.timeseries import SERIES, TRANSIENT_S, metrics_start
+from neurov.config.reading import load_scenario
+from neurov.results.timeseries import Result
+from neurov.running.simulation import simulate
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -121,12 +123,12 @@ def test_one_metrics_window_stated_everywhere(tmp_path: Path, capsys: pytest.Cap
 
 def test_out_is_checked_before_anything_runs(diverging: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
                                              capsys: pytest.CaptureFixture[str]) -> None:
-    import neurov.run
+    import neurov.running.command
 
     def no_run(*args: object, **kwargs: object) -> None:
         raise AssertionError("simulated before checking --out")
 
-    monkeypatch.setattr(neurov.run, "stream_run", no_run)
+    monkeypatch.setattr(neurov.running.command, "stream_run", no_run)
     monkeypatch.setattr(paper, "run_experiments", no_run)
     a_file = tmp_path / "a_file"
     a_file.write_text("x")
@@ -151,7 +153,7 @@ def test_run_help_points_at_a_page_and_states_the_exit_status(capsys: pytest.Cap
         cli.main(["run", "--help"])
     assert e.value.code == 0
     out = capsys.readouterr().out
-    assert "docs/running.md" in out and "neurov.scenario" not in out
+    assert "docs/running.md" in out and "neurov.config.scenario" not in out
     assert "3    a run diverged" in out and (ROOT / "docs" / "running.md").is_file()
 
 
@@ -187,13 +189,13 @@ def test_decimated_plot_rows_keep_every_extreme(long_run: Result) -> None:
 @pytest.mark.parametrize("writer", ["pyarrow", "csv module"])
 def test_csv_written_in_blocks_reads_back_exactly(long_run: Result, tmp_path: Path, writer: str,
                                                   monkeypatch: pytest.MonkeyPatch) -> None:
-    import neurov.export
+    import neurov.results.export
 
     if writer == "pyarrow":
         pytest.importorskip("pyarrow")
     else:
         monkeypatch.setitem(sys.modules, "pyarrow", None)  # import pyarrow raises ImportError
-    monkeypatch.setattr(neurov.export, "CSV_BLOCK_ROWS", 997)
+    monkeypatch.setattr(neurov.results.export, "CSV_BLOCK_ROWS", 997)
     run = dataclasses.replace(long_run, **{k: getattr(long_run, k)[:5000] for k in SERIES})
     path = run.to_csv(tmp_path / "r.csv")
     with path.open(newline="") as f:
@@ -248,7 +250,7 @@ kd = [200, 200, 200, 50, 50, 50]
 def test_writing_and_plotting_show_progress_on_a_terminal(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     import io
 
-    from neurov.run import write_outputs
+    from neurov.running.command import write_outputs
 
     class Terminal(io.StringIO):
         def isatty(self) -> bool:

@@ -12,9 +12,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from neurov import cli, paper
-from neurov.export import CsvWriter
-from neurov.run_stream import _Sinks
+from neurov import cli
+from neurov.paper import experiments as paper
+from neurov.results.export import CsvWriter
+from neurov.running.stream import _Sinks
 
 SHORT = """
 name = "short_pd"

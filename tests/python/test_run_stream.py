@@ -12,11 +12,11 @@ import numpy as np
 import pytest
 
 from neurov import _core, load_scenario, simulate
-from neurov.decimation import PlotRows, for_plotting
-from neurov.result import SERIES
-from neurov.run_stream import stream_run
-from neurov.scenario import ControllerSpec
-from neurov.simulation import build_vehicle
+from neurov.results.decimation import PlotRows, for_plotting
+from neurov.results.timeseries import SERIES
+from neurov.running.stream import stream_run
+from neurov.config.scenario import ControllerSpec
+from neurov.running.plant import build_vehicle
 
 ROOT = Path(__file__).resolve().parents[2]
 SCENARIOS = ROOT / "examples" / "scenarios"
@@ -95,7 +95,7 @@ class Hold:
 
 
 def test_a_python_controller_streams_through_the_simulator(tmp_path: Path) -> None:
-    from neurov.simulator import Simulator
+    from neurov.running.stepper import Simulator
 
     scenario = load_scenario(SCENARIOS / "lawnmower_pd_current.toml").replace(duration=30.0)
     whole = Simulator(scenario).run(Hold())

@@ -11,9 +11,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from neurov.scenario import ScenarioError, load_scenario
-from neurov.simulation import simulate
-from neurov.vehicle_file import preset_path
+from neurov.config.reading import load_scenario
+from neurov.config.scenario import ScenarioError
+from neurov.running.simulation import simulate
+from neurov.config.vehicle_file import preset_path
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = sorted((ROOT / "examples" / "scenarios").glob("*.toml"))

@@ -13,10 +13,10 @@ import numpy as np
 import pytest
 
 from neurov import _core
-from neurov.scenario import ScenarioError
-from neurov.scenario_file import read_scenario, scenario_from_mapping
-from neurov.schema import as_dict
-from neurov.simulation import simulate
+from neurov.config.scenario import ScenarioError
+from neurov.config.reading import read_scenario, scenario_from_mapping
+from neurov.config.schema import as_dict
+from neurov.running.simulation import simulate
 from neurov.study.spec import SCENARIO_DIR
 
 if sys.version_info >= (3, 11):

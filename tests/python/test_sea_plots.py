@@ -12,9 +12,9 @@ from scipy.integrate import quad
 
 from neurov import _core
 from neurov.plotting import sea
-from neurov.run import FIGURES, SEA_FIGURES, run_scenario_file
-from neurov.scenario import load_scenario
-from neurov.simulation import simulate
+from neurov.running.command import FIGURES, SEA_FIGURES, run_scenario_file
+from neurov.config.reading import load_scenario
+from neurov.running.simulation import simulate
 from neurov.study.spec import SCENARIO_DIR
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "scenarios"

@@ -182,7 +182,7 @@ def test_waves_and_current_leave_the_measurement_noise_as_it_was() -> None:
 
 def test_result_exports_the_sea_series(tmp_path) -> None:
     import neurov
-    from neurov.simulation import Result
+    from neurov.results.timeseries import Result
 
     c = still(20.0, 1.0)  # above 1.2 Hs: the shallow bit
     c.waves = _core.WaveConfig()

@@ -10,7 +10,7 @@ import pytest
 
 import neurov
 from neurov import _core
-from neurov.scenario import SCENARIO_DIR, ScenarioError
+from neurov.config.scenario import SCENARIO_DIR, ScenarioError
 
 RANGE = r"must be >= 0 and <= 18446744073709551615, got "
 

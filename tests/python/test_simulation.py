@@ -12,9 +12,10 @@ import numpy as np
 import pytest
 
 import neurov
-from neurov.scenario import CommandSpec, ControllerSpec, Disturbance, Scenario
-from neurov.result import SERIES
-from neurov.simulation import Result, simulate
+from neurov.config.scenario import CommandSpec, ControllerSpec, Disturbance, Scenario
+from neurov.results.timeseries import SERIES
+from neurov.results.timeseries import Result
+from neurov.running.simulation import simulate
 
 ZERO_GAINS = ControllerSpec(type="pd", kp=np.zeros(6), kd=np.zeros(6))
 # A pose with all three angles non-zero and a velocity in every DOF, so a

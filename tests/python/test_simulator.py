@@ -19,8 +19,9 @@ import pytest
 
 import neurov
 from neurov import _core
-from neurov.scenario import ControllerSpec, CurrentStep, SensorFault, ThrusterFailure
-from neurov.simulation import build_controller, build_vehicle, simulation_config
+from neurov.config.scenario import ControllerSpec, CurrentStep, SensorFault, ThrusterFailure
+from neurov.laws.registry import build_controller
+from neurov.running.plant import build_vehicle, simulation_config
 
 ROOT = Path(__file__).resolve().parents[2]
 DURATION = 60.0

@@ -24,8 +24,9 @@ import pytest
 
 import neurov
 from neurov import _core
-from neurov.scenario import Disturbance, Scenario
-from neurov.simulation import build_controller, build_vehicle, simulation_config
+from neurov.config.scenario import Disturbance, Scenario
+from neurov.laws.registry import build_controller
+from neurov.running.plant import build_vehicle, simulation_config
 
 HOURS = 24
 HOUR_S = 3600.0
@@ -35,7 +36,7 @@ DT = 0.2
 def soak_scenario() -> Scenario:
     """A 5 m circle every 150 s (24 laps an hour, so every hour starts where
     the last ended) with the heading swinging +-0.5 rad, at 2 m depth."""
-    times, poses = neurov.trajectories.circle(radius=5.0, period=150.0, depth=2.0, turns=HOUR_S / 150.0,
+    times, poses = neurov.config.trajectories.circle(radius=5.0, period=150.0, depth=2.0, turns=HOUR_S / 150.0,
                                               start=0.0, points_per_turn=72, face_travel=False)
     poses[:, 5] = 0.5 * np.sin(2 * np.pi * times / 150.0)
     base = neurov.load_scenario(

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import neurov
-from neurov.scenario import load_scenario
+from neurov.config.reading import load_scenario
 
 TOO_LONG = [10.000001, 10.5, 1e6, 1e30]
 

@@ -9,8 +9,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from neurov.scenario import load_scenario
-from neurov.simulation import build_controller
+from neurov.config.reading import load_scenario
+from neurov.laws.registry import build_controller
 from neurov.study import (
     SCENARIO_DIR,
     StudyError,
@@ -19,7 +19,7 @@ from neurov.study import (
     sample_plant,
     shipped_studies,
 )
-from neurov.vehicle_file import load_vehicle_parameters, preset_path
+from neurov.config.vehicle_file import load_vehicle_parameters, preset_path
 
 from study_files import study_file, study_with, write_study  # noqa: F401  (study_file: a fixture)
 

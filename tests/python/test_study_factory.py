@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from neurov.metrics import metric_names
+from neurov.results.metrics import metric_names
 from neurov.study import StudyError, load_study, run_study
 from study_files import NOISE, step_scenario
 

@@ -10,9 +10,9 @@ import sys
 import numpy as np
 import pytest
 
-from neurov.scenario import ControllerSpec, ScenarioError
-from neurov.scenario_file import read_scenario, scenario_from_mapping
-from neurov.simulation import simulate
+from neurov.config.scenario import ControllerSpec, ScenarioError
+from neurov.config.reading import read_scenario, scenario_from_mapping
+from neurov.running.simulation import simulate
 from neurov.study.spec import SCENARIO_DIR
 
 if sys.version_info >= (3, 11):

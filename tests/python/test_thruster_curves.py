@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from neurov import _core, load_scenario, simulate
-from neurov.vehicle_file import VehicleFileError, preset_names, preset_path, read_vehicle_file
+from neurov.config.vehicle_file import VehicleFileError, preset_names, preset_path, read_vehicle_file
 
 KGF = 9.80665
 # Blue Robotics, T200 Public Performance Data (September 2019), 16 V sheet:

@@ -7,9 +7,10 @@ import numpy as np
 import pytest
 
 from neurov import _core
-from neurov.scenario import CommandSpec, ControllerSpec, Scenario, ThrusterFailure
-from neurov.simulation import simulate, simulation_config
-from neurov.vehicle_file import load_thrusters, preset_path
+from neurov.config.scenario import CommandSpec, ControllerSpec, Scenario, ThrusterFailure
+from neurov.running.plant import simulation_config
+from neurov.running.simulation import simulate
+from neurov.config.vehicle_file import load_thrusters, preset_path
 
 NEROV = load_thrusters(preset_path("nerov"))
 assert NEROV is not None
@@ -166,7 +167,8 @@ def test_saturating_closed_loop_scale_vs_clip() -> None:
     scenario = square_with_thrusters(duration=20.0)
 
     def run(saturation: str) -> tuple[np.ndarray, np.ndarray]:
-        from neurov.simulation import build_controller, build_vehicle
+        from neurov.laws.registry import build_controller
+        from neurov.running.plant import build_vehicle
 
         config = simulation_config(scenario.replace(saturation=saturation))
         config.thrusters.max_thrust = np.full(6, 5.0)

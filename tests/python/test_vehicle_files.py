@@ -11,7 +11,7 @@ import pytest
 
 import neurov
 import reference_model as ref
-from neurov import vehicle_file
+from neurov.config import vehicle_file
 
 GOOD = """\
 name = "test vehicle"

@@ -15,7 +15,7 @@ import pytest
 
 import neurov
 from neurov import files
-from neurov.weights import WeightsFileError, load_network, load_weights, read_weights, save_weights
+from neurov.laws.weights import WeightsFileError, load_network, load_weights, read_weights, save_weights
 
 LAM = np.full(6, 0.8)
 KD = np.full(6, 100.0)

@@ -310,7 +310,7 @@ class NNAdaptiveController(_Controller):
     input_scale: _ReadOnly[_Array] = ...
     """Input scale of the network's normalisation, shape (24,)."""
     def save(self, path: str | os.PathLike[str]) -> None:
-        """Writes W and its network to a .npz file (format: neurov.weights)."""
+        """Writes W and its network to a .npz file (format: neurov.laws.weights)."""
     def load(self, path: str | os.PathLike[str]) -> None:
         """Sets W from a file written by save(); WeightsFileError names a misfit."""
     modification: _ReadOnly[_Modification] = ...

@@ -79,7 +79,7 @@ class Vehicle:
         """NEROV, the paper's vehicle, with the numbers of its section 5."""
     @staticmethod
     def from_file(path: str | os.PathLike[str]) -> Vehicle:
-        """Loads a vehicle TOML file (format: ``neurov.vehicle_file``).
+        """Loads a vehicle TOML file (format: ``neurov.config.vehicle_file``).
 
         A missing, misspelt or wrongly typed field raises
         ``neurov.VehicleFileError`` (a ``ValueError``) naming the file and the field.
@@ -88,7 +88,7 @@ class Vehicle:
     def preset(name: str) -> Vehicle:
         """A vehicle shipped with neurov by name: ``'nerov'`` or ``'bluerov2_heavy'``.
 
-        ``neurov.vehicle_file.preset_names()`` lists them; an unknown name
+        ``neurov.config.vehicle_file.preset_names()`` lists them; an unknown name
         raises ``ValueError``.
         """
     def parameters(self) -> _VehicleParameters:

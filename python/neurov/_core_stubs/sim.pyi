@@ -396,7 +396,7 @@ RESULT_SERIES: tuple[tuple[str, int | None, str, tuple[str, ...], str, str, str,
 """The series a run logs (NEUROV_RESULT_SERIES in neurov/sim/result.hpp), in
 the order of the CSV's columns, each (name, width or None where it varies,
 varies_with, labels, unit, dtype, kind, description); :func:`run_closed_loop`
-returns one array per entry. :data:`neurov.columns.RESULT_SERIES` names the
+returns one array per entry. :data:`neurov.results.columns.RESULT_SERIES` names the
 fields."""
 
 @type_check_only

@@ -38,7 +38,7 @@ except ImportError as exc:  # pragma: no cover - depends on the environment
     ) from exc
 
 if TYPE_CHECKING:
-    from neurov.simulation import Result
+    from neurov.results.timeseries import Result
 
 __all__ = [
     "COMMAND_NAMES",
@@ -66,7 +66,7 @@ STATE_NAMES: tuple[str, ...] = ("x", "y", "z", "phi", "theta", "psi", "u", "v", 
 INPUT_NAMES: tuple[str, ...] = ("tau_X", "tau_Y", "tau_Z", "tau_K", "tau_M", "tau_N")
 
 
-def _require_vehicle(vehicle: Any) -> None:
+def require_vehicle(vehicle: Any) -> None:
     if not isinstance(vehicle, _core.Vehicle):
         raise TypeError(f"argument 'vehicle' must be a neurov.Vehicle, got {type(vehicle).__name__}")
 
@@ -81,7 +81,7 @@ def nonlinear_system(vehicle: _core.Vehicle, current: ArrayLike | None = None,
     The update function raises ``ValueError`` if a simulation reaches the
     pitch singularity (cos(theta) = 0), where the Euler angles are undefined.
     """
-    _require_vehicle(vehicle)
+    require_vehicle(vehicle)
     zeros = np.zeros(6)
     # The C++ checks current (shape, finiteness) and names it in the error.
     _core.plant_derivative(vehicle, zeros, zeros, zeros, current)
@@ -107,7 +107,7 @@ def linearize(vehicle: _core.Vehicle, eta0: ArrayLike, nu0: ArrayLike,
     (eta0, nu0, tau0) is an equilibrium (e.g. at rest with tau0 = g(eta0)),
     the linear model leaves out the constant drift f(x0, tau0).
     """
-    _require_vehicle(vehicle)
+    require_vehicle(vehicle)
     a, b = _core.plant_jacobians(vehicle, eta0, nu0, tau0, current)
     return ct.ss(a, b, np.eye(12), np.zeros((12, 6)), inputs=list(INPUT_NAMES),
                  outputs=list(STATE_NAMES), states=list(STATE_NAMES), name=name)
@@ -121,9 +121,7 @@ def to_time_response(result: Result) -> ct.TimeResponseData:
     ``control.step_info(resp.outputs[2], resp.time)`` gives the heave step's
     rise time, overshoot and settling time; ``resp.plot()`` draws it.
     """
-    from neurov.simulation import Result
-
-    if not isinstance(result, Result):
+    if not is_result(result):
         raise TypeError(f"argument 'result' must be a neurov.Result, got {type(result).__name__}")
     states = np.hstack([result.eta, result.nu]).T
     return ct.TimeResponseData(
@@ -138,3 +136,4 @@ from neurov.control.sampled import (  # noqa: E402
     COMMAND_NAMES, DESIRED_NAMES, controller_system, reference_system, sampled_plant)
 from neurov.control.loop import (  # noqa: E402
     closed_loop, command_input, initial_state, scenario_systems, simulate, time_grid, unsupported_features)
+from neurov.results.columns import is_result

@@ -16,7 +16,9 @@ from neurov.control import INPUT_NAMES, STATE_NAMES
 from neurov.control.sampled import (COMMAND_NAMES, DESIRED_NAMES, controller_system, reference_system,
                                     sampled_plant)
 from neurov.errors import ScenarioError
-from neurov.scenario import ControllerSpec, Scenario
+from neurov.config.scenario import ControllerSpec, Scenario
+from neurov.laws.registry import build_controller
+from neurov.running.plant import build_vehicle, simulation_config
 
 import control as ct
 
@@ -71,8 +73,6 @@ def _require_scenario(scenario: Any) -> Scenario:
         raise ScenarioError(f"argument 'scenario' ({scenario.name!r}) has what the python-control loop does not "
                          f"model: {'; '.join(found)}. Run it with neurov.simulate, or remove these "
                          "(e.g. scenario.replace(use_thrusters=False, disturbances=[]))")
-    from neurov.simulation import simulation_config
-
     simulation_config(scenario)  # the C++ validator names a bad field
     return scenario
 
@@ -86,9 +86,6 @@ def scenario_systems(scenario: Scenario, controller: ControllerSpec | Any = None
     the scenario's vehicle with its parameter overrides). A
     :class:`neurov.errors.ScenarioError` (a ValueError) names what of the
     scenario the loop does not model (:func:`unsupported_features`)."""
-    from neurov.controllers import build_controller
-    from neurov.simulation import build_vehicle
-
     _require_scenario(scenario)
     sim = scenario.simulation
     if controller is None or isinstance(controller, ControllerSpec):
@@ -122,8 +119,6 @@ def closed_loop(scenario: Scenario, controller: ControllerSpec | Any = None, *,
 def time_grid(scenario: Scenario) -> Array:
     """The rows' times of the scenario's run, t_k = k dt for k = 0 ...
     round(duration / dt), computed as neurov's loop computes them."""
-    from neurov.simulation import build_vehicle
-
     _require_scenario(scenario)
     # The C++ counts the rows (round half away from zero, as Python's round does not).
     rows = _core.Simulator(build_vehicle(scenario), scenario.simulation).planned_steps

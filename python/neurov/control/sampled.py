@@ -24,7 +24,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from neurov import _core
-from neurov.control import INPUT_NAMES, STATE_NAMES
+from neurov.control import INPUT_NAMES, STATE_NAMES, require_vehicle
+from neurov.laws.protocol import BUILT_IN_CONTROLLERS, is_built_in
 
 import control as ct
 
@@ -158,8 +159,6 @@ def controller_system(controller: Any, dt: float, *, name: str = "controller") -
     A step the controller refuses (a NaN input, the pitch singularity) raises
     ValueError: python-control's simulation has no refused-step policy.
     """
-    from neurov.controller import BUILT_IN_CONTROLLERS, is_built_in
-
     if not is_built_in(controller):
         names = ", ".join(c.__name__ for c in BUILT_IN_CONTROLLERS)
         raise TypeError(f"argument 'controller' must be a built-in controller ({names}), "
@@ -235,9 +234,7 @@ def sampled_plant(vehicle: _core.Vehicle, dt: float, substeps: int = 10, current
     overflow) raises ValueError, where neurov.simulate ends the run as
     diverged.
     """
-    from neurov.control import _require_vehicle
-
-    _require_vehicle(vehicle)
+    require_vehicle(vehicle)
     period = _period(dt)
     if isinstance(substeps, bool) or not isinstance(substeps, (int, np.integer)) \
             or not 1 <= substeps <= _core.MAX_SUBSTEPS:

@@ -18,11 +18,12 @@ from gymnasium import spaces
 from numpy.typing import NDArray
 
 from neurov import _core
-from neurov.controller import as_real_numbers
+from neurov.laws.protocol import as_real_numbers
 from neurov.gym.limits import single_dof_limits
-from neurov.scenario import Scenario, ScenarioError, load_scenario, scenario_path
-from neurov.simulation import build_vehicle, simulation_config
-from neurov.vehicle_file import VehicleFile, read_vehicle_file
+from neurov.config.vehicle_file import VehicleFile, read_vehicle_file
+from neurov.config.reading import load_scenario
+from neurov.config.scenario import Scenario, ScenarioError, scenario_path
+from neurov.running.plant import build_vehicle, simulation_config
 
 __all__ = ["TrackingEnv", "resolve_scenario"]
 
@@ -31,7 +32,7 @@ Array = NDArray[np.float64]
 
 def resolve_scenario(scenario: Scenario | str | Path) -> Scenario:
     """A Scenario as given, a scenario file by path, or a shipped scenario by
-    name (:func:`neurov.scenario.scenario_path`)."""
+    name (:func:`neurov.config.scenario.scenario_path`)."""
     if isinstance(scenario, Scenario):
         return scenario
     if not isinstance(scenario, (str, Path)):
@@ -272,6 +273,7 @@ class TrackingEnv(gymnasium.Env):
             return None
         if not self._track:
             raise gymnasium.error.ResetNeeded("TrackingEnv.render: call reset() before render()")
+        # Deferred: rendering draws with Matplotlib.
         from neurov.gym.render import top_view
 
         eta = self._sim.state[0]

@@ -30,6 +30,7 @@ def __getattr__(name: str) -> Any:
 def identify(*args: Any, **kwargs: Any) -> Identification:
     """Fits a vehicle file to logs: :func:`neurov.identification.fit.identify`
     (its arguments and what it returns are documented there)."""
+    # Deferred: the fit needs SciPy; `import neurov` stays cheap.
     from neurov.identification.fit import identify as fit
 
     return fit(*args, **kwargs)

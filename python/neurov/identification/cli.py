@@ -64,11 +64,12 @@ def _lag(text: str) -> float | str:
 
 
 def run(args: argparse.Namespace) -> int:
+    # Deferred: this module is imported for `neurov --help`; the fit needs SciPy.
     from pathlib import Path
 
     from neurov.identification.fit import identify
     from neurov.identification.report import report_text
-    from neurov.vehicle_file import preset_names, preset_path
+    from neurov.config.vehicle_file import preset_names, preset_path
 
     vehicle = args.vehicle
     if not Path(vehicle).exists() and vehicle in preset_names():
@@ -86,7 +87,7 @@ def run(args: argparse.Namespace) -> int:
     if result.out is not None:
         print(f"wrote {result.out}")
     if args.plot is not None:
-        from neurov.identification.figure import plot_identification
+        from neurov.identification.plots import plot_identification
 
         print(f"wrote {plot_identification(result, args.plot)}")
     return 0

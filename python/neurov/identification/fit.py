@@ -20,7 +20,10 @@ from neurov.identification.log import Log, advance_linear_velocity
 from neurov.identification.output_error import bounds, fit_output_error
 from neurov.identification.parameters import GROUPS, free_indices, template_theta, vehicle_parameters
 from neurov.identification.readers import read_log
-from neurov.vehicle_file import VehicleFile, read_vehicle_file
+from neurov.config.vehicle_file import VehicleFile, read_vehicle_file
+from neurov.files import read_toml
+from neurov.identification.report import header_lines
+from neurov.identification.vehicle_writer import write_vehicle_file
 
 __all__ = ["Identification", "identify"]
 
@@ -181,9 +184,6 @@ def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Pat
         hl = h if isinstance(h, Log) else read_log(h, mapping, _thrusters(vehicle))
         result.heldout.append(held_out(hl, fitted_vehicle, template.vehicle(), substeps))
     if out is not None:
-        from neurov.identification.report import header_lines
-        from neurov.identification.vehicle_writer import write_vehicle_file
-
         result.out = write_vehicle_file(out, vehicle, result.parameters(), header_lines(result),
                                         name=f"{_name(vehicle)} (fitted)",
                                         source=f"neurov identify from {', '.join(l.source for l in read)}")
@@ -219,8 +219,6 @@ def _fit_stages(logs: list[Log], template: dict[str, Any], theta0: Array, free_i
 
 
 def _name(path: str | Path) -> str:
-    from neurov.files import read_toml
-
     data = read_toml(Path(path), IdentificationError, "vehicle")
     return str(data.get("name", Path(path).stem))
 

@@ -1,6 +1,6 @@
 """A neurov run's own log (``result.npz``, ``result.csv`` or a Parquet
 file of :meth:`neurov.Result.to_pandas`, :meth:`neurov.Result.to_parquet`)
-as a :class:`Log`; the columns are named as in :mod:`neurov.columns`.
+as a :class:`Log`; the columns are named as in :mod:`neurov.results.columns`.
 
 The pose and velocity are the ones the controller was given
 (``eta_estimate``, ``nu_estimate``: what a real vehicle's sensors and
@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from neurov.columns import RESULT_SERIES, column_names
+from neurov.results.columns import RESULT_SERIES, column_names
 from neurov.identification.errors import LogError
 from neurov.identification.log import Log, make_log
 

@@ -8,6 +8,11 @@ from typing import Any
 
 from neurov.identification.log import Log
 from neurov.identification.neurov_log import read_neurov_log
+from neurov.identification.csv_mapping import read_mapped_csv
+from neurov.identification.dataflash_log import read_dataflash
+from neurov.identification.mapping import read_mapping
+from neurov.identification.rosbag_log import read_rosbag
+from neurov.identification.tlog_log import read_tlog
 
 __all__ = ["read_log"]
 
@@ -19,21 +24,11 @@ def read_log(path: str | Path, mapping: str | Path | None = None, thrusters: Any
     run's result.npz, result.csv or Parquet file."""
     if mapping is None:
         return read_neurov_log(path)
-    from neurov.identification.mapping import read_mapping
-
     m = read_mapping(mapping)
     if m.format == "rosbag":
-        from neurov.identification.rosbag_log import read_rosbag
-
         return read_rosbag(path, m, thrusters)
     if m.format == "tlog":
-        from neurov.identification.tlog_log import read_tlog
-
         return read_tlog(path, m, thrusters)
     if m.format == "dataflash":
-        from neurov.identification.dataflash_log import read_dataflash
-
         return read_dataflash(path, m, thrusters)
-    from neurov.identification.csv_mapping import read_mapped_csv
-
     return read_mapped_csv(path, m)

@@ -12,7 +12,7 @@ from pathlib import Path
 from typing import Any
 
 from neurov.identification.errors import IdentificationError
-from neurov.vehicle_file import read_vehicle_file
+from neurov.config.vehicle_file import read_vehicle_file
 
 __all__ = ["write_vehicle_file"]
 

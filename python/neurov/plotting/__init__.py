@@ -5,7 +5,7 @@
 - :mod:`neurov.plotting.sea`: the sea a run met (the flow at the vehicle,
   the realised wave spectrum against the target); ``neurov run --plot``
   writes them for a scenario with a sea.
-- :mod:`neurov.plotting.paper`: the paper's Figs. 3-5 (``neurov paper``).
+- :mod:`neurov.paper.figures`: the paper's Figs. 3-5 (``neurov paper``).
 - :mod:`neurov.plotting.study`: a study's box plots and error bands
   (``neurov study``).
 - :mod:`neurov.plotting.colours`: one colour per controller in every study figure.

@@ -1,6 +1,6 @@
 """What every figure calls things: thruster names and the axis label (in
 words, with its unit) of each run metric, which the metric's own entry in
-:data:`neurov.metrics.METRICS` gives. One place, so that a figure, its
+:data:`neurov.results.metrics.METRICS` gives. One place, so that a figure, its
 legend and a failure note never disagree.
 
 Thrusters are numbered as a reader counts, T1 to Tn: T1 is the first column
@@ -10,7 +10,7 @@ as 0 (``thruster_failures`` ``index = 0``, the CSV column ``thrusts_0``).
 
 from __future__ import annotations
 
-from neurov.metrics import metric_label
+from neurov.results.metrics import metric_label
 
 __all__ = ["metric_label", "thruster_label"]
 

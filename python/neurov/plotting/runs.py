@@ -1,4 +1,4 @@
-"""Plots of closed-loop runs (:class:`neurov.simulation.Result`).
+"""Plots of closed-loop runs (:class:`neurov.Result`).
 
 Every function returns a :class:`matplotlib.figure.Figure` built directly, not
 through ``pyplot``: no global figure registry, no GUI backend, safe in scripts,
@@ -26,10 +26,10 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
-from neurov.decimation import for_plotting
+from neurov.results.decimation import for_plotting
 from neurov.plotting.labels import thruster_label
 from neurov.plotting.paths import mark_start_and_direction
-from neurov.simulation import Result
+from neurov.results.timeseries import Result
 
 __all__ = ["adaptive_norm", "control_inputs", "demanded_and_applied", "dof_time", "errors", "save", "xy_path"]
 
@@ -51,13 +51,13 @@ def _as_list(results: Result | Sequence[Result]) -> list[Result]:
         raise ValueError("argument 'results' must hold at least one Result")
     for r in runs:
         if not isinstance(r, Result):
-            raise TypeError(f"argument 'results' must hold neurov.simulation.Result, got {type(r).__name__}")
+            raise TypeError(f"argument 'results' must hold neurov.Result, got {type(r).__name__}")
     return runs
 
 
 def _drawn(results: Result | Sequence[Result]) -> list[Result]:
     """The rows of each run a plot draws (a long run's are decimated: see
-    :mod:`neurov.decimation`)."""
+    :mod:`neurov.results.decimation`)."""
     return [for_plotting(r) for r in _as_list(results)]
 
 
@@ -282,7 +282,7 @@ def control_inputs(result: Result, show_thrusts: bool = True, title: str | None 
     two (applied, demanded) where they differ; the thrust panel has one per
     thruster plus the limit lines."""
     if not isinstance(result, Result):
-        raise TypeError(f"argument 'result' must be a neurov.simulation.Result, got {type(result).__name__}")
+        raise TypeError(f"argument 'result' must be a neurov.Result, got {type(result).__name__}")
     result = for_plotting(result)
     has_thrusts = show_thrusts and result.thrusts.shape[1] > 0
     panels = 3 if has_thrusts else 2

@@ -1,4 +1,4 @@
-"""The sea a run met (:class:`neurov.simulation.Result`): the flow at the
+"""The sea a run met (:class:`neurov.Result`): the flow at the
 vehicle over time, and the spectrum of the realised surface elevation against
 the target spectrum. ``neurov run --plot`` writes them as sea.png and
 wave_spectrum.png for a scenario with a sea (docs/disturbances.md).
@@ -16,8 +16,8 @@ from scipy.integrate import trapezoid
 from scipy.signal import welch
 
 from neurov import _core
-from neurov.decimation import for_plotting
-from neurov.simulation import Result
+from neurov.results.decimation import for_plotting
+from neurov.results.timeseries import Result
 
 __all__ = ["has_sea", "realised_spectrum", "sea_flow", "target_spectrum", "wave_spectrum"]
 

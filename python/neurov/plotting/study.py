@@ -19,7 +19,7 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import LogFormatter, NullLocator
 
 if TYPE_CHECKING:
-    from neurov.scenario import Scenario
+    from neurov.config.scenario import Scenario
     from neurov.study import Study
 
 from neurov.plotting.colours import OTHERS_GREY, controller_colours

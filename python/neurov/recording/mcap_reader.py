@@ -10,10 +10,12 @@ from pathlib import Path
 from typing import Any
 
 
-from neurov.columns import npz_series
+from neurov.results.columns import npz_series
 from neurov.errors import RecordingError
-from neurov.result import Result
-from neurov.scenario import Scenario
+from neurov.results.timeseries import Result
+from neurov.config.scenario import Scenario
+from neurov.config.reading import scenario_from_mapping
+from neurov.files import tomllib
 
 __all__ = ["MAX_RESULT_BYTES", "read_mcap", "result_from_npz"]
 
@@ -60,9 +62,6 @@ def read_mcap(path: str | Path, scenario: Scenario | None = None) -> Result:
 
 
 def _scenario(attachments: dict[str, bytes], info: dict[str, str], path: Path) -> Scenario:
-    from neurov.files import tomllib
-    from neurov.scenario_file import scenario_from_mapping
-
     text = attachments.get("scenario.toml")
     if text is None:
         raise RecordingError(f"{path}: no attachment 'scenario.toml' (the run's scenario "
@@ -73,6 +72,7 @@ def _scenario(attachments: dict[str, bytes], info: dict[str, str], path: Path) -
     except (UnicodeDecodeError, tomllib.TOMLDecodeError) as e:
         raise RecordingError(f"{path}: attachment scenario.toml: not valid TOML ({e})") from None
     scenario = scenario_from_mapping(data, info.get("source") or f"{path}:scenario.toml")
+    # Deferred: the writer's module needs SciPy (its frames' rotations); reading does not.
     from neurov.recording.mcap_writer import plain
 
     # The file's scenario is the run's unless it was changed in Python after it was read.

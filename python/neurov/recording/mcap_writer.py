@@ -19,17 +19,20 @@ import json
 import math
 import tempfile
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from neurov import __version__
 from neurov.errors import RecordingError
 from neurov.recording.frames import (BODY_FLU_FROM_FRD, WORLD_ENU_FROM_NED, body_to_flu, enu_quaternions,
                                      position_to_enu)
 from neurov.recording.msgdefs import msgdef
-from neurov.result import Result
-from neurov.scenario import Scenario
+from neurov.config.scenario import Scenario
+from neurov import _core
+from neurov._core import __version__
+
+if TYPE_CHECKING:
+    from neurov.results.timeseries import Result
 
 __all__ = ["FRAMES", "TOPICS", "McapRecorder", "plain", "stamps", "write_mcap"]
 
@@ -81,8 +84,6 @@ def _pose(eta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _has_imu(scenario: Scenario) -> bool:
-    from neurov import _core
-
     sim = scenario.simulation
     return sim.sensors.imu is not None and sim.estimator.type == _core.EstimatorType.none
 

@@ -12,7 +12,7 @@ NED poses. A scenario names it::
 
 The times are the header stamps less the first one, plus `start`; the
 heading is unwrapped (a continuous angle, as the generators of
-:mod:`neurov.trajectories` give it).
+:mod:`neurov.config.trajectories` give it).
 """
 
 from __future__ import annotations
@@ -23,6 +23,8 @@ import numpy as np
 
 from neurov.errors import RecordingError
 from neurov.recording.frames import euler_from_enu_quaternions, position_to_enu
+from neurov.identification.errors import LogError
+from neurov.identification.rosbag_log import stamp_ns, topic_messages
 
 __all__ = ["POSE_TYPES", "RecordedPathError", "recorded_path"]
 
@@ -45,9 +47,6 @@ def recorded_path(file: str | Path, topic: str, start: float = 0.0) -> tuple[np.
     (K, 6) NED [x, y, z, phi, theta, psi]. Raises :class:`RecordedPathError`
     for a file missing or unreadable, a topic missing or of another type,
     fewer than two poses, repeated stamps or non-finite values."""
-    from neurov.identification.errors import LogError
-    from neurov.identification.rosbag_log import stamp_ns, topic_messages
-
     path = Path(file)
     if not isinstance(topic, str) or not topic:
         raise RecordedPathError("topic", f"expected a topic name, got {topic!r}")

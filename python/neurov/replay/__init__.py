@@ -17,12 +17,16 @@ import html
 import os
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from neurov.replay.scene import FACES, MAX_FRAMES, TOP_FACES, Scene, Track, build_scene, labels_for
-from neurov.result import Result
+from neurov.results.columns import is_result
+from neurov.running.folder import writing
+
+if TYPE_CHECKING:
+    from neurov.results.timeseries import Result
 
 __all__ = ["Replay", "replay"]
 
@@ -213,8 +217,6 @@ class Replay:
     def write_html(self, path: str | os.PathLike[str]) -> Path:
         """Writes :meth:`html` to `path` (a new file beside it first, then
         renamed over it: an old replay there stays whole until the new one is)."""
-        from neurov.run_folder import writing
-
         path = Path(path)
         part = path.with_name(f".{path.name}.part")
         with writing(path):
@@ -235,11 +237,11 @@ def replay(results: Result | Sequence[Result], labels: Sequence[str] | None = No
     """The replay of `results` on one path: each labelled by `labels`
     (default: its controller, told apart by `names` or the scenario where
     two share one), at most `max_frames` frames."""
-    runs = [results] if isinstance(results, Result) else list(results)
+    runs = [results] if is_result(results) else list(results)
     if not runs:
         raise ValueError("results: expected at least one Result")
     for i, r in enumerate(runs):
-        if not isinstance(r, Result):
+        if not is_result(r):
             raise TypeError(f"results[{i}]: expected a neurov Result, got {type(r).__name__}")
         if not len(r.t):
             raise ValueError(f"results[{i}] ({r.controller}): a run without rows cannot be replayed")

@@ -9,6 +9,8 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from neurov.errors import NeurovError, ResultFileError
+from neurov.replay import MAX_FRAMES, replay
+from neurov.results.load import load_result
 
 __all__ = ["main_view"]
 
@@ -36,8 +38,6 @@ def main_view(results: Sequence[str], out: str, frames: int | None = None,
     result file, its scenario the one beside it unless `scenario` names
     one), writes the replay to `out`; returns the exit status (1 without
     plotly). A RESULT that cannot be read is named and nothing is written."""
-    from neurov.load import load_result
-
     path = _check_out(out)
     runs = []
     for r in results:
@@ -47,8 +47,6 @@ def main_view(results: Sequence[str], out: str, frames: int | None = None,
             said = str(e)
             said = said.removeprefix(f"{r}: ").removeprefix(f"{Path(r)}: ")  # the path once, as given
             raise ResultFileError(f"RESULT {r!r}: {said}") from None
-    from neurov.replay import MAX_FRAMES, replay
-
     try:
         view = replay(runs, names=[_name(Path(r)) for r in results],
                       max_frames=MAX_FRAMES if frames is None else frames)

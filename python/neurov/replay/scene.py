@@ -26,13 +26,15 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from neurov import _core
-from neurov.result import Result
+
+if TYPE_CHECKING:
+    from neurov.results.timeseries import Result
 
 __all__ = ["BODY_SHARE", "MAX_FRAMES", "MAX_PATH_POINTS", "NED_TO_DISPLAY", "Scene", "Track", "build_scene"]
 

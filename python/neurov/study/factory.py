@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from neurov.errors import FactoryError
-from neurov.scenario import Scenario
+from neurov.config.scenario import Scenario
 
 __all__ = ["ControllerFactory", "FactoryError"]
 

@@ -13,9 +13,10 @@ from types import ModuleType
 import pandas as pd
 
 from neurov.progress import progress_bar
-from neurov.scenario import Scenario
+from neurov.config.scenario import Scenario
 from neurov.study.log import Record
 from neurov.study.spec import Study
+from neurov._core import __version__
 
 __all__ = ["FIGURE_STATE", "draw_figures"]
 
@@ -28,8 +29,6 @@ FIGURE_STYLE = 3
 
 
 def _digest(*parts: object) -> str:
-    from neurov import __version__
-
     text = json.dumps([__version__, FIGURE_STYLE, *parts], sort_keys=True, default=str)
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 

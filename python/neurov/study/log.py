@@ -13,7 +13,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from neurov.metrics import metric_names
+from neurov.results.metrics import metric_names
 
 __all__ = ["LOG_NAME", "Record", "StudyLogWarning", "read_log", "repair_tail"]
 

@@ -13,12 +13,15 @@ from typing import Any
 
 import numpy as np
 
-from neurov.controller import describe_failures, own_failures
+from neurov.laws.protocol import describe_failures, own_failures
 from neurov.errors import ControllerError, RefusedStepsWarning
-from neurov.metrics import METRICS, flat_metrics, metric_names
-from neurov.scenario import ControllerSpec
+from neurov.results.metrics import METRICS, flat_metrics, metric_names
+from neurov.config.scenario import ControllerSpec
 from neurov.study.sampling import sample_plant
 from neurov.study.spec import Study, vehicle_key
+from neurov.laws.registry import build_controller, default_centre_box, make_centres
+from neurov.running.simulation import simulate
+from neurov.study.basis_rank import BasisRecorder, basis_columns
 
 __all__ = ["SERIES_POINTS", "RunKey", "error_record", "plan_runs", "resolved_spec", "run_batch", "run_one"]
 
@@ -45,8 +48,6 @@ def resolved_spec(study: Study, controller: int, scenario: int) -> ControllerSpe
     key = (controller, scenario)
     spec = study.cache.get(key)
     if spec is None:
-        from neurov.controllers import default_centre_box, make_centres
-
         sc = study.scenarios[scenario]
         spec = study.spec_for(study.controllers[controller], sc)
         if spec.type == "nn" and not isinstance(spec.centres, np.ndarray):
@@ -96,8 +97,6 @@ def error_record(study: Study, key: RunKey, kind: str, error_type: str, message:
 
 
 def _run(study: Study, key: RunKey, cpu_start: float) -> dict[str, Any]:
-    from neurov.simulation import simulate
-
     scenario = study.scenarios[key.scenario]
     controller = study.controllers[key.controller]
     plant, columns = sample_plant(study, scenario, key.sample)
@@ -111,9 +110,6 @@ def _run(study: Study, key: RunKey, cpu_start: float) -> dict[str, Any]:
     else:
         spec = resolved_spec(study, key.controller, key.scenario)
         if spec.type == "nn" and study.basis_rank:
-            from neurov.simulation import build_controller
-            from neurov.study.basis_rank import BasisRecorder, basis_columns
-
             recorder = BasisRecorder(build_controller(spec, plant))
             result = recorder.log_weight_norm(simulate(plant, recorder, label=controller))
             columns = {**columns, **basis_columns(recorder.matrix())}

@@ -11,13 +11,11 @@ from pathlib import Path
 from typing import Any
 
 from neurov.files import read_toml, shipped_or_path
-from neurov.scenario import ControllerSpec, Scenario, ScenarioError, load_scenario
-from neurov.scenario_file import _controller, _Reader
 from neurov.study.factory import ControllerFactory, FactoryError
 from neurov.study.one_run import resolved_spec
 from neurov.study.sampling import nominal_parameters, scaled
 from neurov.study.spec import (
-    _NON_NEGATIVE,
+    NON_NEGATIVE,
     ENVIRONMENT_PARAMETERS,
     MAX_RUNS,
     NORMAL_TRUNCATION,
@@ -30,6 +28,11 @@ from neurov.study.spec import (
     metric_names,
     vehicle_key,
 )
+from neurov import _core
+from neurov.config.reading import load_scenario, read_controller
+from neurov.config.scenario import ControllerSpec, Scenario, ScenarioError
+from neurov.config.toml_table import TableReader
+from neurov.laws.registry import build_controller
 
 __all__ = ["load_study", "shipped_studies", "study_from_mapping", "study_path"]
 
@@ -49,7 +52,7 @@ def _scenario_path(ref: str, base: Path) -> Path:
     return SCENARIO_DIR / f"{ref}.toml"
 
 
-class _MergedReader(_Reader):
+class _MergedReader(TableReader):
     """Reads a controller's fields merged with one vehicle's sub-table,
     naming the sub-table in errors about the fields it gave."""
 
@@ -65,7 +68,7 @@ class _MergedReader(_Reader):
         return f"{prefix}.{key}"
 
 
-def _perturbation(r: _Reader) -> Perturbation:
+def _perturbation(r: TableReader) -> Perturbation:
     known = (*VEHICLE_PARAMETERS, *ENVIRONMENT_PARAMETERS)
     name = r.string("parameter")
     if name not in known:
@@ -97,7 +100,7 @@ def _perturbation(r: _Reader) -> Perturbation:
             p["mean"] = r.number("mean")
             p["std"] = r.number("std", minimum=0.0)
             lowest = p["mean"] - NORMAL_TRUNCATION * p["std"]
-        if name in _NON_NEGATIVE and lowest < 0:
+        if name in NON_NEGATIVE and lowest < 0:
             raise r.error("range" if dist == "uniform" else "std",
                           f"{name} must stay >= 0, but the draws reach {lowest:g}")
     r.finish()
@@ -106,7 +109,7 @@ def _perturbation(r: _Reader) -> Perturbation:
 
 def study_from_mapping(data: Mapping[str, Any], origin: str = "<study>") -> Study:
     """A study from a parsed TOML table; errors name `origin` and the field."""
-    r = _Reader(data, "", origin)
+    r = TableReader(data, "", origin)
     base = Path(origin).parent if origin != "<study>" else Path.cwd()
     try:
         name = r.string("name", Path(origin).stem if origin != "<study>" else "study")
@@ -164,7 +167,7 @@ def study_from_mapping(data: Mapping[str, Any], origin: str = "<study>") -> Stud
                     raise StudyError(f"{origin}: {where}: gives gains for {sorted(per_vehicle)} but not "
                                      f"for vehicle {v!r}; add [{where}.{v}]")
                 reader = _MergedReader(common, per_vehicle.get(v, {}), where, origin, v)
-                spec = _controller(reader)
+                spec = read_controller(reader)
                 if not spec.label:
                     spec.label = key
                 specs[(key, v)] = spec
@@ -175,7 +178,7 @@ def study_from_mapping(data: Mapping[str, Any], origin: str = "<study>") -> Stud
         if not isinstance(plist, list):
             raise r.error("perturbations", "expected an array of tables [[perturbations]]")
         for k, p in enumerate(plist):
-            perturbations.append(_perturbation(_Reader(p, f"perturbations[{k}]", origin)))
+            perturbations.append(_perturbation(TableReader(p, f"perturbations[{k}]", origin)))
         seen = [p.parameter for p in perturbations]
         dup = sorted({n for n in seen if seen.count(n) > 1})
         if dup:
@@ -250,8 +253,6 @@ def _check_controllers(study: Study, origin: str, per_vehicle: Mapping[str, bool
     """Builds every controller once per vehicle, so a configuration the C++
     refuses (say, modification = "sigma" without sigma_m) is named here and
     not in a worker halfway through the study."""
-    from neurov.simulation import build_controller
-
     first: dict[str, int] = {}
     for i, s in enumerate(study.scenarios):
         first.setdefault(vehicle_key(s), i)
@@ -292,8 +293,6 @@ def _check_metrics(study: Study, origin: str) -> None:
 def _check_plants(study: Study, origin: str) -> None:
     """Every scenario's vehicle must survive the extremes of the perturbation
     (a scaled mass matrix must stay positive definite, for instance)."""
-    from neurov import _core
-
     for p in study.perturbations:
         if p.parameter != "current_speed":
             continue

@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 
 from neurov import _core
-from neurov.scenario import Scenario
+from neurov.config.scenario import Scenario
 from neurov.study.spec import Study
 
 __all__ = ["draw_sample", "nominal_parameters", "sample_plant", "sample_seeds", "scaled"]

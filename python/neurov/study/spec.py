@@ -15,9 +15,10 @@ from typing import Any
 import numpy as np
 
 from neurov.errors import StudyError
-from neurov.metrics import metric_names
-from neurov.scenario import ControllerSpec, Scenario
+from neurov.results.metrics import metric_names
+from neurov.config.scenario import ControllerSpec, Scenario
 from neurov.study.factory import ControllerFactory
+from neurov._core import __version__
 
 __all__ = ["ENVIRONMENT_PARAMETERS", "NORMAL_TRUNCATION", "SCENARIO_DIR", "STUDY_DIR", "VEHICLE_PARAMETERS",
            "Perturbation", "Study", "StudyError", "identity_differences", "metric_names",
@@ -40,7 +41,7 @@ ENVIRONMENT_PARAMETERS = {
     "disturbance_scale": "factor on the amplitudes of the scenario's disturbances",
 }
 # Absolute quantities that must stay >= 0.
-_NON_NEGATIVE = {"current_speed", "noise_scale", "disturbance_scale"}
+NON_NEGATIVE = {"current_speed", "noise_scale", "disturbance_scale"}
 # Truncation of the normal distribution, in standard deviations: a perturbed
 # plant must stay physical (a factor of 1 - 2 * 0.3 is still positive).
 NORMAL_TRUNCATION = 2.0
@@ -141,8 +142,6 @@ class Study:
         return self.controller_specs[(controller, vehicle_key(scenario))]
 
     def _identity_payload(self) -> dict[str, Any]:
-        from neurov import __version__
-
         payload: dict[str, Any] = {
             "version": __version__,
             "seed": self.seed,

@@ -13,12 +13,13 @@ from pathlib import Path
 from typing import Any
 
 from neurov.files import read_toml, shipped_or_path
-from neurov.scenario import ScenarioError
-from neurov.scenario_file import _Reader
+from neurov.config.scenario import ScenarioError
 from neurov.study.reading import STUDY_DIR, study_from_mapping
 from neurov.study.spec import Study, StudyError, metric_names
 from neurov.tuning.space import apply_values, vehicle_tables
 from neurov.tuning.spec import AGGREGATES, PRUNERS, SAMPLERS, SearchParameter, TuneError, TuneSettings, Tuning
+from neurov.config.toml_table import TableReader
+from neurov.laws.registry import REGISTRY
 
 __all__ = ["TUNING_DIR", "load_tuning", "tuning_from_mapping", "tuning_path", "verdict_study", "trial_study"]
 
@@ -41,7 +42,7 @@ def load_tuning(path: str | Path) -> Tuning:
     return tuning_from_mapping(read_toml(path, TuneError, "tuning"), str(path))
 
 
-def _settings(r: _Reader, study_seed: int) -> TuneSettings:
+def _settings(r: TableReader, study_seed: int) -> TuneSettings:
     trials = r.integer("trials", minimum=1)
     objective = r.string("objective", "rmse_position_m")
     known = metric_names()
@@ -79,7 +80,7 @@ def _settings(r: _Reader, study_seed: int) -> TuneSettings:
                         test_scenarios=tuple(held), hand_set_in_verdict=hand)
 
 
-def _bounds(r: _Reader, field: str, integer: bool) -> tuple[float, float]:
+def _bounds(r: TableReader, field: str, integer: bool) -> tuple[float, float]:
     v = r.raw(field)
     if not (isinstance(v, list) and len(v) == 2 and all(isinstance(x, (int, float)) and not isinstance(x, bool)
                                                         for x in v)):
@@ -92,13 +93,11 @@ def _bounds(r: _Reader, field: str, integer: bool) -> tuple[float, float]:
     return low, high
 
 
-def _search_parameter(key: str, spec: Any, r: _Reader, ctype: str | None,
+def _search_parameter(key: str, spec: Any, r: TableReader, ctype: str | None,
                       table: Mapping[str, Any]) -> SearchParameter:
     """One entry of a search table, checked against the controller type (None:
     a factory, whose keyword arguments are searched) and the values the
     controller's table gives."""
-    from neurov.controllers import REGISTRY
-
     m = _KEY.match(key)
     if m is None:
         raise r.error(key, "expected a field name, 'name[index]' or 'centres.field'")
@@ -137,7 +136,7 @@ def _search_parameter(key: str, spec: Any, r: _Reader, ctype: str | None,
         else:
             places = [t[path[0]] for t in [table, *(table[v] for v in vehicle_tables(table))] if path[0] in t]
         name = path[0]
-    pr = _Reader(spec, f"{r.where}.{key}", r.origin) if isinstance(spec, Mapping) else None
+    pr = TableReader(spec, f"{r.where}.{key}", r.origin) if isinstance(spec, Mapping) else None
     if pr is None:
         raise r.error(key, f"expected a table {{ range = [low, high] }}, {{ scale = [low, high] }} or "
                       f"{{ choices = [...] }}, got {spec!r}")
@@ -191,7 +190,7 @@ def tuning_from_mapping(data: Mapping[str, Any], origin: str = "<tuning>") -> Tu
     here and not in a trial."""
     table: dict[str, Any] = copy.deepcopy(dict(data))
     try:
-        tr = _Reader(table.pop("tune", None) or {}, "tune", origin)
+        tr = TableReader(table.pop("tune", None) or {}, "tune", origin)
         seed = table.get("seed", 0)
         settings = _settings(tr, seed if isinstance(seed, int) and not isinstance(seed, bool) else 0)
         ctable = table.get("controllers")
@@ -201,7 +200,7 @@ def tuning_from_mapping(data: Mapping[str, Any], origin: str = "<tuning>") -> Tu
                 if not isinstance(ctab, Mapping) or "search" not in ctab:
                     continue
                 where = f"controllers.{ckey}.search"
-                sr = _Reader(ctab["search"], where, origin)
+                sr = TableReader(ctab["search"], where, origin)
                 if not sr.table:
                     raise StudyError(f"{origin}: {where}: empty: name at least one parameter to search")
                 ctype = None if "factory" in ctab else ctab.get("type")
@@ -237,8 +236,6 @@ def tuning_from_mapping(data: Mapping[str, Any], origin: str = "<tuning>") -> Tu
 
 
 def _known_type(ctype: str) -> bool:
-    from neurov.controllers import REGISTRY
-
     return ctype in REGISTRY
 
 

@@ -21,6 +21,7 @@ from neurov.tuning.objective import TrialOutcome, evaluate
 from neurov.tuning.space import suggest
 from neurov.tuning.spec import TuneError, Tuning
 from neurov.tuning.trial_runs import TrialRunner
+from neurov._core import __version__
 
 __all__ = ["OVER_BUDGET", "STORAGE_NAME", "TuneInterrupted", "counted_trials", "open_storage", "optuna_study",
            "pruner", "run_trials", "study_name"]
@@ -98,8 +99,6 @@ def fingerprint(tuning: Tuning, controller: str) -> str:
     controllers, this controller's table and search, and the settings but the
     budget and the verdict's (a larger budget or another verdict reuses the
     trials made)."""
-    from neurov import __version__
-
     study = {k: v for k, v in tuning.study_table.items() if k not in ("controllers", "ranking", "head_to_head")}
     settings = {k: v for k, v in asdict(tuning.settings).items()
                 if k not in ("trials", "test_samples", "test_seed", "test_scenarios", "hand_set_in_verdict")}

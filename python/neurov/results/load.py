@@ -5,7 +5,7 @@ from one of its files.
 - ``result.npz`` (:meth:`Result.to_npz`): every series with its dtype, the
   scenario's name, the controller's label and whether the run diverged;
 - ``result.csv`` (:meth:`Result.to_csv`) and a Parquet file
-  (:meth:`Result.to_parquet`): the columns of :mod:`neurov.columns`; the
+  (:meth:`Result.to_parquet`): the columns of :mod:`neurov.results.columns`; the
   numbers read back exactly (the CSV writes the shortest text of each
   float64).
 
@@ -29,10 +29,12 @@ from typing import Any
 
 import numpy as np
 
-from neurov.columns import npz_series, series_from_columns
+from neurov.results.columns import npz_series, series_from_columns
 from neurov.errors import ResultFileError
-from neurov.result import Result
-from neurov.scenario import Scenario, load_scenario, scenario_path
+from neurov.results.timeseries import Result
+from neurov.config.reading import load_scenario
+from neurov.config.scenario import Scenario, scenario_path
+from neurov.recording.mcap_reader import read_mcap
 
 __all__ = ["READERS", "RESULT_FILES", "SCENARIO_FILE", "load_result"]
 
@@ -127,8 +129,6 @@ def _read_npz(path: Path, scenario: Scenario | str | Path | None) -> Result:
 
 
 def _read_mcap(path: Path, scenario: Scenario | str | Path | None) -> Result:
-    from neurov.recording.mcap_reader import read_mcap
-
     given = load_scenario(scenario_path(scenario)) if isinstance(scenario, (str, Path)) else scenario
     return read_mcap(path, given)
 

@@ -29,10 +29,11 @@ import shutil
 import sys
 from collections.abc import Iterator
 from pathlib import Path
+import math
 from typing import Any
 
-__all__ = ["OutputWriteError", "RunFolder", "check_output_dir", "kept_files", "stop_reason", "stopped_run", "stopping",
-           "writing"]
+__all__ = ["OutputWriteError", "RunFolder", "check_output_dir", "finite_or_none", "kept_files", "stop_reason",
+           "stopped_run", "stopping", "write_metrics", "writing"]
 
 
 class OutputWriteError(OSError):
@@ -98,6 +99,25 @@ def stop_reason(exc: BaseException) -> str:
     if isinstance(exc, KeyboardInterrupt):
         return "interrupted (Ctrl-C)"
     return f"{type(exc).__name__}: {exc}"
+
+
+def finite_or_none(value: Any) -> Any:
+    """JSON has no inf or NaN (a diverged run has inf errors): write null."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    if isinstance(value, dict):
+        return {k: finite_or_none(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [finite_or_none(v) for v in value]
+    return value
+
+
+def write_metrics(metrics: dict[str, Any], out: Path) -> Path:
+    """metrics.json in `out` (non-finite numbers as null)."""
+    path = out / "metrics.json"
+    with writing(path):
+        path.write_text(json.dumps(finite_or_none(metrics), indent=2) + "\n", encoding="utf-8")
+    return path
 
 
 class RunFolder:
@@ -196,7 +216,7 @@ def _is_partial(folder: Path) -> bool:
 
 
 def stopped_run(folder: RunFolder, exc: BaseException) -> BaseException:
-    """Keeps what a stopped run wrote (see :mod:`neurov.run_folder`) and
+    """Keeps what a stopped run wrote (see :mod:`neurov.running.folder`) and
     returns the exception to raise: for Ctrl-C and OSError (a full disk) one
     whose message says where the run is kept and that DIR is unchanged;
     any other exception as it was, that news printed to stderr."""

@@ -11,7 +11,7 @@ the sensors and the estimator), read into the core's ``SimulationConfig``::
     [estimator]
     type = "ekf"                 # or "none"
 
-Called by :mod:`neurov.scenario_file` with its reader; the rules (a delay of
+Called by :mod:`neurov.config.reading` with its reader; the rules (a delay of
 0..16 whole periods, a rate > 0, an estimator with the sensors it needs) are
 the C++ validators', whose messages name the TOML key (``sensors.usbl.rate``)."""
 

@@ -183,7 +183,7 @@ def _attach_methods() -> None:
 
     def save(self: Any, path: str | os.PathLike[str]) -> None:
         """Writes the current weights W and the network they belong to to a
-        .npz file (format: :mod:`neurov.weights`)."""
+        .npz file (format: :mod:`neurov.laws.weights`)."""
         save_weights(self, path)
 
     def load(self: Any, path: str | os.PathLike[str]) -> None:

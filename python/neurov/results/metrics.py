@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 if TYPE_CHECKING:
-    from neurov.result import Result
+    from neurov.results.timeseries import Result
 
 __all__ = ["METRICS", "TRANSIENT_S", "Metric", "MetricsWindow", "Window", "WindowSums", "flat_metrics",
            "metric_label", "metric_names", "metrics_start", "register_metric"]
@@ -228,7 +228,7 @@ def register_metric(metric: Metric) -> Metric:
     that your study's controller factory imports, or run the study in this
     process (``executor="processes", workers=1``)."""
     if not isinstance(metric, Metric):
-        raise TypeError(f"argument 'metric' must be a neurov.metrics.Metric, got {type(metric).__name__}")
+        raise TypeError(f"argument 'metric' must be a neurov.results.metrics.Metric, got {type(metric).__name__}")
     if not metric.name.isidentifier():
         raise ValueError(f"argument 'metric': name must be an identifier (a table column), got {metric.name!r}")
     if metric.name in METRICS:

@@ -11,6 +11,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from neurov import _core
+from neurov.errors import RefusedStepsWarning
 
 __all__ = ["BUILT_IN_CONTROLLERS", "OWN_FAILURES", "Controller", "ControllerCall", "as_real_numbers",
            "describe_failures", "is_built_in", "own_failures", "require_controller"]
@@ -164,8 +165,6 @@ class ControllerCall:
         if not own:
             return
         import warnings
-
-        from neurov.errors import RefusedStepsWarning
 
         warnings.warn(f"controller {label!r}: {describe_failures(own, rows)}; the run went on under "
                       "the scenario's refused_step_policy, see result.first_refusal",

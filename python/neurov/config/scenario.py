@@ -23,7 +23,7 @@ A scenario file (all tables but ``[command]`` and ``[controller]`` optional)::
 
     [command]
     type = "square"         # waypoints | square | lawnmower | circle | helix
-    side = 10.0             # the generator's arguments (neurov.trajectories)
+    side = 10.0             # the generator's arguments (neurov.config.trajectories)
 
     [controller]
     type = "nn"             # nn | linear | pd | pid | smc | computed_torque
@@ -55,7 +55,7 @@ A scenario file (all tables but ``[command]`` and ``[controller]`` optional)::
     velocity = [0.0, 0.5, 0.0]
 
 Every error names the file and the field (``controller.kd``) and says what was
-expected. The file is read by :mod:`neurov.scenario_file`; this module holds
+expected. The file is read by :mod:`neurov.config.reading`; this module holds
 what a scenario is.
 """
 
@@ -69,10 +69,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from neurov import _core, trajectories
+from neurov import _core
+from neurov.config import trajectories
 from neurov.errors import ScenarioError
-from neurov.files import shipped_or_path
-from neurov.vehicle_file import VehicleFile, preset_path, read_vehicle_file
+from neurov.files import PACKAGE_DIR, shipped_or_path
+from neurov.config.vehicle_file import VehicleFile, preset_path, read_vehicle_file
+from neurov.config.schema import as_dict, field_names
+from neurov.laws.registry import REGISTRY
 
 __all__ = [
     "CommandSpec",
@@ -83,7 +86,6 @@ __all__ = [
     "ScenarioError",
     "SensorFault",
     "ThrusterFailure",
-    "load_scenario",
     "scenario_path",
     "shipped_scenarios",
 ]
@@ -96,7 +98,7 @@ CurrentStep = _core.CurrentStep
 
 
 class ControllerSpec:
-    """A controller: its ``type`` (a name in :data:`neurov.controllers.REGISTRY`, the keys of
+    """A controller: its ``type`` (a name in :data:`neurov.laws.registry.REGISTRY`, the keys of
     ``neurov._core.BUILT_IN_CONTROLLERS``: ``"nn"``, ``"pd"``, ``"super_twisting"``, ...),
     a ``label``, its gains as the type's bound C++ config (``config``; the C++
     defaults and validator) and the type's Python options (the NN's
@@ -108,8 +110,6 @@ class ControllerSpec:
     """
 
     def __init__(self, type: str = "nn", label: str = "", config: Any = None, **fields: Any) -> None:
-        from neurov.controllers import REGISTRY
-
         if type not in REGISTRY:
             raise ValueError(f"controller type must be one of {sorted(REGISTRY)}, got {type!r}")
         kind = REGISTRY[type]
@@ -144,8 +144,6 @@ class ControllerSpec:
     def replace(self, **changes: Any) -> ControllerSpec:
         """A copy with some fields or options changed. A new ``type`` starts
         from that type's defaults and keeps the gains both types have."""
-        from neurov.schema import field_names
-
         kind = changes.pop("type", self.type)
         if kind == self.type:
             out = ControllerSpec(kind, self.label, copy.copy(self.config))
@@ -164,15 +162,11 @@ class ControllerSpec:
 
     def describe(self) -> dict[str, Any]:
         """Everything that decides the controller, as plain data."""
-        from neurov.schema import as_dict
-
         options = {k: (v.tolist() if isinstance(v, np.ndarray) else v) for k, v in self.options.items()}
         return {"type": self.type, "label": self.label, "config": as_dict(self.config), "options": options}
 
     @property
     def name(self) -> str:
-        from neurov.controllers import REGISTRY
-
         return self.label or REGISTRY[self.type].title
 
 
@@ -182,7 +176,7 @@ class CommandSpec:
     ``"recorded"`` (the poses of a bag's topic, ``args`` ``file``, ``topic``
     and ``start`` of :func:`neurov.recording.recorded_path.recorded_path`; its
     ``times`` and ``poses`` as read) or a generator of
-    :mod:`neurov.trajectories` with its keyword ``args``."""
+    :mod:`neurov.config.trajectories` with its keyword ``args``."""
 
     type: str = "square"
     args: dict[str, Any] = field(default_factory=dict)
@@ -192,6 +186,7 @@ class CommandSpec:
 
     def timed_poses(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         if self.type == "recorded" and self.poses is None:
+            # Deferred: reading a recorded path needs rosbags or mcap and SciPy.
             from neurov.recording.recorded_path import recorded_path
 
             self.times, self.poses = recorded_path(**self.args)
@@ -323,8 +318,6 @@ class Scenario:
         """Everything that decides a run, as plain data (for hashing)."""
         import dataclasses
 
-        from neurov.schema import as_dict
-
         command = {k: (v.tolist() if isinstance(v, np.ndarray) else v)
                    for k, v in dataclasses.asdict(self.command).items()}
         simulation = as_dict(self.simulation)
@@ -355,10 +348,6 @@ class Scenario:
     def __setstate__(self, state: dict[str, Any]) -> None:
         self.__dict__.update(state)
 
-    @staticmethod
-    def from_file(path: str | Path) -> Scenario:
-        return load_scenario(path)
-
     def vehicle_data(self) -> VehicleFile:
         """The vehicle file, read and checked once: the copy the scenario holds
         while it still names the same file, else the file read now (and held)."""
@@ -376,7 +365,7 @@ class Scenario:
         return preset_path(self.vehicle)
 
 
-SCENARIO_DIR = Path(__file__).resolve().parent / "scenarios"
+SCENARIO_DIR = PACKAGE_DIR / "scenarios"
 """The shipped scenarios, each found by its name (the file's stem)."""
 
 
@@ -394,18 +383,3 @@ def scenario_path(name_or_path: str | Path) -> Path:
     must be a shipped scenario's (a folder of that name does not hide it),
     else :class:`ScenarioError` listing them."""
     return shipped_or_path(name_or_path, SCENARIO_DIR, "scenario", ScenarioError)
-
-
-def load_scenario(path: str | Path) -> Scenario:
-    """Reads a scenario file; raises :class:`ScenarioError` naming the file and field."""
-    from neurov.scenario_file import read_scenario
-
-    return read_scenario(path)
-
-
-def make_centres(spec: ControllerSpec, low: NDArray[np.float64], high: NDArray[np.float64]) -> NDArray[np.float64]:
-    """The (N, 24) centres a controller spec asks for (see
-    :func:`neurov.controllers.make_centres`)."""
-    from neurov.controllers import make_centres as make
-
-    return make(spec, low, high)

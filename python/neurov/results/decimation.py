@@ -18,7 +18,7 @@ import dataclasses
 import numpy as np
 from numpy.typing import NDArray
 
-from neurov.result import SERIES, Result
+from neurov.results.timeseries import SERIES, Result
 
 __all__ = ["MAX_PLOT_ROWS", "PlotRows", "bucket_rows", "for_plotting", "kept_rows"]
 

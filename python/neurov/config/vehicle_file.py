@@ -55,7 +55,8 @@ from pathlib import Path
 from typing import Any
 
 from neurov.errors import ValidationError, VehicleFileError
-from neurov.files import read_text, read_toml
+from neurov.files import PACKAGE_DIR, read_text, read_toml
+from neurov._core import SimulationConfig, ThrusterConfig, ThrusterCurveConfig, Vehicle, buoyancy_in_water
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -74,7 +75,7 @@ __all__ = [
     "read_vehicle_file",
 ]
 
-PRESET_DIR = Path(__file__).with_name("vehicles")
+PRESET_DIR = PACKAGE_DIR / "vehicles"
 
 # key -> (required, shapes accepted); () is a number, "str" a string.
 _FIELDS: dict[str, tuple[bool, tuple[Any, ...]]] = {
@@ -165,8 +166,6 @@ class VehicleFile:
             return self
         from dataclasses import replace
 
-        from neurov._core import buoyancy_in_water
-
         try:
             b = buoyancy_in_water(water_density, self.displaced_volume)
         except ValueError as e:
@@ -175,8 +174,6 @@ class VehicleFile:
 
     def vehicle(self, overrides: dict[str, Any] | None = None) -> Any:
         """The vehicle, with some parameters overridden (a perturbed plant)."""
-        from neurov._core import Vehicle
-
         try:
             return Vehicle(**{**self.parameters, **(overrides or {})})
         except ValueError as e:
@@ -202,8 +199,6 @@ def read_vehicle_file(path: str | Path) -> VehicleFile:
         return file
     # Standing alone (Vehicle.from_file, a preset), the vehicle is in the
     # default water of a run; a scenario puts it in its own.
-    from neurov._core import SimulationConfig
-
     return file.in_water(SimulationConfig().water_density)
 
 
@@ -431,8 +426,6 @@ def _curves(table: dict[str, Any], n: int, where: str) -> list[Any]:
 
 
 def _curve(t: dict[str, Any], where: str) -> Any:
-    from neurov._core import ThrusterCurveConfig
-
     for key in t:
         if key not in _CURVE_KEYS:
             close = difflib.get_close_matches(key, list(_CURVE_KEYS), n=1)
@@ -513,8 +506,6 @@ def _curve_rows(t: dict[str, Any], where: str) -> tuple[Any, Any]:
 
 def _check_layout(thrusters: dict[str, Any], where: str) -> None:
     """The layout with its curves through the C++ validator (limits inside the curves)."""
-    from neurov._core import ThrusterConfig
-
     try:
         ThrusterConfig(matrix=thrusters["matrix"], max_thrust=thrusters["max_thrust"],
                        min_thrust=thrusters["min_thrust"], curves=thrusters["curves"],
@@ -527,10 +518,8 @@ def _attach_file_constructors() -> None:
     """``Vehicle.from_file`` and ``Vehicle.preset`` read files, which is this
     package's work: they are attached here so that the compiled core never
     imports the Python package."""
-    from neurov._core import Vehicle
-
     def from_file(path: str | Path) -> Any:
-        """Loads a vehicle TOML file (format: :mod:`neurov.vehicle_file`). A
+        """Loads a vehicle TOML file (format: :mod:`neurov.config.vehicle_file`). A
         missing, misspelt or wrongly typed field raises
         :class:`neurov.VehicleFileError` naming the file and the field."""
         return load_vehicle(path)

@@ -1,30 +1,30 @@
 """Run one scenario file: what ``neurov run SCENARIO.toml [--out DIR] [--plot]`` does.
 
 Loads the scenario, runs the closed loop streaming its rows (see
-:mod:`neurov.run_stream`), prints the metrics, and optionally writes the
+:mod:`neurov.running.stream`), prints the metrics, and optionally writes the
 results to a folder::
 
-    from neurov.run import run_scenario_file
+    from neurov.running.command import run_scenario_file
     result, metrics = run_scenario_file("examples/scenarios/square_nn.toml", out_dir="out", plot=True)
 """
 
 from __future__ import annotations
 
-import json
 import math
 import shutil
 import sys
 from pathlib import Path
 from typing import Any, TextIO
 
-from neurov.scenario import load_scenario, scenario_path
-from neurov.result import Result
-from neurov.run_folder import RunFolder, check_output_dir, stopping, writing
-from neurov.run_stream import stream_run
+from neurov.results.timeseries import Result
+from neurov.running.stream import stream_run
+from neurov.config.reading import load_scenario
+from neurov.config.scenario import scenario_path
+from neurov.progress import progress_bar
+from neurov.running.folder import RunFolder, stopping, write_metrics, writing
 
-__all__ = ["EXIT_DIVERGED", "FIGURES", "OUTPUT_NAMES", "SEA_FIGURES", "check_output_dir", "finite_or_none",
-           "format_metrics", "refusal_message", "run_scenario_file", "write_figures", "write_metrics",
-           "write_outputs"]
+__all__ = ["EXIT_DIVERGED", "FIGURES", "OUTPUT_NAMES", "SEA_FIGURES", "format_metrics", "refusal_message",
+           "run_scenario_file", "write_figures", "write_outputs"]
 
 EXIT_DIVERGED = 3
 """Exit status of ``neurov run`` and ``neurov paper`` when a run diverged
@@ -36,20 +36,9 @@ SEA_FIGURES = ("sea.png", "wave_spectrum.png")
 """Also written for a run with a sea: the flow it met (a current, waves or a
 payload change) and, with waves, their realised spectrum against the target."""
 OUTPUT_NAMES = ("result.csv", "result.mcap", "result.npz", "metrics.json", "scenario.toml", *FIGURES, *SEA_FIGURES)
-"""The files a run writes in its folder (see :mod:`neurov.run_folder`);
+"""The files a run writes in its folder (see :mod:`neurov.running.folder`);
 scenario.toml is the scenario file run, copied as it was (written by
 :func:`run_scenario_file`, so that :func:`neurov.load_result` finds it)."""
-
-
-def finite_or_none(value: Any) -> Any:
-    """JSON has no inf or NaN (a diverged run has inf errors): write null."""
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    if isinstance(value, dict):
-        return {k: finite_or_none(v) for k, v in value.items()}
-    if isinstance(value, list):
-        return [finite_or_none(v) for v in value]
-    return value
 
 
 def format_metrics(result: Result, metrics: dict[str, Any]) -> str:
@@ -97,14 +86,6 @@ def refusal_message(result: Result, metrics: dict[str, Any]) -> str:
             f"{result.first_refusal}; the run went on with refused_step_policy {policy!r}")
 
 
-def write_metrics(metrics: dict[str, Any], out: Path) -> Path:
-    """metrics.json in `out` (non-finite numbers as null)."""
-    path = out / "metrics.json"
-    with writing(path):
-        path.write_text(json.dumps(finite_or_none(metrics), indent=2) + "\n", encoding="utf-8")
-    return path
-
-
 def write_figures(drawn: Result, out: Path, quiet: bool = True, *, sea: bool | None = None,
                   elevation: Result | None = None) -> list[Path]:
     """The figures of :data:`FIGURES` of the run `drawn` (and of
@@ -116,8 +97,6 @@ def write_figures(drawn: Result, out: Path, quiet: bool = True, *, sea: bool | N
     # plots does not need it.
     from neurov.plotting import runs as plots
     from neurov.plotting import sea as sea_plots
-    from neurov.progress import progress_bar
-
     figures = {
         "xy.png": plots.xy_path, "dofs.png": plots.dof_time, "errors.png": plots.errors,
         "inputs.png": plots.control_inputs, "adaptive_norm.png": plots.adaptive_norm,
@@ -141,9 +120,9 @@ def write_outputs(result: Result, metrics: dict[str, Any], out_dir: str | Path, 
     """Writes result.csv, result.npz, metrics.json and, with `plot`, the
     figures of :data:`FIGURES` (and :data:`SEA_FIGURES`) of a run held in
     memory into `out_dir` (created if missing; a folder holds one run, see
-    :mod:`neurov.run_folder`); returns the paths written.
+    :mod:`neurov.running.folder`); returns the paths written.
     Unless `quiet`, progress bars (on a terminal). A long run's figures draw
-    at most :data:`neurov.decimation.MAX_PLOT_ROWS` rows."""
+    at most :data:`neurov.results.decimation.MAX_PLOT_ROWS` rows."""
     folder = RunFolder(out_dir, OUTPUT_NAMES)
     out = folder.path
     with stopping(folder):
@@ -161,8 +140,8 @@ def write_outputs(result: Result, metrics: dict[str, Any], out_dir: str | Path, 
 def run_scenario_file(path: str | Path, out_dir: str | Path | None = None,
                       plot: bool = False, file_format: str = "csv") -> tuple[Result, dict[str, Any]]:
     """Loads the scenario file at `path` (or the shipped scenario of that
-    name, :func:`neurov.scenario.scenario_path`), simulates it, and prints a short
-    metrics table to stdout. The metrics cover t >= :func:`neurov.result.metrics_start`
+    name, :func:`neurov.config.scenario.scenario_path`), simulates it, and prints a short
+    metrics table to stdout. The metrics cover t >= :func:`neurov.results.timeseries.metrics_start`
     (10 s, or half a shorter run: the start-up transient is skipped) and the
     table says so.
 
@@ -179,18 +158,18 @@ def run_scenario_file(path: str | Path, out_dir: str | Path | None = None,
     files hold every row simulated, and the metrics cover those rows
     (``diverged`` true, ``diverged_at_s`` set); check ``result.diverged``.
 
-    The run is streamed (:func:`neurov.run_stream.stream_run`): the files
+    The run is streamed (:func:`neurov.running.stream.stream_run`): the files
     are written as the rows come and a run of any length holds about
-    :data:`neurov.run_stream.CHUNK_ROWS` rows in memory. So the result
+    :data:`neurov.running.stream.CHUNK_ROWS` rows in memory. So the result
     returned holds the rows the figures draw: every row of a run of at most
-    :data:`neurov.decimation.MAX_PLOT_ROWS` rows, else a thinned set
+    :data:`neurov.results.decimation.MAX_PLOT_ROWS` rows, else a thinned set
     (``result.extra["plotted_rows_of"]`` the run's row count; the metrics are
     always of every row).
 
     Returns the result and the metrics: ``Result.metrics()`` plus
     ``scenario`` and ``controller``, the same dict metrics.json holds (where
     non-finite numbers are written as null). A bad file raises
-    :class:`neurov.scenario.ScenarioError` naming the file and the field."""
+    :class:`neurov.config.scenario.ScenarioError` naming the file and the field."""
     if plot and out_dir is None:
         raise ValueError("argument 'plot' needs 'out_dir': the figures are written as PNG files there")
     if file_format != "csv" and out_dir is None:

@@ -23,6 +23,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from neurov import _core
+from neurov.laws.centres import check_count
 
 __all__ = ["along_path", "path_inputs"]
 
@@ -57,8 +58,6 @@ def along_path(scenario: Any, n: int, seed: int = 0) -> Array:
     rule of this module's docstring)."""
     if int(n) != n or n < 1:
         raise ValueError(f"argument 'n' must be a positive integer, got {n!r}")
-    from neurov.centres import check_count
-
     check_count(int(n))
     times, inputs = path_inputs(scenario)
     duration = times[-1]

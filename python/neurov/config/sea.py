@@ -15,12 +15,12 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from neurov import _core
-from neurov.scenario import ScenarioError
-from neurov.schema import SchemaError, convert, field_names
+from neurov.config.schema import SchemaError, convert, field_names
+from neurov.config.toml_table import TableReader, tables, validated
+from neurov.errors import ScenarioError
 
 if TYPE_CHECKING:
-    from neurov.scenario import Scenario
-    from neurov.scenario_file import _Reader
+    from neurov.config.scenario import Scenario
 
 __all__ = ["CURRENT_MODELS", "read_current_model", "read_payload", "read_sea", "read_tether", "read_waves",
            "check_payload"]
@@ -33,7 +33,7 @@ _CONSTANT_KEYS = ("velocity", "amplitude", "period")
 _OPTIONAL_POINTS = ("mass_position", "buoyancy_position")
 
 
-def _fill(r: _Reader, target: Any, skip: tuple[str, ...] = ()) -> None:
+def _fill(r: TableReader, target: Any, skip: tuple[str, ...] = ()) -> None:
     """Every field of the bound struct `target` that the table gives, under
     the field's own name, converted by the kind of the field's default."""
     for key in field_names(target):
@@ -53,15 +53,13 @@ def _probe() -> Any:
 
 
 def _validate_section(probe: Any, origin: str, prefix: str, lists: tuple[str, ...] = ()) -> None:
-    from neurov.scenario_file import _validated
-
     keys = {name: f"{prefix}.{name}" for name in
             (*field_names(_core.GaussMarkovCurrentConfig()), *field_names(_core.WaveConfig()))}
     keys["payload"] = "payload"
-    _validated(probe, origin, keys, lists)
+    validated(probe, origin, keys, lists)
 
 
-def read_current_model(cr: _Reader, config: Any) -> bool:
+def read_current_model(cr: TableReader, config: Any) -> bool:
     """Reads ``[current] model`` and, for ``"gauss_markov"``, its keys into
     ``config.gauss_markov_current``; True if the constant model's keys are
     still to be read."""
@@ -87,7 +85,7 @@ def read_current_model(cr: _Reader, config: Any) -> bool:
     return False
 
 
-def read_sea(r: _Reader, config: Any) -> None:
+def read_sea(r: TableReader, config: Any) -> None:
     """The tables of the disturbance parts beside ``[current]``: each one's
     reader, in the order of the parts in C++ (config.hpp)."""
     read_waves(r, config)
@@ -95,7 +93,7 @@ def read_sea(r: _Reader, config: Any) -> None:
     read_tether(r, config)
 
 
-def read_waves(r: _Reader, config: Any) -> None:
+def read_waves(r: TableReader, config: Any) -> None:
     """``[waves]``: absent, a calm sea; present (even empty), the C++
     defaults (JONSWAP, Hs 2 m, Tp 8 s) for the keys it does not give."""
     if not r.has("waves"):
@@ -113,7 +111,7 @@ def read_waves(r: _Reader, config: Any) -> None:
     config.waves = waves
 
 
-def read_tether(r: _Reader, config: Any) -> None:
+def read_tether(r: TableReader, config: Any) -> None:
     """``[tether]``: absent, no tether; present, its keys on the C++
     defaults (``diameter`` has none that passes: it must be given)."""
     if not r.has("tether"):
@@ -129,13 +127,11 @@ def read_tether(r: _Reader, config: Any) -> None:
     config.tether = tether
 
 
-def read_payload(r: _Reader, config: Any) -> None:
+def read_payload(r: TableReader, config: Any) -> None:
     """``[[payload]]``: the events in time order; each against the vehicle it
     changes is checked by :func:`check_payload`."""
-    from neurov.scenario_file import _tables
-
     events = []
-    for pr in _tables(r, "payload"):
+    for pr in tables(r, "payload"):
         event = _core.PayloadEvent()
         for key in _OPTIONAL_POINTS:
             if pr.has(key):
@@ -155,8 +151,6 @@ def check_payload(scenario: Scenario, origin: str) -> None:
     """The payload events against the scenario's vehicle (a mass that would
     leave the vehicle with mass <= 0, a buoyancy < 0, ...), by the C++
     simulator's own check; also the one current at a time rule."""
-    from neurov.scenario_file import _validated
-
     c = scenario.simulation
     if c.current_model == _core.CurrentModel.gauss_markov and len(c.current_steps):
         raise ScenarioError(f"{origin}: current_steps: expected none with current.model = \"gauss_markov\" "
@@ -174,5 +168,5 @@ def check_payload(scenario: Scenario, origin: str) -> None:
         def validate(self) -> None:
             _core.Simulator(vehicle, probe)
 
-    _validated(_Creation(), origin, {"payload": "payload"}, ("payload",))
+    validated(_Creation(), origin, {"payload": "payload"}, ("payload",))
 

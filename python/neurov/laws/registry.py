@@ -20,10 +20,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from neurov import _core
-from neurov import centres as centre_placement
+from neurov.laws import centres as centre_placement
+from neurov.laws.path_centres import along_path
+from neurov.config.schema import field_names
 
 if TYPE_CHECKING:
-    from neurov.scenario import ControllerSpec, Scenario
+    from neurov.config.scenario import ControllerSpec, Scenario
 
 __all__ = ["ControllerType", "REGISTRY", "build_controller", "default_centre_box", "input_normalisation", "make_centres",
            "register"]
@@ -52,8 +54,6 @@ class ControllerType:
 
     def fields(self) -> list[str]:
         """The config fields a file may set (TOML names)."""
-        from neurov.schema import field_names
-
         inverse = {v: k for k, v in self.keys.items()}
         return [inverse.get(f, f) for f in field_names(self.config()) if f not in self.managed]
 
@@ -117,8 +117,6 @@ def make_centres(spec: ControllerSpec, low: Array, high: Array, scenario: Scenar
     if method == "path":
         if scenario is None:
             raise ValueError("centres.method 'path' places the centres on a scenario's path: give the scenario")
-        from neurov.network import along_path
-
         centres = along_path(scenario, int(c.get("n", 64)), seed=int(c.get("seed", 0)))
         if spec.options.get("inputs") == "normalised":
             offset, scale = input_normalisation(scenario)

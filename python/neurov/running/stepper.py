@@ -14,10 +14,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from neurov import _core
-from neurov.controller import ControllerCall
-from neurov.result import Result
-from neurov.scenario import Scenario
-from neurov.simulation import build_vehicle, simulation_config
+from neurov.laws.protocol import ControllerCall
+from neurov.results.timeseries import Result
+from neurov.config.scenario import Scenario
+from neurov.running.plant import build_vehicle, simulation_config
 
 __all__ = ["Observation", "Simulator"]
 

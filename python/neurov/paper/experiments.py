@@ -17,20 +17,19 @@ from typing import Any
 
 import numpy as np
 
-from neurov.scenario import ControllerSpec, Scenario, load_scenario
-from neurov.plotting.paper import figure_inputs, figure_xy, figure_yaw
-from neurov.run import finite_or_none
-from neurov.run_folder import RunFolder, stopping, writing
-from neurov.result import TRANSIENT_S, metrics_start
-from neurov.simulation import Result, simulate
+from neurov.paper.figures import figure_inputs, figure_xy, figure_yaw
+from neurov.running.folder import RunFolder, finite_or_none, stopping, writing
+from neurov.results.timeseries import Result, TRANSIENT_S, metrics_start
+from neurov.config.reading import load_scenario
+from neurov.config.scenario import ControllerSpec, SCENARIO_DIR, Scenario
+from neurov.running.simulation import simulate
 
 __all__ = ["EXPERIMENTS", "METRIC_KEYS", "OUTPUT_NAMES", "Experiment", "diverged_runs", "fig5_caption", "paper_scenario", "run_paper"]
 
-SCENARIO_DIR = Path(__file__).with_name("scenarios")
-#: The files ``neurov paper`` writes in its folder (see neurov.run_folder).
+#: The files ``neurov paper`` writes in its folder (see neurov.running.folder).
 OUTPUT_NAMES = ("fig3_xy.png", "fig4_inputs.png", "fig5_yaw_disturbance.png", "metrics.json", "summary.md")
 #: The keys every metrics.json entry carries (more follow them). The metrics
-#: cover Result.metrics()'s window, t >= neurov.result.metrics_start(duration).
+#: cover Result.metrics()'s window, t >= neurov.results.timeseries.metrics_start(duration).
 METRIC_KEYS = ("rmse_position_m", "rmse_yaw_rad", "max_position_error_m", "mean_abs_tau", "max_abs_tau",
                "window_start_s", "diverged")
 
@@ -225,7 +224,7 @@ def _write_summary(path: Path, window: str, table: str, caption5: str, sweep_tab
     path.write_text(
         "# neurov paper: results\n\n"
         f"Metrics over t >= {window} s (the start-up transient skipped; "
-        f"neurov.result.metrics_start). Set-ups: scenarios/paper_fig3.toml and "
+        f"neurov.results.timeseries.metrics_start). Set-ups: scenarios/paper_fig3.toml and "
         "scenarios/paper_fig5.toml in the neurov package; the choices the paper leaves open "
         "are discussed in docs/paper-reproduction.md.\n\n"
         f"{table}\n\n"

@@ -12,9 +12,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from neurov import _core
-from neurov.metrics import TRANSIENT_S, MetricsWindow, metrics_start
-from neurov.columns import SERIES, table_columns
-from neurov.scenario import Scenario
+from neurov.config.scenario import Scenario
+from neurov.progress import progress_bar
+from neurov.results.columns import SERIES, STATUS_NAMES, table_columns
+from neurov.results.export import CsvWriter, NpzWriter
+from neurov.results.metrics import MetricsWindow, TRANSIENT_S, metrics_start
 
 __all__ = ["SERIES", "TRANSIENT_S", "Result", "metrics_start"]
 
@@ -110,7 +112,7 @@ class Result:
 
     def columns(self) -> dict[str, Any]:
         """The run as flat named columns, the CSV's and :meth:`to_pandas`'s
-        (see :mod:`neurov.columns`): ``t``, then ``eta_x`` ...
+        (see :mod:`neurov.results.columns`): ``t``, then ``eta_x`` ...
         ``eta_psi``, ``nu_u`` ..., ``tau_demanded_X`` ..., ``thrusts_0`` ...,
         ``theta_m`` ... (linear adaptive only), the statuses as
         :class:`neurov.Status` names and ``faults`` as its bits."""
@@ -122,8 +124,6 @@ class Result:
         :meth:`columns` (the CSV's header is ``t`` and these); the
         statuses are categorical (of every :class:`neurov.Status` name)."""
         import pandas as pd
-
-        from neurov.columns import STATUS_NAMES
 
         cols: dict[str, Any] = self.columns()
         t = cols.pop("t")
@@ -140,12 +140,9 @@ class Result:
     def to_csv(self, path: str | Path, quiet: bool = True) -> Path:
         """Writes every column of :meth:`columns` to a CSV file with a header
         row, each number as the shortest text that reads back to the same
-        float64, in blocks (see :class:`neurov.export.CsvWriter`: pyarrow's
+        float64, in blocks (see :class:`neurov.results.export.CsvWriter`: pyarrow's
         C++ writer when installed, about four times faster); unless `quiet`,
         a progress bar."""
-        from neurov.export import CsvWriter
-        from neurov.progress import progress_bar
-
         cols = self.columns()
         with progress_bar(len(self.t), Path(path).name, unit="row", quiet=quiet) as bar, \
                 CsvWriter(path, cols) as writer:
@@ -160,11 +157,8 @@ class Result:
 
     def to_npz(self, path: str | Path, quiet: bool = True) -> Path:
         """Writes the arrays of :data:`SERIES` (and :meth:`npz_arrays`) to a
-        compressed .npz, array by array (see :class:`neurov.export.NpzWriter`);
+        compressed .npz, array by array (see :class:`neurov.results.export.NpzWriter`);
         unless `quiet`, a progress bar."""
-        from neurov.export import NpzWriter
-        from neurov.progress import progress_bar
-
         writer = NpzWriter(path)
         try:
             for name, value in self.npz_arrays().items():
@@ -182,6 +176,7 @@ class Result:
         pose, wrenches and /tf in the ENU/FLU frames of REP 103 (docs/recordings.md),
         and the whole run, which :func:`neurov.recording.mcap_reader.read_mcap`
         reads back; see :func:`neurov.recording.mcap_writer.write_mcap`."""
+        # Deferred: the MCAP writer needs scipy (its frames' rotations) and mcap.
         from neurov.recording.mcap_writer import write_mcap
 
         return write_mcap(self, path)
@@ -189,6 +184,7 @@ class Result:
     def to_time_response(self) -> Any:
         """This run as ``control.TimeResponseData`` (needs ``neurov[control]``);
         see :func:`neurov.control.to_time_response`."""
+        # Deferred: neurov.control needs python-control, an optional dependency.
         from neurov.control import to_time_response
 
         return to_time_response(self)
@@ -200,6 +196,7 @@ class Result:
         ``.write_html(path)`` writes as one file that opens offline.
         `options`: those of :func:`neurov.replay.replay` (``labels``,
         ``title``, ``max_frames``)."""
+        # Deferred: the replay is the bridge to plotly, an optional dependency.
         from neurov.replay import replay
 
         return replay([self, *others], **options)

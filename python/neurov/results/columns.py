@@ -65,6 +65,16 @@ STATUS_NAMES = tuple(s.name for s in sorted(_core.Status.__members__.values(), k
 _STATUS_CODES = {name: code for code, name in enumerate(STATUS_NAMES)}
 
 
+def is_result(obj: Any) -> bool:
+    """Whether `obj` is a run's result (a :class:`neurov.Result`): it has a
+    scenario, a controller label and every series of :data:`SERIES`. The
+    bridges (:mod:`neurov.control`, :mod:`neurov.replay`), which the
+    result's own methods call, check their argument with this: importing the
+    class back would make the results layer and the bridges import each
+    other."""
+    return all(hasattr(obj, name) for name in ("scenario", "controller", *SERIES))
+
+
 def column_names(spec: Any, columns: int) -> list[str]:
     """The table columns of series `spec` whose array has `columns` columns."""
     if spec.varies_with == "thrusters":

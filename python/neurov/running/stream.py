@@ -15,13 +15,16 @@ from typing import Any
 
 import numpy as np
 
-from neurov import _core
-from neurov.decimation import PlotRows
-from neurov.export import CsvWriter, NpzWriter
-from neurov.metrics import MetricsWindow
-from neurov.result import SERIES, Result
-from neurov.run_folder import writing
-from neurov.scenario import Scenario
+from neurov.results.decimation import PlotRows
+from neurov.results.export import CsvWriter, NpzWriter
+from neurov.results.metrics import MetricsWindow
+from neurov.results.timeseries import SERIES, Result
+from neurov.config.scenario import Scenario
+from neurov.laws.registry import build_controller
+from neurov.progress import progress_bar
+from neurov.running.closed_loop import run_loop
+from neurov.running.folder import check_output_dir, write_metrics, writing
+from neurov.running.plant import build_vehicle, simulation_config
 
 __all__ = ["CHUNK_ROWS", "FILE_FORMATS", "StreamedRun", "stream_run"]
 
@@ -31,13 +34,13 @@ or result.mcap (a ROS 2 recording, :mod:`neurov.recording.mcap_writer`)."""
 
 CHUNK_ROWS = 12_000
 """About this many rows per chunk (40 minutes at 5 Hz, some 7 MB): rounded to
-a whole number of the plot buckets (see :class:`neurov.decimation.PlotRows`)."""
+a whole number of the plot buckets (see :class:`neurov.results.decimation.PlotRows`)."""
 
 
 @dataclasses.dataclass
 class StreamedRun:
     """What a streamed run leaves: `drawn`, the rows the figures draw (every
-    row of a run of at most :data:`neurov.decimation.MAX_PLOT_ROWS` rows,
+    row of a run of at most :data:`neurov.results.decimation.MAX_PLOT_ROWS` rows,
     else ``drawn.extra["plotted_rows_of"]`` holds the run's row count);
     `metrics`, :meth:`Result.metrics` of every row; `elevation`, the whole
     (t, wave_elevation) record when the scenario has waves (the realised
@@ -62,6 +65,7 @@ class _Sinks:
         self.csv: CsvWriter | None = None
         self.mcap: Any = None
         if out is not None and file_format == "mcap":
+            # Deferred: the MCAP writer needs scipy (its frames' rotations) and mcap.
             from neurov.recording.mcap_writer import McapRecorder
 
             with writing(out / "result.mcap"):
@@ -108,8 +112,6 @@ class _Sinks:
                     with writing(self.mcap.path):
                         self.mcap.discard()
             else:
-                from neurov.progress import progress_bar
-
                 for name, value in drawn.npz_arrays().items():
                     self.npz.set(name, value)
                 with progress_bar(self.npz.count, "result.npz", unit="array", quiet=self.quiet) as bar, \
@@ -150,12 +152,6 @@ def stream_run(scenario: Scenario, out_dir: str | Path | None = None, *, quiet: 
     it did; an exception (e.g. Ctrl-C, a full disk) keeps the CSV rows
     written so far and a metrics.json of those rows, ``"partial": true``
     (result.npz is not written)."""
-    from neurov.controller import is_built_in
-    from neurov.controllers import build_controller
-    from neurov.progress import progress_bar
-    from neurov.run_folder import check_output_dir
-    from neurov.simulation import build_vehicle, simulation_config
-
     if not isinstance(chunk_rows, int) or chunk_rows < 1:
         raise ValueError(f"argument 'chunk_rows' must be an int >= 1, got {chunk_rows!r}")
     if file_format not in FILE_FORMATS:
@@ -176,13 +172,9 @@ def stream_run(scenario: Scenario, out_dir: str | Path | None = None, *, quiet: 
 
         start = time.perf_counter()
         try:
-            if is_built_in(controller):
-                _core.run_closed_loop_chunks(plant, controller, config, chunk, on_rows)
-            else:
-                from neurov.simulator import Simulator
-
-                sim = Simulator(scenario, vehicle=plant, label=spec.name, log_rows=chunk)
-                sinks.errors = sim.run(controller, on_rows=on_rows).extra.get("controller_errors", {})
+            stepped = run_loop(scenario, plant, controller, spec.name, on_rows=on_rows, chunk_rows=chunk)
+            if stepped is not None:  # the Python loop: its controller's errors
+                sinks.errors = stepped.extra.get("controller_errors", {})
         except BaseException:
             _keep_what_was_written(sinks, out)
             raise
@@ -212,8 +204,6 @@ def _keep_what_was_written(sinks: _Sinks, out: Path | None) -> None:
         pass
     if out is None or not sinks.metrics.rows:
         return  # nothing simulated: nothing to keep
-    from neurov.run import write_metrics
-
     try:
         write_metrics({**sinks.partial_metrics(), "partial": True}, out)
     except OSError:

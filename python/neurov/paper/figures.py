@@ -17,7 +17,7 @@ from matplotlib.figure import Figure
 from neurov.plotting.labels import thruster_label
 from neurov.plotting.paths import mark_start_and_direction
 from neurov.plotting.runs import demanded_and_applied
-from neurov.simulation import Result
+from neurov.results.timeseries import Result
 
 __all__ = ["figure_inputs", "figure_xy", "figure_yaw"]
 
@@ -74,7 +74,7 @@ def figure_inputs(run: Result) -> Figure:
 def figure_yaw(runs: list[Result], caption: str | None = None) -> Figure:
     """Fig. 5: the X-Y paths and the heading under the scenario's yaw
     disturbance; `caption`, if given, is written under the two panels (which
-    controller has the lower error: :func:`neurov.paper.fig5_caption`)."""
+    controller has the lower error: :func:`neurov.paper.experiments.fig5_caption`)."""
     fig = Figure(figsize=(11.0, 5.2 if caption else 4.8), layout="constrained")
     ax_xy, ax_yaw = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1, 1.4]})
     _xy(ax_xy, runs)

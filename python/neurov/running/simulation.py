@@ -1,38 +1,22 @@
-"""Run a scenario: build the vehicle and controller, run the closed loop in C++,
-and wrap the arrays in a :class:`Result` with metrics and export."""
+"""Run a scenario: :func:`neurov.simulate` builds the vehicle and the
+controller and runs the closed loop (:mod:`neurov.running.closed_loop`
+chooses which); :func:`neurov.simulate_many` runs several."""
 
 from __future__ import annotations
 
 from collections.abc import Iterable, Iterator, Sequence
-from typing import Any
-
-import numpy as np
-from numpy.typing import NDArray
+from typing import Any, cast
 
 from neurov import _core
-from neurov.result import Result
-from neurov.controllers import build_controller, default_centre_box
-from neurov.scenario import ControllerSpec, Scenario
+from neurov.config.scenario import ControllerSpec, Scenario
+from neurov.laws.protocol import require_controller
+from neurov.laws.registry import build_controller
+from neurov.progress import progress_bar
+from neurov.results.timeseries import Result
+from neurov.running.closed_loop import run_loop
+from neurov.running.plant import build_vehicle
 
-__all__ = [
-    "Result", "build_controller", "build_vehicle", "default_centre_box", "simulate", "simulate_many",
-    "simulation_config",
-]
-
-Array = NDArray[np.float64]
-
-
-def build_vehicle(scenario: Scenario) -> _core.Vehicle:
-    """The scenario's vehicle, with its parameter overrides applied."""
-    return scenario.vehicle_data().vehicle(scenario.vehicle_parameters)
-
-
-def simulation_config(scenario: Scenario) -> _core.SimulationConfig:
-    """The core's config of the run: the one the scenario holds, checked by
-    the C++ validator (a ValueError names the field)."""
-    scenario._sync()
-    scenario.simulation.validate()
-    return scenario.simulation
+__all__ = ["simulate", "simulate_many"]
 
 
 def simulate(scenario: Scenario, controller: ControllerSpec | Any = None, *,
@@ -46,10 +30,6 @@ def simulate(scenario: Scenario, controller: ControllerSpec | Any = None, *,
     from the state it is in (e.g. warm-started weights). `label` names the
     controller in the result (default: the spec's name, the class name of
     an object)."""
-    import time
-
-    from neurov.controller import is_built_in, require_controller
-
     plant = vehicle if vehicle is not None else build_vehicle(scenario)
     if controller is None or isinstance(controller, ControllerSpec):
         spec = controller or scenario.controller
@@ -57,24 +37,13 @@ def simulate(scenario: Scenario, controller: ControllerSpec | Any = None, *,
     else:
         require_controller(controller)
         ctrl, name = controller, type(controller).__name__
-        if not is_built_in(ctrl):
-            from neurov.simulator import Simulator
-
-            return Simulator(scenario, vehicle=plant, label=label or name).run(ctrl)
-    config = simulation_config(scenario)
-    start = time.perf_counter()
-    raw = _core.run_closed_loop(plant, ctrl, config)
-    wall = time.perf_counter() - start
-    diverged = bool(raw.pop("diverged"))
-    return Result(scenario=scenario, controller=label or name, diverged=diverged, wall_time=wall, **raw)
+    return cast(Result, run_loop(scenario, plant, ctrl, label or name))  # not streamed: a whole Result
 
 
 def simulate_many(runs: Sequence[tuple[Scenario, ControllerSpec | None]] | Iterable[tuple[Scenario, ControllerSpec | None]],
                   progress: bool = False) -> Iterator[Result]:
     """Runs several scenarios one after another; with `progress`, a progress
     bar on stderr while stderr is a terminal (see :mod:`neurov.progress`)."""
-    from neurov.progress import progress_bar
-
     runs = list(runs)
     with progress_bar(len(runs), "runs", quiet=not progress) as bar:
         for scenario, spec in runs:

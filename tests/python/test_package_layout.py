@@ -1,0 +1,332 @@
+"""The package's house rules, read from the source (docs/architecture.md,
+"Import rules"):
+
+1. No import cycle between neurov's modules. Every module's AST is read,
+   function-local imports included and ``if TYPE_CHECKING:`` blocks excluded
+   (they never run). An edge ``import a.b`` goes to ``a.b``; an edge
+   ``from a.b import c`` goes to module ``a.b.c`` if that is a module, else
+   to ``a.b``; relative imports are resolved first. The implicit import of a
+   module's parent packages is not an edge, and a package's own
+   ``__init__`` importing its descendants is not one either (a package
+   gathers its children); anything else is. A cycle is reported as a path.
+2. No private name (``_x``, dunders aside) imported across modules, nor read
+   as an attribute of an imported neurov module; the compiled modules
+   ``neurov._core`` and ``neurov._bench`` are the exception.
+3. No two modules (files or packages anywhere in neurov) whose names differ
+   only by a suffix or a plural: after dropping a plural ``s``/``es`` and one
+   of the suffixes ``-er``, ``-or``, ``-ler``, ``-ion``, ``-ation``, or an
+   ``_anything`` tail, no two names may meet (``controller``/``controls``/
+   ``control``, ``simulation``/``simulator``, ``run``/``run_stream`` would).
+   The same name in two packages (``study.spec``, ``tuning.spec``) is a
+   parallel, not a near-synonym, and is allowed.
+4. ``import neurov`` stays cheap: test_import_cost.py.
+
+Run as a script, this file prints the counts docs/architecture.md quotes:
+``python tests/python/test_package_layout.py python/neurov``.
+"""
+
+from __future__ import annotations
+
+import ast
+import itertools
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import pytest
+
+PACKAGE = Path(__file__).resolve().parents[2] / "python" / "neurov"
+COMPILED = ("neurov._core", "neurov._bench")
+PLURALS = ("es", "s")
+SUFFIXES = ("ation", "ion", "ler", "er", "or")
+
+
+@dataclass
+class Module:
+    name: str
+    path: Path
+    is_package: bool
+    tree: ast.Module
+
+
+@dataclass
+class Import:
+    source: str
+    target: str
+    line: int
+    local: bool  # inside a function
+    names: list[str] = field(default_factory=list)
+
+
+def modules(root: Path = PACKAGE) -> dict[str, Module]:
+    """Every module of the package under `root`, by dotted name."""
+    found = {}
+    for path in sorted(root.rglob("*.py")):
+        parts = path.relative_to(root.parent).with_suffix("").parts
+        is_package = parts[-1] == "__init__"
+        name = ".".join(parts[:-1] if is_package else parts)
+        found[name] = Module(name, path, is_package, ast.parse(path.read_text(encoding="utf-8"), str(path)))
+    return found
+
+
+def _is_type_checking(test: ast.expr) -> bool:
+    return (isinstance(test, ast.Name) and test.id == "TYPE_CHECKING") or (
+        isinstance(test, ast.Attribute) and test.attr == "TYPE_CHECKING")
+
+
+def _import_nodes(node: ast.AST, local: bool = False):
+    """(node, in a function) for every import statement that runs, outside
+    ``if TYPE_CHECKING:`` blocks."""
+    for child in ast.iter_child_nodes(node):
+        if isinstance(child, ast.If) and _is_type_checking(child.test):
+            for other in child.orelse:
+                yield from _import_nodes(ast.Module(body=[other], type_ignores=[]), local)
+            continue
+        if isinstance(child, (ast.Import, ast.ImportFrom)):
+            yield child, local
+        inner = local or isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda))
+        yield from _import_nodes(child, inner)
+
+
+def _absolute(module: Module, node: ast.ImportFrom) -> str:
+    if not node.level:
+        return node.module or ""
+    base = module.name.split(".")
+    if not module.is_package:
+        base = base[:-1]
+    base = base[: len(base) - (node.level - 1)]
+    return ".".join(base + ([node.module] if node.module else []))
+
+
+def imports(found: dict[str, Module]) -> list[Import]:
+    """The edges between neurov's modules (see the module's docstring)."""
+    edges = []
+    for module in found.values():
+        for node, local in _import_nodes(module.tree):
+            if isinstance(node, ast.Import):
+                targets = [(alias.name, []) for alias in node.names]
+            else:
+                base = _absolute(module, node)
+                targets = []
+                for alias in node.names:
+                    sub = f"{base}.{alias.name}"
+                    targets.append((sub, []) if sub in found or sub in COMPILED else (base, [alias.name]))
+            for target, names in targets:
+                if target.split(".")[0] != "neurov":
+                    continue
+                edges.append(Import(module.name, target, node.lineno, local, names))
+    return edges
+
+
+def graph(found: dict[str, Module]) -> dict[str, set[str]]:
+    """Module -> the neurov modules it imports (a package's own children left out)."""
+    out: dict[str, set[str]] = {name: set() for name in found}
+    for edge in imports(found):
+        if edge.target not in found or edge.target == edge.source:
+            continue
+        if found[edge.source].is_package and edge.target.startswith(edge.source + "."):
+            continue
+        out[edge.source].add(edge.target)
+    return out
+
+
+def cycles(found: dict[str, Module]) -> list[list[str]]:
+    """One cycle (as a path, its first module repeated at its end) per
+    strongly connected group of modules (Tarjan's algorithm)."""
+    edges = graph(found)
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on_stack: set[str] = set()
+    groups: list[list[str]] = []
+
+    def visit(v: str) -> None:
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on_stack.add(v)
+        for w in sorted(edges[v]):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on_stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            group = []
+            while True:
+                w = stack.pop()
+                on_stack.discard(w)
+                group.append(w)
+                if w == v:
+                    break
+            if len(group) > 1:
+                groups.append(sorted(group))
+
+    sys.setrecursionlimit(max(sys.getrecursionlimit(), 10 * len(edges)))
+    for v in sorted(edges):
+        if v not in index:
+            visit(v)
+    return [_path_in(group, edges) for group in sorted(groups)]
+
+
+def cyclic_groups(found: dict[str, Module]) -> list[list[str]]:
+    """The modules that import each other, directly or not, group by group."""
+    edges = graph(found)
+    paths = cycles(found)
+    reach = {}
+    for v in edges:
+        seen, todo = set(), [v]
+        while todo:
+            for w in edges[todo.pop()]:
+                if w not in seen:
+                    seen.add(w)
+                    todo.append(w)
+        reach[v] = seen
+    return [sorted(v for v in edges if v in reach[p[0]] and p[0] in reach[v]) for p in paths]
+
+
+def _path_in(group: list[str], edges: dict[str, set[str]]) -> list[str]:
+    """A shortest cycle through the group's first module (breadth first)."""
+    start, members = group[0], set(group)
+    previous = {start: None}
+    queue = [start]
+    for v in queue:
+        for w in sorted(edges[v] & members):
+            if w == start:
+                path = [v]
+                while previous[path[-1]] is not None:
+                    path.append(previous[path[-1]])
+                return [start, *reversed(path[:-1]), start] if len(path) > 1 else [start, v, start]
+            if w not in previous:
+                previous[w] = v
+                queue.append(w)
+    raise AssertionError(f"no cycle through {start}")
+
+
+def local_imports(found: dict[str, Module]) -> list[Import]:
+    """The imports of neurov modules written inside a function."""
+    return [edge for edge in imports(found) if edge.local]
+
+
+def _private(name: str) -> bool:
+    return name.startswith("_") and not (name.startswith("__") and name.endswith("__"))
+
+
+def private_imports(found: dict[str, Module]) -> list[str]:
+    """Where a module takes another's private name (rule 2)."""
+    bad = []
+    for module in found.values():
+        aliases: dict[str, str] = {}
+        for node in ast.walk(module.tree):  # TYPE_CHECKING blocks included: a private name is private there too
+            if isinstance(node, ast.Import):
+                for alias in node.names:
+                    if alias.asname:
+                        aliases[alias.asname] = alias.name
+            elif isinstance(node, ast.ImportFrom):
+                base = _absolute(module, node)
+                if base.split(".")[0] != "neurov":
+                    continue
+                for alias in node.names:
+                    target = f"{base}.{alias.name}"
+                    if target in COMPILED:
+                        continue
+                    if target in found:
+                        aliases[alias.asname or alias.name] = target
+                    elif _private(alias.name) and base not in COMPILED:
+                        bad.append(f"{module.name}:{node.lineno} imports {alias.name} from {base}")
+                parts = base.split(".")
+                if any(_private(p) for p in parts) and base not in COMPILED and not base.startswith("neurov._core_stubs"):
+                    bad.append(f"{module.name}:{node.lineno} imports the private module {base}")
+        for node in ast.walk(module.tree):
+            if (isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name) and _private(node.attr)
+                    and aliases.get(node.value.id) in found):
+                bad.append(f"{module.name}:{node.lineno} reads {node.value.id}.{node.attr}")
+    return bad
+
+
+def _stems(name: str) -> set[str]:
+    stems = {name}
+    for plural in PLURALS:
+        if name.endswith(plural) and len(name) > len(plural) + 2:
+            stems.add(name[: -len(plural)])
+    for stem in list(stems):
+        for suffix in SUFFIXES:
+            if stem.endswith(suffix) and len(stem) > len(suffix) + 2:
+                stems.add(stem[: -len(suffix)])
+    return stems
+
+
+def near_synonyms(found: dict[str, Module]) -> list[tuple[str, str]]:
+    """Pairs of modules whose last names differ only by a suffix or a plural (rule 3)."""
+    by_name: dict[str, list[str]] = {}
+    for name in found:
+        if "." not in name:
+            continue  # the package itself
+        last = name.rsplit(".", 1)[-1]
+        if not (last.startswith("__") and last.endswith("__")):
+            by_name.setdefault(last, []).append(name)
+    pairs = []
+    for a, b in itertools.combinations(sorted(by_name), 2):
+        if _stems(a) & _stems(b) or a.startswith(b + "_") or b.startswith(a + "_"):
+            pairs.append((by_name[a][0], by_name[b][0]))
+    return pairs
+
+
+FOUND = modules()
+
+
+def test_no_import_cycle() -> None:
+    found = cycles(FOUND)
+    assert not found, "import cycles: " + "; ".join(" -> ".join(path) for path in found)
+
+
+def test_no_private_name_crosses_a_module() -> None:
+    assert not private_imports(FOUND), "\n".join(private_imports(FOUND))
+
+
+def test_no_two_module_names_differ_only_by_a_suffix() -> None:
+    assert not near_synonyms(FOUND), near_synonyms(FOUND)
+
+
+def test_the_rules_see_what_they_forbid(tmp_path: Path) -> None:
+    """The checks above on a planted package: a cycle through a function-local
+    import (and none through a TYPE_CHECKING one), a private name, two
+    near-synonyms."""
+    root = tmp_path / "neurov"
+    (root / "running").mkdir(parents=True)
+    (root / "__init__.py").write_text("from neurov.running import simulation\n")
+    (root / "running" / "__init__.py").write_text("")
+    (root / "running" / "simulation.py").write_text(
+        "from neurov import simulator\n\ndef f():\n    from neurov.running.plant import _build\n")
+    (root / "running" / "plant.py").write_text(
+        "from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    from neurov import simulator\n"
+        "def g():\n    from neurov.running import simulation\n")
+    (root / "simulator.py").write_text("import neurov._core\n")
+    planted = modules(root)
+    assert cycles(planted) == [["neurov.running.plant", "neurov.running.simulation", "neurov.running.plant"]]
+    assert private_imports(planted) == ["neurov.running.simulation:4 imports _build from neurov.running.plant"]
+    assert near_synonyms(planted) == [("neurov.running.simulation", "neurov.simulator")]
+    assert {(e.source, e.target) for e in local_imports(planted)} == {
+        ("neurov.running.simulation", "neurov.running.plant"), ("neurov.running.plant", "neurov.running.simulation")}
+
+
+@pytest.mark.parametrize("name, other", [("controller", "control"), ("controllers", "control"),
+                                         ("simulation", "simulator"), ("run", "run_stream"),
+                                         ("scenario", "scenario_file"), ("figure", "figures")])
+def test_near_synonyms_named_in_the_issue_are_caught(name: str, other: str) -> None:
+    assert _stems(name) & _stems(other) or name.startswith(other + "_") or other.startswith(name + "_")
+
+
+if __name__ == "__main__":  # the counts quoted in docs/architecture.md
+    found = modules(Path(sys.argv[1]).resolve() if len(sys.argv) > 1 else PACKAGE)
+    local = local_imports(found)
+    statements = {(e.source, e.line) for e in local}
+    print(f"modules: {len(found)}")
+    print(f"function-local import statements of neurov modules: {len(statements)} in "
+          f"{len({e.source for e in local})} files")
+    for path, group in zip(cycles(found), cyclic_groups(found)):
+        print("cycle: " + " -> ".join(path) + f"  (a group of {len(group)}: {', '.join(group)})")
+    print(f"import cycles (groups of modules that import each other): {len(cycles(found))}")
+    for line in private_imports(found):
+        print("private: " + line)
+    for a, b in near_synonyms(found):
+        print(f"near-synonyms: {a} / {b}")
