@@ -49,13 +49,17 @@ from __future__ import annotations
 
 import difflib
 import math
+import os
 import sys
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from neurov.errors import ValidationError, VehicleFileError
 from neurov.files import read_text, read_toml
+
+if TYPE_CHECKING:
+    import neurov._core
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -529,13 +533,15 @@ def _attach_file_constructors() -> None:
     imports the Python package."""
     from neurov._core import Vehicle
 
-    def from_file(path: str | Path) -> Any:
+    # Annotated with importable names: the stub of neurov._core is generated
+    # from these functions too (tools/generate_stubs.py).
+    def from_file(path: str | os.PathLike[str]) -> neurov._core.Vehicle:
         """Loads a vehicle TOML file (format: :mod:`neurov.vehicle_file`). A
         missing, misspelt or wrongly typed field raises
         :class:`neurov.VehicleFileError` naming the file and the field."""
         return load_vehicle(path)
 
-    def preset(name: str) -> Any:
+    def preset(name: str) -> neurov._core.Vehicle:
         """A vehicle shipped with neurov by name: ``'nerov'`` or
         ``'bluerov2_heavy'`` (:func:`preset_names` lists them)."""
         return load_vehicle(preset_path(name))

@@ -141,11 +141,13 @@ void bind_simulator(py::module_& m) {
            "one control period. Returns the plant's Status. tau must be finite when status "
            "is ok. After done, raises RuntimeError and changes nothing.")
       .def_property_readonly("done", &Sim::done, "Every row simulated, or the plant diverged.")
-      .def_property_readonly("diverged", &Sim::diverged)
+      .def_property_readonly("diverged", &Sim::diverged,
+                             "The plant diverged: the run stopped at its last row (done).")
       .def_property_readonly("steps", &Sim::steps, "Rows logged so far.")
       .def_property_readonly("planned_steps", &Sim::planned_steps,
                              "Rows of a whole run: round(duration / dt) + 1.")
-      .def_property_readonly("logged_parameters", &Sim::logged_parameters)
+      .def_property_readonly("logged_parameters", &Sim::logged_parameters,
+                             "Parameters step() logs per row (the result's theta columns).")
       .def_property_readonly("faults", &Sim::faults,
                              "fault_bits of the sensor faults and pitch limit in the observation.")
       .def_property_readonly(
