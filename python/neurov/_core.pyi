@@ -2956,7 +2956,9 @@ class Simulator:
         """
     @property
     def diverged(self) -> bool:
-        ...
+        """
+        The plant diverged: the run stopped at its last row (done).
+        """
     @property
     def done(self) -> bool:
         """
@@ -2989,7 +2991,9 @@ class Simulator:
         """
     @property
     def logged_parameters(self) -> int:
-        ...
+        """
+        Parameters step() logs per row (the result's theta columns).
+        """
     @property
     def observation(self) -> Observation:
         """
