@@ -89,7 +89,6 @@ struct AnyValues {
 using ArrayLike = Arg<names::ArrayLike>;
 using OptionalArrayLike = Arg<names::OrNone<names::ArrayLike>>;
 using Real = Arg<names::Real>;
-using OptionalReal = Arg<names::OrNone<names::Real>>;
 using Index = Arg<names::Index>;
 using OptionalIndex = Arg<names::OrNone<names::Index>>;
 using Bool = Arg<names::Bool>;
