@@ -18,6 +18,7 @@
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
+#include <pybind11/typing.h>
 
 #include <Eigen/Core>
 #include <memory>
@@ -29,6 +30,7 @@
 #include <vector>
 
 #include "numpy_args.hpp"
+#include "typed_args.hpp"
 
 namespace neurov::bindings {
 
@@ -50,7 +52,7 @@ class Fields {
   template <typename D>
   Fields& value(const char* name, D T::*member, const char* doc) {
     const std::string qualified = type_ + "." + name;
-    auto set = [member, qualified](T& self, const py::object& v) {
+    auto set = [member, qualified](T& self, const typename ValueArg<D>::type& v) {
       self.*member = checked<D>(v, qualified);
     };
     if constexpr (std::is_arithmetic_v<D> || std::is_enum_v<D>)
@@ -68,7 +70,7 @@ class Fields {
     const std::string qualified = type_ + "." + name;
     cls_.def_property(
         name, [member](T& self) -> Eigen::Matrix<double, N, 1>& { return self.*member; },
-        [member, qualified](T& self, const py::handle& v) {
+        [member, qualified](T& self, const typed::ArrayLike& v) {
           auto a = shaped(v, qualified, 1, N, -1);
           self.*member = Eigen::Map<const Eigen::Matrix<double, N, 1>>(a.data());
         },
@@ -83,7 +85,7 @@ class Fields {
                            const char* doc) {
     return field(
         name, [member](T& self) -> Eigen::Matrix<double, N, 1>& { return self.*member; },
-        [member](T& self, const py::handle& v, const std::string& qualified) {
+        [member](T& self, const typed::RealOrArrayLike& v, const std::string& qualified) {
           if (py::isinstance<py::float_>(v) || py::isinstance<py::int_>(v))
             (self.*member).setConstant(checked<double>(py::reinterpret_borrow<py::object>(v),
                                                        qualified));
@@ -96,13 +98,14 @@ class Fields {
 
   /// A field with a conversion of its own: `get(self)` returns it (a
   /// reference is a view into the struct), `set(self, value, "Type.field")`
-  /// stores it and names that field in its errors.
+  /// stores it and names that field in its errors; the type of set's
+  /// `value` (typed_args.hpp) is the one the signature declares.
   template <typename Get, typename Set>
   Fields& field(const char* name, Get get, Set set, const char* doc) {
+    using Arg = typename SetterArg<decltype(&Set::operator())>::type;
     const std::string qualified = type_ + "." + name;
     cls_.def_property(
-        name, get, [set, qualified](T& self, const py::handle& v) { set(self, v, qualified); },
-        doc);
+        name, get, [set, qualified](T& self, const Arg& v) { set(self, v, qualified); }, doc);
     names_->push_back(name);
     return *this;
   }
@@ -148,12 +151,12 @@ class Fields {
     cls_.def_property(
         name,
         [member](const T& self) {
-          py::tuple out((self.*member).size());
+          py::typing::Tuple<E, py::ellipsis> out((self.*member).size());
           for (std::size_t i = 0; i < (self.*member).size(); ++i)
             out[i] = py::cast((self.*member)[i]);
           return out;
         },
-        [member, qualified, element_name](T& self, const py::handle& v) {
+        [member, qualified, element_name](T& self, const typed::IterableOf<E>& v) {
           if (py::isinstance<py::str>(v) || !py::isinstance<py::sequence>(v))
             throw py::type_error(qualified + " must be a list of " + element_name + ", got " +
                                  type_name(v));
@@ -182,12 +185,12 @@ class Fields {
     const std::string qualified = type_ + "." + name;
     cls_.def_property(
         name,
-        [member](py::object self) -> py::object {
+        [member](py::object self) -> py::typing::Optional<D> {
           auto& o = self.cast<T&>().*member;
           if (!o) return py::none();
           return py::cast(&*o, py::return_value_policy::reference_internal, self);
         },
-        [member, qualified](T& self, const py::object& v) {
+        [member, qualified](T& self, const typename OptionalArg<D>::type& v) {
           if (v.is_none()) {
             (self.*member).reset();
           } else if constexpr (std::is_base_of_v<Eigen::MatrixBase<D>, D>) {
@@ -250,9 +253,9 @@ class Fields {
         [member](const T& self) {
           py::array a = py::cast(M(self.*member));
           a.attr("setflags")(py::arg("write") = false);
-          return a;
+          return py::reinterpret_borrow<py::array_t<double>>(a);
         },
-        [member, qualified, ndim, rows, cols](T& self, const py::handle& v) {
+        [member, qualified, ndim, rows, cols](T& self, const typed::ArrayLike& v) {
           auto a = shaped(v, qualified, ndim, rows, cols);
           if constexpr (M::ColsAtCompileTime == 1)
             self.*member = Eigen::Map<const Eigen::VectorXd>(a.data(), a.shape(0));
@@ -310,6 +313,30 @@ class Fields {
       return v.cast<D>();
     }
   }
+
+  /// The declared type of a value field's setter.
+  template <typename D, typename = void>
+  struct ValueArg {
+    using type = typed::Of<D>;  // a bound struct or enum
+  };
+  template <typename D>
+  struct ValueArg<D, std::enable_if_t<std::is_arithmetic_v<D>>> {
+    using type = std::conditional_t<
+        std::is_same_v<D, bool>, typed::Bool,
+        std::conditional_t<std::is_integral_v<D>, typed::Index, typed::Real>>;
+  };
+  template <typename D>
+  struct OptionalArg {
+    using type = std::conditional_t<std::is_base_of_v<Eigen::MatrixBase<D>, D>,
+                                    typed::OptionalArrayLike, typed::OptionalOf<D>>;
+  };
+  /// The second parameter of a field's setter `set(self, value, name)`.
+  template <typename F>
+  struct SetterArg;
+  template <typename C, typename R, typename S, typename V, typename N>
+  struct SetterArg<R (C::*)(S, V, N) const> {
+    using type = std::decay_t<V>;
+  };
 
   static std::string type_name(const py::handle& v) {
     return std::string(py::str(py::type::handle_of(v).attr("__name__")));

@@ -17,6 +17,7 @@
 #include "neurov/core/status.hpp"
 #include "neurov/core/validation.hpp"
 #include "core/errors.hpp"
+#include "typed_args.hpp"
 
 namespace neurov::py_args {
 

@@ -124,7 +124,7 @@ _check_kernel_request()
 if TYPE_CHECKING:
     # Type checkers do not run the loop above: they read the controller
     # classes from the stub of the compiled module.
-    from neurov._core_stubs.control import *  # noqa: F403
+    from neurov._core_controllers import *  # noqa: F403
     import os
     from typing import Any
 

@@ -171,7 +171,7 @@ def test_the_cpp_table_is_the_one_list(paper: Result) -> None:
         assert raw[spec.name].dtype == np.dtype(spec.dtype), spec.name
         if spec.width is not None and spec.width > 1:
             assert raw[spec.name].shape[1] == spec.width == len(spec.labels), spec.name
-    stub = ast.parse((Path(neurov.__file__).parent / "_core_stubs" / "sim.pyi").read_text())
+    stub = ast.parse((Path(neurov.__file__).parent / "_core.pyi").read_text())
     typed = next(n for n in stub.body if isinstance(n, ast.ClassDef) and n.name == "_SimulationResult")
     keys = [n.target.id for n in typed.body if isinstance(n, ast.AnnAssign) and isinstance(n.target, ast.Name)]
     assert keys == [*names, "diverged"]

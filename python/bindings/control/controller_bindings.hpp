@@ -45,7 +45,7 @@ inline void raise_step_status(Status s) {
   }
 }
 
-inline py::dict tracking_dict(const TrackingError<double>& e) {
+inline typed::ArraysDict tracking_dict(const TrackingError<double>& e) {
   using Vec6 = Vector6<double>;
   py::dict d;
   d["eta_tilde"] = Vec6(e.eta_tilde);
@@ -61,8 +61,8 @@ inline py::dict tracking_dict(const TrackingError<double>& e) {
 /// The step every controller shares: checked arguments in, tau out, a
 /// refused step raises and changes nothing.
 template <typename Controller>
-Vector6<double> checked_step(Controller& c, py::handle eta, py::handle nu, py::handle eta_d,
-                             py::handle eta_d_dot, py::handle eta_d_ddot) {
+Vector6<double> checked_step(Controller& c, const typed::ArrayLike& eta, const typed::ArrayLike& nu, const typed::ArrayLike& eta_d,
+                             const typed::ArrayLike& eta_d_dot, const typed::ArrayLike& eta_d_ddot) {
   const Vector6<double> e = py_args::vector<6>(eta, "eta");
   const Vector6<double> n = py_args::vector<6>(nu, "nu");
   const Vector6<double> ed = py_args::vector<6>(eta_d, "eta_d");
@@ -162,10 +162,25 @@ DefaultedConfigArg<Config, D> config_arg_or(const char* name, D Config::*member,
 
 // Every argument of a keyword constructor arrives as a handle: one per
 // ConfigArg, so that the constructor's parameters can be a pack.
+// Declared as what the member is: a number, an enum (or its name) or an array.
 template <typename>
-struct python_argument {
-  using type = py::handle;
+struct python_argument;
+template <typename D, typename = void>
+struct member_argument {
+  using type = typed::ArrayLike;
 };
+template <typename D>
+struct member_argument<D, std::enable_if_t<std::is_floating_point_v<D>>> {
+  using type = typed::Real;
+};
+template <typename D>
+struct member_argument<D, std::enable_if_t<std::is_enum_v<D>>> {
+  using type = typed::EnumOrStr<D>;
+};
+template <typename Config, typename D>
+struct python_argument<ConfigArg<Config, D>> : member_argument<D> {};
+template <typename Config, typename D>
+struct python_argument<DefaultedConfigArg<Config, D>> : member_argument<D> {};
 
 /// The constructor from a configuration object, then the keyword
 /// constructor whose arguments, in order, are `args` (each setting one member

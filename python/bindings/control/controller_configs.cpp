@@ -116,7 +116,7 @@ void bind_config(py::module_& m, TypeTag<NNAdaptiveController<double>>) {
       .value("dt", &NN::dt, "Control period [s], > 0 (the paper: 0.2).")
       .field(
           "modification", [](const NN& c) { return c.modification; },
-          [](NN& c, const py::handle& v, const std::string&) {
+          [](NN& c, const typed::EnumOrStr<RobustModification>& v, const std::string&) {
             c.modification = parse_modification(v);
           },
           "The robust modification: a RobustModification or its name.")
@@ -134,12 +134,12 @@ void bind_config(py::module_& m, TypeTag<ComputedTorqueController<double>>) {
   sliding_fields<CT>(m, "ComputedTorqueConfig", "ComputedTorqueController")
       .field(
           "vehicle",
-          [](const CT& c) -> py::object {
+          [](const CT& c) -> py::typing::Optional<Vehicle<double>> {
             Vehicle<double> v;
             if (Vehicle<double>::create(c.vehicle, v)) return py::none();
             return py::cast(v);
           },
-          [](CT& c, const py::handle& v, const std::string& name) {
+          [](CT& c, const typed::Of<Vehicle<double>>& v, const std::string& name) {
             if (!py::isinstance<Vehicle<double>>(v))
               throw py::type_error(name + " must be a Vehicle, got " +
                                    std::string(py::str(py::type::handle_of(v))));

@@ -43,7 +43,7 @@ namespace {
 /// The NN controller from a network with any number of inputs (checked to
 /// be 24) and its configuration.
 NNController make_nn(const Network& network, const NNAdaptiveConfig<double>& cfg,
-                     py::handle learning_rates) {
+                     const typed::OptionalArrayLike& learning_rates) {
   if (network.inputs() != kNNInputs)
     throw py::value_error("argument 'network' must have 24 inputs ([nu_r_dot; nu_r; nu; eta]), "
                           "got " + std::to_string(network.inputs()));
@@ -143,9 +143,9 @@ void bind_controller(py::module_& m, TypeTag<NNController>) {
          py::arg("learning_rates") = py::none(),
          "network: an RbfNetwork with 24 inputs (copied; its weights are W(0)); config: an "
          "NNAdaptiveConfig; learning_rates (N,): per-centre Gamma_w.");
-  nn.def(py::init([](const Network& network, py::handle lambda_, py::handle kd, py::handle gamma,
-                     py::handle dt, py::handle modification, py::handle sigma_m, py::handle kappa,
-                     py::handle w_max, py::handle dead_zone, py::handle learning_rates) {
+  nn.def(py::init([](const Network& network, const typed::ArrayLike& lambda_, const typed::ArrayLike& kd, const typed::Real& gamma,
+                     const typed::Real& dt, const typed::EnumOrStr<RobustModification>& modification, const typed::Real& sigma_m, const typed::Real& kappa,
+                     const typed::Real& w_max, const typed::Real& dead_zone, const typed::OptionalArrayLike& learning_rates) {
            NNAdaptiveConfig<double> cfg;
            cfg.lambda = py_args::vector<6>(lambda_, "lambda_");
            cfg.kd = py_args::vector<6>(kd, "kd");
@@ -175,7 +175,7 @@ void bind_controller(py::module_& m, TypeTag<NNController>) {
   nn.def(py::pickle(&nn_state, &nn_from_state));
   nn.def_property(
         "weights", [](const NNController& c) { return Eigen::MatrixXd(c.weights()); },
-        [](NNController& c, py::handle w) {
+        [](NNController& c, const typed::ArrayLike& w) {
           if (!c.set_weights(py_args::dynamic_matrix(w, "weights", 6, c.network().centres_count())))
             throw py::value_error("argument 'weights' is so large that its norm overflows");
         },
@@ -242,7 +242,7 @@ void bind_controller(py::module_& m, TypeTag<LinController>) {
       });
   lin.def_property(
       "theta", [](const LinController& c) { return ParameterVector<double>(c.theta()); },
-      [](LinController& c, py::handle t) {
+      [](LinController& c, const typed::ArrayLike& t) {
         c.set_theta(py_args::vector<kRegressorParameters>(t, "theta"));
       },
       "Current estimate theta_hat (24,); assignable.");
@@ -315,7 +315,7 @@ void bind_controller(py::module_& m, TypeTag<CT>) {
       "Computed-torque (inverse-dynamics) controller on a nominal vehicle: tau = M nu_r_dot + "
       "C(nu) nu_r + D(nu) nu_r + g(eta) - J^T K_d s, with the vehicle's own M, C, D and g.");
   def_init_from_config<CT>(ct, "computed-torque controller");
-  ct.def(py::init([](const Vehicle<double>& vehicle, py::handle lambda_, py::handle kd) {
+  ct.def(py::init([](const Vehicle<double>& vehicle, const typed::ArrayLike& lambda_, const typed::ArrayLike& kd) {
            ComputedTorqueConfig<double> cfg;
            cfg.vehicle = vehicle.parameters();
            cfg.lambda = py_args::vector<6>(lambda_, "lambda_");

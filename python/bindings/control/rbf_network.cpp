@@ -31,8 +31,8 @@ void bind_rbf_network(py::module_& m) {
                       "(2 sigma_j^2)), output W g(x) with W (6, N); x_hat = (x - input_offset) * "
                       "input_scale.");
   network
-      .def(py::init([](py::handle centres, py::handle width, py::handle input_offset,
-                       py::handle input_scale) {
+      .def(py::init([](const typed::ArrayLike& centres, const typed::RealOrArrayLike& width, const typed::OptionalArrayLike& input_offset,
+                       const typed::OptionalArrayLike& input_scale) {
              // One centre per row: a 1-D array is a common slip, named as such.
              const auto arr = py_args::real_array(centres, "centres", "(N, n_in)");
              if (arr.ndim() != 2)
@@ -63,7 +63,7 @@ void bind_rbf_network(py::module_& m) {
            "default identity (the paper's choice). Weights start at zero.")
       .def(
           "basis",
-          [](const Network& n, py::handle x) {
+          [](const Network& n, const typed::ArrayLike& x) {
             const Eigen::VectorXd xv = py_args::dynamic_vector(x, "x", n.inputs());
             Eigen::VectorXd g(n.centres_count());
             n.basis(xv, g);
@@ -72,7 +72,7 @@ void bind_rbf_network(py::module_& m) {
           py::arg("x"), "Basis values g(x), shape (N,).")
       .def(
           "output",
-          [](const Network& n, py::handle x) {
+          [](const Network& n, const typed::ArrayLike& x) {
             const Eigen::VectorXd xv = py_args::dynamic_vector(x, "x", n.inputs());
             Eigen::VectorXd g(n.centres_count());
             Eigen::Matrix<double, 6, 1> y;
@@ -82,7 +82,7 @@ void bind_rbf_network(py::module_& m) {
           py::arg("x"), "Network output W g(x), shape (6,).")
       .def_property(
           "weights", [](const Network& n) { return Eigen::MatrixXd(n.weights()); },
-          [](Network& n, py::handle w) {
+          [](Network& n, const typed::ArrayLike& w) {
             const Eigen::MatrixXd wm = py_args::dynamic_matrix(w, "weights", 6, n.centres_count());
             n.set_weights(wm);
           },

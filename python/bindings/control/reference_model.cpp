@@ -21,7 +21,7 @@ void bind_reference_model(py::module_& m) {
       "Reference model of eq. 12-13: nu_d_dot = -Lambda_d nu_d + J^T(eta_d) Omega (r - eta_d), "
       "eta_d_dot = J(eta_d) nu_d. Turns a commanded pose r into a smooth desired trajectory.");
   reference
-      .def(py::init([](py::handle lambda_d, py::handle omega, py::handle eta0) {
+      .def(py::init([](const typed::ArrayLike& lambda_d, const typed::ArrayLike& omega, const typed::OptionalArrayLike& eta0) {
              const Vec6 ld = py_args::vector<6>(lambda_d, "lambda_d");
              const Vec6 om = py_args::vector<6>(omega, "omega");
              const Vec6 e0 = eta0.is_none() ? Vec6::Zero() : py_args::vector<6>(eta0, "eta0");
@@ -35,7 +35,7 @@ void bind_reference_model(py::module_& m) {
            "initial pose (6,), default zero. Starts at rest.")
       .def(
           "step",
-          [](ReferenceModel<double>& r, py::handle cmd, py::handle dt) {
+          [](ReferenceModel<double>& r, const typed::ArrayLike& cmd, const typed::Real& dt) {
             const Vec6 rc = py_args::vector<6>(cmd, "r");
             const double h = py_args::step(dt, "dt");
             DesiredState<double> d;
@@ -48,7 +48,7 @@ void bind_reference_model(py::module_& m) {
           "eta_d_ddot). A refused step raises ValueError and changes nothing.")
       .def(
           "reset",
-          [](ReferenceModel<double>& r, py::handle eta0) {
+          [](ReferenceModel<double>& r, const typed::ArrayLike& eta0) {
             r.reset(py_args::vector<6>(eta0, "eta0"));
           },
           py::arg("eta0"), "Back to rest at eta0 (6,).")

@@ -13,8 +13,8 @@ namespace py = pybind11;
 void bind_tracking_error(py::module_& m) {
   m.def(
       "tracking_error",
-      [](py::handle eta, py::handle nu, py::handle eta_d, py::handle eta_d_dot,
-         py::handle eta_d_ddot, py::handle lambda_) {
+      [](const typed::ArrayLike& eta, const typed::ArrayLike& nu, const typed::ArrayLike& eta_d, const typed::ArrayLike& eta_d_dot,
+         const typed::ArrayLike& eta_d_ddot, const typed::ArrayLike& lambda_) {
         TrackingError<double> e;
         const Status s = compute_tracking_error<double>(
             py_args::vector<6>(eta, "eta"), py_args::vector<6>(nu, "nu"),

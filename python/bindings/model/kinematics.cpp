@@ -30,7 +30,7 @@ void require_regular(const EulerTrig<double>& trig, const Vec6& eta, const char*
 template <typename F>
 void def_of_pose(py::module_& m, const char* name, F f, const char* doc) {
   m.def(
-      name, [f](py::handle eta) { return f(py_args::vector<6>(eta, "eta")); }, py::arg("eta"),
+      name, [f](const typed::ArrayLike& eta) { return f(py_args::vector<6>(eta, "eta")); }, py::arg("eta"),
       doc);
 }
 
@@ -39,7 +39,7 @@ void def_of_pose(py::module_& m, const char* name, F f, const char* doc) {
 void bind_kinematics(py::module_& m) {
   m.def(
       "rotation",
-      [](py::handle phi, py::handle theta, py::handle psi) {
+      [](const typed::Real& phi, const typed::Real& theta, const typed::Real& psi) {
         return Matrix3<double>(rotation(py_args::scalar(phi, "phi"),
                                         py_args::scalar(theta, "theta"),
                                         py_args::scalar(psi, "psi")));
@@ -77,7 +77,7 @@ void bind_kinematics(py::module_& m) {
 
   m.def(
       "jacobian_dot",
-      [](py::handle eta, py::handle nu) {
+      [](const typed::ArrayLike& eta, const typed::ArrayLike& nu) {
         const Vec6 e = py_args::vector<6>(eta, "eta");
         const Vec6 n = py_args::vector<6>(nu, "nu");
         const auto k = EulerKinematics<double>::from_pose(e);

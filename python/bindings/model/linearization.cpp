@@ -39,8 +39,8 @@ void raise_plant_status(Status s, const char* what) {
 void bind_linearization(py::module_& m) {
   m.def(
       "plant_derivative",
-      [](const Vehicle<double>& v, py::handle eta, py::handle nu, py::handle tau,
-         py::handle current) {
+      [](const Vehicle<double>& v, const typed::ArrayLike& eta, const typed::ArrayLike& nu, const typed::ArrayLike& tau,
+         const typed::OptionalArrayLike& current) {
         const auto a = py_args::plant_args(eta, nu, tau, current);
         Vec6 eta_dot, nu_dot;
         raise_plant_status(v.derivative(a.eta, a.nu, a.tau, a.current, eta_dot, nu_dot),
@@ -58,8 +58,8 @@ void bind_linearization(py::module_& m) {
 
   m.def(
       "plant_jacobians",
-      [](const Vehicle<double>& v, py::handle eta, py::handle nu, py::handle tau,
-         py::handle current) {
+      [](const Vehicle<double>& v, const typed::ArrayLike& eta, const typed::ArrayLike& nu, const typed::OptionalArrayLike& tau,
+         const typed::OptionalArrayLike& current) {
         const auto x = py_args::plant_args(eta, nu, tau, current, true);
         Matrix12<double> a;
         Matrix12x6<double> b;

@@ -16,7 +16,7 @@ using Vec6 = Vector6<double>;
 void bind_regressor(py::module_& m) {
   m.def(
       "regressor",
-      [](py::handle nu_r_dot, py::handle nu_r, py::handle nu, py::handle eta) {
+      [](const typed::ArrayLike& nu_r_dot, const typed::ArrayLike& nu_r, const typed::ArrayLike& nu, const typed::ArrayLike& eta) {
         const Vec6 e = py_args::vector<6>(eta, "eta");
         return RegressorMatrix<double>(regressor<double>(
             py_args::vector<6>(nu_r_dot, "nu_r_dot"), py_args::vector<6>(nu_r, "nu_r"),

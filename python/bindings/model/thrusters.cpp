@@ -48,7 +48,7 @@ void bind_thrusters(py::module_& m) {
               a.attr("setflags")(py::arg("write") = false);
               return a;
             },
-            [](T& c, const py::handle& v, const std::string& qualified) {
+            [](T& c, const typed::ArrayLike& v, const std::string& qualified) {
               const auto t = py_args::dynamic_matrix(v, qualified.c_str(), -1, 2);
               if (t.rows() > kThrusterCurveCapacity)
                 throw py::value_error(qualified + " must have at most " +
@@ -133,8 +133,8 @@ void bind_thrusters(py::module_& m) {
 
   m.def(
       "allocate_thrust",
-      [](py::handle matrix, py::handle tau, py::handle max_thrust, py::handle min_thrust,
-         py::handle saturation, py::handle weights) {
+      [](const typed::ArrayLike& matrix, const typed::ArrayLike& tau, const typed::OptionalArrayLike& max_thrust, const typed::OptionalArrayLike& min_thrust,
+         const typed::Str& saturation, const typed::OptionalArrayLike& weights) {
         ThrusterConfig<double> c;
         c.matrix = py_args::dynamic_matrix(matrix, "matrix", 6, -1);
         const auto n = c.matrix.cols();

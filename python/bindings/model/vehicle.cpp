@@ -37,7 +37,7 @@ Vehicle<double> make_vehicle(const Params& p) {
   return v;
 }
 
-py::dict parameters_dict(const Params& p) {
+typed::AnyDict parameters_dict(const Params& p) {
   py::dict d;
   d["mass"] = p.mass;
   d["inertia"] = Matrix3<double>(p.inertia);
@@ -84,7 +84,7 @@ void def_of_vector6(py::class_<Vehicle<double>>& cls, const char* name, const ch
                     const char* doc) {
   cls.def(
       name,
-      [arg, f](const Vehicle<double>& v, py::handle x) { return f(v, py_args::vector<6>(x, arg)); },
+      [arg, f](const Vehicle<double>& v, const typed::ArrayLike& x) { return f(v, py_args::vector<6>(x, arg)); },
       py::arg(arg), doc);
 }
 
@@ -98,10 +98,10 @@ void bind_vehicle(py::module_& m) {
       "or Vehicle(mass=..., ...). Parameters are validated: a bad one raises ValueError "
       "naming the field.");
   vehicle
-      .def(py::init([](py::handle mass, py::handle inertia, py::handle weight, py::handle buoyancy,
-                       py::handle added_mass, py::handle linear_damping,
-                       py::handle quadratic_damping, py::handle centre_of_gravity,
-                       py::handle centre_of_buoyancy, py::handle coriolis_form) {
+      .def(py::init([](const typed::Real& mass, const typed::ArrayLike& inertia, const typed::Real& weight, const typed::Real& buoyancy,
+                       const typed::ArrayLike& added_mass, const typed::ArrayLike& linear_damping,
+                       const typed::ArrayLike& quadratic_damping, const typed::OptionalArrayLike& centre_of_gravity,
+                       const typed::OptionalArrayLike& centre_of_buoyancy, const typed::Str& coriolis_form) {
              Params p;
              p.mass = py_args::scalar(mass, "mass");
              p.inertia = py_args::matrix_or_diagonal<3>(inertia, "inertia");
@@ -177,8 +177,8 @@ void bind_vehicle(py::module_& m) {
       "g(eta): gravity and buoyancy forces and moments, shape (6,).");
   vehicle.def(
       "acceleration",
-      [](const Vehicle<double>& v, py::handle eta, py::handle nu, py::handle tau,
-         py::handle current) {
+      [](const Vehicle<double>& v, const typed::ArrayLike& eta, const typed::ArrayLike& nu, const typed::ArrayLike& tau,
+         const typed::OptionalArrayLike& current) {
         const auto a = py_args::plant_args(eta, nu, tau, current);
         Vec6 nu_dot;
         raise_status(v.acceleration(a.eta, a.nu, a.tau, a.current, nu_dot), "acceleration");
@@ -191,8 +191,8 @@ void bind_vehicle(py::module_& m) {
 
   m.def(
       "rk4_step",
-      [](const Vehicle<double>& v, py::handle eta, py::handle nu, py::handle tau, py::handle dt,
-         py::handle current) {
+      [](const Vehicle<double>& v, const typed::ArrayLike& eta, const typed::ArrayLike& nu, const typed::ArrayLike& tau, const typed::Real& dt,
+         const typed::OptionalArrayLike& current) {
         auto a = py_args::plant_args(eta, nu, tau, current);
         const double h = py_args::step(dt, "dt");
         raise_status(rk4_step(v, a.eta, a.nu, a.tau, h, a.current), "rk4_step");

@@ -1,6 +1,7 @@
 // neurov/sim/closed_loop.hpp in Python: a whole run with a built-in controller
 // in one call, the GIL released.
 #include <pybind11/pybind11.h>
+#include <pybind11/typing.h>
 
 #include <string>
 #include <utility>
@@ -18,7 +19,7 @@ namespace py = pybind11;
 namespace {
 
 template <typename Controller>
-py::dict run(const Vehicle<double>& vehicle, Controller& controller,
+typed::SimulationResultDict run(const Vehicle<double>& vehicle, Controller& controller,
              const SimulationConfig<double>& config) {
   SimulationResult<double> result;
   ValidationError e;
@@ -48,7 +49,7 @@ const char* run_doc() {
 template <typename Controller>
 void run_chunks(const Vehicle<double>& vehicle, Controller& controller,
                 const SimulationConfig<double>& config, Eigen::Index chunk_rows,
-                const py::function& on_rows) {
+                const py::typing::Callable<void(typed::SimulationResultDict)>& on_rows) {
   ValidationError e;
   {
     py::gil_scoped_release release;

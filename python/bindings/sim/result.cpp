@@ -40,11 +40,11 @@ py::array hand_over(Matrix&& m) {
 
 }  // namespace
 
-py::dict result_dict(const SimulationResult<double>& r) {
+typed::SimulationResultDict result_dict(const SimulationResult<double>& r) {
   return result_dict(SimulationResult<double>(r));
 }
 
-py::dict result_dict(SimulationResult<double>&& r) {
+typed::SimulationResultDict result_dict(SimulationResult<double>&& r) {
   py::dict d;
   r.visit([&d](const SeriesSpec& spec, auto& series) {
     d[spec.name] = hand_over(std::move(series));

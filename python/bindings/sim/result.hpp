@@ -7,13 +7,14 @@
 #include <string>
 
 #include "neurov/sim/result.hpp"
+#include "typed_args.hpp"
 
 namespace neurov::bindings {
 
 /// Copies `r` (a Simulator keeps its result).
-pybind11::dict result_dict(const SimulationResult<double>& r);
+neurov::typed::SimulationResultDict result_dict(const SimulationResult<double>& r);
 /// Takes the arrays out of `r` without copying them (numpy views them).
-pybind11::dict result_dict(SimulationResult<double>&& r);
+neurov::typed::SimulationResultDict result_dict(SimulationResult<double>&& r);
 /// The series' names, comma-separated, in the table's order (for docstrings).
 std::string result_series_names();
 

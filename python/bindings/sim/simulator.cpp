@@ -2,6 +2,7 @@
 // period per step(), with the controller outside.
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
+#include <pybind11/typing.h>
 
 #include <cstdint>
 #include <stdexcept>
@@ -30,8 +31,8 @@ Vector6<double> any_vector6(const py::handle& v, const char* name) {
   return Eigen::Map<const Vector6<double>>(a.data());
 }
 
-Status step(Sim& sim, const py::handle& tau_in, Status status, const py::handle& s_in,
-            double adaptive_norm, const py::handle& parameters_in) {
+Status step(Sim& sim, const typed::ArrayLike& tau_in, Status status, const typed::OptionalArrayLike& s_in,
+            double adaptive_norm, const typed::OptionalArrayLike& parameters_in) {
   if (sim.done()) {
     const std::string why = sim.diverged() ? "the plant diverged at t = " +
                                                  py_args::num(sim.observation().t)
@@ -68,9 +69,9 @@ void bind_simulator(py::module_& m) {
   py::class_<Obs>(m, "Observation",
                   "What a controller is given at t_k: the measured pose and velocity (noise "
                   "and sensor faults applied; NaN in a dropout) and the desired state.")
-      .def(py::init([](double t, const py::handle& eta, const py::handle& nu,
-                       const py::handle& eta_d, const py::handle& eta_d_dot,
-                       const py::handle& eta_d_ddot) {
+      .def(py::init([](double t, const typed::ArrayLike& eta, const typed::ArrayLike& nu,
+                       const typed::ArrayLike& eta_d, const typed::ArrayLike& eta_d_dot,
+                       const typed::ArrayLike& eta_d_ddot) {
              Obs o;
              o.t = t;
              o.eta = any_vector6(eta, "eta");
@@ -115,7 +116,7 @@ void bind_simulator(py::module_& m) {
            "Raises ValueError naming a bad field.")
       .def(
           "reset",
-          [](Sim& sim, const py::object& seed) {
+          [](Sim& sim, const typed::OptionalIndex& seed) {
             if (seed.is_none()) {
               sim.reset();
               return;
@@ -140,11 +141,13 @@ void bind_simulator(py::module_& m) {
            "one control period. Returns the plant's Status. tau must be finite when status "
            "is ok. After done, raises RuntimeError and changes nothing.")
       .def_property_readonly("done", &Sim::done, "Every row simulated, or the plant diverged.")
-      .def_property_readonly("diverged", &Sim::diverged)
+      .def_property_readonly("diverged", &Sim::diverged,
+                             "The plant diverged: the run stopped at its last row (done).")
       .def_property_readonly("steps", &Sim::steps, "Rows logged so far.")
       .def_property_readonly("planned_steps", &Sim::planned_steps,
                              "Rows of a whole run: round(duration / dt) + 1.")
-      .def_property_readonly("logged_parameters", &Sim::logged_parameters)
+      .def_property_readonly("logged_parameters", &Sim::logged_parameters,
+                             "Parameters step() logs per row (the result's theta columns).")
       .def_property_readonly("faults", &Sim::faults,
                              "fault_bits of the sensor faults and pitch limit in the observation.")
       .def_property_readonly(
@@ -157,7 +160,7 @@ void bind_simulator(py::module_& m) {
           "config", [](const Sim& sim) { return sim.config(); }, "A copy of the configuration.")
       .def_property_readonly(
           "estimate_covariance",
-          [](const Sim& sim) -> py::object {
+          [](const Sim& sim) -> py::typing::Optional<Ekf<double>::StateMatrix> {
             if (sim.config().estimator.type != EstimatorType::ekf || !sim.sensing().active())
               return py::none();
             return py::cast(Ekf<double>::StateMatrix(sim.sensing().filter().covariance()));

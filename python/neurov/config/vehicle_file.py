@@ -49,14 +49,18 @@ from __future__ import annotations
 
 import difflib
 import math
+import os
 import sys
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from neurov.errors import ValidationError, VehicleFileError
 from neurov.files import PACKAGE_DIR, read_text, read_toml
 from neurov._core import SimulationConfig, ThrusterConfig, ThrusterCurveConfig, Vehicle, buoyancy_in_water
+
+if TYPE_CHECKING:
+    import neurov._core
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -518,13 +522,15 @@ def _attach_file_constructors() -> None:
     """``Vehicle.from_file`` and ``Vehicle.preset`` read files, which is this
     package's work: they are attached here so that the compiled core never
     imports the Python package."""
-    def from_file(path: str | Path) -> Any:
+    # Annotated with importable names: the stub of neurov._core is generated
+    # from these functions too (tools/generate_stubs.py).
+    def from_file(path: str | os.PathLike[str]) -> neurov._core.Vehicle:
         """Loads a vehicle TOML file (format: :mod:`neurov.config.vehicle_file`). A
         missing, misspelt or wrongly typed field raises
         :class:`neurov.VehicleFileError` naming the file and the field."""
         return load_vehicle(path)
 
-    def preset(name: str) -> Any:
+    def preset(name: str) -> neurov._core.Vehicle:
         """A vehicle shipped with neurov by name: ``'nerov'`` or
         ``'bluerov2_heavy'`` (:func:`preset_names` lists them)."""
         return load_vehicle(preset_path(name))
