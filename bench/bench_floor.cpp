@@ -195,7 +195,7 @@ NEUROV_ALWAYS_INLINE void exp_body1(const S* x, S* y, long n, long reps) noexcep
 #endif
 #define FLOOR_PLAIN __attribute__((noinline))
 
-enum class Kind { fma, add, load, store, exp };
+enum class Kind { fma, add, load, store, exp, load_l2 };
 
 bool width_supported(int bytes) {
 #if FLOOR_X86
@@ -220,6 +220,7 @@ bool fma_supported() {
 }
 
 constexpr long kArray = 2048;  // numbers per array: 16 KB of doubles, in L1
+constexpr long kL2Array = 32768;  // numbers per array: 256 KB of doubles, in L2 not L1
 
 template <typename S>
 struct Arrays {
@@ -243,7 +244,10 @@ struct Arrays {
     return load_body<S, L>(a, b, kArray, reps);                                              \
   }                                                                                          \
   ATTR void store_##SUFFIX(S* p, long reps) { store_body<S, L>(p, kArray / 4, reps); }       \
-  ATTR void exp_##SUFFIX(const S* x, S* y, long reps) { exp_body<S, L>(x, y, 256, reps); }
+  ATTR void exp_##SUFFIX(const S* x, S* y, long reps) { exp_body<S, L>(x, y, 256, reps); }   \
+  ATTR S load_l2_##SUFFIX(const S* a, const S* b, long reps) {                               \
+    return load_body<S, L>(a, b, kL2Array, reps);                                            \
+  }
 
 FLOOR_KERNELS(FLOOR_PLAIN, d128, double, 2)
 FLOOR_KERNELS(FLOOR_PLAIN, f128, float, 4)
@@ -268,6 +272,12 @@ FLOOR_PLAIN double load_d1(const double* a, const double* b, long reps) {
 FLOOR_PLAIN float load_f1(const float* a, const float* b, long reps) {
   return load_body<float, 1>(a, b, kArray, reps);
 }
+FLOOR_PLAIN double load_l2_d1(const double* a, const double* b, long reps) {
+  return load_body<double, 1>(a, b, kL2Array, reps);
+}
+FLOOR_PLAIN float load_l2_f1(const float* a, const float* b, long reps) {
+  return load_body<float, 1>(a, b, kL2Array, reps);
+}
 FLOOR_PLAIN void store_d1(double* p, long reps) { store_body<double, 1>(p, kArray / 4, reps); }
 FLOOR_PLAIN void store_f1(float* p, long reps) { store_body<float, 1>(p, kArray / 4, reps); }
 FLOOR_PLAIN void exp_d1(const double* x, double* y, long reps) { exp_body1<double>(x, y, 256, reps); }
@@ -280,6 +290,7 @@ struct Kernels {
   S (*load)(const S*, const S*, long);
   void (*store)(S*, long);
   void (*exp)(const S*, S*, long);
+  S (*load_l2)(const S*, const S*, long);
 };
 
 template <typename S>
@@ -287,19 +298,19 @@ Kernels<S> kernels(int bytes);
 template <>
 Kernels<double> kernels<double>(int bytes) {
   switch (bytes) {
-    case 0: return {fma_d1, add_d1, load_d1, store_d1, exp_d1};
-    case 16: return {fma_d128, add_d128, load_d128, store_d128, exp_d128};
-    case 32: return {fma_d256, add_d256, load_d256, store_d256, exp_d256};
-    default: return {fma_d512, add_d512, load_d512, store_d512, exp_d512};
+    case 0: return {fma_d1, add_d1, load_d1, store_d1, exp_d1, load_l2_d1};
+    case 16: return {fma_d128, add_d128, load_d128, store_d128, exp_d128, load_l2_d128};
+    case 32: return {fma_d256, add_d256, load_d256, store_d256, exp_d256, load_l2_d256};
+    default: return {fma_d512, add_d512, load_d512, store_d512, exp_d512, load_l2_d512};
   }
 }
 template <>
 Kernels<float> kernels<float>(int bytes) {
   switch (bytes) {
-    case 0: return {fma_f1, add_f1, load_f1, store_f1, exp_f1};
-    case 16: return {fma_f128, add_f128, load_f128, store_f128, exp_f128};
-    case 32: return {fma_f256, add_f256, load_f256, store_f256, exp_f256};
-    default: return {fma_f512, add_f512, load_f512, store_f512, exp_f512};
+    case 0: return {fma_f1, add_f1, load_f1, store_f1, exp_f1, load_l2_f1};
+    case 16: return {fma_f128, add_f128, load_f128, store_f128, exp_f128, load_l2_f128};
+    case 32: return {fma_f256, add_f256, load_f256, store_f256, exp_f256, load_l2_f256};
+    default: return {fma_f512, add_f512, load_f512, store_f512, exp_f512, load_l2_f512};
   }
 }
 
@@ -315,6 +326,9 @@ void BM_Peak(benchmark::State& state) {
     return;
   }
   static Arrays<S> arrays;
+  static const struct L2Arrays {
+    std::vector<S> a = std::vector<S>(kL2Array, S(0.75)), b = std::vector<S>(kL2Array, S(0.5));
+  } l2;
   const Kernels<S> k = kernels<S>(bytes);
   double per_call = 0;  // instructions (numbers for exp) per call
   for (auto _ : state) {
@@ -338,6 +352,10 @@ void BM_Peak(benchmark::State& state) {
       case Kind::exp:
         k.exp(arrays.b, arrays.y, 64);
         per_call = 256.0 * 64;
+        break;
+      case Kind::load_l2:
+        benchmark::DoNotOptimize(k.load_l2(l2.a.data(), l2.b.data(), 2));
+        per_call = 2.0 * (kL2Array / (kStreams * lanes)) * kStreams * 2;
         break;
     }
     benchmark::ClobberMemory();
@@ -371,7 +389,7 @@ void BM_FloorTrackingError(benchmark::State& state) {
 }
 
 void peak_args(benchmark::internal::Benchmark* b) {
-  for (int kind = 0; kind <= 4; ++kind)
+  for (int kind = 0; kind <= 5; ++kind)
     for (int bytes : {0, 16, 32, 64}) b->Args({kind, bytes});
 }
 
@@ -441,13 +459,26 @@ void print_bounds(const Collector& c, const char* type, int bytes) {
     return it == c.figures.end() ? 0.0 : it->second.ns;
   };
   const double track = fig(std::string("BM_FloorTrackingError<") + type + ">/");
-  std::printf("\n  bound per centre %.3f ns (%s); tracking error %.1f ns\n", worst->ns,
-              worst->name, track);
-  std::printf("  %6s %10s %10s %8s\n", "N", "bound ns", "step ns", "ratio");
+  // What does not fit in L1 must come from L2 at every step: the numbers a
+  // step reads per centre (centres, 1/(2 sigma^2), rate, W) beyond the L1's
+  // size, at the L2 stream rate of the same run.
+  double l1_bytes = 0;
+  for (const auto& cache : benchmark::CPUInfo::Get().caches)
+    if (cache.level == 1 && cache.type == "Data") l1_bytes = cache.size;
+  const double l2_bytes_per_ns = rate(Kind::load_l2) * lanes * sizeof(S) * 1e-9;
+  std::printf("\n  per centre %.3f ns (%s); tracking error %.1f ns; L1d %.0f KiB, L2 stream %.1f "
+              "B/ns\n",
+              worst->ns, worst->name, track, l1_bytes / 1024, l2_bytes_per_ns);
+  std::printf("  %6s %10s %10s %10s %10s %8s\n", "N", "arith ns", "L2 ns", "bound ns", "step ns",
+              "ratio");
   for (int centres : {64, 256, 1024}) {
-    const double bound = track + centres * worst->ns;
+    const double arith = centres * worst->ns;
+    const double from_l2 = std::max(0.0, centres * n.loads * sizeof(S) - l1_bytes);
+    const double l2 = l2_bytes_per_ns > 0 ? from_l2 / l2_bytes_per_ns : 0.0;
+    const double bound = track + std::max(arith, l2);
     const double step = fig(std::string("BM_FloorNNStep<") + type + ">/" + std::to_string(centres));
-    std::printf("  %6d %10.1f %10.1f %8.2f\n", centres, bound, step, step / bound);
+    std::printf("  %6d %10.1f %10.1f %10.1f %10.1f %8.2f\n", centres, arith, l2, bound, step,
+                step / bound);
   }
 }
 
