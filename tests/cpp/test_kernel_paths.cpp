@@ -123,8 +123,11 @@ TYPED_TEST(KernelPathsTest, EveryPathGivesTheSameStepsToTheStatedTolerance) {
 
 // The packed centres take the loops with the panel width as a compile-time
 // constant; the column-major matrix (one panel of N) the run-time width. Both
-// sum each centre's inputs in the same order, so on every path they give the
-// same g bit for bit: N = 203 runs blocks of 8, 4, 2 and 1 vectors and a tail.
+// sum each centre's inputs in the same order, so on every path the centres in
+// whole vectors get the same g bit for bit (N = 203 runs blocks of 8, 4, 2
+// and 1 vectors). The last N mod L centres are one padded vector in the
+// packed copy but scalar code on the matrix, which on the FMA paths rounds
+// differently: those agree to the paths' tolerance.
 TYPED_TEST(KernelPathsTest, PackedAndColumnMajorCentresGiveTheSameBasisBitForBit) {
   using S = TypeParam;
   using neurov::detail::CentrePanels;
@@ -146,9 +149,13 @@ TYPED_TEST(KernelPathsTest, PackedAndColumnMajorCentresGiveTheSameBasisBitForBit
     const CentrePanels<S> column_major{centres.data(), n, false};
     neurov::detail::rbf_basis<S>(panels, n, n_in, x.data(), inv.data(), g_packed.data());
     neurov::detail::rbf_basis<S>(column_major, n, n_in, x.data(), inv.data(), g_plain.data());
+    const Index whole = n - n % 16;  // 16: the most lanes of any path
     for (Index j = 0; j < n; ++j) {
       ASSERT_GT(g_plain[j], S(0)) << "centre " << j;  // a basis value, not an underflow
-      ASSERT_EQ(g_packed[j], g_plain[j]) << "centre " << j;
+      if (j < whole)
+        ASSERT_EQ(g_packed[j], g_plain[j]) << "centre " << j;
+      else
+        ASSERT_NEAR(g_packed[j], g_plain[j], path_tolerance<S>() * g_plain[j]) << "centre " << j;
     }
   }
 }

@@ -228,7 +228,9 @@ NEUROV_ALWAYS_INLINE void basis_block(const CentrePanels<S>& c, Index n_in, Inde
 /// Blocks of NV vectors, then NV/2, ..., 1, then the last < L centres: as
 /// one vector over the zero padding of the last panel, of which only the
 /// real centres are stored, or one at a time without padding (the same sums
-/// in the same order in every case, so the same numbers).
+/// in the same order in every case; the same numbers in the build's loops,
+/// while on the FMA paths the scalar tail can differ from the padded vector
+/// in the last bit: tests/cpp/test_kernel_paths.cpp).
 template <typename S, int L, int NV, Index PW = 0>
 NEUROV_ALWAYS_INLINE void basis_blocks(const CentrePanels<S>& c, Index n, Index n_in, Index j0,
                                        const S* x_hat, const S* inv, S* g) noexcept {
