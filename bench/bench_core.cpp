@@ -13,32 +13,16 @@
 #include <thread>
 #include <vector>
 
-#include "bench_common.hpp"
+#include "bench_ring.hpp"
 
 namespace {
 
 using neurov_bench::StepInput;
 using neurov_bench::V6;
 
-constexpr int kRing = 256;  // inputs cycled through; a power of two
-
-template <typename S>
-const std::vector<StepInput<S>>& ring() {
-  static const std::vector<StepInput<S>> r = neurov_bench::step_inputs<S>(kRing);
-  return r;
-}
-
-/// Times f on the inputs of the ring in turn; f keeps what it computes alive
-/// with benchmark::DoNotOptimize.
-template <typename S, typename F>
-void over_ring(benchmark::State& state, F&& f) {
-  const auto& in = ring<S>();
-  std::size_t k = 0;
-  for (auto _ : state) {
-    f(in[k++ % kRing]);
-    benchmark::ClobberMemory();
-  }
-}
+using neurov_bench::kRing;
+using neurov_bench::over_ring;
+using neurov_bench::ring;
 
 /// A thrust the plant benchmarks apply, the same at every step.
 template <typename S>

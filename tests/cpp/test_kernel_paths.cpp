@@ -121,6 +121,45 @@ TYPED_TEST(KernelPathsTest, EveryPathGivesTheSameStepsToTheStatedTolerance) {
   expect_paths_agree<TypeParam, 64>(64);
 }
 
+// The packed centres take the loops with the panel width as a compile-time
+// constant; the column-major matrix (one panel of N) the run-time width. Both
+// sum each centre's inputs in the same order, so on every path the centres in
+// whole vectors get the same g bit for bit (N = 203 runs blocks of 8, 4, 2
+// and 1 vectors). The last N mod L centres are one padded vector in the
+// packed copy but scalar code on the matrix, which on the FMA paths rounds
+// differently: those agree to the paths' tolerance.
+TYPED_TEST(KernelPathsTest, PackedAndColumnMajorCentresGiveTheSameBasisBitForBit) {
+  using S = TypeParam;
+  using neurov::detail::CentrePanels;
+  using neurov::detail::Index;
+  KernelGuard guard;
+  constexpr Index n = 203, n_in = neurov::kNNInputs;
+  neurov_test::Rng rng(11);
+  std::vector<S> centres(n * n_in), inv(n), x(n_in);
+  for (S& c : centres) c = rng.uniform<S>(-2.0, 2.0);
+  for (S& v : inv) v = rng.uniform<S>(0.05, 0.2);
+  for (S& v : x) v = rng.uniform<S>(-2.0, 2.0);
+  std::vector<S> packed(neurov::detail::packed_centres_size<S>(n, n_in));
+  neurov::detail::pack_centres<S>(centres.data(), n, n, n_in, packed.data());
+  for (KernelIsa isa : available_paths()) {
+    neurov::detail::set_kernel_isa(isa);
+    SCOPED_TRACE(::testing::Message() << "path " << neurov::detail::kernel_isa_name());
+    std::vector<S> g_packed(n), g_plain(n);
+    const CentrePanels<S> panels{packed.data(), neurov::detail::panel_width<S>(), true};
+    const CentrePanels<S> column_major{centres.data(), n, false};
+    neurov::detail::rbf_basis<S>(panels, n, n_in, x.data(), inv.data(), g_packed.data());
+    neurov::detail::rbf_basis<S>(column_major, n, n_in, x.data(), inv.data(), g_plain.data());
+    const Index whole = n - n % 16;  // 16: the most lanes of any path
+    for (Index j = 0; j < n; ++j) {
+      ASSERT_GT(g_plain[j], S(0)) << "centre " << j;  // a basis value, not an underflow
+      if (j < whole)
+        ASSERT_EQ(g_packed[j], g_plain[j]) << "centre " << j;
+      else
+        ASSERT_NEAR(g_packed[j], g_plain[j], path_tolerance<S>() * g_plain[j]) << "centre " << j;
+    }
+  }
+}
+
 TEST(KernelPathsTest, NeurovKernelPinsThePathCappedAtTheCpu) {
   using neurov::detail::requested_kernel_isa;
 #if NEUROV_RUNTIME_DISPATCH

@@ -191,12 +191,15 @@ struct CentrePanels {
 /// block's first centre. Each centre's sum runs over the
 /// inputs in order, as the scalar definition does; the NV L sums are
 /// independent, which is what fills the lanes and hides the add latency.
-template <typename S, int L, int NV>
+/// PW > 0 is the panel width known at compile time (the packed copy): the
+/// panel of a centre is then a shift, not one integer division per vector
+/// of every block (which the profile of the double step showed).
+template <typename S, int L, int NV, Index PW = 0>
 NEUROV_ALWAYS_INLINE void basis_block(const CentrePanels<S>& c, Index n_in, Index j0,
                                       const S* NEUROV_RESTRICT x_hat,
                                       const S* NEUROV_RESTRICT inv, S* NEUROV_RESTRICT g) noexcept {
   using V = Vec<S, L>;
-  const Index pw = c.pw;
+  const Index pw = PW > 0 ? PW : c.pw;
   const S* base[NV];
   V acc[NV];
   for (int v = 0; v < NV; ++v) {
@@ -225,19 +228,21 @@ NEUROV_ALWAYS_INLINE void basis_block(const CentrePanels<S>& c, Index n_in, Inde
 /// Blocks of NV vectors, then NV/2, ..., 1, then the last < L centres: as
 /// one vector over the zero padding of the last panel, of which only the
 /// real centres are stored, or one at a time without padding (the same sums
-/// in the same order in every case, so the same numbers).
-template <typename S, int L, int NV>
+/// in the same order in every case; the same numbers in the build's loops,
+/// while on the FMA paths the scalar tail can differ from the padded vector
+/// in the last bit: tests/cpp/test_kernel_paths.cpp).
+template <typename S, int L, int NV, Index PW = 0>
 NEUROV_ALWAYS_INLINE void basis_blocks(const CentrePanels<S>& c, Index n, Index n_in, Index j0,
                                        const S* x_hat, const S* inv, S* g) noexcept {
   for (; j0 + NV * L <= n; j0 += NV * L)
-    basis_block<S, L, NV>(c, n_in, j0, x_hat, inv + j0, g + j0);
+    basis_block<S, L, NV, PW>(c, n_in, j0, x_hat, inv + j0, g + j0);
   if constexpr (NV > 1) {
-    basis_blocks<S, L, NV / 2>(c, n, n_in, j0, x_hat, inv, g);
+    basis_blocks<S, L, NV / 2, PW>(c, n, n_in, j0, x_hat, inv, g);
   } else if constexpr (L > 1) {
     if (j0 < n && c.padded) {
       S inv_tail[L], g_tail[L];
       for (Index l = 0; l < L; ++l) inv_tail[l] = j0 + l < n ? inv[j0 + l] : S(0);
-      basis_block<S, L, 1>(c, n_in, j0, x_hat, inv_tail, g_tail);
+      basis_block<S, L, 1, PW>(c, n_in, j0, x_hat, inv_tail, g_tail);
       for (Index l = 0; j0 + l < n; ++l) g[j0 + l] = g_tail[l];
     } else {
       for (; j0 < n; ++j0) basis_block<S, 1, 1>(c, n_in, j0, x_hat, inv + j0, g + j0);
@@ -274,11 +279,12 @@ NEUROV_ALWAYS_INLINE void spread_columns(Vec<S, L>& out, const Vec<S, L>& in,
 }
 
 /// One pass over P = L / 2 columns (three vectors of W) given the column
-/// lanes of g and of the rates.
+/// lanes of g, of rate .* g (cv) and, for the leakage, of the rates.
 template <typename S, int L, bool Update, bool Leak>
 NEUROV_ALWAYS_INLINE void output_update_pass(S* NEUROV_RESTRICT wc, const Vec<S, L>* gv,
-                                             const Vec<S, L>* rv, const Vec<S, L>* av, S dl,
-                                             Vec<S, L>* yv, Vec<S, L>* nv) noexcept {
+                                             const Vec<S, L>* cv, const Vec<S, L>* rv,
+                                             const Vec<S, L>* av, S dl, Vec<S, L>* yv,
+                                             Vec<S, L>* nv) noexcept {
   using V = Vec<S, L>;
   for (int m = 0; m < 3; ++m) {
     V wk;
@@ -289,7 +295,7 @@ NEUROV_ALWAYS_INLINE void output_update_pass(S* NEUROV_RESTRICT wc, const Vec<S,
         const V keep = S(1) - dl * rv[m];
         wk *= V{} < keep ? keep : V{};
       }
-      wk -= (rv[m] * gv[m]) * av[m];
+      wk -= cv[m] * av[m];
       store<S, L>(wc + m * L, wk);
       nv[m] += wk * wk;
     }
@@ -319,8 +325,11 @@ NEUROV_ALWAYS_INLINE S output_update_body(S* NEUROV_RESTRICT w, Index n,
       load<S, L>(av[m], pattern + m * L);
       yv[m] = nv[m] = V{};
     }
-    V gv[3], rv[3];
-    // Lanes of g and of the rates by shuffles of one load each...
+    V gv[3], cv[3], rv[3];
+    // Lanes of g and of rate .* g by shuffles of one load each: the product
+    // formed once per centre, before it is spread over the six rows (the
+    // same numbers as forming it lane by lane), and the rates spread only
+    // for the leakage...
     constexpr auto lanes = std::make_index_sequence<L>{};
     const Index passes = n / P, loaded = n >= L ? (n - L) / P + 1 : 0;
     for (Index p = 0; p < loaded; ++p, j += P) {
@@ -331,11 +340,17 @@ NEUROV_ALWAYS_INLINE S output_update_body(S* NEUROV_RESTRICT w, Index n,
       spread_columns<S, L, 2>(gv[2], gl, lanes);
       if constexpr (Update) {
         load<S, L>(rl, rates + j);
-        spread_columns<S, L, 0>(rv[0], rl, lanes);
-        spread_columns<S, L, 1>(rv[1], rl, lanes);
-        spread_columns<S, L, 2>(rv[2], rl, lanes);
+        const V cl = rl * gl;
+        spread_columns<S, L, 0>(cv[0], cl, lanes);
+        spread_columns<S, L, 1>(cv[1], cl, lanes);
+        spread_columns<S, L, 2>(cv[2], cl, lanes);
+        if constexpr (Leak) {
+          spread_columns<S, L, 0>(rv[0], rl, lanes);
+          spread_columns<S, L, 1>(rv[1], rl, lanes);
+          spread_columns<S, L, 2>(rv[2], rl, lanes);
+        }
       }
-      output_update_pass<S, L, Update, Leak>(w + 6 * j, gv, rv, av, dl, yv, nv);
+      output_update_pass<S, L, Update, Leak>(w + 6 * j, gv, cv, rv, av, dl, yv, nv);
     }
     // ...and near the end, where a load of L would read past n, broadcasts.
     for (Index p = loaded; p < passes; ++p, j += P) {
@@ -346,8 +361,9 @@ NEUROV_ALWAYS_INLINE S output_update_body(S* NEUROV_RESTRICT w, Index n,
         column_lanes<S, L, 0>(rv[0], rates, j);
         column_lanes<S, L, 1>(rv[1], rates, j);
         column_lanes<S, L, 2>(rv[2], rates, j);
+        for (int m = 0; m < 3; ++m) cv[m] = rv[m] * gv[m];
       }
-      output_update_pass<S, L, Update, Leak>(w + 6 * j, gv, rv, av, dl, yv, nv);
+      output_update_pass<S, L, Update, Leak>(w + 6 * j, gv, cv, rv, av, dl, yv, nv);
     }
     for (int m = 0; m < 3; ++m)
       for (int l = 0; l < L; ++l) {
@@ -392,7 +408,10 @@ NEUROV_ALWAYS_INLINE void basis_impl(const CentrePanels<S>& c, Index n, Index n_
   constexpr int L = lanes_for<S, bytes>();
   // Eight vectors of sums: the add latency hidden, registers to spare. Panels
   // a vector could straddle (pw no multiple of L) are read one lane at a time.
-  if (c.pw % L == 0 || c.pw >= n)
+  constexpr Index packed = panel_width<S>();
+  if (c.pw == packed && packed % L == 0)
+    basis_blocks<S, L, 8, packed>(c, n, n_in, 0, x_hat, inv, g);
+  else if (c.pw % L == 0 || c.pw >= n)
     basis_blocks<S, L, 8>(c, n, n_in, 0, x_hat, inv, g);
   else
     basis_blocks<S, 1, 8>(c, n, n_in, 0, x_hat, inv, g);
