@@ -135,7 +135,7 @@ class Vehicle:
     @staticmethod
     def from_file(path: str | os.PathLike[str]) -> Vehicle:
         """
-        Loads a vehicle TOML file (format: :mod:`neurov.vehicle_file`). A
+        Loads a vehicle TOML file (format: :mod:`neurov.config.vehicle_file`). A
                 missing, misspelt or wrongly typed field raises
                 :class:`neurov.VehicleFileError` naming the file and the field.
         """
@@ -1103,7 +1103,7 @@ class NNAdaptiveController:
     def save(self, path: str | os.PathLike[str]) -> None:
         """
         Writes the current weights W and the network they belong to to a
-                .npz file (format: :mod:`neurov.weights`).
+                .npz file (format: :mod:`neurov.laws.weights`).
         """
     def step(self, eta: numpy.typing.ArrayLike, nu: numpy.typing.ArrayLike, eta_d: numpy.typing.ArrayLike, eta_d_dot: numpy.typing.ArrayLike, eta_d_ddot: numpy.typing.ArrayLike) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
         """
