@@ -23,9 +23,8 @@ import platform
 import time
 from collections.abc import Callable
 
-import numpy as np
-
 import neurov
+import numpy as np
 from neurov import _core
 from neurov.controllers import build_controller, default_centre_box, make_centres
 from neurov.scenario import scenario_path
@@ -65,9 +64,9 @@ def main() -> None:
 
     rate("one by one (neurov.simulate)", lambda: [neurov.simulate(pl, spec) for pl in plants])
     for threads in (1, 2):
-        rate(f"simulate_many, {threads} thread(s), full", lambda: neurov.simulate_many(plants, threads=threads))
+        rate(f"simulate_many, {threads} thread(s), full", lambda threads=threads: neurov.simulate_many(plants, threads=threads))
         rate(f"simulate_many, {threads} thread(s), metrics-only",
-             lambda: neurov.simulate_many(plants, threads=threads, metrics_only=True))
+             lambda threads=threads: neurov.simulate_many(plants, threads=threads, metrics_only=True))
     centred = spec.replace(centres=make_centres(spec, *default_centre_box(base)))
     vehicles = [build_vehicle(pl) for pl in plants]
     configs = [simulation_config(pl) for pl in plants]
@@ -75,9 +74,9 @@ def main() -> None:
     after = np.full(n, 10.0)
     for threads in (1, 2):
         rate(f"_core.run_batch, {threads} thread(s), full",
-             lambda: _core.run_batch(vehicles, controllers, configs, threads=threads))
+             lambda threads=threads: _core.run_batch(vehicles, controllers, configs, threads=threads))
         rate(f"_core.run_batch, {threads} thread(s), metrics-only",
-             lambda: _core.run_batch(vehicles, controllers, configs, threads=threads, metrics_only=True,
+             lambda threads=threads: _core.run_batch(vehicles, controllers, configs, threads=threads, metrics_only=True,
                                      after=after))
 
     setup_ms = {

@@ -9,16 +9,21 @@ import math
 import re
 from pathlib import Path
 
+import neurov
 import numpy as np
 import pytest
-
-import neurov
 from neurov import _core
 from neurov.controllers import REGISTRY
 from neurov.errors import NeurovError
 from neurov.metrics import WindowSums
 from neurov.scenario import ControllerSpec
-from neurov.simulation import build_controller, build_vehicle, simulate, simulate_many, simulation_config
+from neurov.simulation import (
+    build_controller,
+    build_vehicle,
+    simulate,
+    simulate_many,
+    simulation_config,
+)
 
 SCENARIOS = Path(neurov.__file__).parent / "scenarios"
 
@@ -36,11 +41,11 @@ FEATURES = ("paper_fig3", "nerov_square_realistic", "nerov_square_sea_state_3")
 
 def same_result(a: dict, b: dict) -> None:
     assert a.keys() == b.keys()
-    for k in a:
-        if isinstance(a[k], np.ndarray):
-            np.testing.assert_array_equal(a[k], b[k], err_msg=k)
+    for k, v in a.items():
+        if isinstance(v, np.ndarray):
+            np.testing.assert_array_equal(v, b[k], err_msg=k)
         else:
-            assert a[k] == b[k], k
+            assert v == b[k], k
 
 
 def wild() -> neurov.Scenario:
@@ -102,7 +107,7 @@ def test_stepped_batch_equals_simulators_alone() -> None:
     assert list(batch.diverged) == [True, False, False]
     np.testing.assert_array_equal(batch.steps, [s.steps for s in alone])
     np.testing.assert_array_equal(batch.planned_steps, [s.planned_steps for s in alone])
-    eta, nu = batch.state
+    eta, _ = batch.state
     np.testing.assert_array_equal(eta[1], alone[1].state[0])
     for i, sim in enumerate(alone):
         same_result(batch.result(i), sim.result())

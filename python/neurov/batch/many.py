@@ -35,7 +35,7 @@ def _runs(runs: Scenario | Iterable[Scenario | tuple[Scenario, Any]],
     if isinstance(runs, Scenario):
         if overrides is None:
             return [(runs, None)]
-        if isinstance(overrides, Mapping) or isinstance(overrides, str):
+        if isinstance(overrides, (Mapping, str)):
             raise TypeError("argument 'overrides' must be a list of dicts of Scenario fields, one per run, "
                             f"got {type(overrides).__name__}")
         out = []
@@ -67,7 +67,11 @@ class _Resolver:
         self._centres: dict[tuple[int, bytes], ControllerSpec] = {}
 
     def build(self, scenario: Scenario, controller: Any) -> tuple[Any, str]:
-        from neurov.controllers import build_controller, default_centre_box, make_centres
+        from neurov.controllers import (
+            build_controller,
+            default_centre_box,
+            make_centres,
+        )
 
         if controller is not None and not isinstance(controller, ControllerSpec):
             from neurov.controller import require_controller
