@@ -57,7 +57,8 @@ from neurov.identification import identify
 from neurov.results.load import load_result
 from neurov.config.reading import load_scenario
 from neurov.results.timeseries import Result
-from neurov.running.simulation import simulate, simulate_many
+from neurov.running.many import simulate_many
+from neurov.running.simulation import simulate
 
 __all__ = [
     "MAX_CENTRES",

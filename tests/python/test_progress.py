@@ -12,7 +12,7 @@ import pytest
 from neurov import cli
 from neurov.progress import progress_bar, shows_progress
 from neurov.config.scenario import CommandSpec, ControllerSpec, Scenario
-from neurov.running.simulation import simulate_many
+from neurov.running.many import simulate_many
 
 
 class Terminal(io.StringIO):

@@ -1,22 +1,20 @@
 """Run a scenario: :func:`neurov.simulate` builds the vehicle and the
 controller and runs the closed loop (:mod:`neurov.running.closed_loop`
-chooses which); :func:`neurov.simulate_many` runs several."""
+chooses which); :func:`neurov.simulate_many` (:mod:`neurov.running.many`) runs several."""
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Iterator, Sequence
 from typing import Any, cast
 
 from neurov import _core
 from neurov.config.scenario import ControllerSpec, Scenario
 from neurov.laws.protocol import require_controller
 from neurov.laws.registry import build_controller
-from neurov.progress import progress_bar
 from neurov.results.timeseries import Result
 from neurov.running.closed_loop import run_loop
 from neurov.running.plant import build_vehicle
 
-__all__ = ["simulate", "simulate_many"]
+__all__ = ["simulate"]
 
 
 def simulate(scenario: Scenario, controller: ControllerSpec | Any = None, *,
@@ -38,14 +36,3 @@ def simulate(scenario: Scenario, controller: ControllerSpec | Any = None, *,
         require_controller(controller)
         ctrl, name = controller, type(controller).__name__
     return cast(Result, run_loop(scenario, plant, ctrl, label or name))  # not streamed: a whole Result
-
-
-def simulate_many(runs: Sequence[tuple[Scenario, ControllerSpec | None]] | Iterable[tuple[Scenario, ControllerSpec | None]],
-                  progress: bool = False) -> Iterator[Result]:
-    """Runs several scenarios one after another; with `progress`, a progress
-    bar on stderr while stderr is a terminal (see :mod:`neurov.progress`)."""
-    runs = list(runs)
-    with progress_bar(len(runs), "runs", quiet=not progress) as bar:
-        for scenario, spec in runs:
-            yield simulate(scenario, spec)
-            bar.update(1)
