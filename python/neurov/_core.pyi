@@ -36,6 +36,7 @@ from ._core_stubs.model import (
     rk4_step as rk4_step,
     rotation as rotation,
     singularity_threshold as singularity_threshold,
+    to_body as to_body,
 )
 from ._core_stubs.control import (
     BUILT_IN_CONTROLLERS as BUILT_IN_CONTROLLERS,

@@ -160,6 +160,12 @@ def jacobian_inverse(eta: _ArrayLike) -> _Array:
     T^-1 has no division, so this is defined (but rank deficient) at the singularity.
     """
 
+def to_body(eta: _ArrayLike, vectors: _ArrayLike) -> _Array:
+    """J(eta_k)^-1 v_ki for K poses eta (K, 6) and vectors (K, M, 6): shape (K, M, 6).
+
+    The earth-frame vectors in each pose's body frame, all K in one call.
+    """
+
 def jacobian_dot(eta: _ArrayLike, nu: _ArrayLike) -> _Array:
     """Time derivative of J along the motion eta_dot = J(eta) nu, shape (6, 6).
 
