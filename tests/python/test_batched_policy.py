@@ -4,6 +4,7 @@ by run; a policy that fails on one run fails only that run."""
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -15,6 +16,8 @@ from neurov.batching import PythonLanes, run_batched_policy
 from neurov.controller import BatchedController, is_batched
 from neurov.errors import RefusedStepsWarning
 from neurov.simulation import build_vehicle, simulation_config
+
+SCENARIOS = Path(neurov.__file__).resolve().parent / "scenarios"
 
 
 class LinearFeedback:
@@ -43,7 +46,7 @@ class OneAtATime:
 
 
 def _scenarios() -> list[neurov.Scenario]:
-    base = neurov.load_scenario(neurov.scenario.scenario_path("nerov_square_disturbed")).replace(duration=3.0)
+    base = neurov.load_scenario(SCENARIOS / "nerov_square_disturbed.toml").replace(duration=3.0)
     return [base.replace(seed=s) for s in (1, 2, 3)]
 
 

@@ -12,10 +12,10 @@ from stable_baselines3 import PPO  # noqa: E402
 from stable_baselines3.common.vec_env import VecEnv, VecMonitor  # noqa: E402
 
 import neurov  # noqa: E402
-from neurov.gym import TrackingVectorEnv  # noqa: E402
+from neurov.gym import TrackingVectorEnv, resolve_scenario  # noqa: E402
 from neurov.gym.sb3 import TrackingSB3VecEnv  # noqa: E402
 
-SHORT = neurov.load_scenario(neurov.scenario.scenario_path("paper_fig3")).replace(duration=1.2)
+SHORT = resolve_scenario("paper_fig3").replace(duration=1.2)
 
 
 def test_episode_ends_give_the_terminal_observation_and_reset_in_the_same_step() -> None:

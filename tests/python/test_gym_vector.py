@@ -17,7 +17,7 @@ from gymnasium.vector import AutoresetMode, VectorEnv  # noqa: E402
 import neurov  # noqa: E402
 import neurov.gym  # noqa: E402
 from neurov.batching import PythonLanes  # noqa: E402
-from neurov.gym import TrackingEnv, TrackingVectorEnv  # noqa: E402
+from neurov.gym import TrackingEnv, TrackingVectorEnv, resolve_scenario  # noqa: E402
 
 # Short episodes (7 steps: t = 0.2 .. 1.4 s) so that the tests cross autoresets.
 SHORT = dict(duration=1.2)
@@ -29,7 +29,7 @@ RANDOMIZE = [{"parameter": "mass", "relative": 0.3},
 
 
 def _scenario(name: str = "paper_fig3") -> neurov.Scenario:
-    return neurov.load_scenario(neurov.scenario.scenario_path(name)).replace(**SHORT)
+    return resolve_scenario(name).replace(**SHORT)
 
 
 def _backends() -> list[Any]:

@@ -16,6 +16,8 @@ from neurov import _core
 __all__ = ["PythonLanes"]
 
 _FIELDS = ("eta", "nu", "eta_d", "eta_d_dot", "eta_d_ddot")
+#: The status of a lane masked out or done (the compiled batch's LANE_NOT_STEPPED).
+NOT_STEPPED = 255
 
 
 class PythonLanes:
@@ -62,7 +64,7 @@ class PythonLanes:
         forces = np.asarray(tau, dtype=np.float64)
         if forces.shape != (self.size, 6):
             raise ValueError(f"argument 'tau' must have shape ({self.size}, 6), got {forces.shape}")
-        statuses = np.zeros(self.size, dtype=np.uint8)
+        statuses = np.full(self.size, NOT_STEPPED, dtype=np.uint8)
         for i in np.flatnonzero(self._mask(mask)):
             lane = self._lanes[i]
             if not lane.done:

@@ -139,17 +139,17 @@ class TrackingEnv(gymnasium.Env):
         if a.shape != self.task.action_shape:
             raise ValueError(f"TrackingEnv.step: argument 'action' must have shape {self.task.action_shape}, "
                              f"got {a.shape}")
-        if not np.isfinite(a).all():
-            raise ValueError(f"TrackingEnv.step: argument 'action' must be finite, got {a.tolist()}")
-        a, clipped = self.task.clip(a[None])
-        self._clips += int(clipped[0])
+        try:
+            a, clipped = self.task.clip(a[None])
+        except ValueError as e:
+            raise ValueError(f"TrackingEnv.step: {e}") from None
+        self._clips += bool(np.any(clipped))
         plant = self._sim.step(self.task.force(a)[0])
         obs, info = self._observe()
         info["plant_status"] = plant
         sim = self._sim
         reward, terminated, truncated, outside = self.task.outcome(
-            info["eta_true"][None], info["eta_d"][None], a, np.array([sim.diverged]), np.array([sim.done]),
-            np.array([sim.planned_steps - sim.steps]))
+            info["eta_true"][None], info["eta_d"][None], a, sim.diverged, sim.done, sim.planned_steps - sim.steps)
         if terminated[0] or truncated[0]:
             self._episode_over = self.task.describe_end(info["t"], sim.diverged, bool(outside[0]))
         if self.render_mode is not None:

@@ -193,7 +193,7 @@ class TrackingVectorEnv(VectorEnv):
         statuses = self._batch.step(self.task.force(a), stepped)
         if not stepped.all():
             self._reset_lanes(np.flatnonzero(self._ended), [None] * k)
-        self._clips += clipped & stepped
+        self._clips += np.asarray(clipped) & stepped
         obs, info, (eta_true, _) = self._observe()
         info["plant_status"], info["_plant_status"] = statuses, stepped
         b = self._batch
