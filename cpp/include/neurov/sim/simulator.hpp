@@ -279,6 +279,19 @@ class Simulator {
     return n;
   }
 
+  /// The log itself, without a copy: its first steps() - logged_from() rows
+  /// are the rows logged since the last drain or discard.
+  const SimulationResult<Scalar>& log() const noexcept { return result_; }
+
+  /// Empties the log as drain() does, without handing its rows over (who
+  /// read them through log() is done with them); allocates nothing.
+  void discard() noexcept {
+    const bool diverged = result_.diverged;
+    result_.clear();
+    result_.diverged = diverged;
+    log_first_ = k_;
+  }
+
   /// Moves the rows in the log into `out` without a copy; the simulator is
   /// empty afterwards (create it again to run again).
   void release_result(SimulationResult<Scalar>& out) {

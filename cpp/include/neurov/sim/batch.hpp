@@ -1,0 +1,282 @@
+// K independent runs stepped in lockstep: each lane its own vehicle and
+// configuration (seeds, disturbances, thrusters, sensors, estimator) and, in
+// run_batch, its own built-in controller. A lane that diverges or ends early
+// stops while the others go on.
+//
+// Each lane is a Simulator (simulator.hpp): the batch adds no physics, so a
+// lane gives exactly the result of the same run alone (statuses, faults,
+// divergence step, every series; the tests check it). The lanes are reached
+// only through this class's interface (create, replace, reset, step with a
+// (K, 6) force block, the per-lane queries), never as a container, so that
+// their storage can later become a structure of arrays across runs (the
+// plant's RK4 stages in SIMD lanes) behind the same interface. Today each
+// lane is scalar code; nothing here is vectorised across runs.
+//
+// run_batch splits the lanes over worker threads (std::thread), each
+// stepping its share in lockstep; the lanes share nothing, so the split
+// changes no result.
+#pragma once
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <cstddef>
+#include <cstdint>
+#include <thread>
+#include <type_traits>
+#include <utility>
+#include <variant>
+#include <vector>
+
+#include "neurov/control/built_in_controllers.hpp"
+#include "neurov/core/status.hpp"
+#include "neurov/core/validation.hpp"
+#include "neurov/sim/closed_loop.hpp"
+#include "neurov/sim/config.hpp"
+#include "neurov/sim/result.hpp"
+#include "neurov/sim/simulator.hpp"
+#include "neurov/sim/window_sums.hpp"
+
+namespace neurov {
+
+/// The status step() reports for a lane it did not step (masked out, or
+/// already done): not a neurov::Status value.
+inline constexpr std::uint8_t kLaneNotStepped = 255;
+
+template <typename Scalar>
+class BatchSimulator {
+ public:
+  using Vec6 = Vector6<Scalar>;
+  using Sim = Simulator<Scalar>;
+
+  BatchSimulator() = default;
+
+  /// One lane per (vehicles[i], configs[i]), each created as
+  /// Simulator::create would with `logged_parameters` parameter columns. On
+  /// failure `out` is untouched, and `failed_lane` (if given) says which lane
+  /// was refused.
+  static ValidationError create(const std::vector<Vehicle<Scalar>>& vehicles,
+                                const std::vector<SimulationConfig<Scalar>>& configs,
+                                BatchSimulator& out, int logged_parameters = 0,
+                                Eigen::Index log_rows = 0, std::size_t* failed_lane = nullptr) {
+    return create_lanes(vehicles, configs, out, std::vector<int>(vehicles.size(), logged_parameters),
+                        log_rows, failed_lane);
+  }
+
+  /// The same with lane i logging logged_parameters[i] parameters (lanes of
+  /// different controller types); step() then takes no parameters.
+  static ValidationError create_lanes(const std::vector<Vehicle<Scalar>>& vehicles,
+                                      const std::vector<SimulationConfig<Scalar>>& configs,
+                                      BatchSimulator& out, const std::vector<int>& logged_parameters,
+                                      Eigen::Index log_rows = 0, std::size_t* failed_lane = nullptr) {
+    if (vehicles.size() != configs.size())
+      return detail::invalid("configs", -1, static_cast<double>(configs.size()),
+                             "one configuration per vehicle");
+    BatchSimulator b;
+    b.lanes_.resize(vehicles.size());
+    for (std::size_t i = 0; i < vehicles.size(); ++i) {
+      if (auto e = Sim::create(vehicles[i], configs[i], b.lanes_[i], logged_parameters[i], log_rows)) {
+        if (failed_lane) *failed_lane = i;
+        return e;
+      }
+    }
+    const bool uniform = std::adjacent_find(logged_parameters.begin(), logged_parameters.end(),
+                                            std::not_equal_to<int>()) == logged_parameters.end();
+    b.logged_parameters_ = uniform && !logged_parameters.empty() ? logged_parameters[0] : 0;
+    b.log_rows_ = log_rows;
+    out = std::move(b);
+    return {};
+  }
+
+  std::size_t size() const noexcept { return lanes_.size(); }
+  int logged_parameters() const noexcept { return logged_parameters_; }
+
+  /// Lane i re-created from a new vehicle and configuration (a new episode's
+  /// plant); on failure lane i is untouched.
+  ValidationError replace(std::size_t i, const Vehicle<Scalar>& vehicle,
+                          const SimulationConfig<Scalar>& config) {
+    Sim s;
+    if (auto e = Sim::create(vehicle, config, s, lanes_[i].logged_parameters(), log_rows_)) return e;
+    lanes_[i] = std::move(s);
+    return {};
+  }
+
+  /// Lane i back to t = 0 with noise from `seed`.
+  void reset(std::size_t i, std::uint64_t seed) noexcept { lanes_[i].reset(seed); }
+
+  /// Steps every lane i with mask[i] (mask nullptr: every lane) that is not
+  /// done, with the force tau[6 i .. 6 i + 5] (row i of a row-major (K, 6)
+  /// block) and, with logged parameters, parameters[P i .. P i + P - 1]
+  /// (P = logged_parameters(); nullptr: none given, refused when P > 0).
+  /// statuses[i] is the lane's plant status (Simulator::step's, e.g.
+  /// non_finite_input for a non-finite force, which changes nothing), or
+  /// kLaneNotStepped for a lane not stepped.
+  void step(const Scalar* tau, const bool* mask, std::uint8_t* statuses,
+            const Scalar* parameters = nullptr) noexcept {
+    for (std::size_t i = 0; i < lanes_.size(); ++i) {
+      Sim& sim = lanes_[i];
+      if ((mask && !mask[i]) || sim.done()) {
+        statuses[i] = kLaneNotStepped;
+        continue;
+      }
+      ControllerReport<Scalar> report;
+      report.parameter_count = sim.logged_parameters();
+      report.parameters = parameters ? parameters + static_cast<std::ptrdiff_t>(i) * logged_parameters_
+                                     : nullptr;
+      statuses[i] = static_cast<std::uint8_t>(
+          sim.step(Eigen::Map<const Vec6>(tau + 6 * static_cast<std::ptrdiff_t>(i)), report));
+    }
+  }
+
+  /// Lane i's queries (observation, faults, state, done, steps, result, ...).
+  const Sim& lane(std::size_t i) const noexcept { return lanes_[i]; }
+
+ private:
+  template <typename S, typename C>
+  friend class BatchRun;
+  Sim& lane_mut(std::size_t i) noexcept { return lanes_[i]; }
+
+  std::vector<Sim> lanes_;
+  int logged_parameters_ = 0;
+  Eigen::Index log_rows_ = 0;
+};
+
+namespace detail {
+
+template <typename List>
+struct VariantOf;
+template <typename... Ts>
+struct VariantOf<TypeList<Ts...>> {
+  using type = std::variant<Ts...>;
+};
+
+}  // namespace detail
+
+/// Any built-in controller in Scalar (the list of built_in_controllers.hpp).
+template <typename Scalar>
+using AnyBuiltInController = typename detail::VariantOf<BuiltInControllers<Scalar>>::type;
+
+/// How run_batch runs: its threads (0: one per hardware thread, never more
+/// than the lanes) and, with metrics_only, per lane the start of the metrics
+/// window (RunSums::after) instead of the rows.
+struct BatchOptions {
+  unsigned threads = 0;
+  bool metrics_only = false;
+  std::vector<double> after;  ///< one per lane, with metrics_only
+};
+
+/// Rows a metrics-only lane holds between two accumulations.
+inline constexpr Eigen::Index kMetricsWindowRows = 64;
+
+/// The lanes of a batch with their controllers, run to the end.
+template <typename Scalar, typename Controller>
+class BatchRun {
+ public:
+  BatchRun(BatchSimulator<Scalar>& batch, std::vector<Controller>& controllers,
+           const BatchOptions& options)
+      : batch_(batch), controllers_(controllers), options_(options) {
+    parameters_.resize(batch.size());
+    if (options.metrics_only) sums_.resize(batch.size());
+    for (std::size_t i = 0; i < sums_.size(); ++i) sums_[i].after = options.after[i];
+  }
+
+  /// Runs the lanes in [begin, end) in lockstep: one control period of each
+  /// unfinished lane, then the next period.
+  void run(std::size_t begin, std::size_t end) noexcept {
+    std::vector<std::size_t> active;
+    active.reserve(end - begin);
+    for (std::size_t i = begin; i < end; ++i) active.push_back(i);
+    Vector6<Scalar> tau;
+    while (!active.empty()) {
+      std::size_t kept = 0;
+      for (std::size_t i : active) {
+        Simulator<Scalar>& sim = batch_.lane_mut(i);
+        auto& parameters = parameters_[i];
+        std::visit(
+            [&](auto& c) {
+              const Observation<Scalar>& o = sim.observation();
+              const Status cs = c.step(o.eta, o.nu, o.desired, tau);
+              sim.step(tau, controller_report<Scalar>(c, cs, parameters));
+            },
+            controllers_[i]);
+        if (options_.metrics_only && (sim.log_full() || sim.done())) {
+          sums_[i].add(sim.log(), sim.steps() - sim.logged_from());
+          sim.discard();
+        }
+        if (!sim.done()) active[kept++] = i;
+      }
+      active.resize(kept);
+    }
+  }
+
+  std::vector<RunSums>& sums() noexcept { return sums_; }
+
+  /// Moves each lane's rows into results[i] (the lanes are empty afterwards).
+  void release(std::vector<SimulationResult<Scalar>>& results) {
+    results.resize(batch_.size());
+    for (std::size_t i = 0; i < batch_.size(); ++i) batch_.lane_mut(i).release_result(results[i]);
+  }
+
+ private:
+  BatchSimulator<Scalar>& batch_;
+  std::vector<Controller>& controllers_;
+  const BatchOptions& options_;
+  std::vector<Eigen::Matrix<Scalar, 1, kMaxLoggedParameters>> parameters_;
+  std::vector<RunSums> sums_;
+};
+
+/// Runs K closed loops, lane i the vehicle, controller and configuration i
+/// (each controller as given, left in its final state), over
+/// options.threads threads. The full rows come back in `results` (or, with
+/// metrics_only, the metric sums in `sums`, no rows kept). A bad
+/// configuration comes back as the ValidationError before any step, with
+/// `failed_lane` set; the outputs are then untouched. `Controller` is a
+/// std::variant of controller types (AnyBuiltInController).
+template <typename Scalar, typename Controller>
+ValidationError run_batch(const std::vector<Vehicle<Scalar>>& vehicles,
+                          std::vector<Controller>& controllers,
+                          const std::vector<SimulationConfig<Scalar>>& configs,
+                          const BatchOptions& options, std::vector<SimulationResult<Scalar>>* results,
+                          std::vector<RunSums>* sums, std::size_t* failed_lane = nullptr) {
+  const std::size_t k = vehicles.size();
+  if (controllers.size() != k)
+    return detail::invalid("controllers", -1, static_cast<double>(controllers.size()),
+                           "one controller per vehicle");
+  if (options.metrics_only && options.after.size() != k)
+    return detail::invalid("after", -1, static_cast<double>(options.after.size()),
+                           "one window start per lane with metrics_only");
+  for (std::size_t i = 0; i < options.after.size(); ++i)
+    if (!std::isfinite(options.after[i]))
+      return detail::invalid("after", static_cast<int>(i), options.after[i], "a finite time [s]");
+  std::vector<int> logged(k);
+  for (std::size_t i = 0; i < k; ++i)
+    logged[i] = std::visit(
+        [](const auto& c) { return std::decay_t<decltype(c)>::kLoggedParameters; }, controllers[i]);
+  BatchSimulator<Scalar> batch;
+  if (auto e = BatchSimulator<Scalar>::create_lanes(
+          vehicles, configs, batch, logged, options.metrics_only ? kMetricsWindowRows : 0,
+          failed_lane))
+    return e;
+  BatchRun<Scalar, Controller> run(batch, controllers, options);
+  unsigned threads = options.threads ? options.threads : std::thread::hardware_concurrency();
+  threads = static_cast<unsigned>(std::max<std::size_t>(1, std::min<std::size_t>(threads, k)));
+  if (threads <= 1) {
+    run.run(0, k);
+  } else {
+    // Contiguous shares: the lanes of a share sit together in memory.
+    std::vector<std::thread> workers;
+    workers.reserve(threads);
+    for (unsigned t = 0; t < threads; ++t)
+      workers.emplace_back([&run, t, threads, k] { run.run(k * t / threads, k * (t + 1) / threads); });
+    for (std::thread& w : workers) w.join();
+  }
+  if (options.metrics_only) {
+    if (sums) *sums = std::move(run.sums());
+  } else if (results) {
+    run.release(*results);
+  }
+  return {};
+}
+
+}  // namespace neurov
