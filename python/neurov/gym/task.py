@@ -71,14 +71,17 @@ class TrackingTask:
         self.scenario = scenario
         self.action_kind = action
         self.weights = (float(position_weight), float(attitude_weight), float(effort_weight))
-        self._error_weights = np.repeat(self.weights[:2], 3)  # on the squared pose error
         self.check_faults = len(config.sensor_faults) > 0
         self._set_action_scale(action)
+        # The reward's weights on the squares of (pose error, action).
+        self._square_weights = np.repeat(self.weights, (3, 3, self.action_shape[0]))
 
         poses = np.asarray(config.command.poses)
         corners = np.vstack([poses[:, :3], np.asarray(config.eta0)[:3]])
         self.box_low = corners.min(axis=0) - box_margin
         self.box_high = corners.max(axis=0) + box_margin
+        self._box_centre = (self.box_low + self.box_high) / 2
+        self._box_half = (self.box_high - self.box_low) / 2
         reach = float(np.linalg.norm(self.box_high - self.box_low))
         self.termination_cost = float(position_weight) * reach**2
         high = np.concatenate([np.full(3, reach), np.full(3, np.pi), np.full(18, velocity_bound),
@@ -157,11 +160,11 @@ class TrackingTask:
         rows after a step: eta_true and eta_d (K, 6), the clipped actions a
         (K, n), the plant's divergence and end and the steps not simulated
         ((K,) each, or one value for all rows)."""
-        e = eta_true - eta_d
-        e[:, 3:] = wrap(e[:, 3:])
-        reward = -(np.square(e) @ self._error_weights + self.weights[2] * np.square(a).sum(axis=1))
-        p = eta_true[:, :3]
-        outside = ~((p >= self.box_low) & (p <= self.box_high)).all(axis=1)  # NaN is outside
+        # The pose error (angles wrapped) and the action side by side: one weighted sum of squares.
+        e = np.concatenate((eta_true - eta_d, a), axis=1)
+        e[:, 3:6] = wrap(e[:, 3:6])
+        reward = -(np.square(e) @ self._square_weights)
+        outside = ~(np.abs(eta_true[:, :3] - self._box_centre) <= self._box_half).all(axis=1)  # NaN is outside
         terminated = outside | diverged
         if terminated.any():
             # Ending early must not pay: each step left costs what the box's diagonal would.
