@@ -21,7 +21,6 @@ from typing import Any
 
 import gymnasium
 import numpy as np
-
 from neurov import _core
 from neurov.gym import TrackingEnv, TrackingVectorEnv
 

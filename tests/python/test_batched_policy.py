@@ -7,10 +7,9 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+import neurov
 import numpy as np
 import pytest
-
-import neurov
 from neurov import _core
 from neurov.batching import PythonLanes, run_batched_policy
 from neurov.controller import BatchedController, is_batched

@@ -8,12 +8,10 @@ import numpy as np
 import pytest
 
 pytest.importorskip("stable_baselines3")
-from stable_baselines3 import PPO  # noqa: E402
-from stable_baselines3.common.vec_env import VecEnv, VecMonitor  # noqa: E402
-
-import neurov  # noqa: E402
 from neurov.gym import TrackingVectorEnv, resolve_scenario  # noqa: E402
 from neurov.gym.sb3 import TrackingSB3VecEnv  # noqa: E402
+from stable_baselines3 import PPO  # noqa: E402
+from stable_baselines3.common.vec_env import VecEnv, VecMonitor  # noqa: E402
 
 SHORT = resolve_scenario("paper_fig3").replace(duration=1.2)
 

@@ -11,16 +11,15 @@ import numpy as np
 import pytest
 
 gymnasium = pytest.importorskip("gymnasium")
-from gymnasium.utils.env_checker import check_env  # noqa: E402
-from gymnasium.vector import AutoresetMode, VectorEnv  # noqa: E402
-
 import neurov  # noqa: E402
 import neurov.gym  # noqa: E402
+from gymnasium.utils.env_checker import check_env  # noqa: E402
+from gymnasium.vector import AutoresetMode, VectorEnv  # noqa: E402
 from neurov.batching import PythonLanes  # noqa: E402
 from neurov.gym import TrackingEnv, TrackingVectorEnv, resolve_scenario  # noqa: E402
 
 # Short episodes (7 steps: t = 0.2 .. 1.4 s) so that the tests cross autoresets.
-SHORT = dict(duration=1.2)
+SHORT = {"duration": 1.2}
 RANDOMIZE = [{"parameter": "mass", "relative": 0.3},
              {"parameter": "linear_damping", "relative": 0.2, "distribution": "normal"},
              {"parameter": "current_speed", "range": [0.0, 0.5]},
@@ -100,7 +99,7 @@ def test_lane_i_is_the_single_env_under_seed_s_plus_i(name: str, action: str, ra
 
 def test_next_step_autoreset_ignores_the_action_and_restarts() -> None:
     envs = TrackingVectorEnv(2, _scenario())
-    first, _ = envs.reset(seed=3)
+    envs.reset(seed=3)
     zero = np.zeros((2, 6))
     for _ in range(7):
         obs, reward, terminated, truncated, info = envs.step(zero)
@@ -110,7 +109,7 @@ def test_next_step_autoreset_ignores_the_action_and_restarts() -> None:
     np.testing.assert_array_equal(info["t"], [0.0, 0.0])
     assert not info["_plant_status"].any() and (reward == 0).all() and not (terminated | truncated).any()
     assert (info["action_clips"] == 0).all()
-    obs, *_ = envs.step(zero)
+    envs.step(zero)
     assert envs.step(zero)[4]["t"][0] == pytest.approx(0.4)
 
 

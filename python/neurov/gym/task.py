@@ -7,6 +7,7 @@ the vector env is the single env to the last bit (docs/gymnasium.md)."""
 from __future__ import annotations
 
 from pathlib import Path
+
 import numpy as np
 from gymnasium import spaces
 from numpy.typing import NDArray
