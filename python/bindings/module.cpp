@@ -29,4 +29,5 @@ PYBIND11_MODULE(_core, m) {
   bind_result_series(m);
   bind_simulator(m);
   bind_closed_loop(m);
+  bind_batch(m);
 }

@@ -61,6 +61,10 @@ from ._core_stubs.control import (
     tracking_error as tracking_error,
 )
 from ._core_stubs.sim import (
+    BatchSimulator as BatchSimulator,
+    LANE_NOT_STEPPED as LANE_NOT_STEPPED,
+    WINDOW_SUMS as WINDOW_SUMS,
+    run_batch as run_batch,
     Command as Command,
     CurrentModel as CurrentModel,
     CurrentStep as CurrentStep,

@@ -126,6 +126,21 @@ class MetricsWindow:
             self._max_norm = float(np.maximum(self._max_norm, np.max(rows.adaptive_norm)))
         self._diverged = self._diverged or rows.diverged
 
+    @classmethod
+    def from_sums(cls, sums: dict[str, Any], duration: float, dt: float) -> MetricsWindow:
+        """The window of a run whose sums C++ accumulated as it ran (a dict of
+        ``_core.run_batch(..., metrics_only=True)``): the same metrics as
+        :meth:`add` of its rows would give."""
+        window = cls(duration, dt, sums["after"])
+        for part, name in ((window._before, "before"), (window._window, "window")):
+            for key, value in sums[name].items():
+                setattr(part, key, np.array(value) if isinstance(value, np.ndarray) else value)
+        window._final_norm = float(sums["final_adaptive_norm"])
+        window._max_norm = float(sums["max_adaptive_norm"])
+        window._diverged = bool(sums["diverged"])
+        window.first_refused = sums["first_refused"]
+        return window
+
     @property
     def rows(self) -> int:
         """Rows added so far, in the window and before it."""

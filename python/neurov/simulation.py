@@ -3,7 +3,6 @@ and wrap the arrays in a :class:`Result` with metrics and export."""
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Iterator, Sequence
 from typing import Any
 
 import numpy as np
@@ -69,14 +68,5 @@ def simulate(scenario: Scenario, controller: ControllerSpec | Any = None, *,
     return Result(scenario=scenario, controller=label or name, diverged=diverged, wall_time=wall, **raw)
 
 
-def simulate_many(runs: Sequence[tuple[Scenario, ControllerSpec | None]] | Iterable[tuple[Scenario, ControllerSpec | None]],
-                  progress: bool = False) -> Iterator[Result]:
-    """Runs several scenarios one after another; with `progress`, a progress
-    bar on stderr while stderr is a terminal (see :mod:`neurov.progress`)."""
-    from neurov.progress import progress_bar
-
-    runs = list(runs)
-    with progress_bar(len(runs), "runs", quiet=not progress) as bar:
-        for scenario, spec in runs:
-            yield simulate(scenario, spec)
-            bar.update(1)
+# Many runs, batched in C++ for built-in controllers: neurov/batch/many.py.
+from neurov.batch.many import simulate_many  # noqa: E402

@@ -5,8 +5,8 @@ and the simulator stepped from Python (``python/bindings/sim``)."""
 # The pieces share their private helpers (arrays, descriptors, bases).
 # pyright: reportPrivateUsage=false
 
-from collections.abc import Callable
-from typing import ClassVar, SupportsFloat, TypedDict, final, overload, type_check_only
+from collections.abc import Callable, Sequence
+from typing import Any, ClassVar, SupportsFloat, TypedDict, final, overload, type_check_only
 
 import numpy
 import numpy.typing
@@ -579,3 +579,54 @@ class Simulator:
     def drain(self) -> _SimulationResult:
         """The rows in the log, as :meth:`result` gives them, and empties the log so
         that stepping goes on past a full window."""
+
+# Many runs at once (python/bindings/sim/batch.cpp).
+
+_BuiltIn = (NNAdaptiveController | LinearAdaptiveController | PDController | PIDController
+            | SlidingModeController | ComputedTorqueController | SuperTwistingController)
+
+WINDOW_SUMS: tuple[tuple[str, int, str], ...]
+"""The sums a run's metrics are computed from: (name, width, description),
+the fields of :class:`neurov.metrics.WindowSums`."""
+
+LANE_NOT_STEPPED: int
+"""The status :meth:`BatchSimulator.step` gives a lane it did not step (255)."""
+
+@final
+class BatchSimulator:
+    """K runs (lanes) stepped in lockstep from outside, one call per step for
+    every lane; each lane gives the rows of the same run alone."""
+
+    def __init__(self, vehicles: Sequence[Vehicle], configs: Sequence[SimulationConfig],
+                 logged_parameters: int = 0) -> None:
+        """Lane i from vehicles[i] and configs[i], each copied. A refused lane
+        raises ValidationError naming the lane and the field."""
+    size: _ReadOnly[int] = ...
+    """K, the number of lanes."""
+    logged_parameters: _ReadOnly[int] = ...
+    observation: _ReadOnly[dict[str, _Array]] = ...
+    """t (K,), eta, nu, eta_d, eta_d_dot, eta_d_ddot (K, 6), faults (K,) uint8."""
+    state: _ReadOnly[tuple[_Array, _Array]] = ...
+    """The true (eta, nu), each (K, 6)."""
+    def step(self, tau: numpy.typing.NDArray[numpy.float64],
+             mask: numpy.typing.NDArray[numpy.bool_] | None = None,
+             parameters: numpy.typing.NDArray[numpy.float64] | None = None) -> numpy.typing.NDArray[numpy.uint8]:
+        """Steps the lanes in mask (None: all) that are not done with tau (K, 6);
+        returns the (K,) plant statuses, LANE_NOT_STEPPED for a lane not stepped."""
+    done: _ReadOnly[numpy.typing.NDArray[numpy.bool_]] = ...
+    diverged: _ReadOnly[numpy.typing.NDArray[numpy.bool_]] = ...
+    steps: _ReadOnly[numpy.typing.NDArray[numpy.int64]] = ...
+    planned_steps: _ReadOnly[numpy.typing.NDArray[numpy.int64]] = ...
+    def reset(self, seeds: numpy.typing.NDArray[numpy.integer[Any]],
+              mask: numpy.typing.NDArray[numpy.bool_] | None = None) -> None:
+        """The lanes in mask (None: all) back to t = 0 with noise from seeds[i]."""
+    def replace(self, i: int, vehicle: Vehicle, config: SimulationConfig) -> None:
+        """Lane i created again (ValidationError naming the field leaves it untouched)."""
+    def result(self, i: int) -> _SimulationResult:
+        """Lane i's rows so far, as run_closed_loop returns them."""
+
+def run_batch(vehicles: Sequence[Vehicle], controllers: Sequence[_BuiltIn], configs: Sequence[SimulationConfig],
+              threads: int = 0, metrics_only: bool = False,
+              after: SupportsFloat | Sequence[SupportsFloat] | None = None) -> list[Any]:
+    """Runs K built-in closed loops over threads; one run_closed_loop dict per
+    run, or with metrics_only the metric sums of t >= after."""

@@ -55,19 +55,20 @@ def resolved_spec(study: Study, controller: int, scenario: int) -> ControllerSpe
     return spec
 
 
-def run_one(study: Study, key: RunKey) -> dict[str, Any]:
+def run_one(study: Study, key: RunKey, done: tuple[Any, float] | None = None) -> dict[str, Any]:
     """Runs one (scenario, controller, sample) and returns its record: the
     table row and the decimated error series. A run that raises (a user's
     controller, ``sys.exit`` in it included) is a result, not the end of the
     study: its record is :func:`error_record`'s, with the error's type and
-    message."""
-    cpu_start = time.process_time()
+    message. `done`: the run's (Result, CPU seconds) already simulated in a
+    batch (:func:`run_batch`), of which only the record is made here."""
+    cpu_start = time.process_time() - (done[1] if done else 0.0)
     try:
         with warnings.catch_warnings():
             # A run's refused steps are its `refused_steps` column; a warning
             # per run from a worker would say it again, thousands of times.
             warnings.simplefilter("ignore", RefusedStepsWarning)
-            return _run(study, key, cpu_start)
+            return _run(study, key, cpu_start, done[0] if done else None)
     except (Exception, SystemExit) as e:  # noqa: BLE001 - any error of the user's code is this run's result
         message = str(e) if not isinstance(e, SystemExit) else f"sys.exit({e.code!r}) in the run"
         return error_record(study, key, "error", type(e).__name__, message,
@@ -95,14 +96,16 @@ def error_record(study: Study, key: RunKey, kind: str, error_type: str, message:
             "wall_time": 0.0, "cpu_time": cpu_time}
 
 
-def _run(study: Study, key: RunKey, cpu_start: float) -> dict[str, Any]:
+def _run(study: Study, key: RunKey, cpu_start: float, batched: Any = None) -> dict[str, Any]:
     from neurov.simulation import simulate
 
     scenario = study.scenarios[key.scenario]
     controller = study.controllers[key.controller]
     plant, columns = sample_plant(study, scenario, key.sample)
     factory = study.factories.get(controller)
-    if factory is not None:
+    if batched is not None:
+        result = batched
+    elif factory is not None:
         # The factory sees the nominal scenario, as a built-in controller is designed for it.
         result = simulate(plant, factory.make(scenario), label=controller)
         own = own_failures(result.extra.get("controller_errors") or {})
@@ -154,5 +157,38 @@ def _run(study: Study, key: RunKey, cpu_start: float) -> dict[str, Any]:
 
 
 def run_batch(study: Study, keys: Sequence[tuple[int, int, int]]) -> list[dict[str, Any]]:
-    """Runs a batch (the unit of work sent to a worker)."""
-    return [run_one(study, RunKey(*k)) for k in keys]
+    """Runs a batch (the unit of work sent to a worker): the runs of built-in
+    controllers together in C++ (:func:`neurov.simulate_many`), the others
+    one by one; the records are those of :func:`run_one` run by run."""
+    runs = [RunKey(*k) for k in keys]
+    done = _simulate_built_ins(study, [k for k in runs if _batchable(study, k)])
+    return [run_one(study, k, done.get(k)) for k in runs]
+
+
+def _batchable(study: Study, key: RunKey) -> bool:
+    """A run of a built-in controller spec, which needs no Python per step."""
+    controller = study.controllers[key.controller]
+    if controller in study.factories:
+        return False
+    return not (study.basis_rank and study.spec_for(controller, study.scenarios[key.scenario]).type == "nn")
+
+
+def _simulate_built_ins(study: Study, keys: list[RunKey]) -> dict[RunKey, tuple[Any, float]]:
+    """The runs' results simulated as one batch, with each run's share of the
+    CPU time; empty if anything fails, and each run is then simulated alone
+    by :func:`run_one`, which records its own error."""
+    if len(keys) < 2:
+        return {}
+    from neurov.batch import simulate_many
+
+    cpu_start = time.process_time()
+    try:
+        runs = [(sample_plant(study, study.scenarios[k.scenario], k.sample)[0],
+                 resolved_spec(study, k.controller, k.scenario)) for k in keys]
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RefusedStepsWarning)
+            results = simulate_many(runs, threads=1)
+    except Exception:  # noqa: BLE001 - run alone, each run's error is its own record
+        return {}
+    cpu = (time.process_time() - cpu_start) / len(keys)
+    return {k: (r, cpu) for k, r in zip(keys, results)}

@@ -21,7 +21,7 @@ from collections import deque
 from collections.abc import Callable, Iterator, Sequence
 from typing import Any
 
-from neurov.study.one_run import RunKey, error_record, run_one
+from neurov.study.one_run import RunKey, error_record, run_batch
 from neurov.study.spec import Study, StudyError
 
 __all__ = ["GRACE_SECONDS", "run_with_processes"]
@@ -49,8 +49,10 @@ def _worker_main(conn: multiprocessing.connection.Connection, study: Study) -> N
             return
         if keys is None:
             return
-        for key in keys:
-            conn.send(run_one(study, RunKey(*key)))
+        # The batch's built-in runs are simulated together first: a crash
+        # there is charged to the batch's first run, retried alone.
+        for record in run_batch(study, keys):
+            conn.send(record)
 
 
 def _die_with_parent() -> None:

@@ -1,0 +1,405 @@
+// neurov/sim/batch.hpp in Python: K runs stepped in lockstep from Python with
+// one call per step for all lanes (BatchSimulator), and K built-in closed
+// loops run to the end over threads (run_batch). The GIL is released while
+// C++ steps; no Python runs per lane.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "bindings.hpp"
+#include "numpy_args.hpp"
+#include "neurov/sim/batch.hpp"
+#include "result.hpp"
+
+namespace neurov::bindings {
+
+namespace py = pybind11;
+
+namespace {
+
+using Batch = BatchSimulator<double>;
+using Controller = AnyBuiltInController<double>;
+
+/// Raises neurov._core.ValidationError (a NeurovError) for a bad argument:
+/// its `field` is the argument's name.
+[[noreturn]] void bad_argument(const std::string& where, const std::string& name,
+                               const std::string& expected, const std::string& got) {
+  py::object cls = py::module_::import("neurov._core").attr("ValidationError");
+  py::object exc = cls(where + ": argument '" + name + "' must be " + expected + ", got " + got);
+  exc.attr("field") = py::str(name);
+  exc.attr("index") = -1;
+  exc.attr("value") = py::none();
+  exc.attr("expected") = py::str(expected);
+  PyErr_SetObject(cls.ptr(), exc.ptr());
+  throw py::error_already_set();
+}
+
+std::string type_name(const py::handle& obj) {
+  return py::str(py::type::handle_of(obj).attr("__name__"));
+}
+
+/// A list (any sequence, not a str) of objects of the bound type T, copied.
+template <typename T>
+std::vector<T> items(const py::handle& seq, const char* where, const char* name, const char* what) {
+  if (!py::isinstance<py::sequence>(seq) || py::isinstance<py::str>(seq))
+    bad_argument(where, name, std::string("a list of ") + what, type_name(seq));
+  const py::sequence s = py::reinterpret_borrow<py::sequence>(seq);
+  std::vector<T> out;
+  out.reserve(s.size());
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const py::object item = s[i];
+    if (!py::isinstance<T>(item))
+      bad_argument(where, std::string(name) + "[" + std::to_string(i) + "]", std::string("a ") + what,
+                   type_name(item));
+    out.push_back(item.cast<const T&>());
+  }
+  return out;
+}
+
+/// An array of `dtype_kind`s ('f': real numbers, 'b': bools, 'u': unsigned
+/// integers, non-negative ones of any integer dtype too) of shape `shape`,
+/// C-contiguous in dtype T (converted if need be).
+template <typename T>
+py::array_t<T, py::array::c_style> checked_array(const py::handle& obj, const char* where,
+                                                  const char* name, std::vector<py::ssize_t> shape,
+                                                  const char* expected_dtype) {
+  std::string expected = std::string("a numpy array of ") + expected_dtype + " of shape (";
+  for (std::size_t i = 0; i < shape.size(); ++i)
+    expected += (i ? ", " : "") + std::to_string(shape[i]);
+  expected += shape.size() == 1 ? ",)" : ")";
+  if (!py::isinstance<py::array>(obj)) bad_argument(where, name, expected, type_name(obj));
+  const py::array a = py::reinterpret_borrow<py::array>(obj);
+  const char kind = a.dtype().kind();
+  bool ok_dtype = false;
+  if constexpr (std::is_same_v<T, double>) ok_dtype = kind == 'f' || kind == 'i' || kind == 'u';
+  if constexpr (std::is_same_v<T, bool>) ok_dtype = kind == 'b';
+  if constexpr (std::is_same_v<T, std::uint64_t>) ok_dtype = kind == 'i' || kind == 'u';
+  if (!ok_dtype)
+    bad_argument(where, name, expected, "dtype " + std::string(py::str(a.dtype())));
+  bool ok_shape = a.ndim() == static_cast<py::ssize_t>(shape.size());
+  for (std::size_t i = 0; ok_shape && i < shape.size(); ++i) ok_shape = a.shape(i) == shape[i];
+  if (!ok_shape) bad_argument(where, name, expected, "shape " + py_args::shape_string(a));
+  if constexpr (std::is_same_v<T, std::uint64_t>) {
+    if (kind == 'i') {
+      const auto signed_ = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(a);
+      for (py::ssize_t i = 0; i < signed_.size(); ++i)
+        if (signed_.data()[i] < 0)
+          bad_argument(where, name, expected + " (seeds >= 0)",
+                       "element " + std::to_string(i) + " = " + std::to_string(signed_.data()[i]));
+    }
+  }
+  return py::array_t<T, py::array::c_style | py::array::forcecast>::ensure(a);
+}
+
+/// The lanes' mask: None (every lane) or a (K,) bool array.
+py::object mask_array(const Batch& b, const py::handle& mask, const char* where) {
+  if (mask.is_none()) return py::none();
+  return checked_array<bool>(mask, where, "mask", {static_cast<py::ssize_t>(b.size())}, "bool");
+}
+
+std::size_t lane_index(const Batch& b, const py::handle& i, const char* where) {
+  const auto k = py_args::integer<long long>(i, std::string(where) + ": argument 'i'");
+  if (k < 0 || k >= static_cast<long long>(b.size()))
+    bad_argument(where, "i", "a lane index in [0, " + std::to_string(b.size()) + ")",
+                 std::to_string(k));
+  return static_cast<std::size_t>(k);
+}
+
+/// A (K,) or (K, 6) array filled from each lane.
+template <typename T, typename F>
+py::array_t<T> per_lane(const Batch& b, int width, F&& f) {
+  const auto k = static_cast<py::ssize_t>(b.size());
+  py::array_t<T> out(width == 1 ? std::vector<py::ssize_t>{k} : std::vector<py::ssize_t>{k, py::ssize_t(width)});
+  T* data = out.mutable_data();
+  for (std::size_t i = 0; i < b.size(); ++i) f(b.lane(i), data + i * static_cast<std::size_t>(width));
+  return out;
+}
+
+py::array_t<double> rows6(const Batch& b, const Vector6<double>& (*get)(const Simulator<double>&)) {
+  return per_lane<double>(b, 6, [get](const Simulator<double>& s, double* row) {
+    Eigen::Map<Vector6<double>> out(row);
+    out = get(s);
+  });
+}
+
+py::dict observation(const Batch& b) {
+  py::dict d;
+  d["t"] = per_lane<double>(b, 1, [](const Simulator<double>& s, double* x) { *x = s.observation().t; });
+  d["eta"] = rows6(b, [](const Simulator<double>& s) -> const Vector6<double>& { return s.observation().eta; });
+  d["nu"] = rows6(b, [](const Simulator<double>& s) -> const Vector6<double>& { return s.observation().nu; });
+  d["eta_d"] = rows6(
+      b, [](const Simulator<double>& s) -> const Vector6<double>& { return s.observation().desired.eta_d; });
+  d["eta_d_dot"] = rows6(b, [](const Simulator<double>& s) -> const Vector6<double>& {
+    return s.observation().desired.eta_d_dot;
+  });
+  d["eta_d_ddot"] = rows6(b, [](const Simulator<double>& s) -> const Vector6<double>& {
+    return s.observation().desired.eta_d_ddot;
+  });
+  d["faults"] = per_lane<std::uint8_t>(b, 1, [](const Simulator<double>& s, std::uint8_t* x) { *x = s.faults(); });
+  return d;
+}
+
+/// "<where>: configs[i]: <the validator's message>" for a lane refused at creation.
+std::string lane_what(const char* where, std::size_t lane) {
+  return std::string(where) + ": lane " + std::to_string(lane) + " (vehicles[" + std::to_string(lane) +
+         "], configs[" + std::to_string(lane) + "])";
+}
+
+Batch make_batch(const py::handle& vehicles_in, const py::handle& configs_in, int logged_parameters) {
+  const char* where = "BatchSimulator";
+  auto vehicles = items<Vehicle<double>>(vehicles_in, where, "vehicles", "neurov.Vehicle");
+  auto configs = items<SimulationConfig<double>>(configs_in, where, "configs", "neurov.SimulationConfig");
+  if (vehicles.size() != configs.size())
+    bad_argument(where, "configs", "one configuration per vehicle (" + std::to_string(vehicles.size()) + ")",
+                 std::to_string(configs.size()));
+  Batch b;
+  std::size_t lane = 0;
+  const ValidationError e = Batch::create(vehicles, configs, b, logged_parameters, 0, &lane);
+  if (e) py_args::raise_if_invalid(e, lane_what(where, lane).c_str());
+  return b;
+}
+
+py::array_t<std::uint8_t> step(Batch& b, const py::handle& tau_in, const py::handle& mask_in,
+                               const py::handle& parameters_in) {
+  const char* where = "BatchSimulator.step";
+  const auto k = static_cast<py::ssize_t>(b.size());
+  const auto tau = checked_array<double>(tau_in, where, "tau", {k, 6}, "float64");
+  const py::object mask_obj = mask_array(b, mask_in, where);
+  const bool* mask = mask_obj.is_none() ? nullptr : py::reinterpret_borrow<py::array_t<bool>>(mask_obj).data();
+  py::object parameters_obj = py::none();
+  const double* parameters = nullptr;
+  if (b.logged_parameters() > 0) {
+    if (parameters_in.is_none())
+      bad_argument(where, "parameters",
+                   "an array of shape (" + std::to_string(k) + ", " + std::to_string(b.logged_parameters()) +
+                       ") (the batch logs that many parameters per row)",
+                   "None");
+    auto p = checked_array<double>(parameters_in, where, "parameters", {k, b.logged_parameters()}, "float64");
+    parameters = p.data();
+    parameters_obj = std::move(p);
+  } else if (!parameters_in.is_none()) {
+    bad_argument(where, "parameters", "None (the batch logs no parameters)", type_name(parameters_in));
+  }
+  py::array_t<std::uint8_t> statuses(std::vector<py::ssize_t>{k});
+  std::uint8_t* out = statuses.mutable_data();
+  {
+    py::gil_scoped_release release;
+    b.step(tau.data(), mask, out, parameters);
+  }
+  return statuses;
+}
+
+void reset(Batch& b, const py::handle& seeds_in, const py::handle& mask_in) {
+  const char* where = "BatchSimulator.reset";
+  const auto seeds = checked_array<std::uint64_t>(seeds_in, where, "seeds",
+                                                  {static_cast<py::ssize_t>(b.size())}, "uint64");
+  const py::object mask_obj = mask_array(b, mask_in, where);
+  const bool* mask = mask_obj.is_none() ? nullptr : py::reinterpret_borrow<py::array_t<bool>>(mask_obj).data();
+  py::gil_scoped_release release;
+  for (std::size_t i = 0; i < b.size(); ++i)
+    if (!mask || mask[i]) b.reset(i, seeds.data()[i]);
+}
+
+/// The controllers as given, copied into the lanes (the objects passed are
+/// not changed).
+std::vector<Controller> controllers_of(const py::handle& seq) {
+  const char* where = "run_batch";
+  if (!py::isinstance<py::sequence>(seq) || py::isinstance<py::str>(seq))
+    bad_argument(where, "controllers", "a list of built-in controllers", type_name(seq));
+  const py::sequence s = py::reinterpret_borrow<py::sequence>(seq);
+  std::vector<Controller> out;
+  out.reserve(s.size());
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const py::object item = s[i];
+    bool found = false;
+    for_each_type(BuiltInControllers<double>{}, [&](auto tag) {
+      using C = typename decltype(tag)::type;
+      if (!found && py::isinstance<C>(item)) {
+        out.emplace_back(std::in_place_type<C>, item.cast<const C&>());
+        found = true;
+      }
+    });
+    if (!found)
+      bad_argument(where, "controllers[" + std::to_string(i) + "]",
+                   "a built-in controller (neurov.BUILT_IN_CONTROLLERS; a Python controller runs "
+                   "through neurov.simulate_many)",
+                   type_name(item));
+  }
+  return out;
+}
+
+std::vector<double> after_of(const py::handle& after, std::size_t k) {
+  if (after.is_none())
+    bad_argument("run_batch", "after", "the metrics window's start [s] (a float or one per run) with metrics_only",
+                 "None");
+  std::vector<double> out;
+  if (py::isinstance<py::array>(after) && py::reinterpret_borrow<py::array>(after).ndim() > 0) {
+    const auto a = checked_array<double>(after, "run_batch", "after", {static_cast<py::ssize_t>(k)}, "float64");
+    out.assign(a.data(), a.data() + k);
+  } else if (py::isinstance<py::sequence>(after)) {
+    const py::sequence s = py::reinterpret_borrow<py::sequence>(after);
+    if (s.size() != k)
+      bad_argument("run_batch", "after", "a float or one per run (" + std::to_string(k) + ")",
+                   std::to_string(s.size()) + " values");
+    for (std::size_t i = 0; i < k; ++i) out.push_back(py_args::scalar(s[i], "after"));
+  } else {
+    out.assign(k, py_args::scalar(after, "after"));
+  }
+  return out;
+}
+
+py::dict window_sums_dict(const WindowSums& w) {
+  py::dict d;
+  w.visit([&d](const WindowSumSpec& spec, const auto& v) {
+    using T = std::decay_t<decltype(v)>;
+    if constexpr (std::is_same_v<T, WindowSums::Sums6>)
+      d[spec.name] = py::array_t<double>(py::ssize_t(6), v.data());
+    else
+      d[spec.name] = v;
+  });
+  return d;
+}
+
+py::dict run_sums_dict(const RunSums& s) {
+  py::dict d;
+  d["after"] = s.after;
+  d["before"] = window_sums_dict(s.before);
+  d["window"] = window_sums_dict(s.window);
+  d["final_adaptive_norm"] = s.final_adaptive_norm;
+  d["max_adaptive_norm"] = s.max_adaptive_norm;
+  d["diverged"] = s.diverged;
+  d["first_refused"] = s.first_refused_status
+                           ? py::object(py::make_tuple(s.first_refused_t, int(s.first_refused_status)))
+                           : py::object(py::none());
+  return d;
+}
+
+py::list run(const py::handle& vehicles_in, const py::handle& controllers_in, const py::handle& configs_in,
+             unsigned threads, bool metrics_only, const py::handle& after) {
+  const char* where = "run_batch";
+  auto vehicles = items<Vehicle<double>>(vehicles_in, where, "vehicles", "neurov.Vehicle");
+  auto configs = items<SimulationConfig<double>>(configs_in, where, "configs", "neurov.SimulationConfig");
+  auto controllers = controllers_of(controllers_in);
+  if (controllers.size() != vehicles.size())
+    bad_argument(where, "controllers", "one per vehicle (" + std::to_string(vehicles.size()) + ")",
+                 std::to_string(controllers.size()));
+  if (configs.size() != vehicles.size())
+    bad_argument(where, "configs", "one per vehicle (" + std::to_string(vehicles.size()) + ")",
+                 std::to_string(configs.size()));
+  BatchOptions options;
+  options.threads = threads;
+  options.metrics_only = metrics_only;
+  if (metrics_only) options.after = after_of(after, vehicles.size());
+  std::vector<SimulationResult<double>> results;
+  std::vector<RunSums> sums;
+  std::size_t lane = 0;
+  ValidationError e;
+  {
+    py::gil_scoped_release release;
+    e = run_batch(vehicles, controllers, configs, options, &results, &sums, &lane);
+  }
+  if (e) py_args::raise_if_invalid(e, lane_what(where, lane).c_str());
+  py::list out;
+  if (metrics_only) {
+    for (const RunSums& s : sums) out.append(run_sums_dict(s));
+  } else {
+    for (SimulationResult<double>& r : results) out.append(result_dict(std::move(r)));
+  }
+  return out;
+}
+
+}  // namespace
+
+void bind_batch(py::module_& m) {
+  py::list sums;
+  for (const WindowSumSpec& s : kWindowSums) sums.append(py::make_tuple(s.name, s.width, s.description));
+  m.attr("WINDOW_SUMS") = py::tuple(sums);
+  m.attr("LANE_NOT_STEPPED") = py::int_(kLaneNotStepped);
+
+  py::class_<Batch>(m, "BatchSimulator",
+                    "K runs (lanes) stepped in lockstep from outside, one call per step for every "
+                    "lane; each lane gives the rows of the same run alone (a Simulator).")
+      .def(py::init(&make_batch), py::arg("vehicles"), py::arg("configs"), py::arg("logged_parameters") = 0,
+           "Lane i from vehicles[i] (a Vehicle) and configs[i] (a SimulationConfig), each copied. "
+           "A refused lane raises ValidationError naming the lane and the field.")
+      .def_property_readonly("size", &Batch::size, "K, the number of lanes.")
+      .def_property_readonly("logged_parameters", &Batch::logged_parameters)
+      .def_property_readonly("observation", &observation,
+                             "What the controllers are to be given, stacked over the lanes: a dict of "
+                             "t (K,), eta, nu, eta_d, eta_d_dot, eta_d_ddot (K, 6) and faults (K,) uint8 "
+                             "(Simulator.observation's fields and Simulator.faults). A done lane keeps "
+                             "its last observation.")
+      .def_property_readonly(
+          "state",
+          [](const Batch& b) {
+            return py::make_tuple(
+                rows6(b, [](const Simulator<double>& s) -> const Vector6<double>& { return s.eta(); }),
+                rows6(b, [](const Simulator<double>& s) -> const Vector6<double>& { return s.nu(); }));
+          },
+          "The true (eta, nu), each (K, 6).")
+      .def("step", &step, py::arg("tau"), py::arg("mask") = py::none(), py::arg("parameters") = py::none(),
+           "Steps every lane whose mask is True (None: every lane) and that is not done with the force "
+           "tau[i] (tau: (K, 6) float64) and, if the batch logs parameters, parameters[i] "
+           "(K, logged_parameters). Returns the (K,) uint8 plant statuses (neurov.Status values; "
+           "non_finite_input for a lane given a non-finite force, which is not stepped) and "
+           "LANE_NOT_STEPPED (255) for a lane masked out or done. The GIL is released.")
+      .def_property_readonly("done",
+                             [](const Batch& b) {
+                               return per_lane<bool>(b, 1, [](const Simulator<double>& s, bool* x) { *x = s.done(); });
+                             },
+                             "(K,) bool: the lane's run is over (every row, or diverged).")
+      .def_property_readonly("diverged",
+                             [](const Batch& b) {
+                               return per_lane<bool>(b, 1,
+                                                     [](const Simulator<double>& s, bool* x) { *x = s.diverged(); });
+                             })
+      .def_property_readonly("steps",
+                             [](const Batch& b) {
+                               return per_lane<std::int64_t>(
+                                   b, 1, [](const Simulator<double>& s, std::int64_t* x) { *x = s.steps(); });
+                             },
+                             "(K,) int64: rows logged so far per lane.")
+      .def_property_readonly("planned_steps",
+                             [](const Batch& b) {
+                               return per_lane<std::int64_t>(
+                                   b, 1, [](const Simulator<double>& s, std::int64_t* x) { *x = s.planned_steps(); });
+                             },
+                             "(K,) int64: rows of a whole run per lane.")
+      .def("reset", &reset, py::arg("seeds"), py::arg("mask") = py::none(),
+           "Lanes whose mask is True (None: every lane) back to t = 0 with noise from seeds[i] "
+           "(seeds: (K,) uint64, or any integer dtype >= 0).")
+      .def(
+          "replace",
+          [](Batch& b, const py::handle& i, const Vehicle<double>& vehicle, const SimulationConfig<double>& config) {
+            const char* where = "BatchSimulator.replace";
+            py_args::raise_if_invalid(b.replace(lane_index(b, i, where), vehicle, config), where);
+          },
+          py::arg("i"), py::arg("vehicle"), py::arg("config"),
+          "Lane i created again from a new vehicle and configuration, ready at t = 0 (e.g. a new "
+          "episode's randomised plant). A refused one raises ValidationError naming the field and "
+          "leaves lane i as it was.")
+      .def(
+          "result",
+          [](const Batch& b, const py::handle& i) {
+            return result_dict(b.lane(lane_index(b, i, "BatchSimulator.result")).result());
+          },
+          py::arg("i"), "Lane i's rows so far, as the dict run_closed_loop returns.");
+
+  m.def("run_batch", &run, py::arg("vehicles"), py::arg("controllers"), py::arg("configs"),
+        py::arg("threads") = 0u, py::arg("metrics_only") = false, py::arg("after") = py::none(),
+        "Runs K closed loops in C++, lane i vehicles[i] under controllers[i] (any built-in "
+        "controllers, types mixed, each copied as given: the objects passed are not changed) with "
+        "configs[i], over `threads` threads (0: one per hardware thread), the GIL released. Returns "
+        "one dict per run, in order: run_closed_loop's, or with metrics_only no rows but the metric "
+        "sums (keys after, before and window (each WINDOW_SUMS), final_adaptive_norm, "
+        "max_adaptive_norm, diverged, first_refused), the window being t >= `after` (a float or "
+        "one per run). A refused lane raises ValidationError naming the lane and the field before "
+        "any run.");
+}
+
+}  // namespace neurov::bindings

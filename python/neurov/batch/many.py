@@ -1,0 +1,150 @@
+"""neurov.simulate_many: a list of runs in the order given, the built-in
+controllers' runs as C++ batches (threads, no Python per step), the Python
+controllers' runs one by one through :func:`neurov.simulate`.
+
+A run is a scenario and its controller (a :class:`ControllerSpec`, a
+controller object, or None: the scenario's). The runs are given as a list
+of scenarios, as one scenario with a list of per-run overrides (each a dict
+of :meth:`Scenario.replace`'s fields), or as (scenario, controller) pairs.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Iterable, Mapping, Sequence
+from typing import Any
+
+import numpy as np
+
+from neurov import _core
+from neurov.metrics import MetricsWindow, metrics_start
+from neurov.result import Result
+from neurov.scenario import ControllerSpec, Scenario
+
+__all__ = ["BATCH_RUNS", "simulate_many"]
+
+#: Runs per call into C++ (each call splits its runs over the threads): full
+#: results of a batch are held until it returns, so this bounds the memory.
+BATCH_RUNS = 256
+
+Run = tuple[Scenario, Any]
+
+
+def _runs(runs: Scenario | Iterable[Scenario | tuple[Scenario, Any]],
+          overrides: Sequence[Mapping[str, Any]] | None) -> list[Run]:
+    if isinstance(runs, Scenario):
+        if overrides is None:
+            return [(runs, None)]
+        if isinstance(overrides, Mapping) or isinstance(overrides, str):
+            raise TypeError("argument 'overrides' must be a list of dicts of Scenario fields, one per run, "
+                            f"got {type(overrides).__name__}")
+        out = []
+        for i, o in enumerate(overrides):
+            if not isinstance(o, Mapping):
+                raise TypeError(f"argument 'overrides'[{i}] must be a dict of Scenario fields, "
+                                f"got {type(o).__name__}")
+            out.append((runs.replace(**o), None))
+        return out
+    if overrides is not None:
+        raise TypeError("argument 'overrides' goes with one Scenario as 'runs' (a list of runs takes none)")
+    out = []
+    for i, r in enumerate(runs):
+        if isinstance(r, Scenario):
+            out.append((r, None))
+        elif isinstance(r, tuple) and len(r) == 2 and isinstance(r[0], Scenario):
+            out.append((r[0], r[1]))
+        else:
+            raise TypeError(f"argument 'runs'[{i}] must be a Scenario or a (Scenario, controller) pair, "
+                            f"got {type(r).__name__}")
+    return out
+
+
+class _Resolver:
+    """Each run's controller, built: a spec's NN centres drawn once per
+    (spec, command box), not once per run (the draw costs a millisecond)."""
+
+    def __init__(self) -> None:
+        self._centres: dict[tuple[int, bytes], ControllerSpec] = {}
+
+    def build(self, scenario: Scenario, controller: Any) -> tuple[Any, str]:
+        from neurov.controllers import build_controller, default_centre_box, make_centres
+
+        if controller is not None and not isinstance(controller, ControllerSpec):
+            from neurov.controller import require_controller
+
+            require_controller(controller)
+            return controller, type(controller).__name__
+        spec = controller or scenario.controller
+        name = spec.name
+        if spec.type == "nn" and not isinstance(spec.centres, np.ndarray):
+            low, high = default_centre_box(scenario)
+            key = (id(spec), low.tobytes() + high.tobytes())
+            resolved = self._centres.get(key)
+            if resolved is None:
+                resolved = spec.replace(centres=make_centres(spec, low, high))
+                self._centres[key] = resolved
+            spec = resolved
+        return build_controller(spec, scenario), name
+
+
+def simulate_many(runs: Scenario | Iterable[Scenario | tuple[Scenario, Any]],
+                  overrides: Sequence[Mapping[str, Any]] | None = None, *, threads: int = 0,
+                  metrics_only: bool = False, after: float | None = None,
+                  progress: bool = False) -> list[Any]:
+    """Runs every run and returns their :class:`Result`\\ s in the order
+    given (with `metrics_only`, their :meth:`Result.metrics` dicts instead,
+    over t >= `after`, default :func:`metrics_start` of each scenario's
+    duration, the rows never kept). Built-in controllers run as C++ batches
+    over `threads` threads (0: one per core); each run's result is exactly
+    that of :func:`neurov.simulate` alone; its ``wall_time`` is its batch's
+    divided by the batch's runs. Python controllers run one by one. With
+    `progress`, a progress bar on stderr while stderr is a terminal."""
+    from neurov.controller import is_built_in
+    from neurov.progress import progress_bar
+    from neurov.simulation import build_vehicle, simulate, simulation_config
+
+    if not isinstance(threads, int) or isinstance(threads, bool) or threads < 0:
+        raise ValueError(f"argument 'threads' must be an int >= 0 (0: one per core), got {threads!r}")
+    if after is not None and not np.isfinite(after):
+        raise ValueError(f"argument 'after' must be a finite time [s] or None, got {after}")
+    planned = _runs(runs, overrides)
+    resolver = _Resolver()
+    out: list[Any] = [None] * len(planned)
+    batch: list[tuple[int, Scenario, Any, str]] = []
+
+    def window_start(scenario: Scenario) -> float:
+        return metrics_start(scenario.duration) if after is None else float(after)
+
+    def flush() -> None:
+        if not batch:
+            return
+        vehicles = [build_vehicle(sc) for _, sc, _, _ in batch]
+        configs = [simulation_config(sc) for _, sc, _, _ in batch]
+        controllers = [c for _, _, c, _ in batch]
+        starts = [window_start(sc) for _, sc, _, _ in batch]
+        start = time.perf_counter()
+        raws = _core.run_batch(vehicles, controllers, configs, threads=threads, metrics_only=metrics_only,
+                               after=np.array(starts) if metrics_only else None)
+        wall = (time.perf_counter() - start) / len(batch)
+        for (i, sc, _, name), raw in zip(batch, raws):
+            if metrics_only:
+                out[i] = MetricsWindow.from_sums(raw, sc.duration, sc.dt).value()
+            else:
+                diverged = bool(raw.pop("diverged"))
+                out[i] = Result(scenario=sc, controller=name, diverged=diverged, wall_time=wall, **raw)
+        bar.update(len(batch))
+        batch.clear()
+
+    with progress_bar(len(planned), "runs", quiet=not progress) as bar:
+        for i, (scenario, controller) in enumerate(planned):
+            ctrl, name = resolver.build(scenario, controller)
+            if is_built_in(ctrl):
+                batch.append((i, scenario, ctrl, name))
+                if len(batch) >= BATCH_RUNS:
+                    flush()
+                continue
+            result = simulate(scenario, ctrl)
+            out[i] = result.metrics(after=window_start(scenario)) if metrics_only else result
+            bar.update(1)
+        flush()
+    return out
