@@ -49,13 +49,6 @@ def _scenarios() -> list[neurov.Scenario]:
     return [base.replace(seed=s) for s in (1, 2, 3)]
 
 
-def _batches() -> list[Any]:
-    out: list[Any] = [PythonLanes]
-    if hasattr(_core, "BatchSimulator"):
-        out.append(_core.BatchSimulator)
-    return out
-
-
 def _batch(cls: Any, scenarios: list[neurov.Scenario]) -> Any:
     return cls([build_vehicle(s) for s in scenarios], [simulation_config(s) for s in scenarios])
 
@@ -66,7 +59,7 @@ def _same_rows(a: neurov.Result, b: neurov.Result) -> None:
         np.testing.assert_allclose(x, y, rtol=0, atol=1e-12 * max(1.0, float(np.abs(y).max())))
 
 
-@pytest.mark.parametrize("cls", _batches())
+@pytest.mark.parametrize("cls", [_core.BatchSimulator, PythonLanes])
 def test_a_batched_policy_gives_each_run_as_simulate_does(cls: Any) -> None:
     scenarios = _scenarios()
     policy = LinearFeedback()
@@ -78,7 +71,7 @@ def test_a_batched_policy_gives_each_run_as_simulate_does(cls: Any) -> None:
         assert not r.diverged
 
 
-@pytest.mark.parametrize("cls", _batches())
+@pytest.mark.parametrize("cls", [_core.BatchSimulator, PythonLanes])
 def test_a_policy_failing_on_one_run_fails_only_that_run(cls: Any) -> None:
     scenarios = _scenarios()
     # Run 1 starts 3 m north: the policy raises on it alone.

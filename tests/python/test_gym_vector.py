@@ -31,10 +31,6 @@ def _scenario(name: str = "paper_fig3") -> neurov.Scenario:
     return resolve_scenario(name).replace(**SHORT)
 
 
-def _backends() -> list[Any]:
-    return [None, PythonLanes] if hasattr(neurov._core, "BatchSimulator") else [None]
-
-
 def test_make_vec_gives_a_vector_env_with_batched_spaces() -> None:
     envs = gymnasium.make_vec("neurov/Tracking-v0", num_envs=3, vectorization_mode="vector_entry_point",
                               scenario="paper_fig3")
@@ -75,7 +71,7 @@ def _single_run(scenario: neurov.Scenario, seed: int, actions: np.ndarray, actio
     return out
 
 
-@pytest.mark.parametrize("batch_class", _backends())
+@pytest.mark.parametrize("batch_class", [None, PythonLanes])  # the compiled batch, the reference
 @pytest.mark.parametrize(("name", "action", "randomize"), [("paper_fig3", "body", None),
                                                            ("nerov_square_disturbed", "thrusters", RANDOMIZE)])
 def test_lane_i_is_the_single_env_under_seed_s_plus_i(name: str, action: str, randomize: Any,

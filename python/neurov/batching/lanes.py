@@ -1,7 +1,7 @@
 """K runs stepped together with the interface of the compiled
 ``neurov._core.BatchSimulator``, each run a single ``_core.Simulator``: the
-reference the batch is tested against, and the batch where a build has none
-(docs/gymnasium.md)."""
+reference the vector env and the batched-policy loop are tested against
+with the compiled batch (docs/gymnasium.md)."""
 
 from __future__ import annotations
 
@@ -16,8 +16,6 @@ from neurov import _core
 __all__ = ["PythonLanes"]
 
 _FIELDS = ("eta", "nu", "eta_d", "eta_d_dot", "eta_d_ddot")
-#: The status of a lane masked out or done (the compiled batch's LANE_NOT_STEPPED).
-NOT_STEPPED = 255
 
 
 class PythonLanes:
@@ -64,7 +62,7 @@ class PythonLanes:
         forces = np.asarray(tau, dtype=np.float64)
         if forces.shape != (self.size, 6):
             raise ValueError(f"argument 'tau' must have shape ({self.size}, 6), got {forces.shape}")
-        statuses = np.full(self.size, NOT_STEPPED, dtype=np.uint8)
+        statuses = np.full(self.size, _core.LANE_NOT_STEPPED, dtype=np.uint8)
         for i in np.flatnonzero(self._mask(mask)):
             lane = self._lanes[i]
             if not lane.done:

@@ -34,16 +34,6 @@ __all__ = ["TrackingVectorEnv"]
 _MODES = (AutoresetMode.NEXT_STEP, AutoresetMode.SAME_STEP)
 
 
-def _batch_class() -> type:
-    """The compiled batch, else the lane-by-lane one (a build without it)."""
-    compiled = getattr(_core, "BatchSimulator", None)
-    if compiled is not None:
-        return compiled
-    from neurov.batching.lanes import PythonLanes
-
-    return PythonLanes
-
-
 class TrackingVectorEnv(VectorEnv):
     """`num_envs` copies of :class:`neurov.gym.TrackingEnv` (the same
     arguments, the same observation, action, reward and episode end) stepped
@@ -102,7 +92,7 @@ class TrackingVectorEnv(VectorEnv):
         self.action_space = batch_space(self.single_action_space, self.num_envs)
 
         k = self.num_envs
-        self._batch = (batch_class or _batch_class())([build_vehicle(self.scenario)] * k, [config] * k)
+        self._batch = (batch_class or _core.BatchSimulator)([build_vehicle(self.scenario)] * k, [config] * k)
         self._rngs: list[np.random.Generator | None] = [None] * k
         self._clips = np.zeros(k, dtype=np.int64)
         self._ended = np.zeros(k, dtype=bool)  # NEXT_STEP: reset at the next step
