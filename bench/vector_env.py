@@ -21,7 +21,6 @@ from typing import Any
 
 import gymnasium
 import numpy as np
-from neurov import _core
 from neurov.gym import TrackingEnv, TrackingVectorEnv
 
 SCALING = (1, 4, 16, 64, 256, 1024, 4096)
@@ -61,7 +60,7 @@ def main() -> None:
         "scenario": args.scenario, "envs": k, "batch": type(vec._batch).__name__,
         "vector_env_steps_per_s": vector_rate, "sync_vector_env_steps_per_s": sync_rate,
         "ratio": vector_rate / sync_rate, "python": platform.python_version(), "numpy": np.__version__,
-        "gymnasium": gymnasium.__version__, "core_build": getattr(_core, "__build__", None),
+        "gymnasium": gymnasium.__version__,
     }
     print(f"TrackingVectorEnv ({args.scenario}, {k} envs, batch {out['batch']}): {vector_rate:,.0f} env-steps/s; "
           f"SyncVectorEnv over {k} TrackingEnv: {sync_rate:,.0f} env-steps/s; ratio {out['ratio']:.1f}x")
