@@ -3,7 +3,11 @@ with the scenario's own controller (the paper's NN controller for paper_fig3)
 on the same scenario and seed. Optional: needs `pip install stable-baselines3`
 (and PyTorch); not run in CI.
 
-    python examples/train_ppo.py [--scenario paper_fig3] [--timesteps 50000] [--seed 0]
+    python examples/train_ppo.py [--scenario paper_fig3] [--timesteps 50000] [--seed 0] [--envs K]
+
+With --envs K, PPO trains on K envs of one neurov.gym.TrackingVectorEnv
+(neurov.gym.sb3.TrackingSB3VecEnv: one batch, no Python env per lane); the
+evaluation is the single env either way.
 
 Prints the training time, then for the trained policy (deterministic) and for
 the scenario's controller: the episode's return under the environment's
@@ -45,10 +49,17 @@ def main() -> None:
     p.add_argument("--timesteps", type=int, default=50_000)
     p.add_argument("--seed", type=int, default=0, help="PPO's seed")
     p.add_argument("--save", help="save the trained model here (.zip)")
+    p.add_argument("--envs", type=int, default=0, help="train on this many envs of the vector env (0: one single env)")
     args = p.parse_args()
 
     env = gymnasium.make("neurov/Tracking-v0", scenario=args.scenario)
-    model = PPO("MlpPolicy", env, seed=args.seed, verbose=0, device="cpu")
+    if args.envs:
+        from neurov.gym.sb3 import TrackingSB3VecEnv
+
+        train_env: object = TrackingSB3VecEnv(args.envs, scenario=args.scenario)
+    else:
+        train_env = env
+    model = PPO("MlpPolicy", train_env, seed=args.seed, verbose=0, device="cpu")
     t0 = time.perf_counter()
     model.learn(total_timesteps=args.timesteps)
     print(f"PPO: {args.timesteps} timesteps in {time.perf_counter() - t0:.0f} s")

@@ -168,3 +168,20 @@ def test_singularity_threshold_is_what_the_functions_use() -> None:
     with pytest.raises(ValueError, match="'eta'"):
         neurov.jacobian(inside)
     assert np.isfinite(neurov.jacobian(outside)).all()
+
+
+def test_to_body_is_the_inverse_jacobian_of_each_pose(rng: np.random.Generator) -> None:
+    from neurov import _core
+
+    eta = np.array([np.concatenate([rng.normal(size=3), random_angles(rng)]) for _ in range(5)])
+    vectors = rng.normal(size=(5, 3, 6))
+    out = _core.to_body(eta, vectors)
+    assert out.shape == (5, 3, 6)
+    for k in range(5):
+        np.testing.assert_allclose(out[k], vectors[k] @ neurov.jacobian_inverse(eta[k]).T, rtol=1e-14, atol=1e-14)
+    with pytest.raises(ValueError, match=r"'vectors' must have shape \(5, M, 6\)"):
+        _core.to_body(eta, vectors[:4])
+    with pytest.raises(ValueError, match=r"'eta' must have shape \(K, 6\)"):
+        _core.to_body(eta[:, :5], vectors)
+    with pytest.raises(TypeError, match="'eta'"):
+        _core.to_body(eta.astype(bool), vectors)

@@ -76,6 +76,37 @@ void bind_kinematics(py::module_& m) {
       "division, so this is defined (but rank deficient) at the singularity.");
 
   m.def(
+      "to_body",
+      [](py::handle eta_in, py::handle vectors_in) {
+        const auto eta = py_args::real_array(eta_in, "eta", "(K, 6)");
+        const auto v = py_args::real_array(vectors_in, "vectors", "(K, M, 6)");
+        if (eta.ndim() != 2 || eta.shape(1) != 6)
+          throw py::value_error("argument 'eta' must have shape (K, 6), got " +
+                                py_args::shape_string(eta));
+        if (v.ndim() != 3 || v.shape(0) != eta.shape(0) || v.shape(2) != 6)
+          throw py::value_error("argument 'vectors' must have shape (" +
+                                std::to_string(eta.shape(0)) + ", M, 6), got " +
+                                py_args::shape_string(v));
+        const py::ssize_t k_runs = v.shape(0), m_vectors = v.shape(1);
+        py::array_t<double> out({k_runs, m_vectors, py::ssize_t{6}});
+        const double* e = eta.data();
+        const double* in = v.data();
+        double* o = out.mutable_data();
+        for (py::ssize_t k = 0; k < k_runs; ++k) {
+          const Mat6 j = EulerKinematics<double>::from_pose(Eigen::Map<const Vec6>(e + 6 * k))
+                             .jacobian_inverse();
+          for (py::ssize_t i = 0; i < m_vectors; ++i) {
+            const py::ssize_t at = 6 * (k * m_vectors + i);
+            Eigen::Map<Vec6>(o + at).noalias() = j * Eigen::Map<const Vec6>(in + at);
+          }
+        }
+        return out;
+      },
+      py::arg("eta"), py::arg("vectors"),
+      "J(eta_k)^-1 v_ki for K poses eta (K, 6) and M vectors each, vectors (K, M, 6): the "
+      "earth-frame vectors in each pose's body frame, shape (K, M, 6), in one call.");
+
+  m.def(
       "jacobian_dot",
       [](const typed::ArrayLike& eta, const typed::ArrayLike& nu) {
         const Vec6 e = py_args::vector<6>(eta, "eta");

@@ -13,8 +13,9 @@ from numpy.typing import ArrayLike, NDArray
 from neurov import _core
 from neurov.errors import RefusedStepsWarning
 
-__all__ = ["BUILT_IN_CONTROLLERS", "OWN_FAILURES", "Controller", "ControllerCall", "as_real_numbers",
-           "describe_failures", "is_built_in", "own_failures", "require_controller"]
+__all__ = ["BUILT_IN_CONTROLLERS", "OWN_FAILURES", "BatchedController", "Controller", "ControllerCall",
+           "as_real_numbers", "describe_failures", "is_batched", "is_built_in", "own_failures",
+           "require_controller"]
 
 #: The compiled controllers (the C++ list, neurov._core.BUILT_IN_CONTROLLERS):
 #: a run with one of these is the all-C++ loop.
@@ -43,6 +44,25 @@ class Controller(Protocol):
 
     def step(self, eta: NDArray[np.float64], nu: NDArray[np.float64], eta_d: NDArray[np.float64],
              eta_d_dot: NDArray[np.float64], eta_d_ddot: NDArray[np.float64]) -> ArrayLike: ...
+
+
+@runtime_checkable
+class BatchedController(Protocol):
+    """A Python controller that steps K runs in one call: ``batched = True``
+    and ``step_batch(eta, nu, eta_d, eta_d_dot, eta_d_ddot) -> tau``, each
+    argument (K, 6) (row k is run k), tau (K, 6); a keyword ``t`` (K,), if
+    taken, is given the times. K may be any size (a batch it fails on is run
+    again run by run, K = 1). An optional ``reset()`` is called first."""
+
+    batched: bool
+
+    def step_batch(self, eta: NDArray[np.float64], nu: NDArray[np.float64], eta_d: NDArray[np.float64],
+                   eta_d_dot: NDArray[np.float64], eta_d_ddot: NDArray[np.float64]) -> ArrayLike: ...
+
+
+def is_batched(controller: Any) -> bool:
+    """Whether `controller` declares itself batched (:class:`BatchedController`)."""
+    return getattr(controller, "batched", False) is True and callable(getattr(controller, "step_batch", None))
 
 
 def is_built_in(controller: Any) -> bool:
@@ -88,7 +108,7 @@ def describe_failures(own: Mapping[str, Mapping[str, Any]], rows: int) -> str:
             f"({kind}: {first['first']})")
 
 
-def _takes_time(step: Any) -> bool:
+def takes_time(step: Any) -> bool:
     """Whether `step` accepts the keyword ``t``."""
     try:
         params = inspect.signature(step).parameters.values()
@@ -120,7 +140,7 @@ class ControllerCall:
         require_controller(controller)
         self.controller = controller
         self._step = controller.step
-        self._with_t = _takes_time(self._step)
+        self._with_t = takes_time(self._step)
         self._logs_s = hasattr(controller, "s")
         self.errors: dict[str, dict[str, Any]] = {}
 

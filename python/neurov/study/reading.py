@@ -34,7 +34,7 @@ from neurov.config.scenario import ControllerSpec, Scenario, ScenarioError
 from neurov.config.toml_table import TableReader
 from neurov.laws.registry import build_controller
 
-__all__ = ["load_study", "shipped_studies", "study_from_mapping", "study_path"]
+__all__ = ["load_study", "read_perturbations", "shipped_studies", "study_from_mapping", "study_path"]
 
 def shipped_studies() -> list[str]:
     return sorted(p.stem for p in STUDY_DIR.glob("*.toml"))
@@ -107,6 +107,30 @@ def _perturbation(r: TableReader) -> Perturbation:
     return Perturbation(**p)
 
 
+def _perturbations(plist: Any, r: TableReader, origin: str) -> list[Perturbation]:
+    if not isinstance(plist, list):
+        raise r.error("perturbations", "expected an array of tables [[perturbations]]")
+    perturbations = [_perturbation(TableReader(p, f"perturbations[{k}]", origin)) for k, p in enumerate(plist)]
+    seen = [p.parameter for p in perturbations]
+    dup = sorted({n for n in seen if seen.count(n) > 1})
+    if dup:
+        raise r.error("perturbations", f"{dup[0]!r} is perturbed twice")
+    return perturbations
+
+
+def read_perturbations(table: Any, scenarios: list[Scenario], origin: str) -> list[Perturbation]:
+    """A perturbation table in the study file's form (a list of tables, as
+    ``[[perturbations]]`` reads), validated as a study validates it, the
+    scenarios' plants at its extremes included; StudyError naming `origin`
+    and the field."""
+    try:
+        perturbations = _perturbations(table, TableReader({"perturbations": table}, "", origin), origin)
+    except ScenarioError as e:
+        raise StudyError(str(e)) from None
+    _check_plants(perturbations, scenarios, origin)
+    return perturbations
+
+
 def study_from_mapping(data: Mapping[str, Any], origin: str = "<study>") -> Study:
     """A study from a parsed TOML table; errors name `origin` and the field."""
     r = TableReader(data, "", origin)
@@ -173,16 +197,7 @@ def study_from_mapping(data: Mapping[str, Any], origin: str = "<study>") -> Stud
                 specs[(key, v)] = spec
             controllers.append(key)
 
-        perturbations = []
-        plist = r.raw("perturbations", [])
-        if not isinstance(plist, list):
-            raise r.error("perturbations", "expected an array of tables [[perturbations]]")
-        for k, p in enumerate(plist):
-            perturbations.append(_perturbation(TableReader(p, f"perturbations[{k}]", origin)))
-        seen = [p.parameter for p in perturbations]
-        dup = sorted({n for n in seen if seen.count(n) > 1})
-        if dup:
-            raise r.error("perturbations", f"{dup[0]!r} is perturbed twice")
+        perturbations = _perturbations(r.raw("perturbations", []), r, origin)
 
         rk = r.table_of("ranking")
         ranking = rk.string("metric", "rmse_position_m")
@@ -224,7 +239,7 @@ def study_from_mapping(data: Mapping[str, Any], origin: str = "<study>") -> Stud
                          f"{samples} samples = {runs} runs, more than a study holds "
                          f"(neurov.study.spec.MAX_RUNS = {MAX_RUNS})")
     _check_metrics(study, origin)
-    _check_plants(study, origin)
+    _check_plants(study.perturbations, study.scenarios, origin)
     _check_controllers(study, origin, {k: bool(t and any(isinstance(v, Mapping) and n != "centres"
                                                         for n, v in t.items()))
                                        for k, t in ctable.items()})
@@ -290,24 +305,24 @@ def _check_metrics(study: Study, origin: str) -> None:
                              f"{s.name!r} ({s.duration} s)")
 
 
-def _check_plants(study: Study, origin: str) -> None:
+def _check_plants(perturbations: list[Perturbation], scenarios: list[Scenario], origin: str) -> None:
     """Every scenario's vehicle must survive the extremes of the perturbation
     (a scaled mass matrix must stay positive definite, for instance)."""
-    for p in study.perturbations:
+    for p in perturbations:
         if p.parameter != "current_speed":
             continue
         spread = NORMAL_TRUNCATION * p.std
         low, high = (p.mean - spread, p.mean + spread) if p.distribution == "normal" else (p.low, p.high)
-        for s in study.scenarios:
+        for s in scenarios:
             gm = s.gauss_markov_current
             if s.current_model == _core.CurrentModel.gauss_markov and not gm.speed_min <= low <= high <= gm.speed_max:
                 raise StudyError(f"{origin}: perturbations: current_speed from {low:g} to {high:g} m/s: scenario "
                                  f"{s.name!r} has a Gauss-Markov current, whose mean speed it sets, within "
                                  f"[speed_min, speed_max] = [{gm.speed_min:g}, {gm.speed_max:g}]")
-    vehicle_p = [p for p in study.perturbations if p.is_vehicle]
+    vehicle_p = [p for p in perturbations if p.is_vehicle]
     if not vehicle_p:
         return
-    for s in study.scenarios:
+    for s in scenarios:
         nominal = nominal_parameters(s)
         for corner in (-1.0, 1.0):
             params = dict(nominal)

@@ -5,17 +5,18 @@ noise and disturbances."""
 from __future__ import annotations
 
 import copy
-
 import math
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
 
 from neurov import _core
 from neurov.config.scenario import Scenario
-from neurov.study.spec import Study
+from neurov.study.spec import Perturbation, Study
 
-__all__ = ["draw_sample", "nominal_parameters", "sample_plant", "sample_seeds", "scaled"]
+__all__ = ["draw_perturbations", "draw_sample", "nominal_parameters", "plant_changes", "sample_plant",
+           "sample_seeds", "scaled"]
 
 def nominal_parameters(scenario: Scenario) -> dict[str, Any]:
     params = dict(scenario.vehicle_data().parameters)
@@ -55,16 +56,22 @@ def sample_seeds(seed: int, sample: int) -> tuple[np.random.Generator, int]:
 
 
 def draw_sample(study: Study, sample: int) -> tuple[dict[str, np.ndarray], int]:
-    """The drawn values of every perturbation (6 per vehicle vector, 3 for
-    inertia, 1 otherwise) and the noise seed of `sample`. The same draws apply
-    to every scenario; a vehicle's vector uses as many as it has entries."""
+    """The drawn values of every perturbation and the noise seed of `sample`
+    (:func:`draw_perturbations` from the sample's own generator)."""
     rng, noise_seed = sample_seeds(study.seed, sample)
+    return draw_perturbations(study.perturbations, rng), noise_seed
+
+
+def draw_perturbations(perturbations: Sequence[Perturbation], rng: np.random.Generator) -> dict[str, np.ndarray]:
+    """The drawn values of every perturbation from `rng` (6 per vehicle
+    vector, 3 for inertia, 1 otherwise). The same draws apply to every
+    scenario; a vehicle's vector uses as many as it has entries."""
     draws: dict[str, np.ndarray] = {}
-    for p in study.perturbations:
+    for p in perturbations:
         n = {"inertia": 3, "added_mass": 6, "linear_damping": 6, "quadratic_damping": 6}.get(p.parameter, 1)
         values = p.draw(rng, n if p.per_element else 1)
         draws[p.parameter] = values if p.per_element else np.full(n, values[0])
-    return draws, noise_seed
+    return draws
 
 
 def sample_plant(study: Study, scenario: Scenario, sample: int) -> tuple[Scenario, dict[str, float]]:
@@ -72,11 +79,19 @@ def sample_plant(study: Study, scenario: Scenario, sample: int) -> tuple[Scenari
     noise, disturbances and noise seed) and the drawn values, flat, for the
     table."""
     draws, noise_seed = draw_sample(study, sample)
-    changes: dict[str, Any] = {"seed": noise_seed}
+    changes, columns = plant_changes(scenario, study.perturbations, draws)
+    return scenario.replace(seed=noise_seed, **changes), columns
+
+
+def plant_changes(scenario: Scenario, perturbations: Sequence[Perturbation], draws: dict[str, np.ndarray]
+                  ) -> tuple[dict[str, Any], dict[str, float]]:
+    """The changes to the scenario (:meth:`Scenario.replace`'s arguments) that
+    make the drawn plant, and the drawn values, flat, for a table."""
+    changes: dict[str, Any] = {}
     params = nominal_parameters(scenario)
     columns: dict[str, float] = {}
     touched_vehicle = False
-    for p in study.perturbations:
+    for p in perturbations:
         values = draws[p.parameter]
         if p.is_vehicle:
             n = _length(params[p.parameter])
@@ -116,7 +131,7 @@ def sample_plant(study: Study, scenario: Scenario, sample: int) -> tuple[Scenari
     if "disturbance_scale" in draws:
         k = float(draws["disturbance_scale"][0])
         changes["disturbances"] = [_scaled_amplitude(d, k) for d in scenario.disturbances]
-    return scenario.replace(**changes), columns
+    return changes, columns
 
 
 def _scaled_amplitude(d: Any, k: float) -> Any:

@@ -1,0 +1,220 @@
+"""K tracking environments as one ``gymnasium.vector.VectorEnv``: one batch
+of runs (``neurov._core.BatchSimulator``) stepped once per step for all K,
+the observation, reward and episode end computed for all K rows at once by
+the single environment's own code (:class:`neurov.gym.task.TrackingTask`).
+
+    envs = gymnasium.make_vec("neurov/Tracking-v0", num_envs=256,
+                              vectorization_mode="vector_entry_point", scenario="paper_fig3")
+
+docs/gymnasium.md gives the autoreset modes, the seeding and the
+randomisation."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from gymnasium.utils import seeding
+from gymnasium.vector import AutoresetMode, VectorEnv
+from gymnasium.vector.utils import batch_space
+from numpy.typing import NDArray
+
+from neurov import _core
+from neurov.laws.protocol import as_real_numbers
+from neurov.gym.randomize import Randomization
+from neurov.gym.task import TrackingTask, resolve_scenario
+from neurov.gym.tracking import TrackingEnv
+from neurov.config.scenario import Scenario
+from neurov.running.plant import build_vehicle, simulation_config
+
+__all__ = ["TrackingVectorEnv"]
+
+_MODES = (AutoresetMode.NEXT_STEP, AutoresetMode.SAME_STEP)
+
+
+class TrackingVectorEnv(VectorEnv):
+    """`num_envs` copies of :class:`neurov.gym.TrackingEnv` (the same
+    arguments, the same observation, action, reward and episode end) stepped
+    as one batch.
+
+    autoreset_mode: ``AutoresetMode.NEXT_STEP`` (gymnasium's default: the
+    step after an episode ended resets that env, ignoring its action, and
+    returns its first observation with reward 0) or
+    ``AutoresetMode.SAME_STEP`` (the step that ends an episode resets the env
+    at once and returns its first observation, the last one in
+    ``info["final_obs"]`` and its info in ``info["final_info"]``: what
+    Stable-Baselines3 expects). A string ("NextStep", "SameStep") is taken too.
+
+    Seeding: ``reset(seed=s)`` seeds env i with s + i (a list gives each
+    env's seed), so env i is the single env under ``reset(seed=s + i)``; its
+    later episodes draw their noise seeds (and, with `randomize`, their
+    plants) from env i's own generator, as the single env does.
+
+    randomize: a perturbation table in the study file's form (a list of
+    tables as ``[[perturbations]]``): each env draws its plant from it at
+    every reset. `batch_class`: the batch to run (default the compiled
+    ``neurov._core.BatchSimulator``; :class:`neurov.running.lanes.PythonLanes`
+    steps one simulator per env, the reference it is tested against)."""
+
+    metadata: dict[str, Any] = {"render_modes": [], "autoreset_mode": AutoresetMode.NEXT_STEP}
+
+    def __init__(self, num_envs: int, scenario: Scenario | str | Path = "paper_fig3", action: str = "body", *,
+                 autoreset_mode: AutoresetMode | str = AutoresetMode.NEXT_STEP, randomize: Any = None,
+                 position_weight: float = 1.0, attitude_weight: float = 1.0, effort_weight: float = 0.01,
+                 box_margin: float = 5.0, velocity_bound: float = 5.0, batch_class: type | None = None,
+                 render_mode: None = None) -> None:
+        if isinstance(num_envs, bool) or not isinstance(num_envs, (int, np.integer)) or num_envs < 1:
+            raise ValueError(f"argument 'num_envs' must be an int >= 1, got {num_envs!r}")
+        if render_mode is not None:
+            raise ValueError(f"argument 'render_mode': the vector env does not render, got {render_mode!r}")
+        try:
+            mode = AutoresetMode(autoreset_mode)
+        except ValueError:
+            mode = None
+        if mode not in _MODES:
+            raise ValueError(f"argument 'autoreset_mode' must be one of {[m.value for m in _MODES]}, "
+                             f"got {autoreset_mode!r}")
+        self.num_envs = int(num_envs)
+        self.scenario = resolve_scenario(scenario)
+        config = simulation_config(self.scenario)
+        self.task = TrackingTask(self.scenario, config, action, position_weight=position_weight,
+                                 attitude_weight=attitude_weight, effort_weight=effort_weight,
+                                 box_margin=box_margin, velocity_bound=velocity_bound)
+        self.randomization = Randomization.of(randomize, self.scenario)
+        self.autoreset_mode = mode
+        self.metadata = {**self.metadata, "autoreset_mode": mode}
+        self.render_mode = None
+        self.single_observation_space = self.task.observation_space
+        self.single_action_space = self.task.action_space
+        self.observation_space = batch_space(self.single_observation_space, self.num_envs)
+        self.action_space = batch_space(self.single_action_space, self.num_envs)
+
+        k = self.num_envs
+        self._batch = (batch_class or _core.BatchSimulator)([build_vehicle(self.scenario)] * k, [config] * k)
+        self._rngs: list[np.random.Generator | None] = [None] * k
+        self._clips = np.zeros(k, dtype=np.int64)
+        self._ended = np.zeros(k, dtype=bool)  # NEXT_STEP: reset at the next step
+        self._started = False
+
+    # --- resets -----------------------------------------------------------------------------------
+
+    def _lane_seeds(self, seed: int | Sequence[int | None] | None) -> list[int | None]:
+        k = self.num_envs
+        if seed is None:
+            seeds: list[Any] = [None] * k
+        elif isinstance(seed, (int, np.integer)) and not isinstance(seed, bool):
+            seeds = [int(seed) + i for i in range(k)]
+        elif isinstance(seed, Sequence) and not isinstance(seed, str) and len(seed) == k:
+            seeds = list(seed)
+        else:
+            raise ValueError(f"argument 'seed' must be None, an int or a list of {k} ints or None, got {seed!r}")
+        for i, s in enumerate(seeds):
+            if s is not None and (isinstance(s, bool) or not isinstance(s, (int, np.integer))
+                                  or not 0 <= s < 2**64):
+                raise ValueError(f"argument 'seed': env {i}'s seed must be an int in [0, 2**64), got {s!r}")
+        return seeds
+
+    def _reset_lanes(self, lanes: NDArray[np.intp], seeds: Sequence[int | None]) -> None:
+        """Env i of `lanes` at t = 0: its generator re-seeded by seeds[i] if
+        given, its plant drawn (randomize), then its noise seed."""
+        noise = np.zeros(self.num_envs, dtype=np.uint64)
+        mask = np.zeros(self.num_envs, dtype=bool)
+        for i in lanes.tolist():
+            s = seeds[i]
+            if s is not None or self._rngs[i] is None:
+                self._rngs[i] = seeding.np_random(s)[0]
+            rng = self._rngs[i]
+            assert rng is not None
+            if self.randomization is not None:
+                self._batch.replace(i, *self.randomization.draw(rng))
+            noise[i] = TrackingEnv.episode_seed(rng, s)
+            mask[i] = True
+        self._batch.reset(noise, mask)
+        self._clips[mask] = 0
+
+    def reset(self, *, seed: int | Sequence[int | None] | None = None, options: dict[str, Any] | None = None
+              ) -> tuple[NDArray[np.float32], dict[str, Any]]:
+        """Every env back to t = 0 (see the class for the seeds)."""
+        self._require_open()
+        seeds = self._lane_seeds(seed)
+        super().reset(seed=seed if isinstance(seed, (int, np.integer)) else None)
+        self._reset_lanes(np.arange(self.num_envs), seeds)
+        self._ended[:] = False
+        self._started = True
+        obs, info, _ = self._observe()
+        return obs, info
+
+    # --- steps ------------------------------------------------------------------------------------
+
+    def _observe(self) -> tuple[NDArray[np.float32], dict[str, Any], tuple[Any, Any]]:
+        o = self._batch.observation
+        obs = self.task.observe(o["eta"], o["nu"], o["eta_d"], o["eta_d_dot"], o["eta_d_ddot"])
+        state = self._batch.state
+        info = {"t": o["t"], "eta": o["eta"], "nu": o["nu"], "eta_d": o["eta_d"], "eta_true": state[0],
+                "nu_true": state[1], "action_clips": self._clips.copy()}
+        every = np.ones(self.num_envs, dtype=bool)
+        info.update({f"_{key}": every for key in list(info)})
+        return obs, info, state
+
+    def step(self, actions: Any) -> tuple[NDArray[np.float32], NDArray[np.float64], NDArray[np.bool_],
+                                          NDArray[np.bool_], dict[str, Any]]:
+        """Applies each env's action for one control period, all K in one
+        call into the batch; (observations, rewards, terminated, truncated,
+        info), each with K rows. ValueError/TypeError for actions of the
+        wrong shape or type or with NaN/Inf (nothing is stepped then)."""
+        self._require_open()
+        if not self._started:
+            raise RuntimeError("TrackingVectorEnv.step: call reset() before step()")
+        k, shape = self.num_envs, (self.num_envs, *self.task.action_shape)
+        try:
+            a = as_real_numbers(actions)
+        except Exception as exc:  # a dict, a str, bools, complex numbers: the reason names the type
+            raise TypeError(f"TrackingVectorEnv.step: argument 'actions' must hold real numbers (shape "
+                            f"{shape}), got {exc}") from None
+        if a.shape != shape:
+            raise ValueError(f"TrackingVectorEnv.step: argument 'actions' must have shape {shape}, got {a.shape}")
+        try:
+            a, clipped = self.task.clip(a)
+        except ValueError as e:
+            raise ValueError(f"TrackingVectorEnv.step: {e}") from None
+        stepped = ~self._ended
+        statuses = self._batch.step(self.task.force(a), stepped)
+        if not stepped.all():
+            self._reset_lanes(np.flatnonzero(self._ended), [None] * k)
+        self._clips += np.asarray(clipped) & stepped
+        obs, info, (eta_true, _) = self._observe()
+        info["plant_status"], info["_plant_status"] = statuses, stepped
+        b = self._batch
+        reward, terminated, truncated, _ = self.task.outcome(eta_true, info["eta_d"], a, b.diverged, b.done,
+                                                                   b.planned_steps - b.steps)
+        reward[~stepped], terminated[~stepped], truncated[~stepped] = 0.0, False, False
+        ended = terminated | truncated
+        if self.autoreset_mode == AutoresetMode.NEXT_STEP:
+            self._ended = ended
+        elif ended.any():
+            obs, info = self._reset_in_step(ended, obs, info)
+        return obs, reward, terminated, truncated, info
+
+    def _reset_in_step(self, ended: NDArray[np.bool_], obs: NDArray[np.float32], info: dict[str, Any]
+                       ) -> tuple[NDArray[np.float32], dict[str, Any]]:
+        """SAME_STEP: the ended envs' last observation and info go to
+        ``final_obs`` and ``final_info``, and they start again at once."""
+        final_obs = np.full(self.num_envs, None, dtype=object)
+        for i in np.flatnonzero(ended).tolist():
+            final_obs[i] = obs[i].copy()
+        final_info = {key: value for key, value in info.items() if not key.startswith("_")}
+        final_info.update({f"_{key}": ended for key in list(final_info)})
+        self._reset_lanes(np.flatnonzero(ended), [None] * self.num_envs)
+        obs, new_info, _ = self._observe()
+        new_info.update(plant_status=info["plant_status"], _plant_status=~ended,
+                        final_obs=final_obs, _final_obs=ended, final_info=final_info, _final_info=ended)
+        return obs, new_info
+
+    def _require_open(self) -> None:
+        if self.closed:
+            raise RuntimeError("TrackingVectorEnv: the environment is closed")
+
+    def close_extras(self, **kwargs: Any) -> None:
+        self._batch = None
