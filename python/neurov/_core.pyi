@@ -10,7 +10,7 @@ import numpy
 import numpy.typing
 import os
 import typing
-__all__: list[str] = ['BUILT_IN_CONTROLLERS', 'Command', 'ComputedTorqueConfig', 'ComputedTorqueController', 'CurrentModel', 'CurrentStep', 'DepthConfig', 'DvlConfig', 'EstimatorConfig', 'EstimatorType', 'GaussMarkovCurrentConfig', 'ImuConfig', 'LinearAdaptiveConfig', 'LinearAdaptiveController', 'MAX_CENTRES', 'MAX_SUBSTEPS', 'MAX_WAVE_COMPONENTS', 'NNAdaptiveConfig', 'NNAdaptiveController', 'NeurovError', 'Observation', 'PDConfig', 'PDController', 'PIDConfig', 'PIDController', 'PayloadEvent', 'RESULT_SERIES', 'RbfNetwork', 'ReferenceModel', 'RefusedStepPolicy', 'RobustModification', 'Saturation', 'SensorFault', 'SensorFaultKind', 'SensorsConfig', 'SimulationConfig', 'Simulator', 'SinusoidalDisturbance', 'SlidingModeConfig', 'SlidingModeController', 'Status', 'SuperTwistingConfig', 'SuperTwistingController', 'THETA_NAMES', 'TetherConfig', 'ThrusterConfig', 'ThrusterCurveConfig', 'ThrusterFailure', 'UsblConfig', 'ValidationError', 'Vehicle', 'WaveConfig', 'WaveSpectrum', 'allocate_thrust', 'bluerov2_heavy_layout', 'buoyancy_in_water', 'is_near_singularity', 'jacobian', 'jacobian_dot', 'jacobian_inverse', 'plant_derivative', 'plant_jacobians', 'regressor', 'regressor_parameters', 'rk4_step', 'rotation', 'run_closed_loop', 'run_closed_loop_chunks', 'singularity_threshold', 'tracking_error']
+__all__: list[str] = ['BUILT_IN_CONTROLLERS', 'BatchSimulator', 'Command', 'ComputedTorqueConfig', 'ComputedTorqueController', 'CurrentModel', 'CurrentStep', 'DepthConfig', 'DvlConfig', 'EstimatorConfig', 'EstimatorType', 'GaussMarkovCurrentConfig', 'ImuConfig', 'LANE_NOT_STEPPED', 'LinearAdaptiveConfig', 'LinearAdaptiveController', 'MAX_CENTRES', 'MAX_SUBSTEPS', 'MAX_WAVE_COMPONENTS', 'NNAdaptiveConfig', 'NNAdaptiveController', 'NeurovError', 'Observation', 'PDConfig', 'PDController', 'PIDConfig', 'PIDController', 'PayloadEvent', 'RESULT_SERIES', 'RbfNetwork', 'ReferenceModel', 'RefusedStepPolicy', 'RobustModification', 'Saturation', 'SensorFault', 'SensorFaultKind', 'SensorsConfig', 'SimulationConfig', 'Simulator', 'SinusoidalDisturbance', 'SlidingModeConfig', 'SlidingModeController', 'Status', 'SuperTwistingConfig', 'SuperTwistingController', 'THETA_NAMES', 'TetherConfig', 'ThrusterConfig', 'ThrusterCurveConfig', 'ThrusterFailure', 'UsblConfig', 'ValidationError', 'Vehicle', 'WINDOW_SUMS', 'WaveConfig', 'WaveSpectrum', 'allocate_thrust', 'bluerov2_heavy_layout', 'buoyancy_in_water', 'is_near_singularity', 'jacobian', 'jacobian_dot', 'jacobian_inverse', 'plant_derivative', 'plant_jacobians', 'regressor', 'regressor_parameters', 'rk4_step', 'rotation', 'run_batch', 'run_closed_loop', 'run_closed_loop_chunks', 'singularity_threshold', 'to_body', 'tracking_error']
 class _SimulationResult(typing.TypedDict):
     """What run_closed_loop, Simulator.result and Simulator.drain return: one row per
     control step t_k = k dt, one array per entry of RESULT_SERIES (in its order),
@@ -3014,6 +3014,66 @@ class Simulator:
         """
         Rows logged so far.
         """
+class BatchSimulator:
+    """
+    K runs (lanes) stepped in lockstep from outside, one call per step for every lane; each lane gives the rows of the same run alone (a Simulator).
+    """
+    def __init__(self, vehicles: typing.Any, configs: typing.Any, logged_parameters: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+        """
+        Lane i from vehicles[i] (a Vehicle) and configs[i] (a SimulationConfig), each copied. A refused lane raises ValidationError naming the lane and the field.
+        """
+    def replace(self, i: typing.Any, vehicle: Vehicle, config: SimulationConfig) -> None:
+        """
+        Lane i created again from a new vehicle and configuration, ready at t = 0 (e.g. a new episode's randomised plant). A refused one raises ValidationError naming the field and leaves lane i as it was.
+        """
+    def reset(self, seeds: typing.Any, mask: typing.Any = None) -> None:
+        """
+        Lanes whose mask is True (None: every lane) back to t = 0 with noise from seeds[i] (seeds: (K,) uint64, or any integer dtype >= 0).
+        """
+    def result(self, i: typing.Any) -> _SimulationResult:
+        """
+        Lane i's rows so far, as the dict run_closed_loop returns.
+        """
+    def step(self, tau: typing.Any, mask: typing.Any = None, parameters: typing.Any = None) -> numpy.typing.NDArray[numpy.uint8]:
+        """
+        Steps every lane whose mask is True (None: every lane) and that is not done with the force tau[i] (tau: (K, 6) float64) and, if the batch logs parameters, parameters[i] (K, logged_parameters). Returns the (K,) uint8 plant statuses (neurov.Status values; non_finite_input for a lane given a non-finite force, which is not stepped) and LANE_NOT_STEPPED (255) for a lane masked out or done. The GIL is released.
+        """
+    @property
+    def diverged(self) -> numpy.typing.NDArray[numpy.bool]:
+        ...
+    @property
+    def done(self) -> numpy.typing.NDArray[numpy.bool]:
+        """
+        (K,) bool: the lane's run is over (every row, or diverged).
+        """
+    @property
+    def logged_parameters(self) -> int:
+        ...
+    @property
+    def observation(self) -> dict:
+        """
+        What the controllers are to be given, stacked over the lanes: a dict of t (K,), eta, nu, eta_d, eta_d_dot, eta_d_ddot (K, 6) and faults (K,) uint8 (Simulator.observation's fields and Simulator.faults). A done lane keeps its last observation.
+        """
+    @property
+    def planned_steps(self) -> numpy.typing.NDArray[numpy.int64]:
+        """
+        (K,) int64: rows of a whole run per lane.
+        """
+    @property
+    def size(self) -> int:
+        """
+        K, the number of lanes.
+        """
+    @property
+    def state(self) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:
+        """
+        The true (eta, nu), each (K, 6).
+        """
+    @property
+    def steps(self) -> numpy.typing.NDArray[numpy.int64]:
+        """
+        (K,) int64: rows logged so far per lane.
+        """
 def _kernel_isa() -> str:
     """
     Which copy of the RBF loops runs on this CPU (avx512, avx2, generic).
@@ -3069,6 +3129,10 @@ def rk4_step(vehicle: Vehicle, eta: numpy.typing.ArrayLike, nu: numpy.typing.Arr
 def rotation(phi: typing.SupportsFloat, theta: typing.SupportsFloat, psi: typing.SupportsFloat) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 3]"]:
     """
     Rotation matrix R = Rz(psi) Ry(theta) Rx(phi) (ZYX Euler angles, body to NED), shape (3, 3).
+    """
+def run_batch(vehicles: typing.Any, controllers: typing.Any, configs: typing.Any, threads: typing.SupportsInt | typing.SupportsIndex = 0, metrics_only: bool = False, after: typing.Any = None) -> list:
+    """
+    Runs K closed loops in C++, lane i vehicles[i] under controllers[i] (any built-in controllers, types mixed, each copied as given: the objects passed are not changed) with configs[i], over `threads` threads (0: one per hardware thread), the GIL released. Returns one dict per run, in order: run_closed_loop's, or with metrics_only no rows but the metric sums (keys after, before and window (each WINDOW_SUMS), final_adaptive_norm, max_adaptive_norm, diverged, first_refused), the window being t >= `after` (a float or one per run). A refused lane raises ValidationError naming the lane and the field before any run.
     """
 @typing.overload
 def run_closed_loop(vehicle: Vehicle, controller: NNAdaptiveController, config: SimulationConfig) -> _SimulationResult:
@@ -3144,14 +3208,20 @@ def singularity_threshold() -> float:
     """
     |cos(theta)| below which the Euler-angle transform counts as singular (sqrt of machine epsilon).
     """
+def to_body(eta: typing.Any, vectors: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
+    """
+    J(eta_k)^-1 v_ki for K poses eta (K, 6) and M vectors each, vectors (K, M, 6): the earth-frame vectors in each pose's body frame, shape (K, M, 6), in one call.
+    """
 def tracking_error(eta: numpy.typing.ArrayLike, nu: numpy.typing.ArrayLike, eta_d: numpy.typing.ArrayLike, eta_d_dot: numpy.typing.ArrayLike, eta_d_ddot: numpy.typing.ArrayLike, lambda_: numpy.typing.ArrayLike) -> dict[str, numpy.typing.NDArray[numpy.float64]]:
     """
     Tracking error and virtual reference (eq. 11, 14-16) with the diagonal Lambda (6,): a dict of (6,) arrays eta_tilde, eta_tilde_dot, s, eta_r_dot, eta_r_ddot, nu_r, nu_r_dot.
     """
 BUILT_IN_CONTROLLERS: dict = {'nn': NNAdaptiveController, 'linear': LinearAdaptiveController, 'pd': PDController, 'pid': PIDController, 'smc': SlidingModeController, 'computed_torque': ComputedTorqueController, 'super_twisting': SuperTwistingController}
+LANE_NOT_STEPPED: int = 255
 MAX_CENTRES: int = 65536
 MAX_SUBSTEPS: int = 10000
 MAX_WAVE_COMPONENTS: int = 512
 RESULT_SERIES: tuple = (('t', 1, '', tuple(), 's', 'float64', 'real', 'Time t_k = k dt.'), ('eta', 6, '', ('x', 'y', 'z', 'phi', 'theta', 'psi'), 'm, rad', 'float64', 'real', 'The true pose (NED position, roll, pitch, yaw).'), ('nu', 6, '', ('u', 'v', 'w', 'p', 'q', 'r'), 'm/s, rad/s', 'float64', 'real', 'The true body velocity.'), ('eta_d', 6, '', ('x', 'y', 'z', 'phi', 'theta', 'psi'), 'm, rad', 'float64', 'real', 'The desired pose.'), ('eta_d_dot', 6, '', ('x', 'y', 'z', 'phi', 'theta', 'psi'), 'm/s, rad/s', 'float64', 'real', "The desired pose's time derivative."), ('tau_demanded', 6, '', ('X', 'Y', 'Z', 'K', 'M', 'N'), 'N, N m', 'float64', 'real', 'The generalised force the controller demanded (after the force limits).'), ('tau_applied', 6, '', ('X', 'Y', 'Z', 'K', 'M', 'N'), 'N, N m', 'float64', 'real', 'The force the thrusters applied, mean over [t_k, t_k+1).'), ('disturbance', 6, '', ('X', 'Y', 'Z', 'K', 'M', 'N'), 'N, N m', 'float64', 'real', 'The sinusoidal disturbance force at t_k.'), ('s', 6, '', ('x', 'y', 'z', 'phi', 'theta', 'psi'), 'm/s, rad/s', 'float64', 'real', "The controller's sliding variable s = e_dot + Lambda e."), ('eta_estimate', 6, '', ('x', 'y', 'z', 'phi', 'theta', 'psi'), 'm, rad', 'float64', 'real', "The pose the controller was given: the measurement, the sensors' or the estimate; NaN in a dropout."), ('nu_estimate', 6, '', ('u', 'v', 'w', 'p', 'q', 'r'), 'm/s, rad/s', 'float64', 'real', 'The body velocity the controller was given.'), ('thrusts', None, 'thrusters', tuple(), 'N', 'float64', 'real', 'The thrust each thruster produced, mean over the interval (numbered from 0).'), ('theta', None, 'parameters', ('m', 'I_x', 'I_y', 'I_z', '-X_udot', '-Y_vdot', '-Z_wdot', '-K_pdot', '-M_qdot', '-N_rdot', 'X_u', 'Y_v', 'Z_w', 'K_p', 'M_q', 'N_r', 'X_u|u|', 'Y_v|v|', 'Z_w|w|', 'K_p|p|', 'M_q|q|', 'N_r|r|', 'W - B', 'z_g W - z_b B'), '', 'float64', 'real', "The linear adaptive controller's theta_hat (THETA_NAMES); no columns for the others."), ('adaptive_norm', 1, '', tuple(), '', 'float64', 'real', '||W||_F of the NN or ||theta_hat||.'), ('controller_status', 1, '', tuple(), '', 'uint8', 'status', "The controller step's neurov.Status."), ('plant_status', 1, '', tuple(), '', 'uint8', 'status', "The plant step's neurov.Status."), ('faults', 1, '', tuple(), '', 'uint8', 'bits', "Faults active in the step: bit 1 sensor freeze, 2 dropout, 4 noise burst, 8 a thruster below full efficiency, 16 the row's eta_d came from a pitch-limited reference step, 32 the vehicle above the wave model's minimum depth."), ('current', 3, '', ('N', 'E', 'D'), 'm/s', 'float64', 'real', "The current's NED velocity at the vehicle (the one acting over [t_k, t_k+1) for the Gauss-Markov model)."), ('wave_velocity', 3, '', ('N', 'E', 'D'), 'm/s', 'float64', 'real', "The waves' NED orbital velocity at the vehicle (zeros in a calm sea)."), ('wave_elevation', 1, '', tuple(), 'm', 'float64', 'real', 'The surface elevation above the vehicle.'), ('payload_mass', 1, '', tuple(), 'kg', 'float64', 'real', "The payload mass in effect: the sum of the events' mass so far."))
 THETA_NAMES: tuple = ('m', 'I_x', 'I_y', 'I_z', '-X_udot', '-Y_vdot', '-Z_wdot', '-K_pdot', '-M_qdot', '-N_rdot', 'X_u', 'Y_v', 'Z_w', 'K_p', 'M_q', 'N_r', 'X_u|u|', 'Y_v|v|', 'Z_w|w|', 'K_p|p|', 'M_q|q|', 'N_r|r|', 'W - B', 'z_g W - z_b B')
+WINDOW_SUMS: tuple = (('rows', 1, 'Rows in the window.'), ('t_first', 1, "Time of the window's first row [s]."), ('t_last', 1, "Time of the window's last row [s]."), ('e2', 6, 'Sum of e_i^2 per DOF.'), ('abs_e', 6, 'Sum of |e_i| per DOF.'), ('max_abs_e', 6, 'Max of |e_i| per DOF (NaN once a NaN is met).'), ('pos2', 1, 'Sum of |e_xyz|^2.'), ('max_pos', 1, 'Max of |e_xyz| (NaN once a NaN is met).'), ('abs_tau', 1, 'Sum of |tau_i| over every DOF.'), ('abs_tau_dof', 6, 'Sum of |tau_i| per DOF.'), ('max_abs_tau_dof', 6, 'Max of |tau_i| per DOF (NaN once a NaN is met).'), ('tau_norm', 1, 'Sum of ||tau||.'), ('refused', 1, 'Refused controller steps (controller_status != ok).'))
 __version__: str

@@ -7,6 +7,7 @@
 #include "bindings.hpp"
 #include "neurov/model/kinematics.hpp"
 #include "numpy_args.hpp"
+#include "typed_args.hpp"
 
 namespace neurov::bindings {
 
@@ -77,7 +78,7 @@ void bind_kinematics(py::module_& m) {
 
   m.def(
       "to_body",
-      [](py::handle eta_in, py::handle vectors_in) {
+      [](const typed::ArrayLike& eta_in, const typed::ArrayLike& vectors_in) {
         const auto eta = py_args::real_array(eta_in, "eta", "(K, 6)");
         const auto v = py_args::real_array(vectors_in, "vectors", "(K, M, 6)");
         if (eta.ndim() != 2 || eta.shape(1) != 6)

@@ -4,6 +4,7 @@
 // C++ steps; no Python runs per lane.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
 
 #include <cmath>
 #include <cstdint>
@@ -15,6 +16,7 @@
 #include "numpy_args.hpp"
 #include "neurov/sim/batch.hpp"
 #include "result.hpp"
+#include "typed_args.hpp"
 
 namespace neurov::bindings {
 
@@ -150,7 +152,8 @@ std::string lane_what(const char* where, std::size_t lane) {
          "], configs[" + std::to_string(lane) + "])";
 }
 
-Batch make_batch(const py::handle& vehicles_in, const py::handle& configs_in, int logged_parameters) {
+Batch make_batch(const typed::IterableOf<Vehicle<double>>& vehicles_in,
+                 const typed::IterableOf<SimulationConfig<double>>& configs_in, int logged_parameters) {
   const char* where = "BatchSimulator";
   auto vehicles = items<Vehicle<double>>(vehicles_in, where, "vehicles", "neurov.Vehicle");
   auto configs = items<SimulationConfig<double>>(configs_in, where, "configs", "neurov.SimulationConfig");
@@ -164,8 +167,9 @@ Batch make_batch(const py::handle& vehicles_in, const py::handle& configs_in, in
   return b;
 }
 
-py::array_t<std::uint8_t> step(Batch& b, const py::handle& tau_in, const py::handle& mask_in,
-                               const py::handle& parameters_in) {
+py::array_t<std::uint8_t> step(Batch& b, const typed::ArrayLike& tau_in,
+                               const typed::OptionalArrayLike& mask_in,
+                               const typed::OptionalArrayLike& parameters_in) {
   const char* where = "BatchSimulator.step";
   const auto k = static_cast<py::ssize_t>(b.size());
   const auto tau = checked_array<double>(tau_in, where, "tau", {k, 6}, "float64");
@@ -194,7 +198,7 @@ py::array_t<std::uint8_t> step(Batch& b, const py::handle& tau_in, const py::han
   return statuses;
 }
 
-void reset(Batch& b, const py::handle& seeds_in, const py::handle& mask_in) {
+void reset(Batch& b, const typed::ArrayLike& seeds_in, const typed::OptionalArrayLike& mask_in) {
   const char* where = "BatchSimulator.reset";
   const auto seeds = checked_array<std::uint64_t>(seeds_in, where, "seeds",
                                                   {static_cast<py::ssize_t>(b.size())}, "uint64");
@@ -279,8 +283,10 @@ py::dict run_sums_dict(const RunSums& s) {
   return d;
 }
 
-py::list run(const py::handle& vehicles_in, const py::handle& controllers_in, const py::handle& configs_in,
-             unsigned threads, bool metrics_only, const py::handle& after) {
+py::list run(const typed::IterableOf<Vehicle<double>>& vehicles_in,
+             const typed::IterableOf<Controller>& controllers_in,
+             const typed::IterableOf<SimulationConfig<double>>& configs_in, unsigned threads,
+             bool metrics_only, const typed::Arg<typed::names::OrNone<typed::names::RealOrArrayLike>>& after) {
   const char* where = "run_batch";
   auto vehicles = items<Vehicle<double>>(vehicles_in, where, "vehicles", "neurov.Vehicle");
   auto configs = items<SimulationConfig<double>>(configs_in, where, "configs", "neurov.SimulationConfig");
@@ -328,7 +334,8 @@ void bind_batch(py::module_& m) {
            "Lane i from vehicles[i] (a Vehicle) and configs[i] (a SimulationConfig), each copied. "
            "A refused lane raises ValidationError naming the lane and the field.")
       .def_property_readonly("size", &Batch::size, "K, the number of lanes.")
-      .def_property_readonly("logged_parameters", &Batch::logged_parameters)
+      .def_property_readonly("logged_parameters", &Batch::logged_parameters,
+                             "Parameters each lane logs per row (step's `parameters` width).")
       .def_property_readonly("observation", &observation,
                              "What the controllers are to be given, stacked over the lanes: a dict of "
                              "t (K,), eta, nu, eta_d, eta_d_dot, eta_d_ddot (K, 6) and faults (K,) uint8 "
@@ -375,7 +382,7 @@ void bind_batch(py::module_& m) {
            "(seeds: (K,) uint64, or any integer dtype >= 0).")
       .def(
           "replace",
-          [](Batch& b, const py::handle& i, const Vehicle<double>& vehicle, const SimulationConfig<double>& config) {
+          [](Batch& b, const typed::Index& i, const Vehicle<double>& vehicle, const SimulationConfig<double>& config) {
             const char* where = "BatchSimulator.replace";
             py_args::raise_if_invalid(b.replace(lane_index(b, i, where), vehicle, config), where);
           },
@@ -385,7 +392,7 @@ void bind_batch(py::module_& m) {
           "leaves lane i as it was.")
       .def(
           "result",
-          [](const Batch& b, const py::handle& i) {
+          [](const Batch& b, const typed::Index& i) {
             return result_dict(b.lane(lane_index(b, i, "BatchSimulator.result")).result());
           },
           py::arg("i"), "Lane i's rows so far, as the dict run_closed_loop returns.");
