@@ -200,17 +200,24 @@ def _simulate_policies(study: Study, keys: list[RunKey]) -> dict[RunKey, tuple[A
     scenario as for a per-run controller, its product stepping every
     perturbed plant of the group at once (a run it fails in is rerun alone
     by :func:`run_batched_policy` and fails alone). A factory that raises or
-    makes a per-run controller leaves its runs to :func:`run_one`."""
+    makes a per-run controller leaves its runs to :func:`run_one` (the
+    latter learnt from one extra call per process and scenario)."""
     groups: dict[tuple[int, int], list[RunKey]] = {}
     for k in keys:
         groups.setdefault((k.controller, k.scenario), []).append(k)
     out: dict[RunKey, tuple[Any, float]] = {}
     for (controller, scenario), group in groups.items():
+        kind = ("batched", controller, scenario)
+        if study.cache.get(kind) is False:
+            continue
         cpu_start = time.process_time()
         label = study.controllers[controller]
         try:
             policy = study.factories[label].make(study.scenarios[scenario])
-            if not is_batched(policy):
+            # Which kind a factory makes is learnt once per process: a per-run
+            # factory is then called once per run only, as before.
+            study.cache[kind] = is_batched(policy)
+            if not study.cache[kind]:
                 continue
             plants = [sample_plant(study, study.scenarios[scenario], k.sample)[0] for k in group]
             vehicles = [build_vehicle(p) for p in plants]
