@@ -100,8 +100,8 @@ def main() -> None:
             figures[f"ratio_{pd}_over_{name}"] = ratio
             print(f"{pd} / {name}: {ratio:.2f}x (target <= 2x)")
     if args.json:
-        with open(args.json, "w") as f:
-            json.dump(figures, f, indent=2)
+        with open(args.json, "w") as out:
+            json.dump(figures, out, indent=2)
 
 
 if __name__ == "__main__":

@@ -109,7 +109,11 @@ def _run(study: Study, key: RunKey, cpu_start: float, batched: Any = None) -> di
     factory = study.factories.get(controller)
     if batched is not None or factory is not None:
         # The factory sees the nominal scenario, as a built-in controller is designed for it.
-        result = batched if batched is not None else simulate(plant, factory.make(scenario), label=controller)
+        if batched is not None:
+            result = batched
+        else:
+            assert factory is not None  # the condition above
+            result = simulate(plant, factory.make(scenario), label=controller)
         own = own_failures(result.extra.get("controller_errors") or {})
         if own:  # warned about in a single run; in a study, a failed run
             raise ControllerError(f"controller {controller!r}: {describe_failures(own, len(result.t))}")
