@@ -1,6 +1,8 @@
 """neurov.simulate_many: a list of runs in the order given, the built-in
 controllers' runs as C++ batches (threads, no Python per step), the Python
-controllers' runs one by one through :func:`neurov.simulate`.
+controllers' runs one by one through :func:`neurov.simulate`, and a batched
+Python policy's runs (:class:`neurov.laws.protocol.BatchedController`) as
+batches it steps in one call per step (:func:`run_batched_policy`).
 
 A run is a scenario and its controller (a :class:`ControllerSpec`, a
 controller object, or None: the scenario's). The runs are given as a list
@@ -18,12 +20,13 @@ import numpy as np
 
 from neurov import _core
 from neurov.config.scenario import ControllerSpec, Scenario
-from neurov.laws.protocol import is_built_in, require_controller
+from neurov.laws.protocol import is_batched, is_built_in, require_controller
 from neurov.laws.registry import build_controller, default_centre_box, make_centres
 from neurov.progress import progress_bar
 from neurov.results.metrics import MetricsWindow, metrics_start
 from neurov.results.timeseries import Result
 from neurov.running.plant import build_vehicle, simulation_config
+from neurov.running.policy_loop import run_batched_policy
 from neurov.running.simulation import simulate
 
 __all__ = ["BATCH_RUNS", "simulate_many"]
@@ -73,7 +76,8 @@ class _Resolver:
 
     def build(self, scenario: Scenario, controller: Any) -> tuple[Any, str]:
         if controller is not None and not isinstance(controller, ControllerSpec):
-            require_controller(controller)
+            if not is_batched(controller):
+                require_controller(controller)
             return controller, type(controller).__name__
         spec = controller or scenario.controller
         name = spec.name
@@ -98,8 +102,14 @@ def simulate_many(runs: Scenario | Iterable[Scenario | tuple[Scenario, Any]],
     duration, the rows never kept). Built-in controllers run as C++ batches
     over `threads` threads (0: one per core); each run's result is exactly
     that of :func:`neurov.simulate` alone; its ``wall_time`` is its batch's
-    divided by the batch's runs. Python controllers run one by one. With
-    `progress`, a progress bar on stderr while stderr is a terminal."""
+    divided by the batch's runs. Python controllers run one by one, except
+    batched ones (:func:`neurov.laws.protocol.is_batched`): the runs given
+    the same policy object form batches of up to :data:`BATCH_RUNS`, each
+    stepped by one ``step_batch`` call per step (:func:`run_batched_policy`:
+    a batch the policy fails on is run again run by run, so only the failing
+    runs record refused steps); their metrics_only dicts are computed from
+    the full results (no C++ sums on that path). With `progress`, a
+    progress bar on stderr while stderr is a terminal."""
     if not isinstance(threads, int) or isinstance(threads, bool) or threads < 0:
         raise ValueError(f"argument 'threads' must be an int >= 0 (0: one per core), got {threads!r}")
     if after is not None and not np.isfinite(after):
@@ -108,6 +118,8 @@ def simulate_many(runs: Scenario | Iterable[Scenario | tuple[Scenario, Any]],
     resolver = _Resolver()
     out: list[Any] = [None] * len(planned)
     batch: list[tuple[int, Scenario, Any, str]] = []
+    # A batched policy's runs, by policy object: id -> (policy, label, [(index, scenario)]).
+    policies: dict[int, tuple[Any, str, list[tuple[int, Scenario]]]] = {}
 
     def window_start(scenario: Scenario) -> float:
         return metrics_start(scenario.duration) if after is None else float(after)
@@ -132,6 +144,16 @@ def simulate_many(runs: Scenario | Iterable[Scenario | tuple[Scenario, Any]],
         bar.update(len(batch))
         batch.clear()
 
+    def flush_policy(key: int) -> None:
+        policy, name, runs_of = policies.pop(key)
+        scenarios = [sc for _, sc in runs_of]
+        vehicles = [build_vehicle(sc) for sc in scenarios]
+        lanes = _core.BatchSimulator(vehicles, [simulation_config(sc) for sc in scenarios])
+        results = run_batched_policy(lanes, policy, scenarios, vehicles=vehicles, label=name)
+        for (i, sc), result in zip(runs_of, results):
+            out[i] = result.metrics(after=window_start(sc)) if metrics_only else result
+        bar.update(len(runs_of))
+
     with progress_bar(len(planned), "runs", quiet=not progress) as bar:
         for i, (scenario, controller) in enumerate(planned):
             ctrl, name = resolver.build(scenario, controller)
@@ -140,8 +162,15 @@ def simulate_many(runs: Scenario | Iterable[Scenario | tuple[Scenario, Any]],
                 if len(batch) >= BATCH_RUNS:
                     flush()
                 continue
+            if is_batched(ctrl):
+                policies.setdefault(id(ctrl), (ctrl, name, []))[2].append((i, scenario))
+                if len(policies[id(ctrl)][2]) >= BATCH_RUNS:
+                    flush_policy(id(ctrl))
+                continue
             result = simulate(scenario, ctrl)
             out[i] = result.metrics(after=window_start(scenario)) if metrics_only else result
             bar.update(1)
         flush()
+        for key in list(policies):
+            flush_policy(key)
     return out

@@ -17,6 +17,7 @@ from neurov import _core
 from neurov.laws.protocol import as_real_numbers, is_batched, takes_time
 from neurov.results.timeseries import Result
 from neurov.config.scenario import Scenario
+from neurov.running.stepper import Simulator
 
 __all__ = ["run_batched_policy"]
 
@@ -101,8 +102,6 @@ def run_batched_policy(batch: Any, policy: Any, scenarios: Sequence[Scenario], *
 
 def _run_alone(policy: Any, scenarios: Sequence[Scenario], vehicles: Sequence[_core.Vehicle] | None,
                label: str) -> list[Result]:
-    from neurov.simulator import Simulator
-
     one = _OneRun(policy)
     return [Simulator(s, vehicle=None if vehicles is None else vehicles[i], label=label).run(one)
             for i, s in enumerate(scenarios)]

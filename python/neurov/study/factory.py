@@ -1,6 +1,10 @@
 """A user's controller in a study, named by import path: ``factory =
 "my_package.my_module:make_controller"``, a function of the scenario that
-returns a controller (:class:`neurov.Controller`).
+returns a controller (:class:`neurov.Controller`), or a batched policy
+(:class:`neurov.laws.protocol.BatchedController`, ``batched = True``): that
+product is made once per scenario for each worker's batch of runs and steps
+all of that batch's runs of the scenario in one call per step
+(docs/custom-controllers.md).
 
 The study holds only the path (a string; it pickles to the workers) and each
 process imports it: a study file that names a factory runs that code on every
@@ -15,6 +19,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from neurov.errors import FactoryError
+from neurov.laws.protocol import is_batched
 from neurov.config.scenario import Scenario
 
 __all__ = ["ControllerFactory", "FactoryError"]
@@ -56,8 +61,8 @@ class ControllerFactory:
         except Exception as e:
             raise FactoryError(f"factory {self.path!r} raised {type(e).__name__} for scenario "
                                f"{scenario.name!r}: {e}") from e
-        if not callable(getattr(controller, "step", None)):
+        if not callable(getattr(controller, "step", None)) and not is_batched(controller):
             raise FactoryError(f"factory {self.path!r} returned a {type(controller).__name__} for scenario "
                                f"{scenario.name!r}, which has no method step(eta, nu, eta_d, eta_d_dot, "
-                               f"eta_d_ddot) -> tau")
+                               f"eta_d_ddot) -> tau (nor batched = True and step_batch)")
         return controller

@@ -13,7 +13,9 @@ from typing import Any
 
 import numpy as np
 
-from neurov.laws.protocol import describe_failures, own_failures
+from neurov import _core
+
+from neurov.laws.protocol import describe_failures, is_batched, own_failures
 from neurov.errors import ControllerError, RefusedStepsWarning
 from neurov.results.metrics import METRICS, flat_metrics, metric_names
 from neurov.config.scenario import ControllerSpec
@@ -21,6 +23,8 @@ from neurov.study.sampling import sample_plant
 from neurov.study.spec import Study, vehicle_key
 from neurov.laws.registry import build_controller, default_centre_box, make_centres
 from neurov.running.many import simulate_many
+from neurov.running.plant import build_vehicle, simulation_config
+from neurov.running.policy_loop import run_batched_policy
 from neurov.running.simulation import simulate
 from neurov.study.basis_rank import BasisRecorder, basis_columns
 
@@ -103,11 +107,13 @@ def _run(study: Study, key: RunKey, cpu_start: float, batched: Any = None) -> di
     controller = study.controllers[key.controller]
     plant, columns = sample_plant(study, scenario, key.sample)
     factory = study.factories.get(controller)
-    if batched is not None:
-        result = batched
-    elif factory is not None:
+    if batched is not None or factory is not None:
         # The factory sees the nominal scenario, as a built-in controller is designed for it.
-        result = simulate(plant, factory.make(scenario), label=controller)
+        if batched is not None:
+            result = batched
+        else:
+            assert factory is not None  # the condition above
+            result = simulate(plant, factory.make(scenario), label=controller)
         own = own_failures(result.extra.get("controller_errors") or {})
         if own:  # warned about in a single run; in a study, a failed run
             raise ControllerError(f"controller {controller!r}: {describe_failures(own, len(result.t))}")
@@ -155,10 +161,13 @@ def _run(study: Study, key: RunKey, cpu_start: float, batched: Any = None) -> di
 
 def run_batch(study: Study, keys: Sequence[tuple[int, int, int]]) -> list[dict[str, Any]]:
     """Runs a batch (the unit of work sent to a worker): the runs of built-in
-    controllers together in C++ (:func:`neurov.simulate_many`), the others
-    one by one; the records are those of :func:`run_one` run by run."""
+    controllers together in C++ (:func:`neurov.simulate_many`), those of a
+    factory's batched policy together per (controller, scenario)
+    (:func:`_simulate_policies`), the others one by one; the records are
+    those of :func:`run_one` run by run."""
     runs = [RunKey(*k) for k in keys]
     done = _simulate_built_ins(study, [k for k in runs if _batchable(study, k)])
+    done.update(_simulate_policies(study, [k for k in runs if study.controllers[k.controller] in study.factories]))
     return [run_one(study, k, done.get(k)) for k in runs]
 
 
@@ -187,3 +196,41 @@ def _simulate_built_ins(study: Study, keys: list[RunKey]) -> dict[RunKey, tuple[
         return {}
     cpu = (time.process_time() - cpu_start) / len(keys)
     return {k: (r, cpu) for k, r in zip(keys, results)}
+
+
+def _simulate_policies(study: Study, keys: list[RunKey]) -> dict[RunKey, tuple[Any, float]]:
+    """The runs of factories whose product is batched, one batch per
+    (controller, scenario): the factory called once for it, on the nominal
+    scenario as for a per-run controller, its product stepping every
+    perturbed plant of the group at once (a run it fails in is rerun alone
+    by :func:`run_batched_policy` and fails alone). A factory that raises or
+    makes a per-run controller leaves its runs to :func:`run_one` (the
+    latter learnt from one extra call per process and scenario)."""
+    groups: dict[tuple[int, int], list[RunKey]] = {}
+    for k in keys:
+        groups.setdefault((k.controller, k.scenario), []).append(k)
+    out: dict[RunKey, tuple[Any, float]] = {}
+    for (controller, scenario), group in groups.items():
+        kind = ("batched", controller, scenario)
+        if study.cache.get(kind) is False:
+            continue
+        cpu_start = time.process_time()
+        label = study.controllers[controller]
+        try:
+            policy = study.factories[label].make(study.scenarios[scenario])
+            # Which kind a factory makes is learnt once per process: a per-run
+            # factory is then called once per run only, as before.
+            study.cache[kind] = is_batched(policy)
+            if not study.cache[kind]:
+                continue
+            plants = [sample_plant(study, study.scenarios[scenario], k.sample)[0] for k in group]
+            vehicles = [build_vehicle(p) for p in plants]
+            lanes = _core.BatchSimulator(vehicles, [simulation_config(p) for p in plants])
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", RefusedStepsWarning)
+                results = run_batched_policy(lanes, policy, plants, vehicles=vehicles, label=label)
+        except Exception:  # noqa: BLE001 - run alone, each run's error is its own record
+            continue
+        cpu = (time.process_time() - cpu_start) / len(group)
+        out.update({k: (r, cpu) for k, r in zip(group, results)})
+    return out

@@ -126,3 +126,55 @@ def hangs_on_b(scenario: neurov.Scenario) -> PythonPD:
                 time.sleep(1.0)
 
     return _Stepping(scenario, hang)
+
+
+# --- batched policies (tests/python/test_study_batched.py) ---------------------------------
+
+
+def _numpy_pd(eta: Any, nu: Any, eta_d: Any) -> Any:
+    """A PD law in numpy on rows (K, 6) or one row (6,): earth-frame pose error, body velocity."""
+    return -np.array(KP) * 0.01 * (eta - eta_d) - np.array(KD) * 0.01 * nu
+
+
+class NumpyPD:
+    """The numpy law, run by run."""
+
+    def step(self, eta: Any, nu: Any, eta_d: Any, eta_d_dot: Any, eta_d_ddot: Any) -> Any:
+        return _numpy_pd(eta, nu, eta_d)
+
+
+class BatchedNumpyPD:
+    """The same law on K runs per call."""
+
+    batched = True
+
+    def step_batch(self, eta: Any, nu: Any, eta_d: Any, eta_d_dot: Any, eta_d_ddot: Any) -> Any:
+        return _numpy_pd(eta, nu, eta_d)
+
+
+class FailsOnSecondRunAlone(BatchedNumpyPD):
+    """Raises on any batch of more than one run, and on the second run it is
+    given alone: in a study's batch of three, only that run may fail."""
+
+    def __init__(self) -> None:
+        self.resets = 0
+
+    def reset(self) -> None:
+        self.resets += 1
+
+    def step_batch(self, eta: Any, nu: Any, eta_d: Any, eta_d_dot: Any, eta_d_ddot: Any) -> Any:
+        if len(eta) > 1 or self.resets == 3:  # reset 1: the batch; 2, 3, 4: the runs alone
+            raise RuntimeError("this policy fails")
+        return _numpy_pd(eta, nu, eta_d)
+
+
+def numpy_pd(scenario: neurov.Scenario) -> NumpyPD:
+    return NumpyPD()
+
+
+def batched_numpy_pd(scenario: neurov.Scenario) -> BatchedNumpyPD:
+    return BatchedNumpyPD()
+
+
+def fails_on_second_run_alone(scenario: neurov.Scenario) -> FailsOnSecondRunAlone:
+    return FailsOnSecondRunAlone()
