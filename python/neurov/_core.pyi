@@ -3018,23 +3018,23 @@ class BatchSimulator:
     """
     K runs (lanes) stepped in lockstep from outside, one call per step for every lane; each lane gives the rows of the same run alone (a Simulator).
     """
-    def __init__(self, vehicles: typing.Any, configs: typing.Any, logged_parameters: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def __init__(self, vehicles: collections.abc.Iterable[Vehicle], configs: collections.abc.Iterable[SimulationConfig], logged_parameters: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         """
         Lane i from vehicles[i] (a Vehicle) and configs[i] (a SimulationConfig), each copied. A refused lane raises ValidationError naming the lane and the field.
         """
-    def replace(self, i: typing.Any, vehicle: Vehicle, config: SimulationConfig) -> None:
+    def replace(self, i: typing.SupportsIndex, vehicle: Vehicle, config: SimulationConfig) -> None:
         """
         Lane i created again from a new vehicle and configuration, ready at t = 0 (e.g. a new episode's randomised plant). A refused one raises ValidationError naming the field and leaves lane i as it was.
         """
-    def reset(self, seeds: typing.Any, mask: typing.Any = None) -> None:
+    def reset(self, seeds: numpy.typing.ArrayLike, mask: numpy.typing.ArrayLike | None = None) -> None:
         """
         Lanes whose mask is True (None: every lane) back to t = 0 with noise from seeds[i] (seeds: (K,) uint64, or any integer dtype >= 0).
         """
-    def result(self, i: typing.Any) -> _SimulationResult:
+    def result(self, i: typing.SupportsIndex) -> _SimulationResult:
         """
         Lane i's rows so far, as the dict run_closed_loop returns.
         """
-    def step(self, tau: typing.Any, mask: typing.Any = None, parameters: typing.Any = None) -> numpy.typing.NDArray[numpy.uint8]:
+    def step(self, tau: numpy.typing.ArrayLike, mask: numpy.typing.ArrayLike | None = None, parameters: numpy.typing.ArrayLike | None = None) -> numpy.typing.NDArray[numpy.uint8]:
         """
         Steps every lane whose mask is True (None: every lane) and that is not done with the force tau[i] (tau: (K, 6) float64) and, if the batch logs parameters, parameters[i] (K, logged_parameters). Returns the (K,) uint8 plant statuses (neurov.Status values; non_finite_input for a lane given a non-finite force, which is not stepped) and LANE_NOT_STEPPED (255) for a lane masked out or done. The GIL is released.
         """
@@ -3048,7 +3048,9 @@ class BatchSimulator:
         """
     @property
     def logged_parameters(self) -> int:
-        ...
+        """
+        Parameters each lane logs per row (step's `parameters` width).
+        """
     @property
     def observation(self) -> dict:
         """
@@ -3130,7 +3132,7 @@ def rotation(phi: typing.SupportsFloat, theta: typing.SupportsFloat, psi: typing
     """
     Rotation matrix R = Rz(psi) Ry(theta) Rx(phi) (ZYX Euler angles, body to NED), shape (3, 3).
     """
-def run_batch(vehicles: typing.Any, controllers: typing.Any, configs: typing.Any, threads: typing.SupportsInt | typing.SupportsIndex = 0, metrics_only: bool = False, after: typing.Any = None) -> list:
+def run_batch(vehicles: collections.abc.Iterable[Vehicle], controllers: collections.abc.Iterable[NNAdaptiveController | LinearAdaptiveController | PDController | PIDController | SlidingModeController | ComputedTorqueController | SuperTwistingController], configs: collections.abc.Iterable[SimulationConfig], threads: typing.SupportsInt | typing.SupportsIndex = 0, metrics_only: bool = False, after: typing.SupportsFloat | numpy.typing.ArrayLike | None = None) -> list:
     """
     Runs K closed loops in C++, lane i vehicles[i] under controllers[i] (any built-in controllers, types mixed, each copied as given: the objects passed are not changed) with configs[i], over `threads` threads (0: one per hardware thread), the GIL released. Returns one dict per run, in order: run_closed_loop's, or with metrics_only no rows but the metric sums (keys after, before and window (each WINDOW_SUMS), final_adaptive_norm, max_adaptive_norm, diverged, first_refused), the window being t >= `after` (a float or one per run). A refused lane raises ValidationError naming the lane and the field before any run.
     """
@@ -3208,7 +3210,7 @@ def singularity_threshold() -> float:
     """
     |cos(theta)| below which the Euler-angle transform counts as singular (sqrt of machine epsilon).
     """
-def to_body(eta: typing.Any, vectors: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
+def to_body(eta: numpy.typing.ArrayLike, vectors: numpy.typing.ArrayLike) -> numpy.typing.NDArray[numpy.float64]:
     """
     J(eta_k)^-1 v_ki for K poses eta (K, 6) and M vectors each, vectors (K, M, 6): the earth-frame vectors in each pose's body frame, shape (K, M, 6), in one call.
     """

@@ -364,7 +364,8 @@ void bind_batch(py::module_& m) {
                              [](const Batch& b) {
                                return per_lane<bool>(b, 1,
                                                      [](const Simulator<double>& s, bool* x) { *x = s.diverged(); });
-                             })
+                             },
+                             "(K,) bool: the lane's plant diverged (its last row is where).")
       .def_property_readonly("steps",
                              [](const Batch& b) {
                                return per_lane<std::int64_t>(
