@@ -47,9 +47,33 @@ def _vehicle_file(scenario: Scenario) -> VehicleFile:
     return read_vehicle_file(scenario.vehicle_path())
 
 
-def wrap(angle: Array) -> Array:
-    """The angles in [-pi, pi] (the nearest multiple of 2 pi taken off)."""
-    return angle - np.rint(angle / (2.0 * np.pi)) * (2.0 * np.pi)
+def wrap(angle: Array, out: Array | None = None, scratch: Array | None = None) -> Array:
+    """The angles in [-pi, pi] (the nearest multiple of 2 pi taken off),
+    into `out` (which may be `angle`) with `scratch` (angle's shape) if given:
+    on a step's tiny arrays, allocation costs as much as the arithmetic."""
+    turns = np.divide(angle, 2.0 * np.pi, out=scratch)
+    np.rint(turns, out=turns)
+    np.multiply(turns, 2.0 * np.pi, out=turns)
+    return np.subtract(angle, turns, out=out)
+
+
+class _Scratch:
+    """Buffers for K rows, reused by every step (never returned to a caller).
+    One block holds what both the observation and the reward take, so that
+    a step wraps its two angle errors in one pass: per row, eta - eta_d,
+    eta_d_dot, eta_d_ddot (the rows to_body turns), eta_true - eta_d, the
+    action."""
+
+    def __init__(self, k: int, n: int) -> None:
+        block = np.empty((k, 24 + n))
+        rows = block[:, :24].reshape(k, 4, 6)
+        self.earth = rows[:, :3]
+        self.error, self.rate, self.accel, self.true_error = rows[:, 0], rows[:, 1], rows[:, 2], rows[:, 3]
+        self.angles, self.true_angles, self.both_angles = rows[:, 0, 3:], rows[:, 3, 3:], rows[:, ::3, 3:]
+        self.cost = block[:, 18:]  # eta_true - eta_d and the action: squared, one weighted sum
+        self.action = block[:, 24:]
+        self.turns = np.empty((k, 2, 3))
+        self.offset = np.empty((k, 3))  # |p - box centre|
 
 
 class TrackingTask:
@@ -77,6 +101,8 @@ class TrackingTask:
         self._set_action_scale(action)
         # The reward's weights on the squares of (pose error, action).
         self._square_weights = np.repeat(self.weights, (3, 3, self.action_shape[0]))
+        self._neg_square_weights = -self._square_weights  # x @ -w is -(x @ w) to the bit, one call fewer
+        self._scratch: dict[int, _Scratch] = {}
 
         poses = np.asarray(config.command.poses)
         corners = np.vstack([poses[:, :3], np.asarray(config.eta0)[:3]])
@@ -125,7 +151,7 @@ class TrackingTask:
         """The actions (K, n) clipped to [-1, 1] and which rows needed it
         (False: none). ValueError naming the rows with a non-finite entry."""
         # Written for speed (a single step's budget is ~20 us): the common case is two reductions.
-        if a.min() >= -1.0 and a.max() <= 1.0:  # NaN fails both
+        if np.abs(a).max() <= 1.0:  # NaN fails it
             return a, False
         finite = np.isfinite(a).all(axis=1)
         if not finite.all():
@@ -143,17 +169,20 @@ class TrackingTask:
                 eta_d_ddot: Array) -> NDArray[np.float32]:
         """The observations (K, 26) of the measured eta, nu and the desired
         state (K, 6 each), clipped to the space; a dropout's NaN reads 0."""
-        if self.check_faults:
-            eta = np.nan_to_num(eta, nan=0.0, posinf=0.0, neginf=0.0)
-            nu = np.nan_to_num(nu, nan=0.0, posinf=0.0, neginf=0.0)
-        earth = np.empty((eta.shape[0], 3, 6))  # eta - eta_d, eta_d_dot, eta_d_ddot
-        np.subtract(eta, eta_d, out=earth[:, 0])
-        earth[:, 1] = eta_d_dot
-        earth[:, 2] = eta_d_ddot
-        body = _core.to_body(eta, earth)
-        obs = np.concatenate((body[:, 0, :3], wrap(earth[:, 0, 3:]), nu, body[:, 1], body[:, 2], eta[:, 3:5]),
-                             axis=1, dtype=np.float32)
-        return np.clip(obs, self._obs_low, self._obs_high, out=obs)
+        eta, nu = self._readable(eta, nu)
+        b = self._errors(eta, eta_d, eta_d_dot, eta_d_ddot)
+        return self._observation(b, eta, nu)
+
+    def observe_outcome(self, eta: Array, nu: Array, eta_d: Array, eta_d_dot: Array, eta_d_ddot: Array,
+                        eta_true: Array, a: Array, diverged: NDArray[np.bool_] | bool,
+                        done: NDArray[np.bool_] | bool, steps_left: NDArray[np.int64] | int
+                        ) -> tuple[NDArray[np.float32], Array, NDArray[np.bool_], NDArray[np.bool_],
+                                   NDArray[np.bool_]]:
+        """observe() and outcome() of one instant in one pass (the same
+        numbers; about half the numpy calls, which at K = 1 are the cost)."""
+        eta, nu = self._readable(eta, nu)
+        b = self._errors(eta, eta_d, eta_d_dot, eta_d_ddot, eta_true, a)
+        return (self._observation(b, eta, nu), *self._score(b, eta_true, diverged, done, steps_left))
 
     def outcome(self, eta_true: Array, eta_d: Array, a: Array, diverged: NDArray[np.bool_] | bool,
                 done: NDArray[np.bool_] | bool, steps_left: NDArray[np.int64] | int
@@ -162,16 +191,61 @@ class TrackingTask:
         rows after a step: eta_true and eta_d (K, 6), the clipped actions a
         (K, n), the plant's divergence and end and the steps not simulated
         ((K,) each, or one value for all rows)."""
-        # The pose error (angles wrapped) and the action side by side: one weighted sum of squares.
-        e = np.concatenate((eta_true - eta_d, a), axis=1)
-        e[:, 3:6] = wrap(e[:, 3:6])
-        reward = -(np.square(e) @ self._square_weights)
-        outside = ~(np.abs(eta_true[:, :3] - self._box_centre) <= self._box_half).all(axis=1)  # NaN is outside
+        b = self._buffers(eta_true.shape[0])
+        np.subtract(eta_true, eta_d, out=b.true_error)
+        b.action[...] = a
+        wrap(b.true_angles, out=b.true_angles, scratch=b.turns[:, 0])
+        return self._score(b, eta_true, diverged, done, steps_left)
+
+    def _readable(self, eta: Array, nu: Array) -> tuple[Array, Array]:
+        """The measurements with a dropout's NaN (or Inf) read as 0."""
+        if not self.check_faults:
+            return eta, nu
+        return (np.nan_to_num(eta, nan=0.0, posinf=0.0, neginf=0.0),
+                np.nan_to_num(nu, nan=0.0, posinf=0.0, neginf=0.0))
+
+    def _buffers(self, k: int) -> _Scratch:
+        b = self._scratch.get(k)
+        if b is None:
+            b = self._scratch[k] = _Scratch(k, self.action_shape[0])
+        return b
+
+    def _errors(self, eta: Array, eta_d: Array, eta_d_dot: Array, eta_d_ddot: Array,
+                eta_true: Array | None = None, a: Array | None = None) -> _Scratch:
+        """The buffers filled: the measured pose error and the desired rates,
+        and with eta_true the true pose error and the action; angles wrapped."""
+        b = self._buffers(eta.shape[0])
+        np.subtract(eta, eta_d, out=b.error)
+        b.rate[...] = eta_d_dot
+        b.accel[...] = eta_d_ddot
+        if eta_true is None:
+            wrap(b.angles, out=b.angles, scratch=b.turns[:, 0])
+        else:
+            np.subtract(eta_true, eta_d, out=b.true_error)
+            b.action[...] = a
+            wrap(b.both_angles, out=b.both_angles, scratch=b.turns)
+        return b
+
+    def _observation(self, b: _Scratch, eta: Array, nu: Array) -> NDArray[np.float32]:
+        # to_body's row 0 has its angles wrapped already: only its position part (R^T, no angle) is taken.
+        body = _core.to_body(eta, b.earth)
+        obs = np.concatenate((body[:, 0, :3], b.angles, nu, body[:, 1], body[:, 2], eta[:, 3:5]),
+                             axis=1, dtype=np.float32)
+        np.minimum(obs, self._obs_high, out=obs)
+        return np.maximum(obs, self._obs_low, out=obs)
+
+    def _score(self, b: _Scratch, eta_true: Array, diverged: NDArray[np.bool_] | bool,
+               done: NDArray[np.bool_] | bool, steps_left: NDArray[np.int64] | int
+               ) -> tuple[Array, NDArray[np.bool_], NDArray[np.bool_], NDArray[np.bool_]]:
+        # b.cost holds the wrapped true pose error and the action: one weighted sum of squares.
+        reward = np.square(b.cost, out=b.cost) @ self._neg_square_weights
+        offset = np.abs(np.subtract(eta_true[:, :3], self._box_centre, out=b.offset), out=b.offset)
+        outside = ~np.logical_and.reduce(offset <= self._box_half, axis=1)  # NaN is outside
         terminated = outside | diverged
-        if terminated.any():
+        if np.logical_or.reduce(terminated):
             # Ending early must not pay: each step left costs what the box's diagonal would.
             reward = np.where(terminated, reward - self.termination_cost * steps_left, reward)
-        return reward, terminated, ~terminated & done, outside
+        return reward, terminated, np.greater(done, terminated), outside  # done > terminated: done and not it
 
     def describe_end(self, t: float, diverged: bool, outside: bool) -> str:
         """Why an episode ended, for the error of a step after it."""
