@@ -5,7 +5,6 @@ and the per-K buffers it reuses never showing through what it returns."""
 from __future__ import annotations
 
 import numpy as np
-
 from neurov.gym import TrackingEnv
 
 
