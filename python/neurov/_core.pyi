@@ -3040,7 +3040,9 @@ class BatchSimulator:
         """
     @property
     def diverged(self) -> numpy.typing.NDArray[numpy.bool]:
-        ...
+        """
+        (K,) bool: the lane's plant diverged (its last row is where).
+        """
     @property
     def done(self) -> numpy.typing.NDArray[numpy.bool]:
         """
