@@ -56,6 +56,9 @@ autosummary_generate = True
 autosummary_imported_members = False
 autodoc_default_options = {"members": True, "show-inheritance": True}
 autodoc_member_order = "bysource"
+# The Stable-Baselines3 adapter's optional dependency (with PyTorch), not
+# installed to build the docs: its page is written against a stand-in.
+autodoc_mock_imports = ["stable_baselines3"]
 autodoc_typehints = "description"
 autodoc_typehints_description_target = "documented"
 # No napoleon: the docstrings are prose, not NumPy or Google sections, and
