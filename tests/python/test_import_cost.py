@@ -14,7 +14,8 @@ from pathlib import Path
 
 import pytest
 
-PYTHON_DIR = Path(__file__).resolve().parents[2] / "python"
+import neurov
+
 MAX_RSS_MB = 40.0
 HEAVY = ("matplotlib", "scipy.stats", "pandas", "control", "gymnasium", "optuna", "mcap", "plotly")
 
@@ -33,7 +34,10 @@ print(json.dumps({{"rss_mb": rss_mb, "heavy": [m for m in {heavy!r} if m in sys.
 
 
 def _cost(statement: str) -> dict:
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(PYTHON_DIR), os.environ.get("PYTHONPATH", "")])}
+    # The neurov this test process imported (installed, or a source tree on
+    # PYTHONPATH), whatever the fresh interpreter's working folder.
+    home = str(Path(neurov.__file__).resolve().parents[1])
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([home, os.environ.get("PYTHONPATH", "")])}
     out = subprocess.run([sys.executable, "-c", PROBE.format(statement=statement, heavy=HEAVY)],
                          capture_output=True, text=True, env=env, check=True, timeout=120)
     return json.loads(out.stdout.strip().splitlines()[-1])

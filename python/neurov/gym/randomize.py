@@ -23,6 +23,8 @@ class Randomization:
     ...) applied to `scenario`."""
 
     def __init__(self, table: Any, scenario: Scenario) -> None:
+        # Deferred: the study package loads pandas, which an env without
+        # randomisation never needs.
         from neurov.study.reading import read_perturbations
 
         try:
@@ -38,7 +40,7 @@ class Randomization:
 
     def draw(self, rng: np.random.Generator) -> tuple[_core.Vehicle, _core.SimulationConfig]:
         """An episode's plant: the vehicle and configuration of one draw from `rng`."""
-        from neurov.study.sampling import draw_perturbations, plant_changes
+        from neurov.study.sampling import draw_perturbations, plant_changes  # pandas, as above
 
         changes, _ = plant_changes(self.scenario, self.perturbations, draw_perturbations(self.perturbations, rng))
         scenario = self.scenario.replace(**changes)

@@ -46,6 +46,7 @@ from neurov.identification.alignment import hold
 from neurov.identification.errors import LogError
 from neurov.identification.log import Log, make_log
 from neurov.identification.mapping import Mapping, to_neurov_frames
+from neurov.identification.tlog_log import pwm_force
 
 __all__ = ["read_rosbag", "euler_from_quaternion", "stamp_ns", "topic_messages"]
 
@@ -132,8 +133,6 @@ def _thrust(mapping: Mapping, commands: Array, thrusters: dict[str, Any] | None,
         return commands @ np.asarray(thrusters["matrix"]).T
     if thrusters.get("curves") is None:
         raise LogError(f"{where}: PWM commands need the template's [thrusters.curve] to become thrust")
-    from neurov.identification.tlog_log import pwm_force
-
     return pwm_force(commands, thrusters)
 
 
