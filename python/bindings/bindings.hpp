@@ -27,5 +27,6 @@ void bind_result_series(pybind11::module_& m);
 void bind_simulator(pybind11::module_& m);
 void bind_closed_loop(pybind11::module_& m);
 void bind_batch(pybind11::module_& m);
+void bind_tracking_task(pybind11::module_& m);
 
 }  // namespace neurov::bindings

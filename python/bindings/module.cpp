@@ -37,4 +37,5 @@ PYBIND11_MODULE(_core, m) {
   bind_simulator(m);
   bind_closed_loop(m);
   bind_batch(m);
+  bind_tracking_task(m);
 }

@@ -10,7 +10,7 @@ import numpy
 import numpy.typing
 import os
 import typing
-__all__: list[str] = ['BUILT_IN_CONTROLLERS', 'BatchSimulator', 'Command', 'ComputedTorqueConfig', 'ComputedTorqueController', 'CurrentModel', 'CurrentStep', 'DepthConfig', 'DvlConfig', 'EstimatorConfig', 'EstimatorType', 'GaussMarkovCurrentConfig', 'ImuConfig', 'LANE_NOT_STEPPED', 'LinearAdaptiveConfig', 'LinearAdaptiveController', 'MAX_CENTRES', 'MAX_SUBSTEPS', 'MAX_WAVE_COMPONENTS', 'NNAdaptiveConfig', 'NNAdaptiveController', 'NeurovError', 'Observation', 'PDConfig', 'PDController', 'PIDConfig', 'PIDController', 'PayloadEvent', 'RESULT_SERIES', 'RbfNetwork', 'ReferenceModel', 'RefusedStepPolicy', 'RobustModification', 'Saturation', 'SensorFault', 'SensorFaultKind', 'SensorsConfig', 'SimulationConfig', 'Simulator', 'SinusoidalDisturbance', 'SlidingModeConfig', 'SlidingModeController', 'Status', 'SuperTwistingConfig', 'SuperTwistingController', 'THETA_NAMES', 'TetherConfig', 'ThrusterConfig', 'ThrusterCurveConfig', 'ThrusterFailure', 'UsblConfig', 'ValidationError', 'Vehicle', 'WINDOW_SUMS', 'WaveConfig', 'WaveSpectrum', 'allocate_thrust', 'bluerov2_heavy_layout', 'buoyancy_in_water', 'is_near_singularity', 'jacobian', 'jacobian_dot', 'jacobian_inverse', 'plant_derivative', 'plant_jacobians', 'regressor', 'regressor_parameters', 'rk4_step', 'rotation', 'run_batch', 'run_closed_loop', 'run_closed_loop_chunks', 'singularity_threshold', 'to_body', 'tracking_error']
+__all__: list[str] = ['BUILT_IN_CONTROLLERS', 'BatchSimulator', 'Command', 'ComputedTorqueConfig', 'ComputedTorqueController', 'CurrentModel', 'CurrentStep', 'DepthConfig', 'DvlConfig', 'EstimatorConfig', 'EstimatorType', 'GaussMarkovCurrentConfig', 'ImuConfig', 'LANE_NOT_STEPPED', 'LinearAdaptiveConfig', 'LinearAdaptiveController', 'MAX_CENTRES', 'MAX_SUBSTEPS', 'MAX_WAVE_COMPONENTS', 'NNAdaptiveConfig', 'NNAdaptiveController', 'NeurovError', 'Observation', 'PDConfig', 'PDController', 'PIDConfig', 'PIDController', 'PayloadEvent', 'RESULT_SERIES', 'RbfNetwork', 'ReferenceModel', 'RefusedStepPolicy', 'RobustModification', 'Saturation', 'SensorFault', 'SensorFaultKind', 'SensorsConfig', 'SimulationConfig', 'Simulator', 'SinusoidalDisturbance', 'SlidingModeConfig', 'SlidingModeController', 'Status', 'SuperTwistingConfig', 'SuperTwistingController', 'THETA_NAMES', 'TRACKING_OBSERVATION_SIZE', 'TetherConfig', 'ThrusterConfig', 'ThrusterCurveConfig', 'ThrusterFailure', 'TrackingTask', 'TrackingTaskConfig', 'UsblConfig', 'ValidationError', 'Vehicle', 'WINDOW_SUMS', 'WaveConfig', 'WaveSpectrum', 'allocate_thrust', 'bluerov2_heavy_layout', 'buoyancy_in_water', 'is_near_singularity', 'jacobian', 'jacobian_dot', 'jacobian_inverse', 'plant_derivative', 'plant_jacobians', 'regressor', 'regressor_parameters', 'rk4_step', 'rotation', 'run_batch', 'run_closed_loop', 'run_closed_loop_chunks', 'singularity_threshold', 'to_body', 'tracking_error']
 class _SimulationResult(typing.TypedDict):
     """What run_closed_loop, Simulator.result and Simulator.drain return: one row per
     control step t_k = k dt, one array per entry of RESULT_SERIES (in its order),
@@ -3078,6 +3078,173 @@ class BatchSimulator:
         """
         (K,) int64: rows logged so far per lane.
         """
+class TrackingTaskConfig:
+    """
+    The Gymnasium tracking task's constants (docs/gymnasium.md): the reward's weights, the bounding box, the observation's velocity bound and the action's scale.
+    """
+    def __copy__(self) -> TrackingTaskConfig:
+        ...
+    def __deepcopy__(self, memo: dict) -> TrackingTaskConfig:
+        ...
+    def __getstate__(self) -> dict:
+        ...
+    def __init__(self, **kwargs) -> None:
+        """
+        Every field is a keyword argument: position_weight, attitude_weight, effort_weight, box_low, box_high, velocity_bound, action_positive, action_negative, thrusters, dropouts_read_zero.
+        """
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, arg0: dict) -> None:
+        ...
+    def validate(self) -> None:
+        """
+        Runs the C++ validator: neurov.ValidationError (a ValueError carrying field, index, value and expected) naming the first bad field and what it must be, None when the configuration is valid.
+        """
+    @property
+    def action_negative(self) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        The magnitude action -1 stands for per component (n,), > 0.
+        """
+    @action_negative.setter
+    def action_negative(self, arg1: numpy.typing.ArrayLike) -> None:
+        ...
+    @property
+    def action_positive(self) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        What action +1 stands for per component (n,), > 0: N and N m, or N of thrust.
+        """
+    @action_positive.setter
+    def action_positive(self, arg1: numpy.typing.ArrayLike) -> None:
+        ...
+    @property
+    def attitude_weight(self) -> float:
+        """
+        Reward weight of |wrap(Theta - Theta_d)|^2 [1/rad^2], >= 0.
+        """
+    @attitude_weight.setter
+    def attitude_weight(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def box_high(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        """
+        Its high corner [m], > box_low.
+        """
+    @box_high.setter
+    def box_high(self, arg1: numpy.typing.ArrayLike) -> None:
+        ...
+    @property
+    def box_low(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        """
+        The bounding box's low corner (NED) [m].
+        """
+    @box_low.setter
+    def box_low(self, arg1: numpy.typing.ArrayLike) -> None:
+        ...
+    @property
+    def dropouts_read_zero(self) -> bool:
+        """
+        A non-finite measurement (a sensor dropout's NaN) reads 0 in the observation.
+        """
+    @dropouts_read_zero.setter
+    def dropouts_read_zero(self, arg1: bool) -> None:
+        ...
+    @property
+    def effort_weight(self) -> float:
+        """
+        Reward weight of |a|^2 (a the clipped action), >= 0.
+        """
+    @effort_weight.setter
+    def effort_weight(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def position_weight(self) -> float:
+        """
+        Reward weight of |p - p_d|^2 [1/m^2], >= 0.
+        """
+    @position_weight.setter
+    def position_weight(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def thrusters(self) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        tau = thrusters u for thruster commands u, (6, n); (6, 0): the action is tau (n = 6).
+        """
+    @thrusters.setter
+    def thrusters(self, arg1: numpy.typing.ArrayLike) -> None:
+        ...
+    @property
+    def velocity_bound(self) -> float:
+        """
+        Bound of the observation's velocity entries [m/s, rad/s], > 0.
+        """
+    @velocity_bound.setter
+    def velocity_bound(self, arg1: typing.SupportsFloat) -> None:
+        ...
+class TrackingTask:
+    """
+    The tracking task's arithmetic (neurov/sim/tracking_task.hpp): a step of one Simulator or of every lane of a BatchSimulator in one call, the action's force, the 26-entry observation, the reward and the episode's end, written once for the single and the vector Gymnasium env.
+    """
+    def __init__(self, config: TrackingTaskConfig) -> None:
+        """
+        From a TrackingTaskConfig (copied); ValidationError naming a bad field.
+        """
+    def clip(self, actions: numpy.typing.ArrayLike) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.bool]]:
+        """
+        (the actions (K, n) clipped to [-1, 1], which rows needed it (K,) bool); ValueError naming the rows that are not finite.
+        """
+    def forces(self, actions: numpy.typing.ArrayLike) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        The body forces tau (K, 6) of clipped actions (K, n).
+        """
+    def observe(self, simulator: Simulator) -> tuple[numpy.typing.NDArray[numpy.float32], dict[str, typing.Any]]:
+        """
+        (observation (26,) float32, info) of a Simulator as it stands (info as step()'s, without plant_status).
+        """
+    def observe_batch(self, batch: BatchSimulator) -> tuple[numpy.typing.NDArray[numpy.float32], dict[str, typing.Any]]:
+        """
+        (observations (K, 26) float32, info) of every lane of a BatchSimulator.
+        """
+    def observe_rows(self, eta: numpy.typing.ArrayLike, nu: numpy.typing.ArrayLike, eta_d: numpy.typing.ArrayLike, eta_d_dot: numpy.typing.ArrayLike, eta_d_ddot: numpy.typing.ArrayLike) -> numpy.typing.NDArray[numpy.float32]:
+        """
+        The observations (K, 26) float32 of the measured eta, nu (K, 6; NaN allowed) and the desired state (K, 6 each).
+        """
+    def score_rows(self, eta_true: numpy.typing.ArrayLike, eta_d: numpy.typing.ArrayLike, actions: numpy.typing.ArrayLike, diverged: numpy.typing.ArrayLike, done: numpy.typing.ArrayLike, steps_left: numpy.typing.ArrayLike) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.bool], numpy.typing.NDArray[numpy.bool], numpy.typing.NDArray[numpy.bool]]:
+        """
+        (reward, terminated, truncated, outside), each (K,), of the true poses eta_true and eta_d (K, 6), the clipped actions (K, n), and per row (K,) the plant's divergence and end (bool) and the steps not simulated (int).
+        """
+    def step(self, simulator: Simulator, action: numpy.typing.ArrayLike) -> tuple[numpy.typing.NDArray[numpy.float32], float, bool, bool, dict[str, typing.Any], bool, bool]:
+        """
+        One control period of `simulator` (a Simulator) under `action` (n,), clipped to [-1, 1]: returns (observation (26,) float32, reward, terminated, truncated, info, clipped, outside), info holding t, eta, nu, eta_d, eta_true, nu_true and plant_status (a Status). ValueError for a wrong shape or a non-finite action, TypeError for one that is not real numbers (nothing is stepped then); RuntimeError for a done simulator.
+        """
+    def step_batch(self, batch: BatchSimulator, actions: numpy.typing.ArrayLike, mask: numpy.typing.ArrayLike | None = None) -> tuple[numpy.typing.NDArray[numpy.float32], numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.bool], numpy.typing.NDArray[numpy.bool], dict[str, typing.Any], numpy.typing.NDArray[numpy.bool], numpy.typing.NDArray[numpy.bool]]:
+        """
+        One control period of every lane of `batch` (a BatchSimulator) whose mask is True (None: every lane) and that is not done, under actions (K, n) clipped to [-1, 1], in one call with the GIL released: returns (observations (K, 26) float32, rewards (K,), terminated, truncated, info, clipped, outside ((K,) bool each)), info holding t (K,), eta, nu, eta_d, eta_true, nu_true (K, 6) and plant_status (K,) uint8 (LANE_NOT_STEPPED for a lane not stepped, which scores reward 0 and no flag). Bad actions raise as step() does, and nothing is stepped.
+        """
+    @property
+    def action_size(self) -> int:
+        """
+        n, the components of one action.
+        """
+    @property
+    def config(self) -> TrackingTaskConfig:
+        """
+        A copy of the configuration.
+        """
+    @property
+    def observation_high(self) -> numpy.typing.NDArray[numpy.float32]:
+        """
+        (26,) float32: observation entry i lies in [-high[i], high[i]].
+        """
+    @property
+    def reach(self) -> float:
+        """
+        |box_high - box_low| [m], the bound of the observation's position entries.
+        """
+    @property
+    def termination_cost(self) -> float:
+        """
+        What ending early costs per step not simulated: position_weight reach^2.
+        """
 def _kernel_isa() -> str:
     """
     Which copy of the RBF loops runs on this CPU (avx512, avx2, generic).
@@ -3227,5 +3394,6 @@ MAX_SUBSTEPS: int = 10000
 MAX_WAVE_COMPONENTS: int = 512
 RESULT_SERIES: tuple = (('t', 1, '', tuple(), 's', 'float64', 'real', 'Time t_k = k dt.'), ('eta', 6, '', ('x', 'y', 'z', 'phi', 'theta', 'psi'), 'm, rad', 'float64', 'real', 'The true pose (NED position, roll, pitch, yaw).'), ('nu', 6, '', ('u', 'v', 'w', 'p', 'q', 'r'), 'm/s, rad/s', 'float64', 'real', 'The true body velocity.'), ('eta_d', 6, '', ('x', 'y', 'z', 'phi', 'theta', 'psi'), 'm, rad', 'float64', 'real', 'The desired pose.'), ('eta_d_dot', 6, '', ('x', 'y', 'z', 'phi', 'theta', 'psi'), 'm/s, rad/s', 'float64', 'real', "The desired pose's time derivative."), ('tau_demanded', 6, '', ('X', 'Y', 'Z', 'K', 'M', 'N'), 'N, N m', 'float64', 'real', 'The generalised force the controller demanded (after the force limits).'), ('tau_applied', 6, '', ('X', 'Y', 'Z', 'K', 'M', 'N'), 'N, N m', 'float64', 'real', 'The force the thrusters applied, mean over [t_k, t_k+1).'), ('disturbance', 6, '', ('X', 'Y', 'Z', 'K', 'M', 'N'), 'N, N m', 'float64', 'real', 'The sinusoidal disturbance force at t_k.'), ('s', 6, '', ('x', 'y', 'z', 'phi', 'theta', 'psi'), 'm/s, rad/s', 'float64', 'real', "The controller's sliding variable s = e_dot + Lambda e."), ('eta_estimate', 6, '', ('x', 'y', 'z', 'phi', 'theta', 'psi'), 'm, rad', 'float64', 'real', "The pose the controller was given: the measurement, the sensors' or the estimate; NaN in a dropout."), ('nu_estimate', 6, '', ('u', 'v', 'w', 'p', 'q', 'r'), 'm/s, rad/s', 'float64', 'real', 'The body velocity the controller was given.'), ('thrusts', None, 'thrusters', tuple(), 'N', 'float64', 'real', 'The thrust each thruster produced, mean over the interval (numbered from 0).'), ('theta', None, 'parameters', ('m', 'I_x', 'I_y', 'I_z', '-X_udot', '-Y_vdot', '-Z_wdot', '-K_pdot', '-M_qdot', '-N_rdot', 'X_u', 'Y_v', 'Z_w', 'K_p', 'M_q', 'N_r', 'X_u|u|', 'Y_v|v|', 'Z_w|w|', 'K_p|p|', 'M_q|q|', 'N_r|r|', 'W - B', 'z_g W - z_b B'), '', 'float64', 'real', "The linear adaptive controller's theta_hat (THETA_NAMES); no columns for the others."), ('adaptive_norm', 1, '', tuple(), '', 'float64', 'real', '||W||_F of the NN or ||theta_hat||.'), ('controller_status', 1, '', tuple(), '', 'uint8', 'status', "The controller step's neurov.Status."), ('plant_status', 1, '', tuple(), '', 'uint8', 'status', "The plant step's neurov.Status."), ('faults', 1, '', tuple(), '', 'uint8', 'bits', "Faults active in the step: bit 1 sensor freeze, 2 dropout, 4 noise burst, 8 a thruster below full efficiency, 16 the row's eta_d came from a pitch-limited reference step, 32 the vehicle above the wave model's minimum depth."), ('current', 3, '', ('N', 'E', 'D'), 'm/s', 'float64', 'real', "The current's NED velocity at the vehicle (the one acting over [t_k, t_k+1) for the Gauss-Markov model)."), ('wave_velocity', 3, '', ('N', 'E', 'D'), 'm/s', 'float64', 'real', "The waves' NED orbital velocity at the vehicle (zeros in a calm sea)."), ('wave_elevation', 1, '', tuple(), 'm', 'float64', 'real', 'The surface elevation above the vehicle.'), ('payload_mass', 1, '', tuple(), 'kg', 'float64', 'real', "The payload mass in effect: the sum of the events' mass so far."))
 THETA_NAMES: tuple = ('m', 'I_x', 'I_y', 'I_z', '-X_udot', '-Y_vdot', '-Z_wdot', '-K_pdot', '-M_qdot', '-N_rdot', 'X_u', 'Y_v', 'Z_w', 'K_p', 'M_q', 'N_r', 'X_u|u|', 'Y_v|v|', 'Z_w|w|', 'K_p|p|', 'M_q|q|', 'N_r|r|', 'W - B', 'z_g W - z_b B')
+TRACKING_OBSERVATION_SIZE: int = 26
 WINDOW_SUMS: tuple = (('rows', 1, 'Rows in the window.'), ('t_first', 1, "Time of the window's first row [s]."), ('t_last', 1, "Time of the window's last row [s]."), ('e2', 6, 'Sum of e_i^2 per DOF.'), ('abs_e', 6, 'Sum of |e_i| per DOF.'), ('max_abs_e', 6, 'Max of |e_i| per DOF (NaN once a NaN is met).'), ('pos2', 1, 'Sum of |e_xyz|^2.'), ('max_pos', 1, 'Max of |e_xyz| (NaN once a NaN is met).'), ('abs_tau', 1, 'Sum of |tau_i| over every DOF.'), ('abs_tau_dof', 6, 'Sum of |tau_i| per DOF.'), ('max_abs_tau_dof', 6, 'Max of |tau_i| per DOF (NaN once a NaN is met).'), ('tau_norm', 1, 'Sum of ||tau||.'), ('refused', 1, 'Refused controller steps (controller_status != ok).'))
 __version__: str

@@ -38,6 +38,7 @@
 #include "neurov/sim/result.hpp"
 #include "neurov/sim/sensors.hpp"
 #include "neurov/sim/simulator.hpp"
+#include "neurov/sim/tracking_task.hpp"
 #include "neurov/sim/wave_spectrum.hpp"
 #include "neurov/sim/waves.hpp"
 #include "neurov/version.hpp"

@@ -15,7 +15,6 @@ import numpy as np
 from numpy.typing import NDArray
 
 from neurov import _core
-from neurov.laws.protocol import as_real_numbers
 from neurov.gym.randomize import Randomization
 from neurov.gym.task import TrackingTask, resolve_scenario
 from neurov.config.scenario import Scenario
@@ -115,15 +114,9 @@ class TrackingEnv(gymnasium.Env):
         return int(rng.integers(2**63 - 1)) if seed is None else seed
 
     def _observe(self) -> tuple[NDArray[np.float32], dict[str, Any]]:
-        o = self._sim.observation
-        info = self._info(o, *self._sim.state)
-        obs = self.task.observe(info["eta"][None], info["nu"][None], info["eta_d"][None], o.eta_d_dot[None],
-                                o.eta_d_ddot[None])[0]
+        obs, info = self.task.core.observe(self._sim)
+        info["action_clips"] = self._clips
         return obs, info
-
-    def _info(self, o: Any, eta_true: Array, nu_true: Array) -> dict[str, Any]:
-        return {"t": o.t, "eta": o.eta, "nu": o.nu, "eta_d": o.eta_d, "eta_true": eta_true, "nu_true": nu_true,
-                "action_clips": self._clips}
 
     def step(self, action: Any) -> tuple[NDArray[np.float32], float, bool, bool, dict[str, Any]]:
         """Applies the action for one control period; returns (observation,
@@ -133,35 +126,18 @@ class TrackingEnv(gymnasium.Env):
         bool or complex values; nothing is simulated then)."""
         if self._episode_over is not None:
             raise RuntimeError(f"TrackingEnv.step: {self._episode_over}")
+        # One call into C++: the action checked, clipped and scaled, the step, the observation and the score.
         try:
-            a = as_real_numbers(action)
-        except Exception as exc:  # a dict, a str, bools, complex numbers: the reason names the type
-            raise TypeError(f"TrackingEnv.step: argument 'action' must hold real numbers (shape "
-                            f"{self.task.action_shape}), got {exc}") from None
-        if a.shape != self.task.action_shape:
-            raise ValueError(f"TrackingEnv.step: argument 'action' must have shape {self.task.action_shape}, "
-                             f"got {a.shape}")
-        try:
-            a, clipped = self.task.clip(a[None])
-        except ValueError as e:
-            raise ValueError(f"TrackingEnv.step: {e}") from None
-        self._clips += clipped is not False  # K = 1: an array only when the row needed clipping
-        sim = self._sim
-        plant = sim.step(self.task.force(a)[0])
-        o = sim.observation
-        eta_true, nu_true = sim.state
-        info = self._info(o, eta_true, nu_true)
-        info["plant_status"] = plant
-        # One pass for the observation and the reward (the step's budget is ~20 us, mostly numpy calls).
-        obs, reward, terminated, truncated, outside = self.task.observe_outcome(
-            info["eta"][None], info["nu"][None], info["eta_d"][None], o.eta_d_dot[None], o.eta_d_ddot[None],
-            eta_true[None], a, sim.diverged, sim.done, sim.planned_steps - sim.steps)
-        obs = obs[0]
-        if terminated[0] or truncated[0]:
-            self._episode_over = self.task.describe_end(info["t"], sim.diverged, bool(outside[0]))
+            obs, reward, terminated, truncated, info, clipped, outside = self.task.core.step(self._sim, action)
+        except (TypeError, ValueError) as e:
+            raise type(e)(f"TrackingEnv.step: {e}") from None
+        self._clips += clipped
+        info["action_clips"] = self._clips
+        if terminated or truncated:
+            self._episode_over = self.task.describe_end(info["t"], self._sim.diverged, outside)
         if self.render_mode is not None:
             self._track.append((*info["eta_true"][:2].tolist(), *info["eta_d"][:2].tolist()))
-        return obs, float(reward[0]), bool(terminated[0]), bool(truncated[0]), info
+        return obs, reward, terminated, truncated, info
 
     def render(self) -> NDArray[np.uint8] | None:
         """The top view (north up, east right) as an RGB array: the commanded

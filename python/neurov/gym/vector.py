@@ -1,7 +1,7 @@
 """K tracking environments as one ``gymnasium.vector.VectorEnv``: one batch
-of runs (``neurov._core.BatchSimulator``) stepped once per step for all K,
-the observation, reward and episode end computed for all K rows at once by
-the single environment's own code (:class:`neurov.gym.task.TrackingTask`).
+of runs (``neurov._core.BatchSimulator``) stepped, observed and scored for
+all K in one call into C++ per step by the single environment's own task
+(:class:`neurov.gym.task.TrackingTask`); Python does the autoresets.
 
     envs = gymnasium.make_vec("neurov/Tracking-v0", num_envs=256,
                               vectorization_mode="vector_entry_point", scenario="paper_fig3")
@@ -22,7 +22,6 @@ from gymnasium.vector.utils import batch_space
 from numpy.typing import NDArray
 
 from neurov import _core
-from neurov.laws.protocol import as_real_numbers
 from neurov.gym.randomize import Randomization
 from neurov.gym.task import TrackingTask, resolve_scenario
 from neurov.gym.tracking import TrackingEnv
@@ -93,6 +92,7 @@ class TrackingVectorEnv(VectorEnv):
 
         k = self.num_envs
         self._batch = (batch_class or _core.BatchSimulator)([build_vehicle(self.scenario)] * k, [config] * k)
+        self._compiled = isinstance(self._batch, _core.BatchSimulator)
         self._rngs: list[np.random.Generator | None] = [None] * k
         self._clips = np.zeros(k, dtype=np.int64)
         self._ended = np.zeros(k, dtype=bool)  # NEXT_STEP: reset at the next step
@@ -143,53 +143,80 @@ class TrackingVectorEnv(VectorEnv):
         self._reset_lanes(np.arange(self.num_envs), seeds)
         self._ended[:] = False
         self._started = True
-        obs, info, _ = self._observe()
-        return obs, info
+        return self._observe()
 
     # --- steps ------------------------------------------------------------------------------------
 
-    def _observe(self) -> tuple[NDArray[np.float32], dict[str, Any], tuple[Any, Any]]:
-        o = self._batch.observation
-        obs = self.task.observe(o["eta"], o["nu"], o["eta_d"], o["eta_d_dot"], o["eta_d_ddot"])
-        state = self._batch.state
-        info = {"t": o["t"], "eta": o["eta"], "nu": o["nu"], "eta_d": o["eta_d"], "eta_true": state[0],
-                "nu_true": state[1], "action_clips": self._clips.copy()}
+    def _lanes(self) -> tuple[NDArray[np.float32], dict[str, Any]]:
+        """Every env's observation and info arrays (t, eta, nu, eta_d,
+        eta_true, nu_true) as it stands."""
+        if self._compiled:
+            return self.task.core.observe_batch(self._batch)
+        b = self._batch
+        o = b.observation
+        eta_true, nu_true = b.state
+        obs = self.task.core.observe_rows(o["eta"], o["nu"], o["eta_d"], o["eta_d_dot"], o["eta_d_ddot"])
+        return obs, {"t": o["t"], "eta": o["eta"], "nu": o["nu"], "eta_d": o["eta_d"], "eta_true": eta_true,
+                     "nu_true": nu_true}
+
+    def _observe(self) -> tuple[NDArray[np.float32], dict[str, Any]]:
+        obs, info = self._lanes()
+        info["action_clips"] = self._clips.copy()
+        return obs, self._masked(info)
+
+    def _masked(self, info: dict[str, Any]) -> dict[str, Any]:
+        """info with gymnasium's mask _key beside each key: every env has it."""
         every = np.ones(self.num_envs, dtype=bool)
         info.update({f"_{key}": every for key in list(info)})
-        return obs, info, state
+        return info
+
+    def _advance(self, actions: Any, stepped: NDArray[np.bool_]) -> tuple[Any, ...]:
+        """The envs in `stepped` stepped under their actions: (obs, reward,
+        terminated, truncated, info, clipped) of every env (reward 0 and no
+        flag for one not stepped). The compiled batch does it all in one
+        call into C++; another batch (PythonLanes) through the task's row
+        functions."""
+        core = self.task.core
+        if self._compiled:
+            return core.step_batch(self._batch, actions, stepped)[:6]
+        shape = (self.num_envs, *self.task.action_shape)
+        a, clipped = core.clip(actions)  # refuses what is not real numbers, or not finite
+        if a.shape != shape:
+            raise ValueError(f"argument 'actions' must have shape {shape}, got {a.shape}")
+        b = self._batch
+        statuses = b.step(core.forces(a), stepped)
+        obs, info = self._lanes()
+        reward, terminated, truncated, _ = core.score_rows(info["eta_true"], info["eta_d"], a, b.diverged, b.done,
+                                                           b.planned_steps - b.steps)
+        idle = statuses == _core.LANE_NOT_STEPPED
+        reward[idle], terminated[idle], truncated[idle] = 0.0, False, False
+        info["plant_status"] = statuses
+        return obs, reward, terminated, truncated, info, clipped
 
     def step(self, actions: Any) -> tuple[NDArray[np.float32], NDArray[np.float64], NDArray[np.bool_],
                                           NDArray[np.bool_], dict[str, Any]]:
-        """Applies each env's action for one control period, all K in one
-        call into the batch; (observations, rewards, terminated, truncated,
-        info), each with K rows. ValueError/TypeError for actions of the
-        wrong shape or type or with NaN/Inf (nothing is stepped then)."""
+        """Applies each env's action for one control period, all K and their
+        observations, rewards and flags in one call into C++; (observations,
+        rewards, terminated, truncated, info), each with K rows.
+        ValueError/TypeError for actions of the wrong shape or type or with
+        NaN/Inf (nothing is stepped then)."""
         self._require_open()
         if not self._started:
             raise RuntimeError("TrackingVectorEnv.step: call reset() before step()")
-        k, shape = self.num_envs, (self.num_envs, *self.task.action_shape)
-        try:
-            a = as_real_numbers(actions)
-        except Exception as exc:  # a dict, a str, bools, complex numbers: the reason names the type
-            raise TypeError(f"TrackingVectorEnv.step: argument 'actions' must hold real numbers (shape "
-                            f"{shape}), got {exc}") from None
-        if a.shape != shape:
-            raise ValueError(f"TrackingVectorEnv.step: argument 'actions' must have shape {shape}, got {a.shape}")
-        try:
-            a, clipped = self.task.clip(a)
-        except ValueError as e:
-            raise ValueError(f"TrackingVectorEnv.step: {e}") from None
         stepped = ~self._ended
-        statuses = self._batch.step(self.task.force(a), stepped)
+        try:
+            obs, reward, terminated, truncated, info, clipped = self._advance(actions, stepped)
+        except (TypeError, ValueError) as e:
+            raise type(e)(f"TrackingVectorEnv.step: {e}") from None
         if not stepped.all():
-            self._reset_lanes(np.flatnonzero(self._ended), [None] * k)
-        self._clips += np.asarray(clipped) & stepped
-        obs, info, (eta_true, _) = self._observe()
-        info["plant_status"], info["_plant_status"] = statuses, stepped
-        b = self._batch
-        reward, terminated, truncated, _ = self.task.outcome(eta_true, info["eta_d"], a, b.diverged, b.done,
-                                                                   b.planned_steps - b.steps)
-        reward[~stepped], terminated[~stepped], truncated[~stepped] = 0.0, False, False
+            # NEXT_STEP: the envs whose episode ended start again (their action was ignored).
+            self._reset_lanes(np.flatnonzero(self._ended), [None] * self.num_envs)
+            obs, fresh = self._lanes()
+            info.update(fresh)
+        self._clips += clipped & stepped
+        info["action_clips"] = self._clips.copy()
+        self._masked(info)
+        info["_plant_status"] = stepped
         ended = terminated | truncated
         if self.autoreset_mode == AutoresetMode.NEXT_STEP:
             self._ended = ended
@@ -207,7 +234,7 @@ class TrackingVectorEnv(VectorEnv):
         final_info = {key: value for key, value in info.items() if not key.startswith("_")}
         final_info.update({f"_{key}": ended for key in list(final_info)})
         self._reset_lanes(np.flatnonzero(ended), [None] * self.num_envs)
-        obs, new_info, _ = self._observe()
+        obs, new_info = self._observe()
         new_info.update(plant_status=info["plant_status"], _plant_status=~ended,
                         final_obs=final_obs, _final_obs=ended, final_info=final_info, _final_info=ended)
         return obs, new_info
