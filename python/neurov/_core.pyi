@@ -3034,9 +3034,9 @@ class BatchSimulator:
         """
         Lane i's rows so far, as the dict run_closed_loop returns.
         """
-    def step(self, tau: numpy.typing.ArrayLike, mask: numpy.typing.ArrayLike | None = None, parameters: numpy.typing.ArrayLike | None = None) -> numpy.typing.NDArray[numpy.uint8]:
+    def step(self, tau: numpy.typing.ArrayLike, mask: numpy.typing.ArrayLike | None = None, parameters: numpy.typing.ArrayLike | None = None, threads: typing.SupportsInt | typing.SupportsIndex = 1) -> numpy.typing.NDArray[numpy.uint8]:
         """
-        Steps every lane whose mask is True (None: every lane) and that is not done with the force tau[i] (tau: (K, 6) float64) and, if the batch logs parameters, parameters[i] (K, logged_parameters). Returns the (K,) uint8 plant statuses (neurov.Status values; non_finite_input for a lane given a non-finite force, which is not stepped) and LANE_NOT_STEPPED (255) for a lane masked out or done. The GIL is released.
+        Steps every lane whose mask is True (None: every lane) and that is not done with the force tau[i] (tau: (K, 6) float64) and, if the batch logs parameters, parameters[i] (K, logged_parameters). Returns the (K,) uint8 plant statuses (neurov.Status values; non_finite_input for a lane given a non-finite force, which is not stepped) and LANE_NOT_STEPPED (255) for a lane masked out or done. The GIL is released. threads: the lanes split over that many threads (0: one per hardware thread; at least 32 lanes a thread, so fewer threads for a small batch); the results are the same.
         """
     @property
     def diverged(self) -> numpy.typing.NDArray[numpy.bool]:
@@ -3216,9 +3216,9 @@ class TrackingTask:
         """
         One control period of `simulator` (a Simulator) under `action` (n,), clipped to [-1, 1]: returns (observation (26,) float32, reward, terminated, truncated, info, clipped, outside), info holding t, eta, nu, eta_d, eta_true, nu_true and plant_status (a Status). ValueError for a wrong shape or a non-finite action, TypeError for one that is not real numbers (nothing is stepped then); RuntimeError for a done simulator.
         """
-    def step_batch(self, batch: BatchSimulator, actions: numpy.typing.ArrayLike, mask: numpy.typing.ArrayLike | None = None) -> tuple[numpy.typing.NDArray[numpy.float32], numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.bool], numpy.typing.NDArray[numpy.bool], dict[str, typing.Any], numpy.typing.NDArray[numpy.bool], numpy.typing.NDArray[numpy.bool]]:
+    def step_batch(self, batch: BatchSimulator, actions: numpy.typing.ArrayLike, mask: numpy.typing.ArrayLike | None = None, threads: typing.SupportsInt | typing.SupportsIndex = 1) -> tuple[numpy.typing.NDArray[numpy.float32], numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.bool], numpy.typing.NDArray[numpy.bool], dict[str, typing.Any], numpy.typing.NDArray[numpy.bool], numpy.typing.NDArray[numpy.bool]]:
         """
-        One control period of every lane of `batch` (a BatchSimulator) whose mask is True (None: every lane) and that is not done, under actions (K, n) clipped to [-1, 1], in one call with the GIL released: returns (observations (K, 26) float32, rewards (K,), terminated, truncated, info, clipped, outside ((K,) bool each)), info holding t (K,), eta, nu, eta_d, eta_true, nu_true (K, 6) and plant_status (K,) uint8 (LANE_NOT_STEPPED for a lane not stepped, which scores reward 0 and no flag). Bad actions raise as step() does, and nothing is stepped.
+        One control period of every lane of `batch` (a BatchSimulator) whose mask is True (None: every lane) and that is not done, under actions (K, n) clipped to [-1, 1], in one call with the GIL released: returns (observations (K, 26) float32, rewards (K,), terminated, truncated, info, clipped, outside ((K,) bool each)), info holding t (K,), eta, nu, eta_d, eta_true, nu_true (K, 6) and plant_status (K,) uint8 (LANE_NOT_STEPPED for a lane not stepped, which scores reward 0 and no flag). Bad actions raise as step() does, and nothing is stepped. threads: the lanes' plants stepped over that many threads, as BatchSimulator.step does.
         """
     @property
     def action_size(self) -> int:

@@ -169,7 +169,7 @@ Batch make_batch(const typed::IterableOf<Vehicle<double>>& vehicles_in,
 
 py::array_t<std::uint8_t> step(Batch& b, const typed::ArrayLike& tau_in,
                                const typed::OptionalArrayLike& mask_in,
-                               const typed::OptionalArrayLike& parameters_in) {
+                               const typed::OptionalArrayLike& parameters_in, unsigned threads) {
   const char* where = "BatchSimulator.step";
   const auto k = static_cast<py::ssize_t>(b.size());
   const auto tau = checked_array<double>(tau_in, where, "tau", {k, 6}, "float64");
@@ -193,7 +193,7 @@ py::array_t<std::uint8_t> step(Batch& b, const typed::ArrayLike& tau_in,
   std::uint8_t* out = statuses.mutable_data();
   {
     py::gil_scoped_release release;
-    b.step(tau.data(), mask, out, parameters);
+    step_threaded(b, threads, tau.data(), mask, out, parameters);
   }
   return statuses;
 }
@@ -350,11 +350,14 @@ void bind_batch(py::module_& m) {
           },
           "The true (eta, nu), each (K, 6).")
       .def("step", &step, py::arg("tau"), py::arg("mask") = py::none(), py::arg("parameters") = py::none(),
+           py::arg("threads") = 1u,
            "Steps every lane whose mask is True (None: every lane) and that is not done with the force "
            "tau[i] (tau: (K, 6) float64) and, if the batch logs parameters, parameters[i] "
            "(K, logged_parameters). Returns the (K,) uint8 plant statuses (neurov.Status values; "
            "non_finite_input for a lane given a non-finite force, which is not stepped) and "
-           "LANE_NOT_STEPPED (255) for a lane masked out or done. The GIL is released.")
+           "LANE_NOT_STEPPED (255) for a lane masked out or done. The GIL is released. threads: the lanes "
+           "split over that many threads (0: one per hardware thread; at least 32 lanes a thread, so "
+           "fewer threads for a small batch); the results are the same.")
       .def_property_readonly("done",
                              [](const Batch& b) {
                                return per_lane<bool>(b, 1, [](const Simulator<double>& s, bool* x) { *x = s.done(); });

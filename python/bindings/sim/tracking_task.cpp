@@ -219,7 +219,7 @@ StepTuple<F32, double, bool> step_one(const Task& task, Sim& sim, const typed::A
 }
 
 StepTuple<F32, F64, Bools> step_batch(const Task& task, Batch& batch, const typed::ArrayLike& actions,
-                                      const typed::OptionalArrayLike& mask_in) {
+                                      const typed::OptionalArrayLike& mask_in, unsigned threads) {
   const std::size_t k = batch.size();
   const auto rows = static_cast<py::ssize_t>(k);
   std::vector<double> a(k * static_cast<std::size_t>(task.action_size())), tau(6 * k);
@@ -243,7 +243,7 @@ StepTuple<F32, F64, Bools> step_batch(const Task& task, Batch& batch, const type
   {
     py::gil_scoped_release release;
     tracking_forces(task, k, a.data(), tau.data());
-    batch.step(tau.data(), mask, status);
+    step_threaded(batch, threads, tau.data(), mask, status);
     for (std::size_t i = 0; i < k; ++i) lanes.read(i, batch.lane(i));
     tracking_outcome(task, k, r, observation, out);
     // A lane not stepped (masked out, or done) scores nothing.
@@ -327,12 +327,14 @@ void bind_tracking_task(py::module_& m) {
            "for a wrong shape or a non-finite action, TypeError for one that is not real numbers "
            "(nothing is stepped then); RuntimeError for a done simulator.")
       .def("step_batch", &step_batch, py::arg("batch"), py::arg("actions"), py::arg("mask") = py::none(),
+           py::arg("threads") = 1u,
            "One control period of every lane of `batch` (a BatchSimulator) whose mask is True (None: "
            "every lane) and that is not done, under actions (K, n) clipped to [-1, 1], in one call with "
            "the GIL released: returns (observations (K, 26) float32, rewards (K,), terminated, truncated, "
            "info, clipped, outside ((K,) bool each)), info holding t (K,), eta, nu, eta_d, eta_true, "
            "nu_true (K, 6) and plant_status (K,) uint8 (LANE_NOT_STEPPED for a lane not stepped, which "
-           "scores reward 0 and no flag). Bad actions raise as step() does, and nothing is stepped.")
+           "scores reward 0 and no flag). Bad actions raise as step() does, and nothing is stepped. "
+           "threads: the lanes' plants stepped over that many threads, as BatchSimulator.step does.")
       .def(
           "observe",
           [](const Task& t, const Sim& sim) {

@@ -55,7 +55,10 @@ class TrackingVectorEnv(VectorEnv):
     tables as ``[[perturbations]]``): each env draws its plant from it at
     every reset. `batch_class`: the batch to run (default the compiled
     ``neurov._core.BatchSimulator``; :class:`neurov.running.lanes.PythonLanes`
-    steps one simulator per env, the reference it is tested against)."""
+    steps one simulator per env, the reference it is tested against).
+    threads: the threads that step the compiled batch's plants (0, the
+    default: one per core; at least 32 envs a thread, so a smaller batch
+    steps on one); the results do not depend on it."""
 
     metadata: dict[str, Any] = {"render_modes": [], "autoreset_mode": AutoresetMode.NEXT_STEP}
 
@@ -63,9 +66,12 @@ class TrackingVectorEnv(VectorEnv):
                  autoreset_mode: AutoresetMode | str = AutoresetMode.NEXT_STEP, randomize: Any = None,
                  position_weight: float = 1.0, attitude_weight: float = 1.0, effort_weight: float = 0.01,
                  box_margin: float = 5.0, velocity_bound: float = 5.0, batch_class: type | None = None,
-                 render_mode: None = None) -> None:
+                 threads: int = 0, render_mode: None = None) -> None:
         if isinstance(num_envs, bool) or not isinstance(num_envs, (int, np.integer)) or num_envs < 1:
             raise ValueError(f"argument 'num_envs' must be an int >= 1, got {num_envs!r}")
+        if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or not 0 <= threads < 2**32:
+            raise ValueError(f"argument 'threads' must be an int >= 0 (0: one per core), got {threads!r}")
+        self.threads = int(threads)
         if render_mode is not None:
             raise ValueError(f"argument 'render_mode': the vector env does not render, got {render_mode!r}")
         try:
@@ -178,7 +184,7 @@ class TrackingVectorEnv(VectorEnv):
         functions."""
         core = self.task.core
         if self._compiled:
-            return core.step_batch(self._batch, actions, stepped)[:6]
+            return core.step_batch(self._batch, actions, stepped, self.threads)[:6]
         shape = (self.num_envs, *self.task.action_shape)
         a, clipped = core.clip(actions)  # refuses what is not real numbers, or not finite
         if a.shape != shape:

@@ -24,6 +24,7 @@
 #include <functional>
 #include <cstddef>
 #include <cstdint>
+#include <system_error>
 #include <thread>
 #include <type_traits>
 #include <utility>
@@ -115,7 +116,16 @@ class BatchSimulator {
   /// kLaneNotStepped for a lane not stepped.
   void step(const Scalar* tau, const bool* mask, std::uint8_t* statuses,
             const Scalar* parameters = nullptr) noexcept {
-    for (std::size_t i = 0; i < lanes_.size(); ++i) {
+    step_lanes(0, lanes_.size(), tau, mask, statuses, parameters);
+  }
+
+  /// step() for the lanes i in [begin, end) only (the arrays still indexed
+  /// by lane over the whole batch): lanes share nothing, so ranges stepped
+  /// on different threads give the results of one step().
+  void step_lanes(std::size_t begin, std::size_t end, const Scalar* tau, const bool* mask,
+                  std::uint8_t* statuses, const Scalar* parameters = nullptr) noexcept {
+    end = std::min(end, lanes_.size());
+    for (std::size_t i = begin; i < end; ++i) {
       Sim& sim = lanes_[i];
       if ((mask && !mask[i]) || sim.done()) {
         statuses[i] = kLaneNotStepped;
@@ -142,6 +152,38 @@ class BatchSimulator {
   int logged_parameters_ = 0;
   Eigen::Index log_rows_ = 0;
 };
+
+/// Lanes a stepping thread gets at least: starting a thread costs tens of
+/// microseconds, about what ten lanes' control period of plant costs.
+inline constexpr std::size_t kMinLanesPerThread = 32;
+
+/// BatchSimulator::step over `threads` threads (0: one per hardware
+/// thread), each stepping a contiguous share of the lanes, never fewer than
+/// kMinLanesPerThread a thread (one thread below that). The same results
+/// as step(). Starts threads, so it allocates (and may throw
+/// std::bad_alloc before any lane is stepped): a host's batch call, not a
+/// control loop's step. A thread the system refuses leaves its share to
+/// the calling thread.
+template <typename Scalar>
+void step_threaded(BatchSimulator<Scalar>& batch, unsigned threads, const Scalar* tau, const bool* mask,
+                   std::uint8_t* statuses, const Scalar* parameters = nullptr) {
+  const std::size_t k = batch.size();
+  std::size_t n = threads ? threads : std::max(1u, std::thread::hardware_concurrency());
+  n = std::max<std::size_t>(1, std::min(n, k / kMinLanesPerThread));
+  const auto share = [&](std::size_t t) noexcept {
+    batch.step_lanes(k * t / n, k * (t + 1) / n, tau, mask, statuses, parameters);
+  };
+  std::vector<std::thread> workers;
+  workers.reserve(n - 1);
+  std::size_t started = 1;
+  try {
+    for (; started < n; ++started) workers.emplace_back(share, started);
+  } catch (const std::system_error&) {
+  }
+  for (std::size_t t = started; t < n; ++t) share(t);
+  share(0);
+  for (std::thread& w : workers) w.join();
+}
 
 namespace detail {
 
