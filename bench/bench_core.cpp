@@ -269,6 +269,38 @@ void BM_ClosedLoopBatch(benchmark::State& state) {
       benchmark::Counter(static_cast<double>(state.iterations()) * runs, benchmark::Counter::kIsRate);
 }
 
+/// One control period of K lanes of the batch (BatchSimulator::step, one
+/// thread): NEROV on the paper's path, 10 RK4 substeps, no thrusters, a
+/// fixed force; a lane whose run ends starts again (untimed). The plant
+/// per lane-step, double against float; env_steps_per_second is per second
+/// of CPU.
+template <typename S>
+void BM_BatchStep(benchmark::State& state) {
+  const auto k = static_cast<std::size_t>(state.range(0));
+  const std::vector<neurov::Vehicle<S>> vehicles(k, neurov_bench::nerov<S>());
+  const std::vector<neurov::SimulationConfig<S>> configs(k, neurov_bench::closed_loop_config<S>());
+  neurov::BatchSimulator<S> batch;
+  if (neurov::BatchSimulator<S>::create(vehicles, configs, batch)) {
+    state.SkipWithError("the batch was refused");
+    return;
+  }
+  std::vector<S> tau(6 * k);
+  for (std::size_t i = 0; i < tau.size(); ++i) tau[i] = S(i % 6 < 3 ? 20 : 2);
+  std::vector<std::uint8_t> statuses(k);
+  for (auto _ : state) {
+    batch.step(tau.data(), nullptr, statuses.data());
+    if (batch.lane(0).done()) {
+      state.PauseTiming();
+      for (std::size_t i = 0; i < k; ++i) batch.reset(i, i);
+      state.ResumeTiming();
+    }
+    benchmark::DoNotOptimize(statuses.data());
+  }
+  state.counters["env_steps_per_second"] =
+      benchmark::Counter(static_cast<double>(state.iterations()) * static_cast<double>(k),
+                         benchmark::Counter::kIsRate);
+}
+
 // ---------------------------------------------------------------- machine
 
 /// The core's clock while it runs code: a chain of dependent integer adds
@@ -332,6 +364,9 @@ BENCHMARK(BM_ClosedLoopBatch)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Iterations(1);
+
+BENCHMARK_TEMPLATE(BM_BatchStep, double)->Arg(256)->Unit(benchmark::kMicrosecond);
+BENCHMARK_TEMPLATE(BM_BatchStep, float)->Arg(256)->Unit(benchmark::kMicrosecond);
 
 BENCHMARK(BM_CoreClock);
 
