@@ -28,7 +28,7 @@ using neurov_bench::V6;
 // ------------------------------------------------------- per-centre counts
 //
 // Per centre and per SIMD lane (bench/README.md derives them from
-// rbf_kernels.hpp and nn_controller.hpp): the operations of one NN step that
+// rbf_kernel_loops.hpp and nn_controller.hpp): the operations of one NN step that
 // the algorithm needs, not those a particular loop happens to issue.
 struct CentreCounts {
   double fma;     ///< multiplies and multiply-adds (the FMA pipes)
@@ -152,7 +152,7 @@ NEUROV_ALWAYS_INLINE void store_body(S* p, long n, long reps) noexcept {
     }
 }
 
-/// The kernels' exp (rbf_kernels.hpp) over n numbers in L1, vector by vector
+/// The kernels' exp (rbf_kernel_loops.hpp) over n numbers in L1, vector by vector
 /// as the basis loop applies it.
 template <typename S, int L>
 NEUROV_ALWAYS_INLINE void exp_body(const S* x, S* y, long n, long reps) noexcept {
@@ -418,7 +418,7 @@ class Collector : public benchmark::ConsoleReporter {
   }
 };
 
-/// The width the NN step's kernels run at (rbf_kernels.hpp's dispatch).
+/// The width the NN step's kernels run at (core/vector_unit.hpp's dispatch).
 int kernel_bytes() {
   const auto isa = neurov::detail::kernel_isa();
   if (isa == neurov::detail::KernelIsa::avx512) return 64;

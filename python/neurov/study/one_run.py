@@ -61,20 +61,24 @@ def resolved_spec(study: Study, controller: int, scenario: int) -> ControllerSpe
     return spec
 
 
-def run_one(study: Study, key: RunKey, done: tuple[Any, float] | None = None) -> dict[str, Any]:
+def run_one(study: Study, key: RunKey, done: tuple[Any, float] | None = None,
+            made: tuple[Any, float] | None = None) -> dict[str, Any]:
     """Runs one (scenario, controller, sample) and returns its record: the
     table row and the decimated error series. A run that raises (a user's
     controller, ``sys.exit`` in it included) is a result, not the end of the
     study: its record is :func:`error_record`'s, with the error's type and
     message. `done`: the run's (Result, CPU seconds) already simulated in a
-    batch (:func:`run_batch`), of which only the record is made here."""
-    cpu_start = time.process_time() - (done[1] if done else 0.0)
+    batch (:func:`run_batch`), of which only the record is made here.
+    `made`: the run's controller (and the CPU seconds making it took),
+    already made by its factory in the batch, which is then not called again."""
+    earlier = done[1] if done else made[1] if made else 0.0
+    cpu_start = time.process_time() - earlier
     try:
         with warnings.catch_warnings():
             # A run's refused steps are its `refused_steps` column; a warning
             # per run from a worker would say it again, thousands of times.
             warnings.simplefilter("ignore", RefusedStepsWarning)
-            return _run(study, key, cpu_start, done[0] if done else None)
+            return _run(study, key, cpu_start, done[0] if done else None, made[0] if made else None)
     except (Exception, SystemExit) as e:  # noqa: BLE001 - any error of the user's code is this run's result
         message = str(e) if not isinstance(e, SystemExit) else f"sys.exit({e.code!r}) in the run"
         return error_record(study, key, "error", type(e).__name__, message,
@@ -102,7 +106,7 @@ def error_record(study: Study, key: RunKey, kind: str, error_type: str, message:
             "wall_time": 0.0, "cpu_time": cpu_time}
 
 
-def _run(study: Study, key: RunKey, cpu_start: float, batched: Any = None) -> dict[str, Any]:
+def _run(study: Study, key: RunKey, cpu_start: float, batched: Any = None, made: Any = None) -> dict[str, Any]:
     scenario = study.scenarios[key.scenario]
     controller = study.controllers[key.controller]
     plant, columns = sample_plant(study, scenario, key.sample)
@@ -113,7 +117,8 @@ def _run(study: Study, key: RunKey, cpu_start: float, batched: Any = None) -> di
             result = batched
         else:
             assert factory is not None  # the condition above
-            result = simulate(plant, factory.make(scenario), label=controller)
+            ctrl = made if made is not None else factory.make(scenario)
+            result = simulate(plant, ctrl, label=controller)
         own = own_failures(result.extra.get("controller_errors") or {})
         if own:  # warned about in a single run; in a study, a failed run
             raise ControllerError(f"controller {controller!r}: {describe_failures(own, len(result.t))}")
@@ -167,8 +172,9 @@ def run_batch(study: Study, keys: Sequence[tuple[int, int, int]]) -> list[dict[s
     those of :func:`run_one` run by run."""
     runs = [RunKey(*k) for k in keys]
     done = _simulate_built_ins(study, [k for k in runs if _batchable(study, k)])
-    done.update(_simulate_policies(study, [k for k in runs if study.controllers[k.controller] in study.factories]))
-    return [run_one(study, k, done.get(k)) for k in runs]
+    policies, made = _simulate_policies(study, [k for k in runs if study.controllers[k.controller] in study.factories])
+    done.update(policies)
+    return [run_one(study, k, done.get(k), made.get(k)) for k in runs]
 
 
 def _batchable(study: Study, key: RunKey) -> bool:
@@ -198,18 +204,24 @@ def _simulate_built_ins(study: Study, keys: list[RunKey]) -> dict[RunKey, tuple[
     return {k: (r, cpu) for k, r in zip(keys, results)}
 
 
-def _simulate_policies(study: Study, keys: list[RunKey]) -> dict[RunKey, tuple[Any, float]]:
+def _simulate_policies(study: Study, keys: list[RunKey]
+                       ) -> tuple[dict[RunKey, tuple[Any, float]], dict[RunKey, tuple[Any, float]]]:
     """The runs of factories whose product is batched, one batch per
     (controller, scenario): the factory called once for it, on the nominal
     scenario as for a per-run controller, its product stepping every
     perturbed plant of the group at once (a run it fails in is rerun alone
-    by :func:`run_batched_policy` and fails alone). A factory that raises or
-    makes a per-run controller leaves its runs to :func:`run_one` (the
-    latter learnt from one extra call per process and scenario)."""
+    by :func:`run_batched_policy` and fails alone). A factory that raises
+    or makes a per-run controller leaves its runs to :func:`run_one`. Which
+    kind it makes is what its product declares (``batched = True``), learnt
+    from that one call per process and scenario; a per-run controller it
+    made is the first run's, so the factory is still called once per run.
+    Returns the batched runs' (Result, CPU seconds) and those controllers
+    already made, with the CPU seconds each took."""
     groups: dict[tuple[int, int], list[RunKey]] = {}
     for k in keys:
         groups.setdefault((k.controller, k.scenario), []).append(k)
     out: dict[RunKey, tuple[Any, float]] = {}
+    made: dict[RunKey, tuple[Any, float]] = {}
     for (controller, scenario), group in groups.items():
         kind = ("batched", controller, scenario)
         if study.cache.get(kind) is False:
@@ -218,10 +230,11 @@ def _simulate_policies(study: Study, keys: list[RunKey]) -> dict[RunKey, tuple[A
         label = study.controllers[controller]
         try:
             policy = study.factories[label].make(study.scenarios[scenario])
-            # Which kind a factory makes is learnt once per process: a per-run
-            # factory is then called once per run only, as before.
+            # Which kind a factory makes is learnt once per process, from its
+            # first product, which a per-run factory's first run then runs.
             study.cache[kind] = is_batched(policy)
             if not study.cache[kind]:
+                made[group[0]] = (policy, time.process_time() - cpu_start)
                 continue
             plants = [sample_plant(study, study.scenarios[scenario], k.sample)[0] for k in group]
             vehicles = [build_vehicle(p) for p in plants]
@@ -233,4 +246,4 @@ def _simulate_policies(study: Study, keys: list[RunKey]) -> dict[RunKey, tuple[A
             continue
         cpu = (time.process_time() - cpu_start) / len(group)
         out.update({k: (r, cpu) for k, r in zip(group, results)})
-    return out
+    return out, made

@@ -178,3 +178,24 @@ def batched_numpy_pd(scenario: neurov.Scenario) -> BatchedNumpyPD:
 
 def fails_on_second_run_alone(scenario: neurov.Scenario) -> FailsOnSecondRunAlone:
     return FailsOnSecondRunAlone()
+
+
+# --- factories that count their calls (tests/python/test_study_batched.py) -----------------
+
+
+def _count_call(scenario: neurov.Scenario) -> None:
+    """A line "pid scenario" in $NEUROV_TEST_CALLS_FILE per call of a counted factory."""
+    path = os.environ.get("NEUROV_TEST_CALLS_FILE")
+    if path:
+        with open(path, "a") as f:
+            f.write(f"{os.getpid()} {scenario.name}\n")
+
+
+def counted_numpy_pd(scenario: neurov.Scenario) -> NumpyPD:
+    _count_call(scenario)
+    return NumpyPD()
+
+
+def counted_batched_numpy_pd(scenario: neurov.Scenario) -> BatchedNumpyPD:
+    _count_call(scenario)
+    return BatchedNumpyPD()

@@ -46,9 +46,10 @@ class RbfNetwork {
   using OutputVector = Eigen::Matrix<Scalar, OutputsT, 1>;
   using WeightMatrix = Eigen::Matrix<Scalar, OutputsT, CentresT>;
   /// A network sized at run time also holds its centres packed in
-  /// cache-line panels for the basis loop (rbf_kernels.hpp): N x n_in more
-  /// numbers, for 1.2-2.3x at N >= 256. A network of fixed N (firmware,
-  /// the C interface) is stored once and reads the column-major matrix.
+  /// cache-line panels for the basis loop (rbf_kernel_loops.hpp): N x n_in
+  /// more numbers, for 1.2-2.3x at N >= 256. A network of fixed N
+  /// (firmware, the C interface) is stored once and reads the column-major
+  /// matrix.
   /// The packed copy starts on a cache line, so the kernels' vector loads
   /// never straddle two, wherever the heap put it.
   static constexpr bool kPacked = CentresT == Eigen::Dynamic;

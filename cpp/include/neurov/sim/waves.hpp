@@ -31,11 +31,11 @@
 
 #include <Eigen/Core>
 
-#include "neurov/control/rbf_kernels.hpp"  // the vector-unit dispatch
 #include "neurov/core/random.hpp"
 #include "neurov/core/status.hpp"
 #include "neurov/core/types.hpp"
 #include "neurov/core/validation.hpp"
+#include "neurov/core/vector_unit.hpp"
 #include "neurov/sim/random_streams.hpp"
 #include "neurov/sim/sea_constants.hpp"
 #include "neurov/sim/wave_spectrum.hpp"
@@ -83,8 +83,8 @@ NEUROV_ALWAYS_INLINE void store_at(int i, double* p, const Vec<double, L>& v,
 }
 
 // Elementwise loops on vectors of L doubles (the build's vector unit, and,
-// through the dispatch of rbf_kernels.hpp, AVX2+FMA or AVX-512 where the CPU
-// has them; the copies round differently in the last bits, as the
+// through the dispatch of core/vector_unit.hpp, AVX2+FMA or AVX-512 where
+// the CPU has them; the copies round differently in the last bits, as the
 // network's loops do). They run on to a whole number of vectors: the
 // arrays are zero up to their capacity.
 template <int L>
