@@ -51,16 +51,33 @@ def staircase(log: Log) -> bool:
     return bool(np.mean(refresh_rows(log)) < STAIRCASE) if len(log.t) > 8 else False
 
 
-def through_updates(pred: Array, fresh: NDArray[np.bool_], gain: Array, e0: Array) -> Array:
-    """The estimator's output (steps + 1, 3) for the model's linear velocity
-    `pred` (steps + 1, 3) over one segment: from the state `e0` at its row
-    0, held on rows not `fresh`, moved by `gain` (3,) toward `pred` on the
-    fresh ones."""
-    out = np.empty_like(pred)
-    e = np.array(e0, dtype=np.float64)
-    out[0] = e
-    for j in range(1, len(pred)):
-        if fresh[j]:
-            e = e + gain * (pred[j] - e)
-        out[j] = e
-    return out
+def through_updates(pred: Array, lengths: NDArray[np.int64], fresh: NDArray[np.bool_], gain: Array,
+                    e0: Array) -> Array:
+    """The estimator's output for the model's linear velocity `pred`
+    (sum(lengths), 3): segments of `lengths` rows stacked, each from its
+    state `e0[i]` (S, 3) at its row 0, held on rows not `fresh`
+    (sum(lengths),), moved by `gain` (3,) toward `pred` on the fresh ones
+    (a segment's row 0 is its start, never an update). The segments are
+    updated together: one numpy step per update of the segment with the
+    most, then each row takes the state after its segment's latest update."""
+    lengths = np.asarray(lengths, dtype=np.int64)
+    n_seg = len(lengths)
+    seg = np.repeat(np.arange(n_seg), lengths)
+    first = np.concatenate([[0], np.cumsum(lengths)[:-1]]).astype(np.int64)
+    update = np.asarray(fresh, dtype=bool).copy()
+    update[first] = False
+    counted = np.cumsum(update)
+    # rank[j]: the updates of row j's segment up to row j (0: none yet, the start e0).
+    rank = counted - (counted[first] - update[first])[seg]
+    most = int(rank.max()) if len(rank) else 0
+    rows = np.full((n_seg, most), -1, dtype=np.int64)
+    at = np.flatnonzero(update)
+    rows[seg[at], rank[at] - 1] = at
+    state = np.empty((n_seg, most + 1, 3))
+    e = np.array(e0, dtype=np.float64).reshape(n_seg, 3)
+    state[:, 0] = e
+    for k in range(most):
+        live = rows[:, k] >= 0
+        e[live] = e[live] + gain * (pred[rows[live, k]] - e[live])
+        state[:, k + 1] = e
+    return state[seg, rank]

@@ -1,6 +1,6 @@
 """Stage 2, output error: the vehicle model itself, integrated by neurov's
-plant integrator (``neurov._core.rk4_step``, the RK4 step the simulator
-takes), fitted to the measured velocities by ``scipy.optimize.least_squares``
+plant integrator (the RK4 step the simulator takes, every segment of an
+evaluation in one ``neurov._core.rk4_segments`` call), fitted to the measured velocities by ``scipy.optimize.least_squares``
 over short segments (2 s by default; multiple shooting: each segment starts from the
 measured state, so an error does not accumulate over the whole log),
 started from stage 1, within physical bounds (added mass and damping >= 0,
@@ -28,7 +28,7 @@ from neurov.identification.estimator_model import refresh_rows, through_updates
 from neurov.identification.log import Log
 from neurov.identification.parameters import vehicle_parameters
 
-__all__ = ["ShootingFit", "fit_output_error", "bounds"]
+__all__ = ["Segment", "SegmentInputs", "ShootingFit", "bounds", "fit_output_error", "simulate_segments"]
 
 Array = NDArray[np.float64]
 
@@ -56,13 +56,15 @@ def bounds(fitted: list[int], template: dict[str, Any]) -> tuple[Array, Array]:
 
 
 @dataclass(frozen=True)
-class _Segment:
+class Segment:
+    """Rows start .. start + steps of one log, simulated from row start."""
+
     log: Log
     start: int
     steps: int
 
 
-def _segments(logs: list[Log], segment_s: float) -> list[_Segment]:
+def _segments(logs: list[Log], segment_s: float) -> list[Segment]:
     out = []
     for log in logs:
         steps = max(1, int(round(segment_s / log.dt)))
@@ -70,31 +72,47 @@ def _segments(logs: list[Log], segment_s: float) -> list[_Segment]:
             for s in range(a, b - 1, steps):
                 n = min(steps, b - 1 - s)
                 if n >= 1:
-                    out.append(_Segment(log, s, n))
+                    out.append(Segment(log, s, n))
     return out
 
 
-def simulate_segments(vehicle: Any, segs: list[_Segment], starts: Array, substeps: int) -> Array:
+@dataclass(frozen=True)
+class SegmentInputs:
+    """What the segments' runs are driven by, packed in segment order as
+    ``neurov._core.rk4_segments`` takes it: each segment's start pose, its
+    intervals' steps, forces and currents (the same every evaluation of a
+    fit, so packed once)."""
+
+    eta0: Array
+    steps: NDArray[np.int64]
+    tau: Array
+    dt: Array
+    current: Array
+
+    @staticmethod
+    def of(segs: list[Segment]) -> SegmentInputs:
+        def rows(x: Any, s: Segment) -> Any:
+            return x[s.start:s.start + s.steps]
+
+        return SegmentInputs(eta0=np.array([s.log.eta[s.start] for s in segs]).reshape(-1, 6),
+                             steps=np.array([s.steps for s in segs], dtype=np.int64),
+                             tau=np.concatenate([rows(s.log.tau, s) for s in segs]).reshape(-1, 6),
+                             dt=np.concatenate([np.diff(s.log.t[s.start:s.start + s.steps + 1])
+                                                for s in segs]),
+                             current=np.concatenate([rows(s.log.current, s) for s in segs]).reshape(-1, 3))
+
+
+def simulate_segments(vehicle: Any, segs: list[Segment], starts: Array, substeps: int,
+                      inputs: SegmentInputs | None = None) -> Array:
     """The body velocities of every segment at its rows 0..steps, each
     started from its measured pose and its row of `starts` (len(segs), 6),
-    driven by the log's force held over each interval, stacked in segment
-    order. All segments go through this one call (independent runs of one
-    vehicle: the shape of a batch of simulations)."""
-    out = []
-    for seg, nu0 in zip(segs, starts):
-        log = seg.log
-        eta = log.eta[seg.start].copy()
-        nu = np.array(nu0, dtype=np.float64)
-        path = np.empty((seg.steps + 1, 6))
-        path[0] = nu
-        for j in range(seg.steps):
-            k = seg.start + j
-            h = (log.t[k + 1] - log.t[k]) / substeps
-            for _ in range(substeps):
-                eta, nu = _core.rk4_step(vehicle, eta, nu, log.tau[k], h, log.current[k])
-            path[j + 1] = nu
-        out.append(path)
-    return np.concatenate(out)
+    driven by the log's force (and current) held over each interval,
+    stacked in segment order: one call of ``neurov._core.rk4_segments``
+    (the simulator's RK4 step, every segment in C++; `inputs`, packed once
+    by :meth:`SegmentInputs.of`, saves packing them again)."""
+    packed = SegmentInputs.of(segs) if inputs is None else inputs
+    return np.asarray(_core.rk4_segments(vehicle, packed.eta0, np.asarray(starts, dtype=np.float64).reshape(-1, 6),
+                                         packed.steps, packed.tau, packed.dt, packed.current, substeps))
 
 
 @dataclass
@@ -111,7 +129,7 @@ class ShootingFit:
     gain: Array | None = None  #: the estimator's fitted update gains (u, v, w), with `estimator`
 
 
-def _profiled_blocks(jac: Any, fun: Array, p: int, segs: list[_Segment], seg_blocks: Any,
+def _profiled_blocks(jac: Any, fun: Array, p: int, segs: list[Segment], seg_blocks: Any,
                      keep: int | None = None) -> Blocks:
     """Per-block normal equations of theta with each segment's initial
     velocity eliminated (its Schur complement): resampling a block takes its
@@ -161,8 +179,10 @@ def fit_output_error(logs: list[Log], template: dict[str, Any], theta0: Array, f
     p = len(fitted)
     extra = 3 if estimator else 0
     fresh = [refresh_rows(log) for log in logs]
-    seg_fresh = [fresh[logs.index(s.log)][s.start:s.start + 1 + s.steps] for s in segs]
-    seg_e0 = [s.log.nu[s.start, :3] for s in segs]
+    seg_fresh = np.concatenate([fresh[logs.index(s.log)][s.start:s.start + 1 + s.steps] for s in segs])
+    seg_e0 = np.array([s.log.nu[s.start, :3] for s in segs])
+    lengths = np.array([s.steps + 1 for s in segs], dtype=np.int64)
+    inputs = SegmentInputs.of(segs)
     # Blocks of whole segments, about block_s seconds each.
     seg_t = np.array([s.log.t[s.start] for s in segs])
     log_no = np.array([logs.index(s.log) for s in segs])
@@ -173,14 +193,9 @@ def fit_output_error(logs: list[Log], template: dict[str, Any], theta0: Array, f
         theta[fitted] = x[:p]
         vehicle = _core.Vehicle(**vehicle_parameters(template, theta))
         starts = x[p + extra:].reshape(-1, 6)
-        pred = simulate_segments(vehicle, segs, starts, substeps)
+        pred = simulate_segments(vehicle, segs, starts, substeps, inputs)
         if estimator:
-            row = 0
-            for k, seg in enumerate(segs):
-                n = seg.steps + 1
-                pred[row:row + n, :3] = through_updates(pred[row:row + n, :3], seg_fresh[k],
-                                                        x[p:p + 3], seg_e0[k])
-                row += n
+            pred[:, :3] = through_updates(pred[:, :3], lengths, seg_fresh, x[p:p + 3], seg_e0)
         return ((pred - measured) / scale).reshape(-1)
 
     lo_t, hi_t = bounds(fitted, template)
