@@ -1,7 +1,7 @@
 """Stage 2, output error: the vehicle model itself, integrated by neurov's
 plant integrator (the RK4 step the simulator takes, every segment of an
-evaluation in one ``neurov._core.rk4_segments`` call), fitted to the measured velocities by ``scipy.optimize.least_squares``
-over short segments (2 s by default; multiple shooting: each segment starts from the
+evaluation in one ``neurov._core.rk4_segments`` call), fitted to the
+measured velocities by ``scipy.optimize.least_squares`` over short segments (2 s by default; multiple shooting: each segment starts from the
 measured state, so an error does not accumulate over the whole log),
 started from stage 1, within physical bounds (added mass and damping >= 0,
 mass and inertia > 0, buoyancy >= 0; with a diagonal M these keep M
@@ -24,7 +24,7 @@ from scipy.sparse import lil_matrix
 from neurov import _core
 from neurov.identification.blocks import Blocks, block_ids
 from neurov.identification.errors import IdentificationError
-from neurov.identification.estimator_model import refresh_rows, through_updates
+from neurov.identification.estimator_model import ANGULAR, LINEAR, refresh_rows, through_updates
 from neurov.identification.log import Log
 from neurov.identification.parameters import vehicle_parameters
 
@@ -37,8 +37,9 @@ Array = NDArray[np.float64]
 # 7 of 18 intervals holding the truth, 60 gave 15 of 18.
 MAX_NFEV = 20
 MAX_NFEV_ESTIMATOR = 60
-# The estimator gains' start: a DVL update that trusts the sample more than the prediction.
-GAIN0 = 0.8
+# The estimator gains' start: a DVL update that trusts the sample more than
+# the prediction (u, v, w), a gyro update that trusts it almost wholly (p, q, r).
+GAIN0 = (0.8,) * 3 + (0.95,) * 3
 
 
 def bounds(fitted: list[int], template: dict[str, Any]) -> tuple[Array, Array]:
@@ -111,8 +112,9 @@ def simulate_segments(vehicle: Any, segs: list[Segment], starts: Array, substeps
     (the simulator's RK4 step, every segment in C++; `inputs`, packed once
     by :meth:`SegmentInputs.of`, saves packing them again)."""
     packed = SegmentInputs.of(segs) if inputs is None else inputs
-    return np.asarray(_core.rk4_segments(vehicle, packed.eta0, np.asarray(starts, dtype=np.float64).reshape(-1, 6),
-                                         packed.steps, packed.tau, packed.dt, packed.current, substeps))
+    nu0 = np.asarray(starts, dtype=np.float64).reshape(-1, 6)
+    return np.asarray(_core.rk4_segments(vehicle, packed.eta0, nu0, packed.steps, packed.tau, packed.dt,
+                                         packed.current, substeps))
 
 
 @dataclass
@@ -126,7 +128,7 @@ class ShootingFit:
     cost: float
     nfev: int
     rms: float = 0.0  #: RMS of the scaled residual at the solution (comparable across logs)
-    gain: Array | None = None  #: the estimator's fitted update gains (u, v, w), with `estimator`
+    gain: Array | None = None  #: the estimator's fitted update gains (u, v, w, p, q, r), with `estimator`
 
 
 def _profiled_blocks(jac: Any, fun: Array, p: int, segs: list[Segment], seg_blocks: Any,
@@ -155,7 +157,8 @@ def _profiled_blocks(jac: Any, fun: Array, p: int, segs: list[Segment], seg_bloc
 
 def fit_output_error(logs: list[Log], template: dict[str, Any], theta0: Array, fitted: list[int],
                      segment_s: float = 2.0, substeps: int = 1, block_s: float = 5.0,
-                     max_nfev: int | None = None, estimator: bool = False) -> ShootingFit:
+                     max_nfev: int | None = None, estimator: bool = False,
+                     rates: bool = True) -> ShootingFit:
     """Fits theta[fitted] from `theta0` by multiple shooting on segments
     of `segment_s` seconds (measured on the 60 s NEROV runs of
     examples/identify_coverage.py, 2 s has errors a half to a third of
@@ -163,9 +166,11 @@ def fit_output_error(logs: list[Log], template: dict[str, Any], theta0: Array, f
     per interval. Each segment's initial velocity is fitted too (starting
     from the measured one, itself a measurement in the residual): a noisy
     start would otherwise bias the damping (an error in the variables).
-    With `estimator`, the model's linear velocity goes through the log's
-    estimator updates (:mod:`neurov.identification.estimator_model`), their
-    gains (3) fitted as nuisance unknowns after theta. `max_nfev` bounds
+    With `estimator`, the model's velocities go through the log's
+    estimator updates (:mod:`neurov.identification.estimator_model`: the
+    linear ones on their update rows, the rates on theirs), their gains
+    (u, v, w, p, q, r) fitted as nuisance unknowns after theta; without
+    `rates`, the linear ones only (a log of raw gyro rates). `max_nfev` bounds
     the solver's evaluations (default MAX_NFEV, or MAX_NFEV_ESTIMATOR with
     the estimator, whose start from stage 1 is further off)."""
     if segment_s <= 0:
@@ -177,10 +182,14 @@ def fit_output_error(logs: list[Log], template: dict[str, Any], theta0: Array, f
     rms = np.sqrt(np.mean(measured**2, axis=0))
     scale = np.where(rms > 0, rms, 1.0)
     p = len(fitted)
-    extra = 3 if estimator else 0
-    fresh = [refresh_rows(log) for log in logs]
-    seg_fresh = np.concatenate([fresh[logs.index(s.log)][s.start:s.start + 1 + s.steps] for s in segs])
-    seg_e0 = np.array([s.log.nu[s.start, :3] for s in segs])
+    extra = (6 if rates else 3) if estimator else 0
+
+    def seg_rows(axes: slice) -> NDArray[np.bool_]:
+        fresh = [refresh_rows(log, axes) for log in logs]
+        return np.concatenate([fresh[logs.index(s.log)][s.start:s.start + 1 + s.steps] for s in segs])
+
+    fresh_lin, fresh_rot = seg_rows(LINEAR), seg_rows(ANGULAR)
+    seg_e0 = np.array([s.log.nu[s.start] for s in segs])
     lengths = np.array([s.steps + 1 for s in segs], dtype=np.int64)
     inputs = SegmentInputs.of(segs)
     # Blocks of whole segments, about block_s seconds each.
@@ -195,7 +204,11 @@ def fit_output_error(logs: list[Log], template: dict[str, Any], theta0: Array, f
         starts = x[p + extra:].reshape(-1, 6)
         pred = simulate_segments(vehicle, segs, starts, substeps, inputs)
         if estimator:
-            pred[:, :3] = through_updates(pred[:, :3], lengths, seg_fresh, x[p:p + 3], seg_e0)
+            pred[:, LINEAR] = through_updates(pred[:, LINEAR], lengths, fresh_lin, x[p:p + 3],
+                                              seg_e0[:, LINEAR])
+            if rates:
+                pred[:, ANGULAR] = through_updates(pred[:, ANGULAR], lengths, fresh_rot, x[p + 3:p + 6],
+                                                   seg_e0[:, ANGULAR])
         return ((pred - measured) / scale).reshape(-1)
 
     lo_t, hi_t = bounds(fitted, template)
@@ -204,7 +217,7 @@ def fit_output_error(logs: list[Log], template: dict[str, Any], theta0: Array, f
     x0_t = np.where(x0_t <= lo_t, np.where(np.isfinite(lo_t), lo_t + 1e-6 * np.maximum(1, np.abs(x0_t)),
                                            x0_t), x0_t)
     starts0 = np.concatenate([s.log.nu[s.start] for s in segs])
-    gain0 = np.full(extra, GAIN0)
+    gain0 = np.array(GAIN0[:extra], dtype=np.float64)
     x0 = np.concatenate([x0_t, gain0, starts0])
     lo = np.concatenate([lo_t, np.full(extra, 1e-3), np.full(starts0.size, -np.inf)])
     hi = np.concatenate([hi_t, np.ones(extra), np.full(starts0.size, np.inf)])
