@@ -12,7 +12,11 @@ Without --realistic the measurement is the true state plus white noise
 (``[noise]``: 0.01 m/s on u, v, w, 0.002 on the rates and angles); with it,
 the scenario's sensors, EKF and one-period delay; the EKF's updates are
 modelled in the output error unless --estimator off (--velocity-lag auto
-estimates a lag instead).
+estimates a lag instead). --true rates|attitude|linear|rotation|all gives
+the fit the true values of those signals in place of the EKF's, to find
+which signal a bias comes from:
+
+    PYTHONPATH=python python examples/identify_coverage.py nerov --realistic --runs 3 --duration 60 --estimator linear --true rates
 """
 
 from __future__ import annotations
@@ -22,11 +26,15 @@ import argparse
 import numpy as np
 
 import neurov
-from neurov.identification.neurov_log import log_from_result
+from neurov.identification import make_log
 from neurov.study.spec import SCENARIO_DIR
 from neurov.config.vehicle_file import preset_path, read_vehicle_file
 
 PRESETS = {"bluerov2": "bluerov2_heavy", "nerov": "nerov"}
+# --true: the (array, columns) of the run taken from the truth instead of the estimate.
+TRUE = {"rates": [("nu", slice(3, 6))], "attitude": [("eta", slice(3, 6))],
+        "linear": [("nu", slice(0, 3))], "rotation": [("nu", slice(3, 6)), ("eta", slice(3, 6))],
+        "all": [("nu", slice(0, 6)), ("eta", slice(0, 6))]}
 
 
 def main() -> None:
@@ -38,8 +46,12 @@ def main() -> None:
     p.add_argument("--noise", type=float, default=0.01)
     p.add_argument("--velocity-lag", default="0", metavar="SECONDS|auto",
                    help="passed to neurov.identify (the EKF's velocity lag; 'auto' estimates it)")
-    p.add_argument("--estimator", choices=("auto", "on", "off"), default="auto",
-                   help="passed to neurov.identify: model the EKF's updates in the output error")
+    p.add_argument("--estimator", choices=("auto", "on", "off", "linear"), default="auto",
+                   help="passed to neurov.identify: model the EKF's updates in the output error "
+                        "(linear: the DVL's staircase, not the rates' filter)")
+    p.add_argument("--true", choices=sorted(TRUE), default=None,
+                   help="give the fit the true values of these signals instead of the estimate's "
+                        "(which signal of the estimate a bias comes from)")
     a = p.parse_args()
     template = read_vehicle_file(preset_path(PRESETS[a.vehicle]))
     q = template.parameters
@@ -57,9 +69,14 @@ def main() -> None:
         if not a.realistic:
             s.noise_nu = np.array([a.noise] * 3 + [a.noise / 5] * 3)
             s.noise_eta = np.array([0.0] * 3 + [a.noise / 5] * 3)
-        fit = neurov.identify(log_from_result(neurov.simulate(s)), preset_path(PRESETS[a.vehicle]),
-                              replicates=200, velocity_lag=lag,
-                              estimator={"auto": "auto", "on": True, "off": False}[a.estimator])
+        r = neurov.simulate(s)
+        eta, nu = np.array(r.eta_estimate), np.array(r.nu_estimate)
+        for array, rows in TRUE.get(a.true, ()):
+            (eta if array == "eta" else nu)[:, rows] = getattr(r, array)[:, rows]
+        log = make_log("run", r.t, eta, nu, np.asarray(r.tau_applied) + np.asarray(r.disturbance), r.current)
+        fit = neurov.identify(log, preset_path(PRESETS[a.vehicle]), replicates=200, velocity_lag=lag,
+                              estimator={"auto": "auto", "on": True, "off": False,
+                                         "linear": "linear"}[a.estimator])
         lo, hi = fit.interval[fit.fitted].T
         inside = (lo <= truth[fit.fitted]) & (truth[fit.fitted] <= hi)
         hits.append(inside)

@@ -14,6 +14,7 @@ from neurov.identification.estimator_model import refresh_rows, staircase
 from neurov.config.vehicle_file import preset_path
 
 GAIN = np.array([0.85, 0.8, 0.9])
+RATE_GAIN = np.array([0.95, 0.93, 0.96])
 
 
 def _staircase_log(every: int = 4) -> neurov.identification.Log:
@@ -43,8 +44,32 @@ def test_a_staircase_velocity_is_modelled_and_the_vehicle_recovered() -> None:
     # ... modelled, the model that made the log is found (noise-free: to the solver's tolerance).
     np.testing.assert_allclose(fit.theta[fit.fitted], truth[fit.fitted], rtol=1e-4)
     note = next(w for w in fit.warnings if "staircase" in w)
-    gains = [float(x.strip(",")) for x in note.rsplit(" ", 3)[1:]]
-    np.testing.assert_allclose(gains, GAIN, atol=1e-3)
+    linear, angular = (note.split(f"({axes}) ")[1].split(", (")[0] for axes in ("u, v, w", "p, q, r"))
+    np.testing.assert_allclose([float(g) for g in linear.split(", ")], GAIN, atol=1e-3)
+    # The rates are the vehicle's own here (no filter on them): their update gain is 1.
+    np.testing.assert_allclose([float(g) for g in angular.split(", ")], 1.0, atol=1e-3)
+
+
+def test_a_filter_on_the_rates_is_modelled_too() -> None:
+    """An EKF's body rates: moved at every row by a gain just below 1 (a lag
+    of (1 - K) / K periods), which read as extra rotational inertia."""
+    log = _staircase_log()
+    rates = log.nu.copy()
+    e = rates[0, 3:].copy()
+    for k in range(1, len(rates)):
+        e = e + RATE_GAIN * (log.nu[k, 3:] - e)
+        rates[k, 3:] = e
+    filtered = make_log("filtered rates", log.t, log.eta, rates, log.tau)
+    truth = true_theta("nerov")
+    fit = neurov.identify(filtered, preset_path("nerov"), free="added_mass,linear_damping", replicates=20)
+    np.testing.assert_allclose(fit.theta[fit.fitted], truth[fit.fitted], rtol=1e-4)
+    note = next(w for w in fit.warnings if "staircase" in w)
+    angular = note.split("(p, q, r) ")[1]
+    np.testing.assert_allclose([float(g) for g in angular.split(", ")], RATE_GAIN, atol=1e-3)
+    # With the staircase alone modelled the rates' lag reads as rotational added mass.
+    linear = neurov.identify(filtered, preset_path("nerov"), free="added_mass,linear_damping", replicates=20,
+                             estimator="linear")
+    assert np.min(linear.theta[7:10] / truth[7:10] - 1) > 0.002
 
 
 def test_a_log_sampled_at_every_row_is_no_staircase() -> None:

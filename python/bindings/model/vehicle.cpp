@@ -1,9 +1,12 @@
 #include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cstdint>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "bindings.hpp"
 #include "neurov/model/integrator.hpp"
@@ -67,6 +70,97 @@ void raise_status(Status s, const char* what) {
     default:
       throw py::value_error(std::string(what) + " failed: " + to_string(s));
   }
+}
+
+/// obj as a C-contiguous float64 array of shape (rows, cols) (cols 0: (rows,)),
+/// finite; an error naming `name` otherwise.
+py::array_t<double, py::array::c_style> finite_rows(const py::handle& obj, const char* name, py::ssize_t rows,
+                                                    py::ssize_t cols) {
+  const std::string expected = cols ? py_args::shape_string(rows, cols) : py_args::shape_string(rows, -1);
+  auto a = py_args::real_array(obj, name, expected);
+  const bool ok = cols ? a.ndim() == 2 && a.shape(0) == rows && a.shape(1) == cols
+                       : a.ndim() == 1 && a.shape(0) == rows;
+  if (!ok)
+    throw py::value_error(std::string("argument '") + name + "' must have shape " + expected + ", got " +
+                          py_args::shape_string(a));
+  py_args::require_finite(a.data(), a.size(), name);
+  return a;
+}
+
+/// S open-loop runs of one vehicle, each over its own stretch of a log (the
+/// output error's shooting segments, a held-out free run): segment i starts
+/// from (eta0[i], nu0[i]) and takes steps[i] intervals, interval k (counted
+/// over all segments in order) with tau[k] and current[k] held over dt[k],
+/// in `substeps` rk4_step calls of dt[k] / substeps each. Returns the body
+/// velocities at every segment's rows 0..steps[i], stacked. The same
+/// rk4_step the simulator takes: no second copy of the dynamics.
+py::array_t<double> rk4_segments(const Vehicle<double>& v, const py::handle& eta0_in, const py::handle& nu0_in,
+                                 const py::handle& steps_in, const py::handle& tau_in, const py::handle& dt_in,
+                                 const py::handle& current_in, const py::handle& substeps_in) {
+  const char* where = "rk4_segments";
+  const py::array steps_any = py::array::ensure(steps_in);
+  if (!steps_any || steps_any.ndim() != 1 || (steps_any.dtype().kind() != 'i' && steps_any.dtype().kind() != 'u'))
+    throw py::type_error(std::string(where) + ": argument 'steps' must be a 1-d integer array (intervals per "
+                         "segment), got " + std::string(py::str(py::type::handle_of(steps_in).attr("__name__"))));
+  const auto steps = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(steps_any);
+  const py::ssize_t segments = steps.shape(0);
+  py::ssize_t intervals = 0;
+  for (py::ssize_t i = 0; i < segments; ++i) {
+    if (steps.data()[i] < 0)
+      throw py::value_error(std::string(where) + ": argument 'steps' must be >= 0; element " + std::to_string(i) +
+                            " is " + std::to_string(steps.data()[i]));
+    intervals += steps.data()[i];
+  }
+  const int substeps = py_args::integer<int>(substeps_in, "substeps");
+  if (substeps < 1) throw py::value_error(std::string(where) + ": substeps must be >= 1, got " + std::to_string(substeps));
+  const auto eta0 = finite_rows(eta0_in, "eta0", segments, 6);
+  const auto nu0 = finite_rows(nu0_in, "nu0", segments, 6);
+  const auto tau = finite_rows(tau_in, "tau", intervals, 6);
+  const auto dt = finite_rows(dt_in, "dt", intervals, 0);
+  py::array_t<double, py::array::c_style> current;
+  if (!current_in.is_none()) current = finite_rows(current_in, "current", intervals, 3);
+  for (py::ssize_t k = 0; k < intervals; ++k)
+    if (detail::check_step("dt", dt.data()[k] / substeps))
+      throw py::value_error(std::string(where) + ": argument 'dt' divided by substeps must be > 0 and <= " +
+                            py_args::num(kMaxStep) + " s; element " + std::to_string(k) + " is " +
+                            py_args::num(dt.data()[k]));
+  py::array_t<double> out(std::vector<py::ssize_t>{intervals + segments, 6});
+  double* o = out.mutable_data();
+  const auto put = [&o](const Vec6& x) {
+    Eigen::Map<Vec6>{o} = x;
+    o += 6;
+  };
+  Status failed = Status::ok;
+  py::ssize_t failed_segment = -1, failed_step = -1;
+  {
+    py::gil_scoped_release release;
+    py::ssize_t k = 0;
+    for (py::ssize_t i = 0; i < segments && failed == Status::ok; ++i) {
+      Vec6 eta = Eigen::Map<const Vec6>(eta0.data() + 6 * i);
+      Vec6 nu = Eigen::Map<const Vec6>(nu0.data() + 6 * i);
+      put(nu);
+      for (std::int64_t j = 0; j < steps.data()[i]; ++j, ++k) {
+        const Eigen::Map<const Vec6> f(tau.data() + 6 * k);
+        const Vec3 c = current.size() ? Vec3(Eigen::Map<const Vec3>(current.data() + 3 * k)) : Vec3::Zero();
+        const double h = dt.data()[k] / substeps;
+        for (int s = 0; s < substeps && failed == Status::ok; ++s) {
+          const Status st = rk4_step(v, eta, nu, f, h, c);
+          if (st != Status::ok) {
+            failed = st;
+            failed_segment = i;
+            failed_step = static_cast<py::ssize_t>(j);
+          }
+        }
+        if (failed != Status::ok) break;
+        put(nu);
+      }
+    }
+  }
+  if (failed != Status::ok)
+    raise_status(failed, (std::string(where) + ": segment " + std::to_string(failed_segment) + ", step " +
+                          std::to_string(failed_step))
+                             .c_str());
+  return out;
 }
 
 /// A read-only property: a copy of the vehicle's parameter `member`.
@@ -202,6 +296,23 @@ void bind_vehicle(py::module_& m) {
       py::arg("current") = py::none(),
       "One fixed-step RK4 step of the 12-state plant with tau held over the step; returns "
       "the new (eta, nu). `current` (3,) is a constant NED current velocity [m/s].");
+  m.def(
+      "rk4_segments",
+      [](const Vehicle<double>& v, const typed::ArrayLike& eta0, const typed::ArrayLike& nu0,
+         const typed::ArrayLike& steps, const typed::ArrayLike& tau, const typed::ArrayLike& dt,
+         const typed::OptionalArrayLike& current, const typed::Index& substeps) {
+        return rk4_segments(v, eta0, nu0, steps, tau, dt, current, substeps);
+      },
+      py::arg("vehicle"), py::arg("eta0"), py::arg("nu0"), py::arg("steps"), py::arg("tau"), py::arg("dt"),
+      py::arg("current") = py::none(), py::arg("substeps") = 1,
+      "S open-loop runs of the vehicle, each from its own state, driven by recorded forces (the "
+      "output error's shooting segments): segment i starts from eta0[i], nu0[i] ((S, 6) each) and "
+      "takes steps[i] intervals ((S,) integers >= 0); interval k, counted over the segments in "
+      "order (N = sum(steps)), holds tau[k] ((N, 6)) and current[k] ((N, 3) NED [m/s], None: still "
+      "water) over dt[k] ((N,) [s]), in `substeps` rk4_step calls of dt[k] / substeps. Returns the "
+      "body velocities at each segment's rows 0..steps[i], stacked: (N + S, 6). The same steps as "
+      "rk4_step called in that order, without Python between them; the GIL is released. Raises "
+      "ValueError naming the segment and step where a step fails (as rk4_step would).");
 }
 
 }  // namespace neurov::bindings

@@ -43,15 +43,16 @@ def add_parser(sub: Any, epilog: str) -> None:
     p.add_argument("--velocity-lag", type=_lag, default=0.0, metavar="SECONDS|auto",
                    help="the estimator's lag of the linear velocity behind the motion, undone "
                         "before fitting; 'auto' estimates it from the data (default 0)")
-    p.add_argument("--estimator", choices=("auto", "on", "off"), default="auto",
+    p.add_argument("--estimator", choices=("auto", "on", "off", "linear"), default="auto",
                    help="model an estimator that holds the linear velocity between sensor updates "
-                        "(an EKF's staircase) in the output error: auto (where the logs show one), "
-                        "on or off (default auto)")
+                        "(an EKF's staircase) and filters the rates in the output error: auto (where "
+                        "the logs show one), on, off, or linear (the staircase only, for logged raw "
+                        "gyro rates) (default auto)")
     p.add_argument("--water-density", type=float, default=None, metavar="KG_M3",
                    help="the water of the logs, for a template that gives its displaced volume")
 
 
-_ESTIMATOR: dict[str, bool | str] = {"auto": "auto", "on": True, "off": False}
+_ESTIMATOR: dict[str, bool | str] = {"auto": "auto", "on": True, "off": False, "linear": "linear"}
 
 
 def _lag(text: str) -> float | str:

@@ -123,7 +123,8 @@ def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Pat
     estimator that holds the linear velocity between a sensor's updates
     (:mod:`neurov.identification.estimator_model`): ``"auto"`` where a log's
     linear velocity is such a staircase, True, or False (docs/identification.md,
-    the worked example)."""
+    the worked example); the rates go through the estimator's filter with it,
+    except with ``"linear"`` (the staircase alone: a log of raw gyro rates)."""
     items = logs if isinstance(logs, list) else [logs]
     read = [x if isinstance(x, Log) else read_log(x, mapping, _thrusters(vehicle)) for x in items]
     if not read:
@@ -133,17 +134,20 @@ def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Pat
         template = template.in_water(water_density)
     theta0 = template_theta(template.vehicle(), str(vehicle))
     free_idx = free_indices(free)
+    model_rates = estimator != "linear"
     if estimator == "auto":
         model_estimator = output_error and any(staircase(log) for log in read)
     elif isinstance(estimator, bool):
         model_estimator = estimator and output_error
+    elif estimator == "linear":
+        model_estimator = output_error
     else:
-        raise IdentificationError(f"estimator: expected True, False or 'auto', got {estimator!r}")
+        raise IdentificationError(f"estimator: expected True, False, 'auto' or 'linear', got {estimator!r}")
 
     def stages(logs_: list[Log]) -> _Stages:
         return _fit_stages(logs_, template.parameters, theta0, free_idx, output_error,
                            window_s=window_s, block_s=block_s, segment_s=segment_s, substeps=substeps,
-                           estimator=model_estimator)
+                           estimator=model_estimator, rates=model_rates)
 
     lag_note: list[str] = []
     if velocity_lag == "auto":
@@ -177,7 +181,9 @@ def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Pat
     if st.gain is not None:
         lag_note.append("the logs' linear velocity is held between sensor updates (an estimator's "
                         "staircase): modelled in the output error, update gains (u, v, w) "
-                        + ", ".join(f"{g:.3f}" for g in st.gain))
+                        + ", ".join(f"{g:.3f}" for g in st.gain[:3])
+                        + (", (p, q, r) " + ", ".join(f"{g:.3f}" for g in st.gain[3:])
+                           if len(st.gain) > 3 else ""))
     result.warnings = lag_note + _warnings(read, rows, lin, interval, theta)
     fitted_vehicle = result.vehicle()
     for h in heldout or []:
@@ -203,7 +209,7 @@ class _Stages:
 
 def _fit_stages(logs: list[Log], template: dict[str, Any], theta0: Array, free_idx: list[int],
                 output_error: bool, *, window_s: float, block_s: float, segment_s: float,
-                substeps: int, estimator: bool) -> _Stages:
+                substeps: int, estimator: bool, rates: bool = True) -> _Stages:
     """Stage 1, then (`output_error`) stage 2 from it: the estimate, the
     blocks of its bootstrap and the offset their samples are taken from."""
     rows = equation_rows(logs, window_s=window_s, block_s=block_s)
@@ -214,7 +220,7 @@ def _fit_stages(logs: list[Log], template: dict[str, Any], theta0: Array, free_i
     if not output_error:
         return _Stages(rows, lin, theta1, lin.blocks, np.zeros(24), float("nan"))
     oe = fit_output_error(logs, template, theta1, lin.fitted, segment_s=segment_s,
-                          substeps=substeps, block_s=block_s, estimator=estimator)
+                          substeps=substeps, block_s=block_s, estimator=estimator, rates=rates)
     return _Stages(rows, lin, oe.theta, oe.blocks, oe.at, oe.rms, oe.gain)
 
 

@@ -1,7 +1,7 @@
 """The fit on data the estimate never saw: a free run of the vehicle from
 the held-out log's first state of each segment, driven by the log's
-recorded force (``neurov._core.rk4_step``, the simulator's plant step, held
-over each interval), against the measured body velocities.
+recorded force held over each interval (the simulator's plant step, every
+segment in one ``neurov._core.rk4_segments`` call), against the measured body velocities.
 
 Only the velocities are compared: the position and heading of a free run
 drift without a controller however good the model (they integrate the
@@ -15,8 +15,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from neurov import _core
 from neurov.identification.log import Log
+from neurov.identification.output_error import Segment, simulate_segments
 
 __all__ = ["HeldOut", "free_run", "held_out", "nrmse_fit"]
 
@@ -25,15 +25,11 @@ Array = NDArray[np.float64]
 
 def free_run(vehicle: Any, log: Log, substeps: int = 1) -> Array:
     """The body velocities (N, 6) of a free run over each segment of `log`."""
+    segs = [Segment(log, a, b - 1 - a) for a, b in log.segments]
+    starts = np.array([log.nu[a] for a, _ in log.segments])
     out = np.full_like(log.nu, np.nan)
-    for a, b in log.segments:
-        eta, nu = log.eta[a].copy(), log.nu[a].copy()
-        out[a] = nu
-        for k in range(a, b - 1):
-            h = (log.t[k + 1] - log.t[k]) / substeps
-            for _ in range(substeps):
-                eta, nu = _core.rk4_step(vehicle, eta, nu, log.tau[k], h, log.current[k])
-            out[k + 1] = nu
+    out[np.concatenate([np.arange(a, b) for a, b in log.segments])] = simulate_segments(vehicle, segs, starts,
+                                                                                     substeps)
     return out
 
 

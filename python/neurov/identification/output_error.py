@@ -1,7 +1,7 @@
 """Stage 2, output error: the vehicle model itself, integrated by neurov's
-plant integrator (``neurov._core.rk4_step``, the RK4 step the simulator
-takes), fitted to the measured velocities by ``scipy.optimize.least_squares``
-over short segments (2 s by default; multiple shooting: each segment starts from the
+plant integrator (the RK4 step the simulator takes, every segment of an
+evaluation in one ``neurov._core.rk4_segments`` call), fitted to the
+measured velocities by ``scipy.optimize.least_squares`` over short segments (2 s by default; multiple shooting: each segment starts from the
 measured state, so an error does not accumulate over the whole log),
 started from stage 1, within physical bounds (added mass and damping >= 0,
 mass and inertia > 0, buoyancy >= 0; with a diagonal M these keep M
@@ -24,11 +24,11 @@ from scipy.sparse import lil_matrix
 from neurov import _core
 from neurov.identification.blocks import Blocks, block_ids
 from neurov.identification.errors import IdentificationError
-from neurov.identification.estimator_model import refresh_rows, through_updates
+from neurov.identification.estimator_model import ANGULAR, LINEAR, refresh_rows, through_updates
 from neurov.identification.log import Log
 from neurov.identification.parameters import vehicle_parameters
 
-__all__ = ["ShootingFit", "fit_output_error", "bounds"]
+__all__ = ["Segment", "SegmentInputs", "ShootingFit", "bounds", "fit_output_error", "simulate_segments"]
 
 Array = NDArray[np.float64]
 
@@ -37,8 +37,9 @@ Array = NDArray[np.float64]
 # 7 of 18 intervals holding the truth, 60 gave 15 of 18.
 MAX_NFEV = 20
 MAX_NFEV_ESTIMATOR = 60
-# The estimator gains' start: a DVL update that trusts the sample more than the prediction.
-GAIN0 = 0.8
+# The estimator gains' start: a DVL update that trusts the sample more than
+# the prediction (u, v, w), a gyro update that trusts it almost wholly (p, q, r).
+GAIN0 = (0.8,) * 3 + (0.95,) * 3
 
 
 def bounds(fitted: list[int], template: dict[str, Any]) -> tuple[Array, Array]:
@@ -56,13 +57,15 @@ def bounds(fitted: list[int], template: dict[str, Any]) -> tuple[Array, Array]:
 
 
 @dataclass(frozen=True)
-class _Segment:
+class Segment:
+    """Rows start .. start + steps of one log, simulated from row start."""
+
     log: Log
     start: int
     steps: int
 
 
-def _segments(logs: list[Log], segment_s: float) -> list[_Segment]:
+def _segments(logs: list[Log], segment_s: float) -> list[Segment]:
     out = []
     for log in logs:
         steps = max(1, int(round(segment_s / log.dt)))
@@ -70,31 +73,48 @@ def _segments(logs: list[Log], segment_s: float) -> list[_Segment]:
             for s in range(a, b - 1, steps):
                 n = min(steps, b - 1 - s)
                 if n >= 1:
-                    out.append(_Segment(log, s, n))
+                    out.append(Segment(log, s, n))
     return out
 
 
-def simulate_segments(vehicle: Any, segs: list[_Segment], starts: Array, substeps: int) -> Array:
+@dataclass(frozen=True)
+class SegmentInputs:
+    """What the segments' runs are driven by, packed in segment order as
+    ``neurov._core.rk4_segments`` takes it: each segment's start pose, its
+    intervals' steps, forces and currents (the same every evaluation of a
+    fit, so packed once)."""
+
+    eta0: Array
+    steps: NDArray[np.int64]
+    tau: Array
+    dt: Array
+    current: Array
+
+    @staticmethod
+    def of(segs: list[Segment]) -> SegmentInputs:
+        def rows(x: Any, s: Segment) -> Any:
+            return x[s.start:s.start + s.steps]
+
+        return SegmentInputs(eta0=np.array([s.log.eta[s.start] for s in segs]).reshape(-1, 6),
+                             steps=np.array([s.steps for s in segs], dtype=np.int64),
+                             tau=np.concatenate([rows(s.log.tau, s) for s in segs]).reshape(-1, 6),
+                             dt=np.concatenate([np.diff(s.log.t[s.start:s.start + s.steps + 1])
+                                                for s in segs]),
+                             current=np.concatenate([rows(s.log.current, s) for s in segs]).reshape(-1, 3))
+
+
+def simulate_segments(vehicle: Any, segs: list[Segment], starts: Array, substeps: int,
+                      inputs: SegmentInputs | None = None) -> Array:
     """The body velocities of every segment at its rows 0..steps, each
     started from its measured pose and its row of `starts` (len(segs), 6),
-    driven by the log's force held over each interval, stacked in segment
-    order. All segments go through this one call (independent runs of one
-    vehicle: the shape of a batch of simulations)."""
-    out = []
-    for seg, nu0 in zip(segs, starts):
-        log = seg.log
-        eta = log.eta[seg.start].copy()
-        nu = np.array(nu0, dtype=np.float64)
-        path = np.empty((seg.steps + 1, 6))
-        path[0] = nu
-        for j in range(seg.steps):
-            k = seg.start + j
-            h = (log.t[k + 1] - log.t[k]) / substeps
-            for _ in range(substeps):
-                eta, nu = _core.rk4_step(vehicle, eta, nu, log.tau[k], h, log.current[k])
-            path[j + 1] = nu
-        out.append(path)
-    return np.concatenate(out)
+    driven by the log's force (and current) held over each interval,
+    stacked in segment order: one call of ``neurov._core.rk4_segments``
+    (the simulator's RK4 step, every segment in C++; `inputs`, packed once
+    by :meth:`SegmentInputs.of`, saves packing them again)."""
+    packed = SegmentInputs.of(segs) if inputs is None else inputs
+    nu0 = np.asarray(starts, dtype=np.float64).reshape(-1, 6)
+    return np.asarray(_core.rk4_segments(vehicle, packed.eta0, nu0, packed.steps, packed.tau, packed.dt,
+                                         packed.current, substeps))
 
 
 @dataclass
@@ -108,10 +128,10 @@ class ShootingFit:
     cost: float
     nfev: int
     rms: float = 0.0  #: RMS of the scaled residual at the solution (comparable across logs)
-    gain: Array | None = None  #: the estimator's fitted update gains (u, v, w), with `estimator`
+    gain: Array | None = None  #: the estimator's fitted update gains (u, v, w, p, q, r), with `estimator`
 
 
-def _profiled_blocks(jac: Any, fun: Array, p: int, segs: list[_Segment], seg_blocks: Any,
+def _profiled_blocks(jac: Any, fun: Array, p: int, segs: list[Segment], seg_blocks: Any,
                      keep: int | None = None) -> Blocks:
     """Per-block normal equations of theta with each segment's initial
     velocity eliminated (its Schur complement): resampling a block takes its
@@ -137,7 +157,8 @@ def _profiled_blocks(jac: Any, fun: Array, p: int, segs: list[_Segment], seg_blo
 
 def fit_output_error(logs: list[Log], template: dict[str, Any], theta0: Array, fitted: list[int],
                      segment_s: float = 2.0, substeps: int = 1, block_s: float = 5.0,
-                     max_nfev: int | None = None, estimator: bool = False) -> ShootingFit:
+                     max_nfev: int | None = None, estimator: bool = False,
+                     rates: bool = True) -> ShootingFit:
     """Fits theta[fitted] from `theta0` by multiple shooting on segments
     of `segment_s` seconds (measured on the 60 s NEROV runs of
     examples/identify_coverage.py, 2 s has errors a half to a third of
@@ -145,9 +166,11 @@ def fit_output_error(logs: list[Log], template: dict[str, Any], theta0: Array, f
     per interval. Each segment's initial velocity is fitted too (starting
     from the measured one, itself a measurement in the residual): a noisy
     start would otherwise bias the damping (an error in the variables).
-    With `estimator`, the model's linear velocity goes through the log's
-    estimator updates (:mod:`neurov.identification.estimator_model`), their
-    gains (3) fitted as nuisance unknowns after theta. `max_nfev` bounds
+    With `estimator`, the model's velocities go through the log's
+    estimator updates (:mod:`neurov.identification.estimator_model`: the
+    linear ones on their update rows, the rates on theirs), their gains
+    (u, v, w, p, q, r) fitted as nuisance unknowns after theta; without
+    `rates`, the linear ones only (a log of raw gyro rates). `max_nfev` bounds
     the solver's evaluations (default MAX_NFEV, or MAX_NFEV_ESTIMATOR with
     the estimator, whose start from stage 1 is further off)."""
     if segment_s <= 0:
@@ -159,10 +182,16 @@ def fit_output_error(logs: list[Log], template: dict[str, Any], theta0: Array, f
     rms = np.sqrt(np.mean(measured**2, axis=0))
     scale = np.where(rms > 0, rms, 1.0)
     p = len(fitted)
-    extra = 3 if estimator else 0
-    fresh = [refresh_rows(log) for log in logs]
-    seg_fresh = [fresh[logs.index(s.log)][s.start:s.start + 1 + s.steps] for s in segs]
-    seg_e0 = [s.log.nu[s.start, :3] for s in segs]
+    extra = (6 if rates else 3) if estimator else 0
+
+    def seg_rows(axes: slice) -> NDArray[np.bool_]:
+        fresh = [refresh_rows(log, axes) for log in logs]
+        return np.concatenate([fresh[logs.index(s.log)][s.start:s.start + 1 + s.steps] for s in segs])
+
+    fresh_lin, fresh_rot = seg_rows(LINEAR), seg_rows(ANGULAR)
+    seg_e0 = np.array([s.log.nu[s.start] for s in segs])
+    lengths = np.array([s.steps + 1 for s in segs], dtype=np.int64)
+    inputs = SegmentInputs.of(segs)
     # Blocks of whole segments, about block_s seconds each.
     seg_t = np.array([s.log.t[s.start] for s in segs])
     log_no = np.array([logs.index(s.log) for s in segs])
@@ -173,14 +202,13 @@ def fit_output_error(logs: list[Log], template: dict[str, Any], theta0: Array, f
         theta[fitted] = x[:p]
         vehicle = _core.Vehicle(**vehicle_parameters(template, theta))
         starts = x[p + extra:].reshape(-1, 6)
-        pred = simulate_segments(vehicle, segs, starts, substeps)
+        pred = simulate_segments(vehicle, segs, starts, substeps, inputs)
         if estimator:
-            row = 0
-            for k, seg in enumerate(segs):
-                n = seg.steps + 1
-                pred[row:row + n, :3] = through_updates(pred[row:row + n, :3], seg_fresh[k],
-                                                        x[p:p + 3], seg_e0[k])
-                row += n
+            pred[:, LINEAR] = through_updates(pred[:, LINEAR], lengths, fresh_lin, x[p:p + 3],
+                                              seg_e0[:, LINEAR])
+            if rates:
+                pred[:, ANGULAR] = through_updates(pred[:, ANGULAR], lengths, fresh_rot, x[p + 3:p + 6],
+                                                   seg_e0[:, ANGULAR])
         return ((pred - measured) / scale).reshape(-1)
 
     lo_t, hi_t = bounds(fitted, template)
@@ -189,7 +217,7 @@ def fit_output_error(logs: list[Log], template: dict[str, Any], theta0: Array, f
     x0_t = np.where(x0_t <= lo_t, np.where(np.isfinite(lo_t), lo_t + 1e-6 * np.maximum(1, np.abs(x0_t)),
                                            x0_t), x0_t)
     starts0 = np.concatenate([s.log.nu[s.start] for s in segs])
-    gain0 = np.full(extra, GAIN0)
+    gain0 = np.array(GAIN0[:extra], dtype=np.float64)
     x0 = np.concatenate([x0_t, gain0, starts0])
     lo = np.concatenate([lo_t, np.full(extra, 1e-3), np.full(starts0.size, -np.inf)])
     hi = np.concatenate([hi_t, np.ones(extra), np.full(starts0.size, np.inf)])
