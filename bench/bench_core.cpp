@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "bench_ring.hpp"
+#include "neurov/sim/batch.hpp"
 
 namespace {
 
