@@ -95,6 +95,22 @@ inline void require_finite(const double* data, py::ssize_t n, const char* name) 
   }
 }
 
+/// obj as a C-contiguous float64 array of shape (rows, cols), or (rows,)
+/// for cols < 0; rows < 0 takes any number of rows. `finite` refuses NaN
+/// and Inf. The errors name `name` and the shape expected.
+inline py::array_t<double, py::array::c_style> real_rows(const py::handle& obj, const char* name, py::ssize_t rows,
+                                                         py::ssize_t cols, bool finite = true) {
+  const std::string expected = shape_string(rows, cols);
+  auto a = real_array(obj, name, expected);
+  const bool ok = cols < 0 ? a.ndim() == 1 && a.shape(0) == rows
+                           : a.ndim() == 2 && (rows < 0 || a.shape(0) == rows) && a.shape(1) == cols;
+  if (!ok)
+    throw py::value_error(std::string("argument '") + name + "' must have shape " + expected + ", got " +
+                          shape_string(a));
+  if (finite) require_finite(a.data(), a.size(), name);
+  return a;
+}
+
 /// A vector of fixed length N.
 template <int N>
 Eigen::Matrix<double, N, 1> vector(const py::handle& obj, const char* name) {

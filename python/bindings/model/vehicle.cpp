@@ -72,21 +72,6 @@ void raise_status(Status s, const char* what) {
   }
 }
 
-/// obj as a C-contiguous float64 array of shape (rows, cols) (cols 0: (rows,)),
-/// finite; an error naming `name` otherwise.
-py::array_t<double, py::array::c_style> finite_rows(const py::handle& obj, const char* name, py::ssize_t rows,
-                                                    py::ssize_t cols) {
-  const std::string expected = cols ? py_args::shape_string(rows, cols) : py_args::shape_string(rows, -1);
-  auto a = py_args::real_array(obj, name, expected);
-  const bool ok = cols ? a.ndim() == 2 && a.shape(0) == rows && a.shape(1) == cols
-                       : a.ndim() == 1 && a.shape(0) == rows;
-  if (!ok)
-    throw py::value_error(std::string("argument '") + name + "' must have shape " + expected + ", got " +
-                          py_args::shape_string(a));
-  py_args::require_finite(a.data(), a.size(), name);
-  return a;
-}
-
 /// S open-loop runs of one vehicle, each over its own stretch of a log (the
 /// output error's shooting segments, a held-out free run): segment i starts
 /// from (eta0[i], nu0[i]) and takes steps[i] intervals, interval k (counted
@@ -113,12 +98,12 @@ py::array_t<double> rk4_segments(const Vehicle<double>& v, const py::handle& eta
   }
   const int substeps = py_args::integer<int>(substeps_in, "substeps");
   if (substeps < 1) throw py::value_error(std::string(where) + ": substeps must be >= 1, got " + std::to_string(substeps));
-  const auto eta0 = finite_rows(eta0_in, "eta0", segments, 6);
-  const auto nu0 = finite_rows(nu0_in, "nu0", segments, 6);
-  const auto tau = finite_rows(tau_in, "tau", intervals, 6);
-  const auto dt = finite_rows(dt_in, "dt", intervals, 0);
+  const auto eta0 = py_args::real_rows(eta0_in, "eta0", segments, 6);
+  const auto nu0 = py_args::real_rows(nu0_in, "nu0", segments, 6);
+  const auto tau = py_args::real_rows(tau_in, "tau", intervals, 6);
+  const auto dt = py_args::real_rows(dt_in, "dt", intervals, -1);
   py::array_t<double, py::array::c_style> current;
-  if (!current_in.is_none()) current = finite_rows(current_in, "current", intervals, 3);
+  if (!current_in.is_none()) current = py_args::real_rows(current_in, "current", intervals, 3);
   for (py::ssize_t k = 0; k < intervals; ++k)
     if (detail::check_step("dt", dt.data()[k] / substeps))
       throw py::value_error(std::string(where) + ": argument 'dt' divided by substeps must be > 0 and <= " +

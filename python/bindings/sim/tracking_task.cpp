@@ -44,27 +44,6 @@ using Bools = py::array_t<bool>;
 template <typename Obs, typename Real, typename Flag>
 using StepTuple = py::typing::Tuple<Obs, Real, Flag, Flag, typed::AnyDict, Flag, Flag>;
 
-std::string rows_shape(py::ssize_t k, py::ssize_t width) {
-  return "(" + (k < 0 ? std::string("K") : std::to_string(k)) + ", " + std::to_string(width) + ")";
-}
-
-/// obj as a C-contiguous float64 (k, width) array (k < 0: any number of
-/// rows; width < 0: one row of shape (|width|,)); `finite` refuses NaN/Inf.
-py::array_t<double, py::array::c_style> rows_of(const py::handle& obj, const char* name, py::ssize_t k,
-                                                 py::ssize_t width, bool finite) {
-  const bool one = width < 0;
-  const py::ssize_t w = one ? -width : width;
-  const std::string expected = one ? "(" + std::to_string(w) + ",)" : rows_shape(k, w);
-  auto a = py_args::real_array(obj, name, expected);
-  const bool ok = one ? a.ndim() == 1 && a.shape(0) == w
-                      : a.ndim() == 2 && (k < 0 || a.shape(0) == k) && a.shape(1) == w;
-  if (!ok)
-    throw py::value_error(std::string("argument '") + name + "' must have shape " + expected + ", got " +
-                          py_args::shape_string(a));
-  if (finite) py_args::require_finite(a.data(), a.size(), name);
-  return a;
-}
-
 /// A (k,) array of bools (dtype bool) or of integers (dtype int/uint), C-contiguous.
 template <typename T>
 py::array_t<T, py::array::c_style> flags_of(const py::handle& obj, const char* name, py::ssize_t k) {
@@ -90,7 +69,7 @@ py::array_t<T, py::array::c_style> flags_of(const py::handle& obj, const char* n
 void clip_checked(const Task& task, const py::handle& obj, const char* name, py::ssize_t k, double* out,
                   bool* clipped) {
   const py::ssize_t n = task.action_size();
-  const auto a = rows_of(obj, name, k, k < 0 ? -n : n, false);
+  const auto a = k < 0 ? py_args::real_rows(obj, name, n, -1, false) : py_args::real_rows(obj, name, k, n, false);
   const std::size_t rows = k < 0 ? 1 : static_cast<std::size_t>(k);
   const std::ptrdiff_t bad = clip_actions(rows, n, a.data(), out, clipped);
   if (bad < 0) return;
@@ -352,7 +331,7 @@ void bind_tracking_task(py::module_& m) {
       .def(
           "clip",
           [](const Task& t, const typed::ArrayLike& actions) {
-            const auto k = rows_of(actions, "actions", -1, t.action_size(), false).shape(0);
+            const auto k = py_args::real_rows(actions, "actions", -1, t.action_size(), false).shape(0);
             F64 out({k, py::ssize_t(t.action_size())});
             Bools clipped(k);
             clip_checked(t, actions, "actions", k, out.mutable_data(), clipped.mutable_data());
@@ -364,7 +343,7 @@ void bind_tracking_task(py::module_& m) {
       .def(
           "forces",
           [](const Task& t, const typed::ArrayLike& actions) {
-            const auto a = rows_of(actions, "actions", -1, t.action_size(), true);
+            const auto a = py_args::real_rows(actions, "actions", -1, t.action_size(), true);
             F64 tau({a.shape(0), py::ssize_t(6)});
             tracking_forces(t, static_cast<std::size_t>(a.shape(0)), a.data(), tau.mutable_data());
             return tau;
@@ -374,12 +353,12 @@ void bind_tracking_task(py::module_& m) {
           "observe_rows",
           [](const Task& t, const typed::ArrayLike& eta, const typed::ArrayLike& nu, const typed::ArrayLike& eta_d,
              const typed::ArrayLike& eta_d_dot, const typed::ArrayLike& eta_d_ddot) {
-            const auto e = rows_of(eta, "eta", -1, 6, false);
+            const auto e = py_args::real_rows(eta, "eta", -1, 6, false);
             const py::ssize_t k = e.shape(0);
-            const auto n = rows_of(nu, "nu", k, 6, false);
-            const auto d = rows_of(eta_d, "eta_d", k, 6, true);
-            const auto dd = rows_of(eta_d_dot, "eta_d_dot", k, 6, true);
-            const auto ddd = rows_of(eta_d_ddot, "eta_d_ddot", k, 6, true);
+            const auto n = py_args::real_rows(nu, "nu", k, 6, false);
+            const auto d = py_args::real_rows(eta_d, "eta_d", k, 6, true);
+            const auto dd = py_args::real_rows(eta_d_dot, "eta_d_dot", k, 6, true);
+            const auto ddd = py_args::real_rows(eta_d_ddot, "eta_d_ddot", k, 6, true);
             Rows r;
             r.eta = e.data();
             r.nu = n.data();
@@ -398,10 +377,10 @@ void bind_tracking_task(py::module_& m) {
           [](const Task& t, const typed::ArrayLike& eta_true, const typed::ArrayLike& eta_d,
              const typed::ArrayLike& actions, const typed::ArrayLike& diverged, const typed::ArrayLike& done,
              const typed::ArrayLike& steps_left) {
-            const auto e = rows_of(eta_true, "eta_true", -1, 6, false);
+            const auto e = py_args::real_rows(eta_true, "eta_true", -1, 6, false);
             const py::ssize_t k = e.shape(0);
-            const auto d = rows_of(eta_d, "eta_d", k, 6, true);
-            const auto a = rows_of(actions, "actions", k, t.action_size(), true);
+            const auto d = py_args::real_rows(eta_d, "eta_d", k, 6, true);
+            const auto a = py_args::real_rows(actions, "actions", k, t.action_size(), true);
             const auto div = flags_of<bool>(diverged, "diverged", k);
             const auto dn = flags_of<bool>(done, "done", k);
             const auto left = flags_of<std::int64_t>(steps_left, "steps_left", k);
