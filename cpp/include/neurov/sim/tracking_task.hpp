@@ -170,18 +170,20 @@ inline void tracking_forces(const TrackingTask<Scalar>& task, std::size_t k, con
                             Scalar* tau) noexcept {
   const auto& c = task.config();
   const Eigen::Index n = task.action_size();
+  // u_j: component j of action a scaled by its limit on that side.
+  const auto scaled = [&](const Scalar* a, Eigen::Index j) noexcept {
+    return a[j] * (task.symmetric() || a[j] >= Scalar(0) ? c.action_positive(j) : c.action_negative(j));
+  };
   for (std::size_t i = 0; i < k; ++i) {
     const Scalar* a = actions + i * static_cast<std::size_t>(n);
     Scalar* f = tau + 6 * i;
     if (c.thrusters.cols() == 0) {
-      for (Eigen::Index j = 0; j < 6; ++j)
-        f[j] = a[j] * (task.symmetric() || a[j] >= Scalar(0) ? c.action_positive(j) : c.action_negative(j));
+      for (Eigen::Index j = 0; j < 6; ++j) f[j] = scaled(a, j);
       continue;
     }
     for (Eigen::Index r = 0; r < 6; ++r) f[r] = Scalar(0);
     for (Eigen::Index j = 0; j < n; ++j) {
-      const Scalar u = a[j] * (task.symmetric() || a[j] >= Scalar(0) ? c.action_positive(j)
-                                                                      : c.action_negative(j));
+      const Scalar u = scaled(a, j);
       for (Eigen::Index r = 0; r < 6; ++r) f[r] += c.thrusters(r, j) * u;
     }
   }
