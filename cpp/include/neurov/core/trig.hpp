@@ -11,57 +11,73 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <type_traits>
+
+#include "neurov/core/config.hpp"
+#include "neurov/core/lane_math.hpp"
+
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"  // always inlined: no calling convention
+#endif
 
 namespace neurov {
 namespace detail {
 
-// Inlined so that the three angles' polynomials overlap in the pipeline.
-#if defined(__GNUC__) || defined(__clang__)
-__attribute__((always_inline))
-#endif
-inline void sincos(double x, double& s, double& c) noexcept {
-  const double ax = std::fabs(x);
-  if (!(ax <= 1024.0)) {  // also NaN
-    s = std::sin(x);
-    c = std::cos(x);
-    return;
-  }
-  if (ax < 0x1p-27) {  // sin x = x and cos x = 1 to the last bit (keeps -0)
-    s = x;
-    c = 1.0;
-    return;
-  }
+/// sin and cos of each lane of V (double lanes; core/lane_math.hpp), the
+/// same operations for one lane as for many, so a batch of runs in SIMD
+/// lanes gets each run's sines bit for bit.
+template <typename V>
+NEUROV_ALWAYS_INLINE void sincos_lanes(const V& x, V& s, V& c) noexcept {
+  static_assert(std::is_same_v<LaneScalar<V>, double>, "double lanes");
+  V ax;
+  lane_abs(x, ax);
+  const auto out_of_range = (ax <= V{} + 1024.0) == 0;  // also NaN
+  const auto tiny = ax < V{} + 0x1p-27;
+  const V xr = out_of_range ? V{} : x;
   // n = nearest integer to x / (pi/2): adding 1.5 * 2^52 rounds it into the
   // low bits of t.
-  const double shifter = 0x1.8p52;
-  const double t = x * 6.36619772367581382433e-01 + shifter;
-  const double n = t - shifter;
+  const V shifter = V{} + 0x1.8p52;
+  const V t = xr * 6.36619772367581382433e-01 + shifter;
+  const V n = t - shifter;
   // pi/2 = p1 + p2 + p3 + p4, p1..p3 of 33 bits, so n * p1..p3 are exact for
   // |n| < 2^20 and r keeps its accuracy next to multiples of pi/2.
-  const double r = (((x - n * 1.57079632673412561417e+00) - n * 6.07710050630396597660e-11) -
-                    n * 2.02226624871116645580e-21) -
-                   n * 8.47842766036889956997e-32;
-  const double z = r * r, w = z * z;
+  const V r = (((xr - n * 1.57079632673412561417e+00) - n * 6.07710050630396597660e-11) -
+               n * 2.02226624871116645580e-21) -
+              n * 8.47842766036889956997e-32;
+  const V z = r * r, w = z * z;
   // fdlibm __kernel_sin and __kernel_cos on |r| <= pi/4.
-  const double ps = 8.33333333332248946124e-03 +
-                    z * (-1.98412698298579493134e-04 + z * 2.75573137070700676789e-06) +
-                    z * w * (-2.50507602534068634195e-08 + z * 1.58969099521155010221e-10);
-  const double sr = r + z * r * (-1.66666666666666324348e-01 + z * ps);
-  const double pc =
-      z * (4.16666666666666019037e-02 +
-           z * (-1.38888888888741095749e-03 + z * 2.48015872894767294178e-05)) +
-      w * w *
-          (-2.75573143513906633035e-07 +
-           z * (2.08757232129817482790e-09 + z * -1.13596475577881948265e-11));
-  const double hz = 0.5 * z;
-  const double one_minus = 1.0 - hz;
-  const double cr = one_minus + (((1.0 - one_minus) - hz) + z * pc);
-  std::uint64_t bits;
-  std::memcpy(&bits, &t, sizeof bits);
-  const unsigned q = static_cast<unsigned>(bits) & 3u;  // quadrant: n mod 4
-  const double a = (q & 1u) ? cr : sr, b = (q & 1u) ? -sr : cr;
-  s = (q & 2u) ? -a : a;
-  c = (q & 2u) ? -b : b;
+  const V ps = 8.33333333332248946124e-03 +
+               z * (-1.98412698298579493134e-04 + z * 2.75573137070700676789e-06) +
+               z * w * (-2.50507602534068634195e-08 + z * 1.58969099521155010221e-10);
+  const V sr = r + z * r * (-1.66666666666666324348e-01 + z * ps);
+  const V pc = z * (4.16666666666666019037e-02 +
+                    z * (-1.38888888888741095749e-03 + z * 2.48015872894767294178e-05)) +
+               w * w *
+                   (-2.75573143513906633035e-07 +
+                    z * (2.08757232129817482790e-09 + z * -1.13596475577881948265e-11));
+  const V hz = 0.5 * z;
+  const V one_minus = 1.0 - hz;
+  const V cr = one_minus + (((1.0 - one_minus) - hz) + z * pc);
+  BitsOf<V> q;  // quadrant: n mod 4 in the low bits of t
+  bits_of(t, q);
+  const auto odd = (q & 1u) != 0u, upper = (q & 2u) != 0u;
+  const V a = odd ? cr : sr, b = odd ? -sr : cr;
+  // sin x = x and cos x = 1 to the last bit for tiny x (keeps -0).
+  s = tiny ? x : (upper ? -a : a);
+  c = tiny ? V{} + 1.0 : (upper ? -b : b);
+  if (any(out_of_range)) {  // the library's own outside |x| <= 1024
+    for (int i = 0; i < kLanes<V>; ++i) {
+      if (!mask_lane(out_of_range, i)) continue;
+      set_lane(s, i, std::sin(lane(x, i)));
+      set_lane(c, i, std::cos(lane(x, i)));
+    }
+  }
+}
+
+// Inlined so that the three angles' polynomials overlap in the pipeline.
+NEUROV_ALWAYS_INLINE void sincos(double x, double& s, double& c) noexcept {
+  sincos_lanes(x, s, c);
 }
 
 inline void sincos(float x, float& s, float& c) noexcept {
@@ -89,3 +105,7 @@ inline void sincos(Scalar x, Scalar& s, Scalar& c) noexcept {
 
 }  // namespace detail
 }  // namespace neurov
+
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif

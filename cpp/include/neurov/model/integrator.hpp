@@ -27,6 +27,15 @@ NEUROV_ALWAYS_INLINE Status rk4_step(const Vehicle<Scalar>& vehicle, Vector6<Sca
                        const typename Vehicle<Scalar>::Vec3& current_ned =
                            Vector3<Scalar>::Zero()) noexcept {
   if (detail::check_step("dt", static_cast<double>(dt))) return Status::invalid_argument;
+  if (vehicle.valid() && vehicle.diagonal()) {
+    // The kernel a batch runs in SIMD lanes, here on one lane: a run alone
+    // and the same run in a batch share every rounding.
+    const Scalar h = dt;
+    detail::Rk4Masks<Scalar> m;
+    detail::plant_rk4(vehicle.plant_coefficients(), eta.data(), nu.data(), tau.data(),
+                      current_ned.data(), h, m);
+    return detail::status_of(m, 0);
+  }
   using V6 = Vector6<Scalar>;
   V6 eta_next, nu_next;
   const detail::Rk4Outcome r = detail::rk4(

@@ -8,6 +8,7 @@
 
 #include "neurov/core/config.hpp"
 #include "neurov/model/kinematics.hpp"
+#include "neurov/model/plant_kernel.hpp"
 #include "neurov/core/status.hpp"
 #include "neurov/core/symmetric_matrix.hpp"
 #include "neurov/core/types.hpp"
@@ -156,14 +157,34 @@ class Vehicle {
     };
     out.diagonal_ = p.centre_of_gravity.isZero(Scalar(0)) && off_diagonal_zero(p.inertia) &&
                     off_diagonal_zero(p.added_mass) && off_diagonal_zero(out.m_inv_);
-    out.inertia_diagonal_ = p.inertia.diagonal();
-    out.added_mass_diagonal_ = p.added_mass.diagonal();
-    out.m_inv_diagonal_ = out.m_inv_.diagonal();
+    namespace pc = detail::plant_coef;
+    Scalar* c = out.coefficients_;
+    c[pc::mass] = p.mass;
+    for (int i = 0; i < 3; ++i) c[pc::inertia + i] = p.inertia(i, i);
+    for (int i = 0; i < 6; ++i) {
+      c[pc::added_mass + i] = p.added_mass(i, i);
+      c[pc::m_inv + i] = out.m_inv_(i, i);
+      c[pc::linear + i] = p.linear_damping(i);
+      c[pc::quadratic + i] = p.quadratic_damping(i);
+    }
+    const Vec3& rg = p.centre_of_gravity;
+    const Vec3& rb = p.centre_of_buoyancy;
+    c[pc::net_weight] = p.weight - p.buoyancy;
+    c[pc::moment_x] = rg.x() * p.weight - rb.x() * p.buoyancy;
+    c[pc::moment_y] = rg.y() * p.weight - rb.y() * p.buoyancy;
+    c[pc::moment_z] = rg.z() * p.weight - rb.z() * p.buoyancy;
     out.valid_ = true;
     return {};
   }
 
   bool valid() const noexcept { return valid_; }
+  /// r_g = 0 and diagonal inertia, added mass and M^-1: the plant's
+  /// products are elementwise and its RK4 step runs in model/plant_kernel.hpp
+  /// (one run, or many in SIMD lanes).
+  bool diagonal() const noexcept { return diagonal_; }
+  /// The numbers plant_kernel.hpp reads (detail::plant_coef's order);
+  /// meaningful where diagonal().
+  const Scalar* plant_coefficients() const noexcept { return coefficients_; }
   const VehicleParameters<Scalar>& parameters() const noexcept { return params_; }
   /// M = M_RB + M_A.
   const Mat6& mass_matrix() const noexcept { return m_; }
@@ -316,6 +337,14 @@ class Vehicle {
       nu_dot.setZero();
       return Status::non_finite_input;
     }
+    if (diagonal_) {
+      // The inputs were checked above; finite_or_zero tells which output overflowed.
+      detail::PlantMasks<Scalar> unused;
+      detail::plant_derivative<false>(coefficients_, detail::trig_lanes(trig), eta.data(), nu.data(),
+                               tau.data(), current_ned.data(), eta_dot.data(), nu_dot.data(), unused);
+      const Status out = worst(finite_or_zero(nu_dot), finite_or_zero(eta_dot));
+      return worst(out, trig.status);
+    }
     const Matrix3<Scalar> r = rotation(trig);
     const Vec3 w = nu.template tail<3>();
     eta_dot.template head<3>().noalias() = r * nu.template head<3>();
@@ -329,13 +358,8 @@ class Vehicle {
       nu_r.template head<3>() -= vc;
     }
     const Vec6 g = restoring(trig.sin_phi, trig.cos_phi, trig.sin_theta, trig.cos_theta);
-    if (diagonal_) {
-      nu_dot = m_inv_diagonal_.cwiseProduct(tau - coriolis_force_diagonal(nu_r) -
-                                            damping_diagonal(nu_r).cwiseProduct(nu_r) - g);
-    } else {
-      nu_dot.noalias() =
-          m_inv_ * (tau - coriolis_force(nu_r) - damping_diagonal(nu_r).cwiseProduct(nu_r) - g);
-    }
+    nu_dot.noalias() =
+        m_inv_ * (tau - coriolis_force(nu_r) - damping_diagonal(nu_r).cwiseProduct(nu_r) - g);
     if (has_current) nu_dot.template head<3>() -= w.cross(vc);
     const Status out = worst(finite_or_zero(nu_dot), finite_or_zero(eta_dot));
     return worst(out, trig.status);
@@ -353,23 +377,10 @@ class Vehicle {
     return Status::non_finite_output;
   }
 
-  /// coriolis_force() for r_g = 0 and diagonal inertia and added mass.
-  Vec6 coriolis_force_diagonal(const Vec6& nu) const noexcept {
-    const Vec3 v = nu.template head<3>(), w = nu.template tail<3>();
-    const Vec3 a1 = added_mass_diagonal_.template head<3>().cwiseProduct(v);
-    const Vec3 a2 = added_mass_diagonal_.template tail<3>().cwiseProduct(w);
-    Vec6 f;
-    f.template head<3>() = w.cross(Vec3(params_.mass * v + a1));
-    f.template tail<3>() = w.cross(Vec3(inertia_diagonal_.cwiseProduct(w) + a2)) + v.cross(a1);
-    return f;
-  }
-
   VehicleParameters<Scalar> params_{};
   Mat6 m_ = Mat6::Zero();
   Mat6 m_inv_ = Mat6::Zero();
-  Vec3 inertia_diagonal_ = Vec3::Zero();
-  Vec6 added_mass_diagonal_ = Vec6::Zero();
-  Vec6 m_inv_diagonal_ = Vec6::Zero();
+  Scalar coefficients_[detail::plant_coef::count] = {};  ///< see plant_coefficients()
   bool diagonal_ = false;  ///< see create()
   bool valid_ = false;
 };

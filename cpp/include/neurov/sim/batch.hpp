@@ -4,18 +4,18 @@
 // stops while the others go on. BatchSimulator::step steps every lane one
 // control period (lockstep, one call for all lanes from Python).
 //
-// Each lane is a Simulator (simulator.hpp): the batch adds no physics, so a
-// lane gives exactly the result of the same run alone (statuses, faults,
-// divergence step, every series; the tests check it). The lanes are reached
-// only through this class's interface (create, replace, reset, step with a
-// (K, 6) force block, the per-lane queries), never as a container, so that
-// their storage can later become a structure of arrays across runs (the
-// plant's RK4 stages in SIMD lanes) behind the same interface. Today each
-// lane is scalar code; nothing here is vectorised across runs.
+// Each lane is a Simulator (simulator.hpp), stepped through the same parts
+// of a control period that Simulator::step calls; between them the batch
+// integrates the plants of up to kPlantBlockWidth lanes at a time in SIMD
+// lanes (model/plant_block.hpp), the same RK4 kernel a run alone goes
+// through on one lane. So a lane gives exactly the result of the same run
+// alone (statuses, faults, divergence step, every series; the tests check
+// it). Lanes whose plant the kernel does not cover (a vehicle with r_g != 0
+// or off-diagonal mass, waves) take the scalar step inside the same loop.
 //
-// run_batch splits the lanes over worker threads (std::thread), each
-// running its share lane after lane; the lanes share nothing, so the split
-// changes no result.
+// step_threaded and run_batch split the lanes over worker threads
+// (std::thread), each stepping a contiguous share; the lanes share nothing,
+// so the split changes no result.
 #pragma once
 
 #include <Eigen/Core>
@@ -34,6 +34,9 @@
 #include "neurov/control/built_in_controllers.hpp"
 #include "neurov/core/status.hpp"
 #include "neurov/core/validation.hpp"
+#include "neurov/model/flow.hpp"
+#include "neurov/model/integrator.hpp"
+#include "neurov/model/plant_block.hpp"
 #include "neurov/sim/closed_loop.hpp"
 #include "neurov/sim/config.hpp"
 #include "neurov/sim/result.hpp"
@@ -124,20 +127,23 @@ class BatchSimulator {
   /// on different threads give the results of one step().
   void step_lanes(std::size_t begin, std::size_t end, const Scalar* tau, const bool* mask,
                   std::uint8_t* statuses, const Scalar* parameters = nullptr) noexcept {
-    end = std::min(end, lanes_.size());
-    for (std::size_t i = begin; i < end; ++i) {
-      Sim& sim = lanes_[i];
-      if ((mask && !mask[i]) || sim.done()) {
-        statuses[i] = kLaneNotStepped;
-        continue;
-      }
-      ControllerReport<Scalar> report;
-      report.parameter_count = sim.logged_parameters();
-      report.parameters = parameters ? parameters + static_cast<std::ptrdiff_t>(i) * logged_parameters_
-                                     : nullptr;
-      statuses[i] = static_cast<std::uint8_t>(
-          sim.step(Eigen::Map<const Vec6>(tau + 6 * static_cast<std::ptrdiff_t>(i)), report));
-    }
+    step_blocks(
+        begin, std::min(end, lanes_.size()),
+        [&](std::size_t i, Sim& sim) noexcept {
+          if ((mask && !mask[i]) || sim.done()) {
+            statuses[i] = kLaneNotStepped;
+            return false;
+          }
+          ControllerReport<Scalar> report;
+          report.parameter_count = sim.logged_parameters();
+          report.parameters =
+              parameters ? parameters + static_cast<std::ptrdiff_t>(i) * logged_parameters_ : nullptr;
+          const Status refused =
+              sim.begin_period(Eigen::Map<const Vec6>(tau + 6 * static_cast<std::ptrdiff_t>(i)), report);
+          if (refused != Status::ok) statuses[i] = static_cast<std::uint8_t>(refused);
+          return refused == Status::ok;
+        },
+        [&](std::size_t i, Sim&, Status s) noexcept { statuses[i] = static_cast<std::uint8_t>(s); });
   }
 
   /// Lane i's queries (observation, faults, state, done, steps, result, ...).
@@ -147,6 +153,76 @@ class BatchSimulator {
   template <typename S, typename C>
   friend class BatchRun;
   Sim& lane_mut(std::size_t i) noexcept { return lanes_[i]; }
+
+  /// One control period of the lanes in [begin, end), kPlantBlockWidth lanes
+  /// at a time: `start(i, sim)` begins lane i's period (Simulator::
+  /// begin_period) and returns whether it did; the substeps' plants then
+  /// move together, and `finish(i, sim, status)` gets what Simulator::step
+  /// would have returned. Returns how many lanes were stepped.
+  template <typename Start, typename Finish>
+  std::size_t step_blocks(std::size_t begin, std::size_t end, Start&& start,
+                          Finish&& finish) noexcept {
+    namespace pc = detail::plant_coef;
+    PlantBlock<Scalar> block;
+    std::size_t stepped = 0;
+    for (std::size_t b0 = begin; b0 < end; b0 += kPlantBlockWidth) {
+      const std::size_t b1 = std::min(end, b0 + kPlantBlockWidth);
+      std::size_t active[kPlantBlockWidth];
+      bool running[kPlantBlockWidth];
+      int slot[kPlantBlockWidth];
+      int n = 0, substeps = 0;
+      for (std::size_t i = b0; i < b1; ++i) {
+        if (!start(i, lanes_[i])) continue;
+        running[n] = true;
+        active[n++] = i;
+        substeps = std::max(substeps, lanes_[i].config_.substeps);
+      }
+      for (int j = 0; j < substeps; ++j) {
+        block.lanes = 0;
+        for (int a = 0; a < n; ++a) {
+          slot[a] = -1;
+          Sim& sim = lanes_[active[a]];
+          if (!running[a] || j >= sim.config_.substeps) {
+            running[a] = false;
+            continue;
+          }
+          Vec6 tau_s;
+          const parts::Substep<Scalar> sub = sim.begin_substep(j, tau_s);
+          if (sub.in_flow || !sim.vehicle_.diagonal()) {
+            const Status st =
+                sub.in_flow ? rk4_step_in_flow(sim.vehicle_, sim.eta_, sim.nu_, tau_s, sim.h_,
+                                               sub.start, sub.mid, sub.end)
+                            : rk4_step(sim.vehicle_, sim.eta_, sim.nu_, tau_s, sim.h_, sub.current);
+            running[a] = sim.end_substep(j, st);
+            continue;
+          }
+          const int b = slot[a] = block.lanes++;
+          const Scalar* c = sim.vehicle_.plant_coefficients();
+          for (int f = 0; f < pc::count; ++f) block.coefficients[f][b] = c[f];
+          for (int d = 0; d < 6; ++d) {
+            block.eta[d][b] = sim.eta_(d);
+            block.nu[d][b] = sim.nu_(d);
+            block.tau[d][b] = tau_s(d);
+          }
+          for (int d = 0; d < 3; ++d) block.current[d][b] = sub.current(d);
+          block.h[b] = sim.h_;
+        }
+        plant_rk4_block(block);
+        for (int a = 0; a < n; ++a) {
+          if (slot[a] < 0) continue;
+          Sim& sim = lanes_[active[a]];
+          for (int d = 0; d < 6; ++d) {
+            sim.eta_(d) = block.eta[d][slot[a]];
+            sim.nu_(d) = block.nu[d][slot[a]];
+          }
+          running[a] = sim.end_substep(j, static_cast<Status>(block.status[slot[a]]));
+        }
+      }
+      for (int a = 0; a < n; ++a) finish(active[a], lanes_[active[a]], lanes_[active[a]].end_period());
+      stepped += static_cast<std::size_t>(n);
+    }
+    return stepped;
+  }
 
   std::vector<Sim> lanes_;
   int logged_parameters_ = 0;
@@ -220,33 +296,36 @@ class BatchRun {
            const BatchOptions& options)
       : batch_(batch), controllers_(controllers), options_(options) {
     parameters_.resize(batch.size());
+    tau_.resize(batch.size());
     if (options.metrics_only) sums_.resize(batch.size());
     for (std::size_t i = 0; i < sums_.size(); ++i) sums_[i].after = options.after[i];
   }
 
-  /// Runs the lanes in [begin, end), each to its end before the next: with
-  /// scalar lanes this keeps one lane's controller and plant in cache, and
-  /// is 15 % faster than stepping the lanes in lockstep (NN, N = 64, 32
-  /// lanes of 600 s, bench/monte_carlo.py's plants). Lanes in SIMD would
-  /// step in lockstep instead.
+  /// Runs the lanes in [begin, end) to their ends, kPlantBlockWidth lanes
+  /// in lockstep (their plants in SIMD lanes) before the next block: a
+  /// block's controllers and plants stay in cache.
   void run(std::size_t begin, std::size_t end) noexcept {
-    Vector6<Scalar> tau;
-    for (std::size_t i = begin; i < end; ++i) {
-      Simulator<Scalar>& sim = batch_.lane_mut(i);
-      auto& parameters = parameters_[i];
-      std::visit(
-          [&](auto& c) {
-            while (!sim.done()) {
+    for (std::size_t g0 = begin; g0 < end; g0 += kPlantBlockWidth) {
+      const std::size_t g1 = std::min(end, g0 + kPlantBlockWidth);
+      const auto start = [this](std::size_t i, Simulator<Scalar>& sim) noexcept {
+        if (sim.done()) return false;
+        return std::visit(
+            [&](auto& c) noexcept {
               const Observation<Scalar>& o = sim.observation();
-              const Status cs = c.step(o.eta, o.nu, o.desired, tau);
-              sim.step(tau, controller_report<Scalar>(c, cs, parameters));
-              if (options_.metrics_only && (sim.log_full() || sim.done())) {
-                sums_[i].add(sim.log(), sim.steps() - sim.logged_from());
-                sim.discard();
-              }
-            }
-          },
-          controllers_[i]);
+              const Status cs = c.step(o.eta, o.nu, o.desired, tau_[i]);
+              return sim.begin_period(tau_[i], controller_report<Scalar>(c, cs, parameters_[i])) ==
+                     Status::ok;
+            },
+            controllers_[i]);
+      };
+      const auto finish = [this](std::size_t i, Simulator<Scalar>& sim, Status) noexcept {
+        if (options_.metrics_only && (sim.log_full() || sim.done())) {
+          sums_[i].add(sim.log(), sim.steps() - sim.logged_from());
+          sim.discard();
+        }
+      };
+      while (batch_.step_blocks(g0, g1, start, finish) > 0) {
+      }
     }
   }
 
@@ -263,6 +342,7 @@ class BatchRun {
   std::vector<Controller>& controllers_;
   const BatchOptions& options_;
   std::vector<Eigen::Matrix<Scalar, 1, kMaxLoggedParameters>> parameters_;
+  std::vector<Vector6<Scalar>> tau_;  ///< each lane's force of this period
   std::vector<RunSums> sums_;
 };
 

@@ -176,62 +176,16 @@ class Simulator {
   /// the one of create) or non_finite_input (an accepted step with a
   /// non-finite force) and changes nothing.
   Status step(const Vec6& tau, const ControllerReport<Scalar>& report) noexcept {
-    if (done() || log_full()) return Status::invalid_argument;
-    if (report.parameter_count != parameter_count_ ||
-        (parameter_count_ > 0 && report.parameters == nullptr))
-      return Status::invalid_argument;
-    if (report.status == Status::ok && !tau.allFinite()) return Status::non_finite_input;
-
-    const Eigen::Index k = k_, row = k_ - log_first_;  // row: in the log window
-    const Scalar t = observation_.t;
-    const Vec6 applied_tau = policy_force(tau, report.status);
-    log_row(row, applied_tau, report);
-    const parts::Plant<Scalar> plant = this->plant();
-    // The disturbances' events due now, then their force and flow at t_k.
-    const parts::Substep<Scalar> at = Parts::row(config_, parts_, t, plant, row, result_);
-    const Vec6 acting_tau = delayed(k, applied_tau);
-    if (config_.use_thrusters) thrusters_.command(acting_tau);
-    Parts::follow(config_, parts_, plant,
-                  (config_.use_thrusters ? Vec6(thrusters_.wrench()) : acting_tau) + at.force, at);
-    std::uint8_t faults = faults_;
-    Status ps = Status::ok;
-    // The row's tau_applied is the substeps' mean, summed term by term (as the
-    // thrusts are): a sum first would overflow to inf in float when the forces
-    // are finite but near the largest float.
-    const Scalar substeps = static_cast<Scalar>(config_.substeps);
-    Vec6 applied_mean = Vec6::Zero();
+    if (const Status refused = begin_period(tau, report); refused != Status::ok) return refused;
     for (int j = 0; j < config_.substeps; ++j) {
-      const Scalar offset = static_cast<Scalar>(j) * h_;
-      const parts::Substep<Scalar> sub = Parts::substep(config_, parts_, t + offset, offset, h_, plant);
-      const Vec6 applied = config_.use_thrusters ? thrust(row, substeps) : acting_tau;
-      applied_mean += applied / substeps;
-      faults |= sub.faults;
-      const Vec6 tau_s = applied + sub.force;
-      if (sub.in_flow)
-        ps = worst(ps, rk4_step_in_flow(vehicle_, eta_, nu_, tau_s, h_, sub.start, sub.mid, sub.end));
-      else
-        ps = worst(ps, rk4_step(vehicle_, eta_, nu_, tau_s, h_, sub.current));
-      if (ps != Status::ok && ps != Status::near_singularity) break;
-      // The sensors sample the state at the end of each substep (times in
-      // double: a float clock loses milliseconds within hours).
-      sensing_.sense(static_cast<double>(k) * static_cast<double>(config_.dt) +
-                         static_cast<double>(j + 1) * static_cast<double>(h_),
-                     eta_, nu_);
+      Vec6 tau_s;
+      const parts::Substep<Scalar> sub = begin_substep(j, tau_s);
+      const Status s = sub.in_flow
+                           ? rk4_step_in_flow(vehicle_, eta_, nu_, tau_s, h_, sub.start, sub.mid, sub.end)
+                           : rk4_step(vehicle_, eta_, nu_, tau_s, h_, sub.current);
+      if (!end_substep(j, s)) break;
     }
-    Parts::advance(config_, parts_, config_.dt);
-    result_.tau_applied.row(row) = applied_mean.transpose();
-    result_.plant_status(row) = static_cast<std::uint8_t>(ps);
-    result_.faults(row) = faults;
-    k_ = k + 1;
-    result_.steps = row + 1;
-    if (ps != Status::ok && ps != Status::near_singularity) {
-      result_.diverged = true;
-      return ps;
-    }
-    // The desired state for t_k+1; on a refused reference step it stays.
-    reference_.step(config_.command.at(t), config_.dt, observation_.desired);
-    if (k_ < rows_) observe();
-    return ps;
+    return end_period();
   }
 
   /// The run is over: every row logged, or the plant diverged.
@@ -352,6 +306,94 @@ class Simulator {
     observation_.nu = nu_m;
   }
 
+  // step() in its parts, so that a batch (sim/batch.hpp) can integrate the
+  // substeps of many runs' plants together between them: begin_period()
+  // (validate, log the row, the disturbances' and thrusters' share before
+  // the plant), then per substep begin_substep() (its force and flow) and,
+  // once the plant has moved, end_substep() (its status, the sensors), and
+  // end_period() (the row's totals, the reference, the next observation).
+
+  /// ok, or the refusal that step() returns (nothing changed then).
+  Status begin_period(const Vec6& tau, const ControllerReport<Scalar>& report) noexcept {
+    if (done() || log_full()) return Status::invalid_argument;
+    if (report.parameter_count != parameter_count_ ||
+        (parameter_count_ > 0 && report.parameters == nullptr))
+      return Status::invalid_argument;
+    if (report.status == Status::ok && !tau.allFinite()) return Status::non_finite_input;
+    Period& p = period_;
+    p.k = k_;
+    p.row = k_ - log_first_;  // in the log window
+    p.t = observation_.t;
+    const Vec6 applied_tau = policy_force(tau, report.status);
+    log_row(p.row, applied_tau, report);
+    const parts::Plant<Scalar> plant = this->plant();
+    // The disturbances' events due now, then their force and flow at t_k.
+    const parts::Substep<Scalar> at = Parts::row(config_, parts_, p.t, plant, p.row, result_);
+    p.acting_tau = delayed(p.k, applied_tau);
+    if (config_.use_thrusters) thrusters_.command(p.acting_tau);
+    Parts::follow(config_, parts_, plant,
+                  (config_.use_thrusters ? Vec6(thrusters_.wrench()) : p.acting_tau) + at.force, at);
+    p.faults = faults_;
+    p.status = Status::ok;
+    p.applied_mean.setZero();
+    return Status::ok;
+  }
+
+  /// Substep j's disturbances and flow; tau_s is the force on the plant.
+  parts::Substep<Scalar> begin_substep(int j, Vec6& tau_s) noexcept {
+    Period& p = period_;
+    const Scalar offset = static_cast<Scalar>(j) * h_;
+    const parts::Substep<Scalar> sub =
+        Parts::substep(config_, parts_, p.t + offset, offset, h_, plant());
+    // The row's tau_applied is the substeps' mean, summed term by term (as the
+    // thrusts are): a sum first would overflow to inf in float when the forces
+    // are finite but near the largest float.
+    const Scalar substeps = static_cast<Scalar>(config_.substeps);
+    const Vec6 applied = config_.use_thrusters ? thrust(p.row, substeps) : p.acting_tau;
+    p.applied_mean += applied / substeps;
+    p.faults |= sub.faults;
+    tau_s = applied + sub.force;
+    return sub;
+  }
+
+  /// The plant's status over substep j, its state now at the substep's end;
+  /// false when it diverged (the period's substeps end there).
+  bool end_substep(int j, Status plant_status) noexcept {
+    Period& p = period_;
+    p.status = worst(p.status, plant_status);
+    if (p.status != Status::ok && p.status != Status::near_singularity) return false;
+    // The sensors sample the state at the end of each substep (times in
+    // double: a float clock loses milliseconds within hours).
+    sensing_.sense(static_cast<double>(p.k) * static_cast<double>(config_.dt) +
+                       static_cast<double>(j + 1) * static_cast<double>(h_),
+                   eta_, nu_);
+    return true;
+  }
+
+  /// What step() returns.
+  Status end_period() noexcept {
+    Period& p = period_;
+    Parts::advance(config_, parts_, config_.dt);
+    result_.tau_applied.row(p.row) = p.applied_mean.transpose();
+    result_.plant_status(p.row) = static_cast<std::uint8_t>(p.status);
+    result_.faults(p.row) = p.faults;
+    k_ = p.k + 1;
+    result_.steps = p.row + 1;
+    if (p.status != Status::ok && p.status != Status::near_singularity) {
+      result_.diverged = true;
+      return p.status;
+    }
+    // The desired state for t_k+1; on a refused reference step it stays.
+    reference_.step(config_.command.at(p.t), config_.dt, observation_.desired);
+    if (k_ < rows_) observe();
+    return p.status;
+  }
+
+  /// The plant's state and step, for a batch that integrates it.
+  Vec6& plant_eta() noexcept { return eta_; }
+  Vec6& plant_nu() noexcept { return nu_; }
+  Scalar substep_length() const noexcept { return h_; }
+
   /// The force a step applies: the controller's, or on a refused step the
   /// one the refused-step policy gives.
   Vec6 policy_force(const Vec6& tau, Status status) noexcept {
@@ -410,8 +452,22 @@ class Simulator {
     return parts::Plant<Scalar>{vehicle_, vehicle0_, thrusters_, eta_, nu_};
   }
 
+  template <typename S>
+  friend class BatchSimulator;
+  template <typename S, typename C>
+  friend class BatchRun;
   using Parts = DisturbanceParts<Scalar>;
   static constexpr Eigen::Index kPendingSlots = kMaxControlDelay + 1;
+
+  /// The control period step() is in (begin_period() to end_period()).
+  struct Period {
+    Eigen::Index k = 0, row = 0;
+    Scalar t = Scalar(0);
+    Vec6 acting_tau = Vec6::Zero();
+    Vec6 applied_mean = Vec6::Zero();
+    std::uint8_t faults = 0;
+    Status status = Status::ok;
+  };
 
   Vehicle<Scalar> vehicle_;   ///< the plant, changed by the payload events
   Vehicle<Scalar> vehicle0_;  ///< the plant at t = 0
@@ -440,6 +496,7 @@ class Simulator {
   std::array<Vec6, kPendingSlots> pending_tau_{};
   Observation<Scalar> observation_;
   std::uint8_t faults_ = 0;
+  Period period_;
   SimulationResult<Scalar> result_;
 };
 
