@@ -12,6 +12,7 @@ from numpy.typing import NDArray
 
 from neurov import _core
 from neurov.identification.equation_error import equation_rows, fit_linear
+from neurov.identification.blocks import small_sample_scale
 from neurov.identification.errors import IdentificationError
 from neurov.identification.heldout import HeldOut, held_out
 from neurov.identification.estimator_model import staircase
@@ -165,6 +166,9 @@ def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Pat
     rows, lin, theta, blocks, offset = st.rows, st.lin, st.theta, st.blocks, st.offset
     lo, hi = bounds(lin.fitted, template.parameters)
     stages_done = "equation error, then output error" if output_error else "equation error"
+    if blocks.count < 2:
+        raise IdentificationError(f"the logs are too short for a bootstrap: {blocks.count} block of "
+                                  f"{block_s:g} s; record longer or pass a shorter block_s")
     try:
         samples = blocks.bootstrap(replicates, seed)
     except np.linalg.LinAlgError:
@@ -174,6 +178,10 @@ def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Pat
         samples = samples + offset[lin.fitted]
     interval = np.full((24, 2), np.nan)
     q = np.percentile(samples, [2.5, 97.5], axis=0).T
+    # Few blocks: the percentiles' distances from the estimate (before the
+    # bounds, as the samples are) stretched (blocks.py).
+    centre = (blocks.solve() + (offset[lin.fitted] if output_error else 0.0))[:, None]
+    q = centre + small_sample_scale(blocks.count) * (q - centre)
     interval[lin.fitted] = np.clip(q, lo[:, None], hi[:, None])
     result = Identification(template=template, logs=read, theta_template=theta0, theta=theta,
                             theta_stage1=lin.theta, fitted=lin.fitted, reasons=lin.reasons,
