@@ -82,7 +82,7 @@ def main() -> None:
         for array, rows in TRUE.get(a.true, ()):
             (eta if array == "eta" else nu)[:, rows] = getattr(r, array)[:, rows]
         log = make_log("run", r.t, eta, nu, np.asarray(r.tau_applied) + np.asarray(r.disturbance), r.current)
-        fit = neurov.identify(log, preset_path(PRESETS[a.vehicle]), replicates=200, velocity_lag=lag,
+        fit = neurov.identify(log, preset_path(PRESETS[a.vehicle]), velocity_lag=lag,
                               estimator={"auto": "auto", "on": True, "off": False,
                                          "linear": "linear"}[a.estimator])
         lo, hi = fit.interval[fit.fitted].T
