@@ -96,6 +96,9 @@ def test_a_log_sampled_at_every_row_is_no_staircase() -> None:
     r = excitation_run("nerov", 20.0, noise=0.01)
     log = make_log("run", r.t, r.eta_estimate, r.nu_estimate, r.tau_applied + r.disturbance)
     assert not staircase(log)
+    # ... so no estimator is modelled and none reported.
+    fit = neurov.identify(log, preset_path("nerov"), free="added_mass,linear_damping", replicates=20)
+    assert not any("staircase" in w for w in fit.warnings)
 
 
 def test_a_lag_is_estimated_from_the_data() -> None:

@@ -249,4 +249,4 @@ def fit_output_error(logs: list[Log], template: dict[str, Any], theta0: Array, f
     at[fitted] = sol.x[:p]
     fun = np.asarray(sol.fun)
     return ShootingFit(theta, at, blocks, float(sol.cost), int(sol.nfev),
-                       float(np.sqrt(np.mean(fun**2))), sol.x[p:p + extra].copy())
+                       float(np.sqrt(np.mean(fun**2))), sol.x[p:p + extra].copy() if extra else None)
