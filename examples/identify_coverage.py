@@ -14,7 +14,7 @@ the scenario's sensors, EKF and one-period delay; the EKF's updates are
 modelled in the output error unless --estimator off (--velocity-lag auto
 estimates a lag instead). --true rates|attitude|linear|rotation|all gives
 the fit the true values of those signals in place of the EKF's, to find
-which signal a bias comes from:
+which signal a bias comes from; --no-depth runs without the depth sensor:
 
     PYTHONPATH=python python examples/identify_coverage.py nerov --realistic --runs 3 --duration 60 --estimator linear --true rates
 """
@@ -49,10 +49,15 @@ def main() -> None:
     p.add_argument("--estimator", choices=("auto", "on", "off", "linear"), default="auto",
                    help="passed to neurov.identify: model the EKF's updates in the output error "
                         "(linear: the DVL's staircase, not the rates' filter)")
+    p.add_argument("--no-depth", action="store_true",
+                   help="with --realistic, run without the depth sensor (whose updates move the EKF's "
+                        "velocity between the DVL's)")
     p.add_argument("--true", choices=sorted(TRUE), default=None,
                    help="give the fit the true values of these signals instead of the estimate's "
                         "(which signal of the estimate a bias comes from)")
     a = p.parse_args()
+    if a.no_depth and not a.realistic:
+        p.error("--no-depth: only with --realistic (the white-noise runs have no sensors)")
     template = read_vehicle_file(preset_path(PRESETS[a.vehicle]))
     q = template.parameters
     over = {"linear_damping": [1.4 * x for x in q["linear_damping"]],
@@ -63,9 +68,12 @@ def main() -> None:
     lag = a.velocity_lag if a.velocity_lag == "auto" else float(a.velocity_lag)
     hits = []
     errors = []
+    widths = []
     for seed in range(a.runs):
         s = neurov.load_scenario(SCENARIO_DIR / name)
         s.duration, s.seed, s.vehicle_parameters = a.duration, seed, over
+        if a.no_depth:
+            s.simulation.sensors.depth = None
         if not a.realistic:
             s.noise_nu = np.array([a.noise] * 3 + [a.noise / 5] * 3)
             s.noise_eta = np.array([0.0] * 3 + [a.noise / 5] * 3)
@@ -74,22 +82,31 @@ def main() -> None:
         for array, rows in TRUE.get(a.true, ()):
             (eta if array == "eta" else nu)[:, rows] = getattr(r, array)[:, rows]
         log = make_log("run", r.t, eta, nu, np.asarray(r.tau_applied) + np.asarray(r.disturbance), r.current)
-        fit = neurov.identify(log, preset_path(PRESETS[a.vehicle]), replicates=200, velocity_lag=lag,
+        fit = neurov.identify(log, preset_path(PRESETS[a.vehicle]), velocity_lag=lag,
                               estimator={"auto": "auto", "on": True, "off": False,
                                          "linear": "linear"}[a.estimator])
         lo, hi = fit.interval[fit.fitted].T
         inside = (lo <= truth[fit.fitted]) & (truth[fit.fitted] <= hi)
         hits.append(inside)
         errors.append((fit.theta - truth)[fit.fitted])
+        widths.append(hi - lo)
         print(f"seed {seed}: {inside.sum()} of {inside.size} intervals cover the truth"
               + "".join(f"; {w}" for w in fit.warnings if "velocity lag" in w or "staircase" in w), flush=True)
     hits_a, err = np.array(hits), np.array(errors)
     print(f"coverage: {hits_a.mean():.3f} over {hits_a.size} intervals ({a.runs} runs of {a.duration:g} s)")
     names = [neurov.THETA_NAMES[i] for i in fit.fitted]
     scale = np.maximum(np.abs(truth[fit.fitted]), 1e-12)
-    for n, c, e, sc in zip(names, hits_a.mean(axis=0), err.mean(axis=0), scale):
-        print(f"  {n:<10} coverage {c:.2f}  mean error {e:+.4g} ({100 * e / sc:+.1f} % of the true value)"
-              if sc > 1e-12 else f"  {n:<10} coverage {c:.2f}  mean error {e:+.4g} (true value 0)")
+    # width: the intervals' mean width over 2 x 1.96 standard deviations of
+    # the estimates across runs (1 if the intervals are as wide as the spread);
+    # bias: the mean error in those standard deviations (what a width of 1
+    # cannot cover).
+    spread = err.std(axis=0, ddof=1) if a.runs > 1 else np.full(err.shape[1], np.nan)
+    sd = np.where(spread > 0, spread, np.nan)
+    ratio = np.array(widths).mean(axis=0) / (2 * 1.96 * sd)
+    bias = err.mean(axis=0) / sd
+    for n, c, e, sc, w, b in zip(names, hits_a.mean(axis=0), err.mean(axis=0), scale, ratio, bias):
+        head = f"  {n:<10} coverage {c:.2f}  width {w:.2f}  bias {b:+.2f} sd  mean error {e:+.4g}"
+        print(head + (f" ({100 * e / sc:+.1f} % of the true value)" if sc > 1e-12 else " (true value 0)"))
 
 
 if __name__ == "__main__":

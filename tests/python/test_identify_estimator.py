@@ -17,15 +17,19 @@ GAIN = np.array([0.85, 0.8, 0.9])
 RATE_GAIN = np.array([0.95, 0.93, 0.96])
 
 
-def _staircase_log(every: int = 4) -> neurov.identification.Log:
+def _staircase_log(every: int = 4, depth_gain: float = 0.0) -> neurov.identification.Log:
     """A noise-free NEROV run whose linear velocity went through an
-    estimator that takes a sample every `every` rows with gains GAIN."""
+    estimator that takes a sample every `every` rows with gains GAIN; with
+    `depth_gain`, a second sensor moves w by that gain toward the truth
+    half-way between (as an EKF's depth updates do, through the position)."""
     r = excitation_run("nerov", 20.0)
     nu = r.nu.copy()
     e = nu[0, :3].copy()
     for k in range(len(nu)):
         if k % every == 0 and k > 0:
             e = e + GAIN * (r.nu[k, :3] - e)
+        elif depth_gain and k % every == every // 2:
+            e[2] += depth_gain * (r.nu[k, 2] - e[2])
         nu[k, :3] = e
     return make_log("staircase", r.t, r.eta, nu, r.tau_applied + r.disturbance)
 
@@ -48,6 +52,22 @@ def test_a_staircase_velocity_is_modelled_and_the_vehicle_recovered() -> None:
     np.testing.assert_allclose([float(g) for g in linear.split(", ")], GAIN, atol=1e-3)
     # The rates are the vehicle's own here (no filter on them): their update gain is 1.
     np.testing.assert_allclose([float(g) for g in angular.split(", ")], 1.0, atol=1e-3)
+
+
+def test_another_sensor_s_moves_between_the_updates_are_no_updates() -> None:
+    """Moves between the DVL's updates (an EKF's depth updates, a few % of
+    an update's step) are neither held nor taken for updates: the model
+    takes them from the log, and the vehicle is recovered as without them."""
+    log = _staircase_log(depth_gain=0.1)
+    fresh = refresh_rows(log)
+    rows = np.arange(len(log.t))
+    moved = np.linalg.norm(np.diff(log.nu[:, :3], axis=0), axis=1)
+    between = rows[1:][(rows[1:] % 4 == 2) & (moved > 0)]
+    assert len(between) > 0.2 * len(log.t) and not fresh[between].any()
+    assert fresh[rows % 4 == 0].mean() > 0.95
+    truth = true_theta("nerov")
+    fit = neurov.identify(log, preset_path("nerov"), free="added_mass,linear_damping", replicates=20)
+    np.testing.assert_allclose(fit.theta[fit.fitted], truth[fit.fitted], rtol=1e-4)
 
 
 def test_a_filter_on_the_rates_is_modelled_too() -> None:
@@ -76,6 +96,9 @@ def test_a_log_sampled_at_every_row_is_no_staircase() -> None:
     r = excitation_run("nerov", 20.0, noise=0.01)
     log = make_log("run", r.t, r.eta_estimate, r.nu_estimate, r.tau_applied + r.disturbance)
     assert not staircase(log)
+    # ... so no estimator is modelled and none reported.
+    fit = neurov.identify(log, preset_path("nerov"), free="added_mass,linear_damping", replicates=20)
+    assert not any("staircase" in w for w in fit.warnings)
 
 
 def test_a_lag_is_estimated_from_the_data() -> None:

@@ -1,7 +1,8 @@
 """The output error's segment runs in C++ (``neurov._core.rk4_segments``
 through ``simulate_segments``) against the Python loop of ``rk4_step`` they
 replaced, kept here as the reference; the estimator's updates over all
-segments at once against the one-segment loop; and bad input named."""
+segments at once (with another sensor's moves between them) against the
+one-segment loop; and bad input named."""
 
 from __future__ import annotations
 
@@ -68,7 +69,7 @@ def test_the_held_out_free_run_equals_the_python_loop() -> None:
 def test_the_estimator_s_updates_over_all_segments_equal_the_one_segment_loop() -> None:
     log = _log_with_uneven_time_and_a_current()
     fresh = np.arange(len(log.t)) % 4 == 0  # a sensor update every 4th row
-    assert refresh_rows(log).all()  # (this log's own velocity moves at every row)
+    assert refresh_rows(log).mean() > 0.95  # (this log's own velocity moves at nearly every row)
     segs = _segments([log], 1.7)
     rng = np.random.default_rng(5)
     pred = rng.normal(size=(sum(s.steps + 1 for s in segs), 3))
@@ -76,18 +77,23 @@ def test_the_estimator_s_updates_over_all_segments_equal_the_one_segment_loop() 
     e0 = rng.normal(size=(len(segs), 3))
     gain = np.array([0.85, 0.8, 0.9])
     lengths = np.array([s.steps + 1 for s in segs])
-    got = through_updates(pred, lengths, seg_fresh, gain, e0)
-    row = 0
-    for i, n in enumerate(lengths):
-        e = e0[i].copy()
-        want = np.empty((n, 3))
-        want[0] = e
-        for j in range(1, n):
-            if seg_fresh[row + j]:
-                e = e + gain * (pred[row + j] - e)
-            want[j] = e
-        np.testing.assert_array_equal(got[row:row + n], want)
-        row += n
+    # Another sensor's moves between the updates (on the updates and at a segment's start, ignored).
+    moves = rng.normal(scale=0.01, size=pred.shape)
+    for with_moves in (False, True):
+        got = through_updates(pred, lengths, seg_fresh, gain, e0, moves if with_moves else None)
+        row = 0
+        for i, n in enumerate(lengths):
+            e = e0[i].copy()
+            want = np.empty((n, 3))
+            want[0] = e
+            for j in range(1, n):
+                if seg_fresh[row + j]:
+                    e = e + gain * (pred[row + j] - e)
+                elif with_moves:
+                    e = e + moves[row + j]
+                want[j] = e
+            np.testing.assert_allclose(got[row:row + n], want, rtol=0, atol=1e-14)
+            row += n
 
 
 def test_bad_segment_input_is_named() -> None:

@@ -24,7 +24,7 @@ from scipy.sparse import lil_matrix
 from neurov import _core
 from neurov.identification.blocks import Blocks, block_ids
 from neurov.identification.errors import IdentificationError
-from neurov.identification.estimator_model import ANGULAR, LINEAR, refresh_rows, through_updates
+from neurov.identification.estimator_model import ANGULAR, LINEAR, held_moves, refresh_rows, through_updates
 from neurov.identification.log import Log
 from neurov.identification.parameters import vehicle_parameters
 
@@ -184,11 +184,16 @@ def fit_output_error(logs: list[Log], template: dict[str, Any], theta0: Array, f
     p = len(fitted)
     extra = (6 if rates else 3) if estimator else 0
 
-    def seg_rows(axes: slice) -> NDArray[np.bool_]:
+    def seg_rows(axes: slice) -> tuple[NDArray[np.bool_], Array]:
         fresh = [refresh_rows(log, axes) for log in logs]
-        return np.concatenate([fresh[logs.index(s.log)][s.start:s.start + 1 + s.steps] for s in segs])
+        moves = [held_moves(log, f, axes) for log, f in zip(logs, fresh)]
 
-    fresh_lin, fresh_rot = seg_rows(LINEAR), seg_rows(ANGULAR)
+        def cut(x: list[Any]) -> Any:
+            return np.concatenate([x[logs.index(s.log)][s.start:s.start + 1 + s.steps] for s in segs])
+
+        return cut(fresh), cut(moves)
+
+    (fresh_lin, moves_lin), (fresh_rot, moves_rot) = seg_rows(LINEAR), seg_rows(ANGULAR)
     seg_e0 = np.array([s.log.nu[s.start] for s in segs])
     lengths = np.array([s.steps + 1 for s in segs], dtype=np.int64)
     inputs = SegmentInputs.of(segs)
@@ -205,10 +210,10 @@ def fit_output_error(logs: list[Log], template: dict[str, Any], theta0: Array, f
         pred = simulate_segments(vehicle, segs, starts, substeps, inputs)
         if estimator:
             pred[:, LINEAR] = through_updates(pred[:, LINEAR], lengths, fresh_lin, x[p:p + 3],
-                                              seg_e0[:, LINEAR])
+                                              seg_e0[:, LINEAR], moves_lin)
             if rates:
                 pred[:, ANGULAR] = through_updates(pred[:, ANGULAR], lengths, fresh_rot, x[p + 3:p + 6],
-                                                   seg_e0[:, ANGULAR])
+                                                   seg_e0[:, ANGULAR], moves_rot)
         return ((pred - measured) / scale).reshape(-1)
 
     lo_t, hi_t = bounds(fitted, template)
@@ -244,4 +249,4 @@ def fit_output_error(logs: list[Log], template: dict[str, Any], theta0: Array, f
     at[fitted] = sol.x[:p]
     fun = np.asarray(sol.fun)
     return ShootingFit(theta, at, blocks, float(sol.cost), int(sol.nfev),
-                       float(np.sqrt(np.mean(fun**2))), sol.x[p:p + extra].copy())
+                       float(np.sqrt(np.mean(fun**2))), sol.x[p:p + extra].copy() if extra else None)
