@@ -109,6 +109,39 @@ void BM_Rk4Step(benchmark::State& state) {
   });
 }
 
+/// The batch's plant kernel alone (model/plant_block.hpp): one RK4 step of
+/// a full block of NEROV lanes, states from the same ring as BM_Rk4Step;
+/// ns_per_lane_step is the time per lane, beside BM_Rk4Step's single run.
+template <typename S>
+void BM_PlantBlock(benchmark::State& state) {
+  const auto vehicle = neurov_bench::nerov<S>();
+  const V6<S> tau = tau_applied<S>();
+  neurov::PlantBlock<S> block;
+  block.lanes = neurov::kPlantBlockWidth;
+  for (int j = 0; j < block.lanes; ++j) {
+    for (int f = 0; f < neurov::detail::plant_coef::count; ++f)
+      block.coefficients[f][j] = vehicle.plant_coefficients()[f];
+    for (int i = 0; i < 6; ++i) block.tau[i][j] = tau(i);
+    for (int i = 0; i < 3; ++i) block.current[i][j] = S(0);
+    block.h[j] = S(0.02);
+  }
+  int lane = 0;
+  over_ring<S>(state, [&](const StepInput<S>& x) {
+    // One new state a call, as BM_Rk4Step takes: each lane restarts from
+    // the ring in turn, so the states stay on the ring's trajectories.
+    for (int i = 0; i < 6; ++i) {
+      block.eta[i][lane] = x.eta(i);
+      block.nu[i][lane] = x.nu(i);
+    }
+    lane = (lane + 1) % block.lanes;
+    neurov::plant_rk4_block(block);
+    benchmark::DoNotOptimize(block.eta);
+  });
+  state.counters["ns_per_lane_step"] = benchmark::Counter(
+      static_cast<double>(state.iterations()) * neurov::kPlantBlockWidth,
+      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
 // --------------------------------------------------------------- controllers
 
 template <typename S>
@@ -344,6 +377,8 @@ BENCHMARK_TEMPLATE(BM_Acceleration, double);
 BENCHMARK_TEMPLATE(BM_Acceleration, float);
 BENCHMARK_TEMPLATE(BM_Rk4Step, double);
 BENCHMARK_TEMPLATE(BM_Rk4Step, float);
+BENCHMARK_TEMPLATE(BM_PlantBlock, double);
+BENCHMARK_TEMPLATE(BM_PlantBlock, float);
 BENCHMARK_TEMPLATE(BM_TrackingError, double);
 BENCHMARK_TEMPLATE(BM_TrackingError, float);
 BENCHMARK_TEMPLATE(BM_RbfBasis, double)->Apply(centre_counts);

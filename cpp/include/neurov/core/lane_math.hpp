@@ -19,13 +19,6 @@
 #include "neurov/core/config.hpp"
 #include "neurov/core/vector_unit.hpp"
 
-// Always inlined, so a vector returned by value never meets a calling
-// convention; GCC still warns that AVX would change one.
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wpsabi"
-#endif
-
 namespace neurov {
 namespace detail {
 
@@ -157,7 +150,3 @@ NEUROV_ALWAYS_INLINE void and_finite(MaskOf<V>& m, const V& x) noexcept {
 
 }  // namespace detail
 }  // namespace neurov
-
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic pop
-#endif

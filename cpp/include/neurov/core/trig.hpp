@@ -16,11 +16,6 @@
 #include "neurov/core/config.hpp"
 #include "neurov/core/lane_math.hpp"
 
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wpsabi"  // always inlined: no calling convention
-#endif
-
 namespace neurov {
 namespace detail {
 
@@ -105,7 +100,3 @@ inline void sincos(Scalar x, Scalar& s, Scalar& c) noexcept {
 
 }  // namespace detail
 }  // namespace neurov
-
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic pop
-#endif

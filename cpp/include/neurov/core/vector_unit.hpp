@@ -139,11 +139,20 @@ inline KernelIsa requested_kernel_isa(const char* request, KernelIsa supported) 
 constexpr std::uint8_t kKernelIsaUnset = 0xff;
 inline std::atomic<std::uint8_t> kernel_isa_choice{kKernelIsaUnset};
 
+/// The copy in use was asked for (NEUROV_KERNEL naming one, or
+/// set_kernel_isa), not picked from the CPU: a kernel whose wider copy is
+/// not the faster one everywhere runs it only when asked (plant_block.hpp).
+inline std::atomic<bool> kernel_isa_pinned{false};
+
 inline KernelIsa kernel_isa() noexcept {
   std::uint8_t isa = kernel_isa_choice.load(std::memory_order_relaxed);
   if (isa == kKernelIsaUnset) {
-    isa = static_cast<std::uint8_t>(
-        requested_kernel_isa(std::getenv("NEUROV_KERNEL"), detect_kernel_isa()));
+    const char* request = std::getenv("NEUROV_KERNEL");
+    isa = static_cast<std::uint8_t>(requested_kernel_isa(request, detect_kernel_isa()));
+    const bool named = request != nullptr && (std::strcmp(request, "generic") == 0 ||
+                                              std::strcmp(request, "avx2") == 0 ||
+                                              std::strcmp(request, "avx512") == 0);
+    kernel_isa_pinned.store(named, std::memory_order_relaxed);
     kernel_isa_choice.store(isa, std::memory_order_relaxed);
   }
   return static_cast<KernelIsa>(isa);
@@ -153,6 +162,7 @@ inline KernelIsa kernel_isa() noexcept {
 /// the one in use. For tests and benchmarks, not while a network steps.
 inline KernelIsa set_kernel_isa(KernelIsa want) noexcept {
   const KernelIsa isa = want < detect_kernel_isa() ? want : detect_kernel_isa();
+  kernel_isa_pinned.store(true, std::memory_order_relaxed);
   kernel_isa_choice.store(static_cast<std::uint8_t>(isa), std::memory_order_relaxed);
   return isa;
 }

@@ -37,7 +37,7 @@ NEUROV_ALWAYS_INLINE Status rk4_step(const Vehicle<Scalar>& vehicle, Vector6<Sca
     return detail::status_of(m, 0);
   }
   using V6 = Vector6<Scalar>;
-  V6 eta_next, nu_next;
+  V6 eta_next = eta, nu_next = nu;  // set by rk4; initialised for GCC's flow analysis
   const detail::Rk4Outcome r = detail::rk4(
       eta, nu, dt,
       [&](const V6& e, const V6& n, V6& e_dot, V6& n_dot) noexcept {

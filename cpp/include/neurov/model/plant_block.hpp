@@ -5,7 +5,8 @@
 //
 // The copies follow the RBF kernels' runtime dispatch (core/vector_unit.hpp:
 // the build's own vector width, AVX2 and AVX-512 on x86-64, NEUROV_KERNEL
-// pins one). Unlike the RBF copies these are compiled without fused
+// pins one), except that the AVX-512 copy runs only when pinned (see
+// plant_rk4_block). Unlike the RBF copies these are compiled without fused
 // multiply-adds (GCC's fp-contract=off): the single run does each multiply
 // and add apart on the x86-64 baseline, and so must every lane for a batch
 // to give each run bit for bit what it gives alone.
@@ -112,7 +113,14 @@ inline void plant_rk4_block(PlantBlock<Scalar>& b) noexcept {
 #if NEUROV_RUNTIME_DISPATCH
   switch (detail::kernel_isa()) {
     case detail::KernelIsa::avx512:
-      detail::plant_rk4_block_avx512(b);
+      // Only when asked for: measured, the AVX-512 copy is the slower on the
+      // project's machine (a lane-step 88 ns against 68 ns in AVX2, although
+      // its 512-bit FMAs issue nearly as fast; bench/README.md).
+      if (detail::kernel_isa_pinned.load(std::memory_order_relaxed)) {
+        detail::plant_rk4_block_avx512(b);
+        return;
+      }
+      detail::plant_rk4_block_avx2(b);
       return;
     case detail::KernelIsa::avx2:
       detail::plant_rk4_block_avx2(b);

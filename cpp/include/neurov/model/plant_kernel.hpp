@@ -16,6 +16,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstring>
 
 #include "neurov/core/config.hpp"
 #include "neurov/core/lane_math.hpp"
@@ -23,11 +24,6 @@
 #include "neurov/core/trig.hpp"
 #include "neurov/core/vector_unit.hpp"
 #include "neurov/model/kinematics.hpp"
-
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wpsabi"
-#endif
 
 namespace neurov {
 namespace detail {
@@ -50,7 +46,9 @@ struct TrigLanes {
 };
 
 /// sin and cos of float lanes through the double routine, as sincos(float)
-/// does on a machine with hardware double.
+/// does on a machine with hardware double: in two halves, so that each half's
+/// doubles fill one register of the unit the float lanes fill (a vector of
+/// doubles twice as wide would be split by the compiler, badly).
 template <typename V>
 NEUROV_ALWAYS_INLINE void sincos_of_lanes(const V& x, V& s, V& c) noexcept {
   if constexpr (kLanes<V> == 1) {
@@ -58,12 +56,20 @@ NEUROV_ALWAYS_INLINE void sincos_of_lanes(const V& x, V& s, V& c) noexcept {
   } else if constexpr (std::is_same_v<LaneScalar<V>, double>) {
     sincos_lanes(x, s, c);
   } else {
-    using DV = Vec<double, kLanes<V>>;
-    DV sd, cd;
-    const DV xd = __builtin_convertvector(x, DV);
-    sincos_lanes(xd, sd, cd);
-    s = __builtin_convertvector(sd, V);
-    c = __builtin_convertvector(cd, V);
+    constexpr int H = kLanes<V> / 2;
+    using FH = Vec<float, H>;
+    using DH = Vec<double, H>;
+    FH xf[2], sf[2], cf[2];
+    std::memcpy(xf, &x, sizeof x);
+    for (int k = 0; k < 2; ++k) {
+      const DH xd = __builtin_convertvector(xf[k], DH);
+      DH sd, cd;
+      sincos_lanes(xd, sd, cd);
+      sf[k] = __builtin_convertvector(sd, FH);
+      cf[k] = __builtin_convertvector(cd, FH);
+    }
+    std::memcpy(&s, sf, sizeof s);
+    std::memcpy(&c, cf, sizeof c);
   }
 }
 
@@ -99,7 +105,8 @@ struct PlantMasks {
 /// The right-hand side on each lane, coefficients `c` (plant_coef), the
 /// Euler angles' trigonometry `t`, force tau (6) and NED current (3). With
 /// kChecked, `masks` says which lanes had non-finite inputs or outputs (the
-/// outputs of such a lane are unspecified); without, `masks` is untouched.
+/// outputs of such a lane are unspecified); without, only `masks.singular`
+/// is set.
 template <bool kChecked, typename V>
 NEUROV_ALWAYS_INLINE void plant_derivative(const V* c, const TrigLanes<V>& t, const V* eta,
                                           const V* nu, const V* tau, const V* current, V* eta_dot,
@@ -250,7 +257,3 @@ NEUROV_ALWAYS_INLINE void plant_rk4(const V* c, V* eta, V* nu, const V* tau, con
 
 }  // namespace detail
 }  // namespace neurov
-
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic pop
-#endif
