@@ -4,6 +4,10 @@
 
 #include <pybind11/pybind11.h>
 
+namespace neurov {
+class WorkerPool;
+}
+
 namespace neurov::bindings {
 
 // core/
@@ -27,6 +31,8 @@ void bind_result_series(pybind11::module_& m);
 void bind_simulator(pybind11::module_& m);
 void bind_closed_loop(pybind11::module_& m);
 void bind_batch(pybind11::module_& m);
+/// The threads every batch step of the process shares (batch.cpp).
+WorkerPool& batch_pool();
 void bind_tracking_task(pybind11::module_& m);
 
 }  // namespace neurov::bindings

@@ -111,10 +111,11 @@ def test_stepped_batch_equals_simulators_alone() -> None:
     assert list(batch.steps) == [alone[0].steps, 0, alone[2].steps]
 
 
-def test_threads_split_the_lanes_without_changing_a_result() -> None:
-    """96 lanes (every feature, one diverging, a mask) stepped on 1 and on 3
-    threads (32 lanes a thread: the three shares each hold lanes of every
-    kind) give the same statuses and results to the bit."""
+@pytest.mark.parametrize("threads", [2, 3])  # the module's kept threads, threads started per call
+def test_threads_split_the_lanes_without_changing_a_result(threads: int) -> None:
+    """96 lanes (every feature, one diverging, a mask) stepped on 1 and on 2
+    or 3 threads (32 lanes a thread at least: each share holds lanes of
+    every kind) give the same statuses and results to the bit."""
     scenarios = [short(FEATURES[i % 3], seed=i) for i in range(96)]
     for sc in scenarios[::3]:
         sc.simulation.use_thrusters = False
@@ -128,7 +129,7 @@ def test_threads_split_the_lanes_without_changing_a_result() -> None:
         if k == 5:
             tau[33, 0] = 1e300  # lane 33, in the second share, diverges
         mask = rng.random(96) < 0.8
-        np.testing.assert_array_equal(one.step(tau, mask, threads=1), three.step(tau, mask, threads=3))
+        np.testing.assert_array_equal(one.step(tau, mask, threads=1), three.step(tau, mask, threads=threads))
         k += 1
     assert three.done.all() and one.diverged[33] and three.diverged[33]
     for i in range(96):

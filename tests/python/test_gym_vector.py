@@ -93,6 +93,26 @@ def test_lane_i_is_the_single_env_under_seed_s_plus_i(name: str, action: str, ra
             assert (term[i], trunc[i]) == (w_term, w_trunc)
 
 
+def test_the_lanes_split_over_threads_give_one_thread_s_steps() -> None:
+    """96 envs (three shares of 32) stepped on 1 thread, on 2 (the module's
+    kept threads) and on 3 (threads started for the call): every array the
+    same to the bit, across autoresets."""
+    scenario = _scenario("nerov_square_disturbed")
+    runs = []
+    for threads in (1, 2, 3):
+        envs = TrackingVectorEnv(96, scenario, "thrusters", threads=threads)
+        envs.reset(seed=3)
+        actions = np.random.default_rng(4).uniform(-1.2, 1.2, (16, *envs.action_space.shape))
+        runs.append([envs.step(a) for a in actions])
+    for other in runs[1:]:
+        for (obs, r, term, trunc, info), (o2, r2, t2, tr2, i2) in zip(runs[0], other):
+            np.testing.assert_array_equal(obs, o2)
+            np.testing.assert_array_equal(r, r2)
+            np.testing.assert_array_equal(term, t2)
+            np.testing.assert_array_equal(trunc, tr2)
+            np.testing.assert_array_equal(info["eta_true"], i2["eta_true"])
+
+
 def test_next_step_autoreset_ignores_the_action_and_restarts() -> None:
     envs = TrackingVectorEnv(2, _scenario())
     envs.reset(seed=3)

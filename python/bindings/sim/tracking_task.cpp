@@ -221,16 +221,22 @@ StepTuple<F32, F64, Bools> step_batch(const Task& task, Batch& batch, const type
   const Rows r = lanes.rows(a.data());
   {
     py::gil_scoped_release release;
-    tracking_forces(task, k, a.data(), tau.data());
-    step_threaded(batch, threads, tau.data(), mask, status);
-    for (std::size_t i = 0; i < k; ++i) lanes.read(i, batch.lane(i));
-    tracking_outcome(task, k, r, observation, out);
-    // A lane not stepped (masked out, or done) scores nothing.
-    for (std::size_t i = 0; i < k; ++i)
-      if (status[i] == kLaneNotStepped) {
-        out.reward[i] = 0.0;
-        out.terminated[i] = out.truncated[i] = out.outside[i] = false;
-      }
+    // Each thread's share of the lanes through the whole step: the rows are
+    // independent, so the split changes nothing.
+    split_lanes(k, threads, &batch_pool(), [&](std::size_t b, std::size_t e) noexcept {
+      const auto n = static_cast<std::size_t>(task.action_size());
+      tracking_forces(task, e - b, a.data() + n * b, tau.data() + 6 * b);
+      batch.step_lanes(b, e, tau.data(), mask, status);
+      for (std::size_t i = b; i < e; ++i) lanes.read(i, batch.lane(i));
+      float* obs_b = observation + static_cast<std::size_t>(kObs) * b;
+      tracking_outcome(task, e - b, r.from(b, task.action_size()), obs_b, out.from(b));
+      // A lane not stepped (masked out, or done) scores nothing.
+      for (std::size_t i = b; i < e; ++i)
+        if (status[i] == kLaneNotStepped) {
+          out.reward[i] = 0.0;
+          out.terminated[i] = out.truncated[i] = out.outside[i] = false;
+        }
+    });
   }
   typed::AnyDict info = lanes.info();
   info["plant_status"] = statuses;

@@ -94,7 +94,7 @@ class ReferenceModel {
     eta_d_ = eta0;
     nu_d_ = nu_d0;
     pitch_limited_ = false;
-    fill_desired(eta_d_, nu_d_, Vec6::Zero());
+    fill_desired(EulerKinematics<Scalar>::from_pose(eta_d_), eta_d_, nu_d_, Vec6::Zero());
     return true;
   }
 
@@ -139,13 +139,14 @@ class ReferenceModel {
     if (s == Status::ok) {
       Vec6 nu_dot;
       Vec6 unused;
+      EulerKinematics<Scalar> k_next;
       // The result is held by the wall in place.
-      s = derivative(eta_next, nu_next, rc, centre, unused, nu_dot, limited);
+      s = derivative(eta_next, nu_next, rc, centre, unused, nu_dot, limited, &k_next);
       if (s == Status::ok) {
         // A finite state can still give a desired velocity or acceleration
         // that overflows (a command of 1e308): refuse it, keep the last good one.
         const DesiredState<Scalar> previous = desired_;
-        fill_desired(eta_next, nu_next, nu_dot);
+        fill_desired(k_next, eta_next, nu_next, nu_dot);
         if (desired_.eta_d_dot.allFinite() && desired_.eta_d_ddot.allFinite()) {
           eta_d_ = eta_next;
           nu_d_ = nu_next;
@@ -206,9 +207,11 @@ class ReferenceModel {
   /// outwards is removed from the body rates (theta_dot = cos phi q - sin phi
   /// r; omega -= theta_dot (0, cos phi, -sin phi) keeps phi_dot and psi_dot),
   /// in eta and nu themselves; `limited` is set when the wall acted. Inside
-  /// the limit it is eq. 12-13 and changes nothing.
+  /// the limit it is eq. 12-13 and changes nothing. `kinematics` (if given)
+  /// gets J at the held eta, which fill_desired() then need not recompute.
   Status derivative(Vec6& eta, Vec6& nu, const Vec6& r, Scalar centre, Vec6& eta_d_dot,
-                    Vec6& nu_d_dot, bool& limited) const noexcept {
+                    Vec6& nu_d_dot, bool& limited,
+                    EulerKinematics<Scalar>* kinematics = nullptr) const noexcept {
     const Scalar lo = centre - pitch_limit(), hi = centre + pitch_limit();
     const bool outside = eta(4) > hi || eta(4) < lo;  // false for NaN: refused below
     Scalar outwards = Scalar(0);
@@ -228,11 +231,13 @@ class ReferenceModel {
     }
     eta_d_dot = k.apply(nu);
     nu_d_dot = -lambda_d_.cwiseProduct(nu) + k.apply_transpose(omega_.cwiseProduct(r - eta));
+    if (kinematics) *kinematics = k;
     return k.status();
   }
 
-  void fill_desired(const Vec6& eta_d, const Vec6& nu_d, const Vec6& nu_d_dot) noexcept {
-    const auto k = EulerKinematics<Scalar>::from_pose(eta_d);
+  /// k: J at eta_d.
+  void fill_desired(const EulerKinematics<Scalar>& k, const Vec6& eta_d, const Vec6& nu_d,
+                    const Vec6& nu_d_dot) noexcept {
     desired_.eta_d = eta_d;
     desired_.eta_d_dot = k.apply(nu_d);
     // eta_d_ddot = J nu_d_dot + J_dot nu_d.

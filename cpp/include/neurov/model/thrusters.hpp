@@ -153,31 +153,29 @@ class Thrusters {
     } else if (config_.time_constant > Scalar(0)) {
       const Scalar a = std::exp(-dt / config_.time_constant);
       thrust_ = a * thrust_ + (Scalar(1) - a) * command_;
+    } else if (thrust_ == command_) {
+      return;  // without a lag the thrusts move once a period, not every substep
     } else {
       thrust_ = command_;
     }
+    update_wrench();
   }
 
   /// The wrench the thrusters produce now: B (efficiency .* thrust).
-  Vector6<Scalar> wrench() const noexcept {
-    // Column by column: Eigen evaluates the expression efficiency .* thrust on
-    // the right of a product into a heap temporary, once per call.
-    Vector6<Scalar> w = Vector6<Scalar>::Zero();
-    for (Eigen::Index i = 0; i < thrust_.size(); ++i)
-      w += config_.matrix.col(i) * (efficiency_(i) * thrust_(i));
-    return w;
-  }
+  const Vector6<Scalar>& wrench() const noexcept { return wrench_; }
 
   /// Efficiency of thruster i in [0, 1] (0: failed); false if out of range.
   bool set_efficiency(Eigen::Index i, Scalar e) noexcept {
     if (i < 0 || i >= efficiency_.size() || !(e >= Scalar(0) && e <= Scalar(1))) return false;
     efficiency_(i) = e;
+    update_wrench();
     return true;
   }
 
   void reset() noexcept {
     efficiency_.setOnes();
     thrust_.setZero();
+    wrench_.setZero();
     command_.setZero();
     actuator_command_.setZero();
     for (std::size_t i = 0; i < curves_.size(); ++i) {
@@ -200,6 +198,14 @@ class Thrusters {
   const Vector& efficiency() const noexcept { return efficiency_; }
 
  private:
+  void update_wrench() noexcept {
+    // Column by column: Eigen evaluates the expression efficiency .* thrust on
+    // the right of a product into a heap temporary, once per call.
+    wrench_.setZero();
+    for (Eigen::Index i = 0; i < thrust_.size(); ++i)
+      wrench_ += config_.matrix.col(i) * (efficiency_(i) * thrust_(i));
+  }
+
   ThrusterConfig<Scalar> config_{};
   Eigen::Matrix<Scalar, Eigen::Dynamic, 6> pinv_{};
   std::vector<ThrusterCurve<Scalar>> curves_{};
@@ -207,6 +213,7 @@ class Thrusters {
   Vector thrust_{};
   Vector command_{};
   Vector actuator_command_{};
+  Vector6<Scalar> wrench_ = Vector6<Scalar>::Zero();  ///< B (efficiency .* thrust), kept with them
 };
 
 }  // namespace neurov

@@ -14,8 +14,8 @@
 // or off-diagonal mass, waves) take the scalar step inside the same loop.
 //
 // step_threaded and run_batch split the lanes over worker threads
-// (std::thread), each stepping a contiguous share; the lanes share nothing,
-// so the split changes no result.
+// (std::thread, or a WorkerPool's for step_threaded), each stepping a
+// contiguous share; the lanes share nothing, so the split changes no result.
 #pragma once
 
 #include <Eigen/Core>
@@ -42,6 +42,7 @@
 #include "neurov/sim/result.hpp"
 #include "neurov/sim/simulator.hpp"
 #include "neurov/sim/window_sums.hpp"
+#include "neurov/sim/worker_pool.hpp"
 
 namespace neurov {
 
@@ -233,32 +234,44 @@ class BatchSimulator {
 /// microseconds, about what ten lanes' control period of plant costs.
 inline constexpr std::size_t kMinLanesPerThread = 32;
 
-/// BatchSimulator::step over `threads` threads (0: one per hardware
-/// thread), each stepping a contiguous share of the lanes, never fewer than
-/// kMinLanesPerThread a thread (one thread below that). The same results
-/// as step(). Starts threads, so it allocates (and may throw
-/// std::bad_alloc before any lane is stepped): a host's batch call, not a
-/// control loop's step. A thread the system refuses leaves its share to
-/// the calling thread.
-template <typename Scalar>
-void step_threaded(BatchSimulator<Scalar>& batch, unsigned threads, const Scalar* tau, const bool* mask,
-                   std::uint8_t* statuses, const Scalar* parameters = nullptr) {
-  const std::size_t k = batch.size();
+/// share(begin, end) on contiguous shares of the k lanes [0, k) over
+/// `threads` threads (0: one per hardware thread), never fewer than
+/// kMinLanesPerThread lanes a thread (one thread below that); `share` must
+/// not throw. With a `pool` that is free and large enough the shares run on
+/// its threads; otherwise threads are started for the call, so it allocates
+/// (and may throw std::bad_alloc before any share has run): a host's batch
+/// call, not a control loop's step. A thread the system refuses leaves its
+/// share to the calling thread.
+template <typename Share>
+void split_lanes(std::size_t k, unsigned threads, WorkerPool* pool, Share&& share) {
   std::size_t n = threads ? threads : std::max(1u, std::thread::hardware_concurrency());
   n = std::max<std::size_t>(1, std::min(n, k / kMinLanesPerThread));
-  const auto share = [&](std::size_t t) noexcept {
-    batch.step_lanes(k * t / n, k * (t + 1) / n, tau, mask, statuses, parameters);
-  };
+  auto part = [&](std::size_t t) noexcept { share(k * t / n, k * (t + 1) / n); };
+  if (n == 1) return part(0);
+  auto pooled = [&](unsigned t) noexcept { part(t); };
+  if (pool && pool->run(static_cast<unsigned>(n), pooled)) return;
   std::vector<std::thread> workers;
   workers.reserve(n - 1);
   std::size_t started = 1;
   try {
-    for (; started < n; ++started) workers.emplace_back(share, started);
+    for (; started < n; ++started) workers.emplace_back(part, started);
   } catch (const std::system_error&) {
   }
-  for (std::size_t t = started; t < n; ++t) share(t);
-  share(0);
+  for (std::size_t t = started; t < n; ++t) part(t);
+  part(0);
   for (std::thread& w : workers) w.join();
+}
+
+/// BatchSimulator::step with its lanes split over threads by split_lanes:
+/// the same results as step().
+template <typename Scalar>
+void step_threaded(BatchSimulator<Scalar>& batch, unsigned threads, const Scalar* tau, const bool* mask,
+                   std::uint8_t* statuses,
+                   const std::common_type_t<Scalar>* parameters = nullptr,  // not deduced: nullptr
+                   WorkerPool* pool = nullptr) {
+  split_lanes(batch.size(), threads, pool, [&](std::size_t begin, std::size_t end) noexcept {
+    batch.step_lanes(begin, end, tau, mask, statuses, parameters);
+  });
 }
 
 namespace detail {

@@ -206,6 +206,19 @@ struct TrackingRows {
   const bool* diverged = nullptr;
   const bool* done = nullptr;
   const std::int64_t* steps_left = nullptr;
+
+  /// The rows from row `first` on (a thread's share), actions of
+  /// `action_size` a row.
+  TrackingRows from(std::size_t first, Eigen::Index action_size) const noexcept {
+    TrackingRows r = *this;
+    for (const Scalar** p : {&r.eta, &r.nu, &r.eta_d, &r.eta_d_dot, &r.eta_d_ddot, &r.eta_true})
+      if (*p) *p += 6 * first;
+    if (r.actions) r.actions += first * static_cast<std::size_t>(action_size);
+    if (r.diverged) r.diverged += first;
+    if (r.done) r.done += first;
+    if (r.steps_left) r.steps_left += first;
+    return r;
+  }
 };
 
 /// Where the scores go, (K,) each.
@@ -215,6 +228,11 @@ struct TrackingScores {
   bool* terminated = nullptr;  ///< outside the box, or the plant diverged
   bool* truncated = nullptr;   ///< the run is done and not terminated
   bool* outside = nullptr;     ///< the true position left the box (NaN: left)
+
+  /// The scores from row `first` on.
+  TrackingScores from(std::size_t first) const noexcept {
+    return {reward + first, terminated + first, truncated + first, outside + first};
+  }
 };
 
 /// The observations (K x 26, float, clipped to +-observation_high) of the
