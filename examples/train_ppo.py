@@ -105,6 +105,7 @@ def positive(kind):
             raise argparse.ArgumentTypeError(f"expected a number > 0, got {text!r}")
         return kind(text)
 
+    parse.__name__ = kind.__name__  # argparse names it in "invalid int value"
     return parse
 
 
