@@ -4,7 +4,7 @@ on the same scenario and seed. Optional: needs `pip install stable-baselines3`
 (and PyTorch); not run in CI.
 
     python examples/train_ppo.py [--scenario paper_fig3] [--timesteps 50000] [--seed 0] [--envs K]
-        [--minutes M] [--eval-every S] [--noise] [--n-steps N] [--curve out.csv] [--plot out.png]
+        [--minutes M] [--eval-every S] [--eval-seed N] [--noise] [--n-steps N] [--curve c.csv] [--plot c.png]
 
 --envs K trains on K envs of one neurov.gym.TrackingVectorEnv (through
 neurov.gym.sb3.TrackingSB3VecEnv); the evaluation is the single env either way.
@@ -98,11 +98,11 @@ def make_clock(budget_s: float | None, eval_every: float | None, evaluate_now):
     return Clock()
 
 
-def positive(kind):
-    """An argparse type: a number of `kind` > 0."""
+def positive(kind, zero: bool = False):
+    """An argparse type: a number of `kind` > 0 (>= 0 with `zero`)."""
     def parse(text: str):
-        if not kind(text) > 0:
-            raise argparse.ArgumentTypeError(f"expected a number > 0, got {text!r}")
+        if not (kind(text) >= 0 if zero else kind(text) > 0):
+            raise argparse.ArgumentTypeError(f"expected a number {'>=' if zero else '>'} 0, got {text!r}")
         return kind(text)
 
     parse.__name__ = kind.__name__  # argparse names it in "invalid int value"
@@ -112,6 +112,8 @@ def positive(kind):
 def main() -> None:
     import torch
     from stable_baselines3 import PPO
+
+    from neurov.gym.sb3 import TrackingSB3VecEnv
 
     torch.set_num_threads(1)  # a 64-unit MLP: more threads only contend
 
@@ -123,28 +125,24 @@ def main() -> None:
     p.add_argument("--noise", action="store_true", help="add nerov_square_disturbed's measurement noise")
     p.add_argument("--n-steps", type=positive(int), default=2048, help="PPO's rollout steps per env")
     p.add_argument("--seed", type=int, default=0, help="PPO's seed")
+    p.add_argument("--eval-seed", type=positive(int, zero=True), help="evaluations' noise seed (default: scenario's)")
     p.add_argument("--save", help="save the trained model here (.zip)")
-    p.add_argument("--envs", type=int, default=0, help="train on this many envs of the vector env (0: one single env)")
+    p.add_argument("--envs", type=positive(int, zero=True), default=0, help="vector env's envs (0: the single env)")
     p.add_argument("--curve", help="write the evaluations here (.csv)")
     p.add_argument("--plot", help="plot the evaluations' RMS against training time here (.png)")
     args = p.parse_args()
-    if args.envs < 0:
-        p.error(f"argument --envs: expected an int >= 0, got {args.envs}")
     if (args.curve or args.plot) and not args.eval_every:
         p.error("arguments --curve and --plot need --eval-every")
     timesteps = args.timesteps or (50_000 if args.minutes is None else 2**62)
 
     scenario = with_noise(resolve_scenario(args.scenario)) if args.noise else resolve_scenario(args.scenario)
-    if args.envs:
-        from neurov.gym.sb3 import TrackingSB3VecEnv
-
-        train_env: object = TrackingSB3VecEnv(args.envs, scenario=scenario)
-    else:
-        train_env = gymnasium.make("neurov/Tracking-v0", scenario=scenario)
+    train_env = (TrackingSB3VecEnv(args.envs, scenario=scenario) if args.envs
+                 else gymnasium.make("neurov/Tracking-v0", scenario=scenario))
     model = PPO("MlpPolicy", train_env, n_steps=args.n_steps, seed=args.seed, verbose=0, device="cpu")
 
     # Evaluated on an env of its own (training's episodes go on) with the
-    # scenario's noise seed, so the scenario's controller sees the same noise.
+    # evaluation's noise seed, so the scenario's controller sees the same noise.
+    scenario = scenario if args.eval_seed is None else scenario.replace(seed=args.eval_seed)
     nn_rms = neurov.simulate(scenario).metrics(after=0.0)["rmse_position_m"]
     eval_env = gymnasium.make("neurov/Tracking-v0", scenario=scenario)
     policy = lambda o: model.predict(o, deterministic=True)[0]  # noqa: E731
