@@ -5,6 +5,10 @@ per-episode domain randomisation."""
 
 from __future__ import annotations
 
+import os
+import subprocess
+import sys
+import textwrap
 from typing import Any
 
 import numpy as np
@@ -111,6 +115,32 @@ def test_the_lanes_split_over_threads_give_one_thread_s_steps() -> None:
             np.testing.assert_array_equal(term, t2)
             np.testing.assert_array_equal(trunc, tr2)
             np.testing.assert_array_equal(info["eta_true"], i2["eta_true"])
+
+
+@pytest.mark.skipif(not hasattr(os, "fork"), reason="needs fork()")
+def test_a_process_forked_after_threaded_steps_steps_and_exits() -> None:
+    """The kept threads are the parent's: a child forked from a process that
+    stepped on them (as a study's worker processes are) steps on threads of
+    its own and exits, static destructors and all, without hanging."""
+    code = textwrap.dedent("""
+        import os, sys
+        import numpy as np
+        from neurov.gym import TrackingVectorEnv
+        envs = TrackingVectorEnv(96, "paper_fig3", threads=2)
+        envs.reset(seed=0)
+        before = envs.step(np.zeros((96, 6), np.float32))[0]
+        pid = os.fork()
+        if pid == 0:
+            child = TrackingVectorEnv(96, "paper_fig3", threads=2)
+            child.reset(seed=0)
+            same = np.array_equal(child.step(np.zeros((96, 6), np.float32))[0], before)
+            sys.exit(0 if same else 3)
+        _, status = os.waitpid(pid, 0)
+        sys.exit(os.waitstatus_to_exitcode(status))
+        """)
+    done = subprocess.run([sys.executable, "-c", code], timeout=120, env={**os.environ,
+                          "PYTHONPATH": os.pathsep.join(sys.path)})
+    assert done.returncode == 0
 
 
 def test_next_step_autoreset_ignores_the_action_and_restarts() -> None:

@@ -22,6 +22,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <iterator>
 #include <cstddef>
 #include <cstdint>
 #include <system_error>
@@ -171,6 +172,11 @@ class BatchSimulator {
       std::size_t active[kPlantBlockWidth];
       bool running[kPlantBlockWidth];
       int slot[kPlantBlockWidth];
+      // Which active lane's coefficients block slot b holds (-1: none): a
+      // lane keeps its slot from substep to substep unless one before it
+      // drops out, and its vehicle changes only by a payload event.
+      int coefficients_of[kPlantBlockWidth];
+      std::fill(std::begin(coefficients_of), std::end(coefficients_of), -1);
       int n = 0, substeps = 0;
       for (std::size_t i = b0; i < b1; ++i) {
         if (!start(i, lanes_[i])) continue;
@@ -198,8 +204,11 @@ class BatchSimulator {
             continue;
           }
           const int b = slot[a] = block.lanes++;
-          const Scalar* c = sim.vehicle_.plant_coefficients();
-          for (int f = 0; f < pc::count; ++f) block.coefficients[f][b] = c[f];
+          if (coefficients_of[b] != a || sub.vehicle_changed) {
+            const Scalar* c = sim.vehicle_.plant_coefficients();
+            for (int f = 0; f < pc::count; ++f) block.coefficients[f][b] = c[f];
+            coefficients_of[b] = a;
+          }
           for (int d = 0; d < 6; ++d) {
             block.eta[d][b] = sim.eta_(d);
             block.nu[d][b] = sim.nu_(d);
@@ -209,6 +218,8 @@ class BatchSimulator {
           block.h[b] = sim.h_;
         }
         plant_rk4_block(block);
+        // The block's padding lanes took lane 0's coefficients.
+        for (int b = block.lanes; b < kPlantBlockWidth; ++b) coefficients_of[b] = -1;
         for (int a = 0; a < n; ++a) {
           if (slot[a] < 0) continue;
           Sim& sim = lanes_[active[a]];

@@ -30,12 +30,11 @@ class WorkerPool {
   /// A pool of `threads` - 1 workers besides the caller (0: one per
   /// hardware thread). Workers the system refuses are left out (size()
   /// says how many there are).
-  explicit WorkerPool(unsigned threads = 0)
-      : pid_(process_id()), workers_(std::make_unique<std::vector<std::thread>>()) {
+  explicit WorkerPool(unsigned threads = 0) : pid_(process_id()), s_(std::make_unique<Shared>()) {
     const unsigned n = threads ? threads : std::max(1u, std::thread::hardware_concurrency());
-    workers_->reserve(n - 1);
+    s_->workers.reserve(n - 1);
     try {
-      for (unsigned t = 1; t < n; ++t) workers_->emplace_back([this, t] { work(t); });
+      for (unsigned t = 1; t < n; ++t) s_->workers.emplace_back([s = s_.get(), t] { work(*s, t); });
     } catch (const std::system_error&) {
     }
   }
@@ -45,21 +44,23 @@ class WorkerPool {
 
   ~WorkerPool() {
     if (process_id() != pid_) {
-      // After fork() the workers and whoever held the mutexes live in the
-      // parent: touching either here could hang, so the child leaves them.
-      (void)workers_.release();
+      // After fork() the workers, and the waits the mutexes and condition
+      // variables record, belong to the parent: destroying them here could
+      // hang (a condition variable's destructor waits for its waiters), so
+      // the child leaves them.
+      (void)s_.release();
       return;
     }
     {
-      std::lock_guard<std::mutex> lock(mutex_);
-      stopping_ = true;
+      std::lock_guard<std::mutex> lock(s_->mutex);
+      s_->stopping = true;
     }
-    wake_.notify_all();
-    for (std::thread& w : *workers_) w.join();
+    s_->wake.notify_all();
+    for (std::thread& w : s_->workers) w.join();
   }
 
   /// Threads a run() can use: the workers and the caller.
-  unsigned size() const noexcept { return static_cast<unsigned>(workers_->size()) + 1; }
+  unsigned size() const noexcept { return static_cast<unsigned>(s_->workers.size()) + 1; }
 
   /// Calls share(t) for every t in [0, n), n <= size(), share 0 on the
   /// calling thread, and returns true once all have returned; returns false
@@ -69,25 +70,39 @@ class WorkerPool {
   bool run(unsigned n, Share& share) noexcept {
     if (n == 0) return true;
     if (n > size() || process_id() != pid_) return false;
-    std::unique_lock<std::mutex> busy(run_mutex_, std::try_to_lock);
+    Shared& s = *s_;
+    std::unique_lock<std::mutex> busy(s.run_mutex, std::try_to_lock);
     if (!busy.owns_lock()) return false;
     {
-      std::lock_guard<std::mutex> lock(mutex_);
-      task_ = &share;
-      call_ = [](void* s, unsigned t) noexcept { (*static_cast<Share*>(s))(t); };
-      shares_ = n;
-      remaining_ = n - 1;
-      ++generation_;
+      std::lock_guard<std::mutex> lock(s.mutex);
+      s.task = &share;
+      s.call = [](void* f, unsigned t) noexcept { (*static_cast<Share*>(f))(t); };
+      s.shares = n;
+      s.remaining = n - 1;
+      ++s.generation;
     }
-    if (n > 1) wake_.notify_all();
+    if (n > 1) s.wake.notify_all();
     share(0u);
-    std::unique_lock<std::mutex> lock(mutex_);
-    done_.wait(lock, [this] { return remaining_ == 0; });
-    task_ = nullptr;
+    std::unique_lock<std::mutex> lock(s.mutex);
+    s.done.wait(lock, [&s] { return s.remaining == 0; });
+    s.task = nullptr;
     return true;
   }
 
  private:
+  /// What the workers share, on the heap so that a forked child can leave it.
+  struct Shared {
+    std::vector<std::thread> workers;
+    std::mutex run_mutex;  // one run() at a time
+    std::mutex mutex;      // guards what follows
+    std::condition_variable wake, done;
+    void* task = nullptr;
+    void (*call)(void*, unsigned) noexcept = nullptr;
+    unsigned shares = 0, remaining = 0;
+    std::size_t generation = 0;
+    bool stopping = false;
+  };
+
   static long process_id() noexcept {
 #if defined(__unix__) || defined(__APPLE__)
     return static_cast<long>(::getpid());
@@ -96,40 +111,32 @@ class WorkerPool {
 #endif
   }
 
-  void work(unsigned t) noexcept {
+  static void work(Shared& s, unsigned t) noexcept {
     std::size_t seen = 0;
     for (;;) {
       void* task;
       void (*call)(void*, unsigned) noexcept;
       {
-        std::unique_lock<std::mutex> lock(mutex_);
-        wake_.wait(lock, [&] { return stopping_ || generation_ != seen; });
-        if (stopping_) return;
-        seen = generation_;
-        if (t >= shares_) continue;
-        task = task_;
-        call = call_;
+        std::unique_lock<std::mutex> lock(s.mutex);
+        s.wake.wait(lock, [&] { return s.stopping || s.generation != seen; });
+        if (s.stopping) return;
+        seen = s.generation;
+        if (t >= s.shares) continue;
+        task = s.task;
+        call = s.call;
       }
       call(task, t);
       bool last;
       {
-        std::lock_guard<std::mutex> lock(mutex_);
-        last = --remaining_ == 0;
+        std::lock_guard<std::mutex> lock(s.mutex);
+        last = --s.remaining == 0;
       }
-      if (last) done_.notify_one();
+      if (last) s.done.notify_one();
     }
   }
 
   long pid_;
-  std::unique_ptr<std::vector<std::thread>> workers_;
-  std::mutex run_mutex_;  // one run() at a time
-  std::mutex mutex_;      // guards what follows
-  std::condition_variable wake_, done_;
-  void* task_ = nullptr;
-  void (*call_)(void*, unsigned) noexcept = nullptr;
-  unsigned shares_ = 0, remaining_ = 0;
-  std::size_t generation_ = 0;
-  bool stopping_ = false;
+  std::unique_ptr<Shared> s_;
 };
 
 }  // namespace neurov

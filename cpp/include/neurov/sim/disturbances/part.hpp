@@ -73,6 +73,7 @@ struct Substep {
   bool in_flow = false;
   FluidFlow<Scalar> start, mid, end;
   std::uint8_t faults = 0;  ///< fault_bits seen over the substep
+  bool vehicle_changed = false;  ///< a part rebuilt the plant's vehicle at the substep's start
 };
 
 /// The hooks a part leaves alone (see the top of the file).

@@ -50,7 +50,7 @@ struct PayloadEvents : PartDefaults<Scalar> {
 
   template <typename C>
   static void substep(const C& c, State& s, const Plant<Scalar>& p, Substep<Scalar>& sub) noexcept {
-    apply_due(c, s, sub.t, p);
+    if (apply_due(c, s, sub.t, p)) sub.vehicle_changed = true;
   }
 
   template <typename C>
@@ -60,15 +60,19 @@ struct PayloadEvents : PartDefaults<Scalar> {
 
  private:
   /// The events due by t applied to the plant's vehicle, in order
-  /// (Simulator::create checked that each gives a valid vehicle).
+  /// (Simulator::create checked that each gives a valid vehicle); whether
+  /// any was.
   template <typename C>
-  static void apply_due(const C& c, State& s, Scalar t, const Plant<Scalar>& p) noexcept {
+  static bool apply_due(const C& c, State& s, Scalar t, const Plant<Scalar>& p) noexcept {
+    bool any = false;
     for (std::size_t i = 0; i < c.payload.size(); ++i) {
       if (s.applied[i] || !(t >= c.payload[i].time)) continue;
       apply_payload(c.payload[i], p.vehicle, p.vehicle);
       s.mass += c.payload[i].mass;
       s.applied[i] = true;
+      any = true;
     }
+    return any;
   }
 };
 
