@@ -193,7 +193,7 @@ py::array_t<std::uint8_t> step(Batch& b, const typed::ArrayLike& tau_in,
   std::uint8_t* out = statuses.mutable_data();
   {
     py::gil_scoped_release release;
-    step_threaded(b, threads, tau.data(), mask, out, parameters, &batch_pool());
+    step_threaded(b, threads, tau.data(), mask, out, parameters, threads == 1 ? nullptr : &batch_pool());
   }
   return statuses;
 }
@@ -322,7 +322,7 @@ py::list run(const typed::IterableOf<Vehicle<double>>& vehicles_in,
 }  // namespace
 
 WorkerPool& batch_pool() {
-  // Built at the first threaded step, joined at exit.
+  // Built at the first step on more than one thread, joined at exit.
   static WorkerPool pool;
   return pool;
 }
