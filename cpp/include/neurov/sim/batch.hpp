@@ -12,10 +12,14 @@
 // alone (statuses, faults, divergence step, every series; the tests check
 // it). Lanes whose plant the kernel does not cover (a vehicle with r_g != 0
 // or off-diagonal mass, waves) take the scalar step inside the same loop.
+// Lanes with the same reference (gains, start, command, period, length)
+// read one ReferenceTrajectory (sim/reference_trajectory.hpp) made once by
+// the batch, instead of each integrating the same reference model.
 //
 // step_threaded and run_batch split the lanes over worker threads
 // (std::thread, or a WorkerPool's for step_threaded), each stepping a
-// contiguous share; the lanes share nothing, so the split changes no result.
+// contiguous share; the lanes share only read-only trajectories, so the
+// split changes no result.
 #pragma once
 
 #include <Eigen/Core>
@@ -40,6 +44,7 @@
 #include "neurov/model/plant_block.hpp"
 #include "neurov/sim/closed_loop.hpp"
 #include "neurov/sim/config.hpp"
+#include "neurov/sim/reference_trajectory.hpp"
 #include "neurov/sim/result.hpp"
 #include "neurov/sim/simulator.hpp"
 #include "neurov/sim/window_sums.hpp"
@@ -92,6 +97,7 @@ class BatchSimulator {
                                             std::not_equal_to<int>()) == logged_parameters.end();
     b.logged_parameters_ = uniform && !logged_parameters.empty() ? logged_parameters[0] : 0;
     b.log_rows_ = log_rows;
+    b.share_references();
     out = std::move(b);
     return {};
   }
@@ -105,8 +111,17 @@ class BatchSimulator {
                           const SimulationConfig<Scalar>& config) {
     Sim s;
     if (auto e = Sim::create(vehicle, config, s, lanes_[i].logged_parameters(), log_rows_)) return e;
+    // The new lane joins a trajectory another lane follows, if one is its reference.
+    for (std::size_t j = 0; j < lanes_.size(); ++j)
+      if (j != i && s.follow_reference(lanes_[j].shared_reference_)) break;
     lanes_[i] = std::move(s);
     return {};
+  }
+
+  /// Whether lane i follows a reference trajectory shared with other lanes
+  /// (sim/reference_trajectory.hpp) instead of stepping its own reference.
+  bool shares_reference(std::size_t i) const noexcept {
+    return lanes_[i].shared_reference_ != nullptr;
   }
 
   /// Lane i back to t = 0 with noise from `seed`.
@@ -234,6 +249,38 @@ class BatchSimulator {
       stepped += static_cast<std::size_t>(n);
     }
     return stepped;
+  }
+
+  /// Lanes with the same reference (same_reference) follow one
+  /// ReferenceTrajectory. The lanes are grouped against at most
+  /// kReferenceGroups distinct references (a lane of a further one keeps
+  /// its own), and a reference only one lane has is not shared.
+  void share_references() {
+    constexpr std::size_t kReferenceGroups = 64;
+    std::vector<std::size_t> first;  // each group's first lane
+    std::vector<std::size_t> group(lanes_.size(), kReferenceGroups), count;
+    for (std::size_t i = 0; i < lanes_.size(); ++i) {
+      const Sim& lane = lanes_[i];
+      std::size_t g = 0;
+      while (g < first.size() &&
+             !same_reference(lanes_[first[g]].config_, lanes_[first[g]].rows_, lane.config_, lane.rows_))
+        ++g;
+      if (g == first.size()) {
+        if (first.size() == kReferenceGroups) continue;
+        first.push_back(i);
+        count.push_back(0);
+      }
+      group[i] = g;
+      ++count[g];
+    }
+    for (std::size_t g = 0; g < first.size(); ++g) {
+      if (count[g] < 2) continue;
+      const Sim& lane = lanes_[first[g]];
+      const auto shared = ReferenceTrajectory<Scalar>::build(lane.config_, lane.rows_);
+      if (!shared) continue;
+      for (std::size_t i = 0; i < lanes_.size(); ++i)
+        if (group[i] == g) lanes_[i].follow_reference(shared);
+    }
   }
 
   std::vector<Sim> lanes_;

@@ -29,6 +29,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -45,6 +46,7 @@
 #include "neurov/sim/config.hpp"
 #include "neurov/sim/gauss_markov_current.hpp"
 #include "neurov/sim/payload.hpp"
+#include "neurov/sim/reference_trajectory.hpp"
 #include "neurov/sim/result.hpp"
 #include "neurov/sim/sea_constants.hpp"
 #include "neurov/sim/sensing.hpp"
@@ -149,7 +151,7 @@ class Simulator {
     Parts::reset(config_, parts_, seed, plant());
     // The sensors' first samples, at t = 0 (validate() checked them).
     sensing_.reset(seed, eta_, nu_);
-    observation_.desired = reference_.desired();
+    observation_.desired = shared_reference_ ? shared_reference_->desired(0) : reference_.desired();
     held_eta_ = eta_;
     held_nu_ = nu_;
     last_accepted_tau_.setZero();
@@ -259,7 +261,7 @@ class Simulator {
   /// The measurement at t_k = k_ dt: noise for this row, then the sensor
   /// faults in their order (a noise burst draws after the measurement noise).
   void observe() noexcept {
-    const Scalar t = static_cast<Scalar>(k_) * config_.dt;
+    const Scalar t = ReferenceTrajectory<Scalar>::row_time(k_, config_.dt);
     Vec6 eta_m = eta_, nu_m = nu_;
     if (sensing_.active()) sensing_.measurement(eta_, nu_, eta_m, nu_m);
     if (noisy_) {
@@ -269,8 +271,9 @@ class Simulator {
       }
     }
     // The desired state (this row's eta_d) is from the last accepted reference step.
-    std::uint8_t faults =
-        reference_.pitch_limited() ? fault_bits::pitch_limited : std::uint8_t(0);
+    const bool pitch_limited =
+        shared_reference_ ? shared_reference_->pitch_limited(k_) : reference_.pitch_limited();
+    std::uint8_t faults = pitch_limited ? fault_bits::pitch_limited : std::uint8_t(0);
     bool freeze_eta = false, freeze_nu = false;
     const Scalar nan = std::numeric_limits<Scalar>::quiet_NaN();
     for (const auto& f : config_.sensor_faults) {
@@ -384,7 +387,10 @@ class Simulator {
       return p.status;
     }
     // The desired state for t_k+1; on a refused reference step it stays.
-    reference_.step(config_.command.at(p.t), config_.dt, observation_.desired);
+    if (shared_reference_)
+      observation_.desired = shared_reference_->desired(k_);
+    else
+      reference_.step(config_.command.at(p.t), config_.dt, observation_.desired);
     if (k_ < rows_) observe();
     return p.status;
   }
@@ -447,6 +453,15 @@ class Simulator {
                                                                      parameter_count_);
   }
 
+  /// Follow `shared` (ReferenceTrajectory) instead of stepping reference_,
+  /// when it is this run's reference (false otherwise, nothing changed). Set
+  /// by a batch between steps; the rows are those of reference_ to the bit.
+  bool follow_reference(const std::shared_ptr<const ReferenceTrajectory<Scalar>>& shared) noexcept {
+    if (!shared || !shared->matches(config_, rows_)) return false;
+    shared_reference_ = shared;
+    return true;
+  }
+
   /// The plant as the disturbance parts see and change it.
   parts::Plant<Scalar> plant() noexcept {
     return parts::Plant<Scalar>{vehicle_, vehicle0_, thrusters_, eta_, nu_};
@@ -475,6 +490,9 @@ class Simulator {
   typename Parts::States parts_;
   SimulationConfig<Scalar> config_;
   ReferenceModel<Scalar> reference_;
+  /// This run's reference precomputed and shared with a batch's other lanes
+  /// (sim/reference_trajectory.hpp); null: reference_ is stepped.
+  std::shared_ptr<const ReferenceTrajectory<Scalar>> shared_reference_;
   Thrusters<Scalar> thrusters_;
   Sensing<Scalar> sensing_;
   NormalRandom rng_;
