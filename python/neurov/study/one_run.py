@@ -62,7 +62,8 @@ def resolved_spec(study: Study, controller: int, scenario: int) -> ControllerSpe
 
 
 def run_one(study: Study, key: RunKey, done: tuple[Any, float] | None = None,
-            made: tuple[Any, float] | None = None) -> dict[str, Any]:
+            made: tuple[Any, float] | None = None,
+            plant: tuple[Any, dict[str, float]] | None = None) -> dict[str, Any]:
     """Runs one (scenario, controller, sample) and returns its record: the
     table row and the decimated error series. A run that raises (a user's
     controller, ``sys.exit`` in it included) is a result, not the end of the
@@ -70,7 +71,8 @@ def run_one(study: Study, key: RunKey, done: tuple[Any, float] | None = None,
     message. `done`: the run's (Result, CPU seconds) already simulated in a
     batch (:func:`run_batch`), of which only the record is made here.
     `made`: the run's controller (and the CPU seconds making it took),
-    already made by its factory in the batch, which is then not called again."""
+    already made by its factory in the batch, which is then not called again.
+    `plant`: the run's :func:`sample_plant` already drawn in the batch."""
     earlier = done[1] if done else made[1] if made else 0.0
     cpu_start = time.process_time() - earlier
     try:
@@ -78,7 +80,7 @@ def run_one(study: Study, key: RunKey, done: tuple[Any, float] | None = None,
             # A run's refused steps are its `refused_steps` column; a warning
             # per run from a worker would say it again, thousands of times.
             warnings.simplefilter("ignore", RefusedStepsWarning)
-            return _run(study, key, cpu_start, done[0] if done else None, made[0] if made else None)
+            return _run(study, key, cpu_start, done[0] if done else None, made[0] if made else None, plant)
     except (Exception, SystemExit) as e:  # noqa: BLE001 - any error of the user's code is this run's result
         message = str(e) if not isinstance(e, SystemExit) else f"sys.exit({e.code!r}) in the run"
         return error_record(study, key, "error", type(e).__name__, message,
@@ -106,10 +108,11 @@ def error_record(study: Study, key: RunKey, kind: str, error_type: str, message:
             "wall_time": 0.0, "cpu_time": cpu_time}
 
 
-def _run(study: Study, key: RunKey, cpu_start: float, batched: Any = None, made: Any = None) -> dict[str, Any]:
+def _run(study: Study, key: RunKey, cpu_start: float, batched: Any = None, made: Any = None,
+         drawn: tuple[Any, dict[str, float]] | None = None) -> dict[str, Any]:
     scenario = study.scenarios[key.scenario]
     controller = study.controllers[key.controller]
-    plant, columns = sample_plant(study, scenario, key.sample)
+    plant, columns = drawn if drawn is not None else sample_plant(study, scenario, key.sample)
     factory = study.factories.get(controller)
     if batched is not None or factory is not None:
         # The factory sees the nominal scenario, as a built-in controller is designed for it.
@@ -171,10 +174,19 @@ def run_batch(study: Study, keys: Sequence[tuple[int, int, int]]) -> list[dict[s
     (:func:`_simulate_policies`), the others one by one; the records are
     those of :func:`run_one` run by run."""
     runs = [RunKey(*k) for k in keys]
-    done = _simulate_built_ins(study, [k for k in runs if _batchable(study, k)])
-    policies, made = _simulate_policies(study, [k for k in runs if study.controllers[k.controller] in study.factories])
+    # A plant is drawn once per batch: the controllers of a scenario share its samples.
+    plants: dict[tuple[int, int], tuple[Any, dict[str, float]]] = {}
+    for k in runs:
+        if (k.scenario, k.sample) not in plants:
+            try:
+                plants[(k.scenario, k.sample)] = sample_plant(study, study.scenarios[k.scenario], k.sample)
+            except Exception:  # noqa: BLE001, S112 - drawn again by run_one, which records the error
+                continue
+    done = _simulate_built_ins(study, [k for k in runs if _batchable(study, k)], plants)
+    policies, made = _simulate_policies(study, [k for k in runs if study.controllers[k.controller] in study.factories],
+                                        plants)
     done.update(policies)
-    return [run_one(study, k, done.get(k), made.get(k)) for k in runs]
+    return [run_one(study, k, done.get(k), made.get(k), plants.get((k.scenario, k.sample))) for k in runs]
 
 
 def _batchable(study: Study, key: RunKey) -> bool:
@@ -185,7 +197,8 @@ def _batchable(study: Study, key: RunKey) -> bool:
     return not (study.basis_rank and study.spec_for(controller, study.scenarios[key.scenario]).type == "nn")
 
 
-def _simulate_built_ins(study: Study, keys: list[RunKey]) -> dict[RunKey, tuple[Any, float]]:
+def _simulate_built_ins(study: Study, keys: list[RunKey], plants: Mapping[tuple[int, int], tuple[Any, Any]]
+                        ) -> dict[RunKey, tuple[Any, float]]:
     """The runs' results simulated as one batch, with each run's share of the
     CPU time; empty if anything fails, and each run is then simulated alone
     by :func:`run_one`, which records its own error."""
@@ -193,8 +206,7 @@ def _simulate_built_ins(study: Study, keys: list[RunKey]) -> dict[RunKey, tuple[
         return {}
     cpu_start = time.process_time()
     try:
-        runs = [(sample_plant(study, study.scenarios[k.scenario], k.sample)[0],
-                 resolved_spec(study, k.controller, k.scenario)) for k in keys]
+        runs = [(plants[(k.scenario, k.sample)][0], resolved_spec(study, k.controller, k.scenario)) for k in keys]
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RefusedStepsWarning)
             results = simulate_many(runs, threads=1)
@@ -204,7 +216,7 @@ def _simulate_built_ins(study: Study, keys: list[RunKey]) -> dict[RunKey, tuple[
     return {k: (r, cpu) for k, r in zip(keys, results)}
 
 
-def _simulate_policies(study: Study, keys: list[RunKey]
+def _simulate_policies(study: Study, keys: list[RunKey], plants: Mapping[tuple[int, int], tuple[Any, Any]]
                        ) -> tuple[dict[RunKey, tuple[Any, float]], dict[RunKey, tuple[Any, float]]]:
     """The runs of factories whose product is batched, one batch per
     (controller, scenario): the factory called once for it, on the nominal
@@ -236,12 +248,12 @@ def _simulate_policies(study: Study, keys: list[RunKey]
             if not study.cache[kind]:
                 made[group[0]] = (policy, time.process_time() - cpu_start)
                 continue
-            plants = [sample_plant(study, study.scenarios[scenario], k.sample)[0] for k in group]
-            vehicles = [build_vehicle(p) for p in plants]
-            lanes = _core.BatchSimulator(vehicles, [simulation_config(p) for p in plants])
+            drawn = [plants[(scenario, k.sample)][0] for k in group]
+            vehicles = [build_vehicle(p) for p in drawn]
+            lanes = _core.BatchSimulator(vehicles, [simulation_config(p) for p in drawn])
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", RefusedStepsWarning)
-                results = run_batched_policy(lanes, policy, plants, vehicles=vehicles, label=label)
+                results = run_batched_policy(lanes, policy, drawn, vehicles=vehicles, label=label)
         except Exception:  # noqa: BLE001 - run alone, each run's error is its own record
             continue
         cpu = (time.process_time() - cpu_start) / len(group)
