@@ -1,6 +1,7 @@
 // The batch (sim/batch.hpp): a lane gives exactly the run alone, for every
-// built-in controller, with thrusters, sensors and the EKF, waves and a lane
-// that diverges while the others go on; the metric sums are those of the rows.
+// built-in controller, with thrusters, sensors and the EKF, waves, perturbed
+// plants in and out of the SIMD kernel and a lane that diverges while the
+// others go on; the metric sums are those of the rows.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -118,12 +119,23 @@ TEST(Batch, EveryLaneIsTheRunAloneForEveryBuiltInControllerMixed) {
   std::vector<SimulationConfig<double>> configs;
   std::vector<std::string> names;
   const Vehicle<double> nerov(nerov_parameters<double>());
+  // Beside NEROV a perturbed plant (in the SIMD kernel) and one with its
+  // centre of gravity below the origin (r_g != 0: the scalar step).
+  VehicleParameters<double> heavier = nerov_parameters<double>();
+  heavier.mass *= 1.2;
+  heavier.buoyancy *= 1.2;
+  VehicleParameters<double> low_cg = nerov_parameters<double>();
+  low_cg.centre_of_gravity << 0.0, 0.0, 0.05;
+  const std::vector<Vehicle<double>> plants = {nerov, Vehicle<double>(heavier), Vehicle<double>(low_cg)};
+  ASSERT_TRUE(plants[1].diagonal());
+  ASSERT_FALSE(plants[2].diagonal());
   for_each_type(BuiltInControllers<double>{}, [&](auto tag) {
     using C = typename decltype(tag)::type;
-    for (const SimulationConfig<double>& c : lane_configs()) {
-      vehicles.push_back(nerov);
+    const std::vector<SimulationConfig<double>> lanes = lane_configs();
+    for (std::size_t l = 0; l < lanes.size() + 2; ++l) {
+      vehicles.push_back(l < lanes.size() ? nerov : plants[l - lanes.size() + 1]);
       controllers.emplace_back(std::in_place_type<C>, make_controller<C>());
-      configs.push_back(c);
+      configs.push_back(l < lanes.size() ? lanes[l] : lanes[l % 2]);
       names.push_back(std::string(typeid(C).name()) + " lane " + std::to_string(configs.size() - 1));
     }
   });

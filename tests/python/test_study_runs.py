@@ -55,6 +55,20 @@ def test_dask_and_local_processes_give_identical_tables(study_file: Path, tmp_pa
     assert timing["runs"] == 24 and timing["runs_per_second"] > 0
 
 
+def test_runs_batched_in_cpp_give_the_table_of_runs_one_by_one(study_file: Path, tmp_path: Path) -> None:
+    # batch_size=1: every run alone through neurov.simulate; 24: the built-in
+    # controllers' runs of a batch in one simulate_many, plants drawn once a batch.
+    alone = run_study(study_file, tmp_path / "alone", executor="processes", workers=1, batch_size=1,
+                      progress=False, plots=False)
+    batched = run_study(study_file, tmp_path / "batched", executor="processes", workers=1, batch_size=24,
+                        progress=False, plots=False)
+    assert alone.ran == batched.ran == 24
+    assert alone.table_path.read_bytes() == batched.table_path.read_bytes()
+    series = [{tuple(json.loads(line)["key"]): json.loads(line)["series"]
+               for line in (tmp_path / name / LOG_NAME).read_text().splitlines()} for name in ("alone", "batched")]
+    assert series[0] == series[1]
+
+
 def test_resume_skips_finished_runs_and_gives_the_same_table(study_file: Path, tmp_path: Path) -> None:
     out = tmp_path / "out"
     first = run_study(study_file, out, executor="processes", workers=1, progress=False, plots=False)

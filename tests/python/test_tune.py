@@ -172,16 +172,24 @@ def test_two_processes_on_one_storage_do_not_duplicate_trials(tmp_path: Path) ->
 def test_a_failing_run_is_penalised_with_its_reason(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     tuning = load_tuning(write(tmp_path))
     runner = TrialRunner(1)
-    import neurov.tuning.trial_runs as trial_runs
+    import neurov.study.one_run as one_run
 
-    real = trial_runs.run_one
+    real = one_run.simulate
 
-    def flaky(study, key):  # type: ignore[no-untyped-def]
-        if key.sample == 1:
+    def flaky(plant, *args, **kwargs):  # type: ignore[no-untyped-def]
+        if plant.seed == one_run.sample_plant(study, study.scenarios[0], 1)[0].seed:
             raise RuntimeError("tensor conversion failed")
-        return real(study, key)
+        return real(plant, *args, **kwargs)
 
-    monkeypatch.setattr(trial_runs, "run_one", flaky)
+    def batch_fails(*args, **kwargs):  # type: ignore[no-untyped-def]
+        raise RuntimeError("the batch is refused")
+
+    from neurov.tuning.reading import trial_study
+
+    study = trial_study(tuning, "pd", {"kp": 1.0})
+    # The trial's batch fails, so its runs are run one by one, where sample 1 raises.
+    monkeypatch.setattr(one_run, "simulate_many", batch_fails)
+    monkeypatch.setattr(one_run, "simulate", flaky)
     ok = evaluate(tuning, "pd", {"kp": 1.0}, TrialRunner(1))
     assert ok.failures == 1 and ok.reasons == {"RuntimeError: tensor conversion failed": 1}
     monkeypatch.undo()

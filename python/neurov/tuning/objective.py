@@ -53,6 +53,12 @@ def _reason(row: Mapping[str, Any], metric: str, bounds: Mapping[str, float]) ->
     return "failed"
 
 
+def _error_text(error: str | Mapping[str, Any]) -> str:
+    """A failed run's error as a reason: a study record's error (its kind,
+    type and message) or a trial's run-by-run text, already one."""
+    return error if isinstance(error, str) else f"{error['type']}: {error['message']}"
+
+
 def evaluate(tuning: Tuning, controller: str, values: Mapping[str, Any], runner: TrialRunner,
              pruning: Any = None) -> TrialOutcome:
     """Runs the trial `values` of `controller` and returns its penalised aggregate.
@@ -81,7 +87,7 @@ def evaluate(tuning: Tuning, controller: str, values: Mapping[str, Any], runner:
         failed = iter(failed_runs(pd.DataFrame(rows), study.failure).tolist() if rows else [])
         for rec in records:
             if "error" in rec:
-                reasons[rec["error"]] += 1
+                reasons[_error_text(rec["error"])] += 1
                 values_per_run.append(s.failure_penalty)
             elif next(failed):
                 reasons[_reason(rec["row"], s.objective, study.failure)] += 1

@@ -1,6 +1,8 @@
 """The runs of a trial, on workers kept for the whole tuning: a study's runs
-(:func:`neurov.study.one_run.run_one`, the same plants and records), where a
-run that raises becomes a record of its error instead of ending the trial.
+in its batches (:func:`neurov.study.one_run.run_batch`: the built-in
+controllers' runs of a batch together in C++, the same plants and records),
+where a run that raises becomes a record of its error instead of ending the
+trial.
 
 A study starts its pool of processes (or its Dask cluster) once per study;
 a tuning runs hundreds of small studies, one per trial, so it keeps one pool
@@ -16,7 +18,7 @@ from collections.abc import Callable, Sequence
 from typing import Any
 
 from neurov.study.executors import default_batch_size, split_batches
-from neurov.study.one_run import RunKey, plan_runs, run_one
+from neurov.study.one_run import RunKey, plan_runs, run_batch, run_one
 from neurov.study.spec import Study
 
 __all__ = ["TrialRunner", "run_keys_safely"]
@@ -26,8 +28,13 @@ _ONE_THREAD = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THR
 
 
 def run_keys_safely(study: Study, keys: Sequence[tuple[int, int, int]]) -> list[dict[str, Any]]:
-    """The records of `keys`; a run that raises gives ``{"key", "error"}``
-    (its exception's type and message), and the others still run."""
+    """The records of `keys`, simulated as one batch; a run that raises
+    gives ``{"key", "error"}`` (its exception's type and message), and the
+    others still run."""
+    try:
+        return run_batch(study, keys)
+    except Exception:  # noqa: BLE001, S110 - run by run below, where each run's error is its own
+        pass
     out = []
     for k in keys:
         key = RunKey(*k)
@@ -91,15 +98,15 @@ class TrialRunner:
         time); when it returns True the runs not yet started are cancelled
         and the records so far returned (a pruned trial)."""
         keys = plan_runs(study)
-        flat = [(k.scenario, k.controller, k.sample) for k in keys]
+        batches = split_batches(keys, default_batch_size(len(keys), self.workers))
         if self.workers == 1 and not self.scheduler:
             out: list[dict[str, Any]] = []
-            for k in flat:
-                out += run_keys_safely(study, [k])
-                if on_runs is not None and on_runs(out[-1:]):
+            for b in batches:
+                new = run_keys_safely(study, b)
+                out += new
+                if on_runs is not None and on_runs(new):
                     break
             return out
-        batches = split_batches(keys, default_batch_size(len(keys), self.workers))
         try:
             futures = self._submit_dask(study, batches) if self.scheduler else \
                 [self._processes().submit(run_keys_safely, study, b) for b in batches]

@@ -294,16 +294,17 @@ inline constexpr std::size_t kMinLanesPerThread = 32;
 
 /// share(begin, end) on contiguous shares of the k lanes [0, k) over
 /// `threads` threads (0: one per hardware thread), never fewer than
-/// kMinLanesPerThread lanes a thread (one thread below that); `share` must
-/// not throw. With a `pool` that is free and large enough the shares run on
+/// `min_lanes` lanes a thread (one thread below that; a period of a lane is
+/// microseconds, a whole run milliseconds); `share` must not throw. With a `pool` that is free and large enough the shares run on
 /// its threads; otherwise threads are started for the call, so it allocates
 /// (and may throw std::bad_alloc before any share has run): a host's batch
 /// call, not a control loop's step. A thread the system refuses leaves its
 /// share to the calling thread.
 template <typename Share>
-void split_lanes(std::size_t k, unsigned threads, WorkerPool* pool, Share&& share) {
+void split_lanes(std::size_t k, unsigned threads, WorkerPool* pool, Share&& share,
+                 std::size_t min_lanes = kMinLanesPerThread) {
   std::size_t n = threads ? threads : std::max(1u, std::thread::hardware_concurrency());
-  n = std::max<std::size_t>(1, std::min(n, k / kMinLanesPerThread));
+  n = std::max<std::size_t>(1, std::min(n, k / std::max<std::size_t>(1, min_lanes)));
   auto part = [&](std::size_t t) noexcept { share(k * t / n, k * (t + 1) / n); };
   if (n == 1) return part(0);
   auto pooled = [&](unsigned t) noexcept { part(t); };
@@ -450,18 +451,11 @@ ValidationError run_batch(const std::vector<Vehicle<Scalar>>& vehicles,
           failed_lane))
     return e;
   BatchRun<Scalar, Controller> run(batch, controllers, options);
-  unsigned threads = options.threads ? options.threads : std::thread::hardware_concurrency();
-  threads = static_cast<unsigned>(std::max<std::size_t>(1, std::min<std::size_t>(threads, k)));
-  if (threads <= 1) {
-    run.run(0, k);
-  } else {
-    // Contiguous shares: the lanes of a share sit together in memory.
-    std::vector<std::thread> workers;
-    workers.reserve(threads);
-    for (unsigned t = 0; t < threads; ++t)
-      workers.emplace_back([&run, t, threads, k] { run.run(k * t / threads, k * (t + 1) / threads); });
-    for (std::thread& w : workers) w.join();
-  }
+  // Contiguous shares: the lanes of a share sit together in memory. A whole
+  // run is worth a thread of its own.
+  split_lanes(
+      k, options.threads, nullptr,
+      [&run](std::size_t begin, std::size_t end) noexcept { run.run(begin, end); }, 1);
   if (options.metrics_only) {
     if (sums) *sums = std::move(run.sums());
   } else if (results) {
