@@ -193,7 +193,7 @@ py::array_t<std::uint8_t> step(Batch& b, const typed::ArrayLike& tau_in,
   std::uint8_t* out = statuses.mutable_data();
   {
     py::gil_scoped_release release;
-    step_threaded(b, threads, tau.data(), mask, out, parameters, threads == 1 ? nullptr : &batch_pool());
+    step_threaded(b, threads, tau.data(), mask, out, parameters, batch_pool(threads));
   }
   return statuses;
 }
@@ -321,10 +321,11 @@ py::list run(const typed::IterableOf<Vehicle<double>>& vehicles_in,
 
 }  // namespace
 
-WorkerPool& batch_pool() {
+WorkerPool* batch_pool(unsigned threads) {
+  if (threads == 1) return nullptr;
   // Built at the first step on more than one thread, joined at exit.
   static WorkerPool pool;
-  return pool;
+  return &pool;
 }
 
 void bind_batch(py::module_& m) {

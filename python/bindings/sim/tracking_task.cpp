@@ -223,7 +223,7 @@ StepTuple<F32, F64, Bools> step_batch(const Task& task, Batch& batch, const type
     py::gil_scoped_release release;
     // Each thread's share of the lanes through the whole step: the rows are
     // independent, so the split changes nothing.
-    split_lanes(k, threads, threads == 1 ? nullptr : &batch_pool(), [&](std::size_t b, std::size_t e) noexcept {
+    split_lanes(k, threads, batch_pool(threads), [&](std::size_t b, std::size_t e) noexcept {
       const auto n = static_cast<std::size_t>(task.action_size());
       tracking_forces(task, e - b, a.data() + n * b, tau.data() + 6 * b);
       batch.step_lanes(b, e, tau.data(), mask, status);

@@ -95,11 +95,14 @@ using MaskOf = decltype(std::declval<V>() < std::declval<V>());
 // where no pragma of this header reaches. Selects are written `m ? a : b`
 // and broadcasts `V{} + x`, both builtin.
 
-template <typename U, int L>
-using UintLanes = std::conditional_t<L == 1, U, Vec<U, L>>;
+/// The unsigned integer of a lane's width, and a lane type's bits.
 template <typename V>
-using BitsOf = UintLanes<std::conditional_t<sizeof(LaneScalar<V>) == 8, std::uint64_t, std::uint32_t>,
-                         kLanes<V>>;
+using BitsScalar = std::conditional_t<sizeof(LaneScalar<V>) == 8, std::uint64_t, std::uint32_t>;
+template <typename V>
+using BitsOf = std::conditional_t<kLanes<V> == 1, BitsScalar<V>, Vec<BitsScalar<V>, kLanes<V>>>;
+/// The sign bit of a lane.
+template <typename V>
+inline constexpr BitsScalar<V> kSignBit = BitsScalar<V>(1) << (8 * sizeof(BitsScalar<V>) - 1);
 
 /// The bits of each lane of v, as unsigned integers.
 template <typename V>
@@ -118,10 +121,9 @@ NEUROV_ALWAYS_INLINE void lane_abs(const V& x, V& out) noexcept {
   if constexpr (kLanes<V> == 1) {
     out = std::fabs(x);
   } else {
-    using U = std::remove_reference_t<decltype(std::declval<BitsOf<V>>()[0])>;
     BitsOf<V> u;
     bits_of(x, u);
-    u &= ~(U(1) << (8 * sizeof(U) - 1));
+    u &= ~kSignBit<V>;
     from_bits(u, out);
   }
 }
@@ -132,12 +134,10 @@ NEUROV_ALWAYS_INLINE void lane_copysign(const V& x, const V& s, V& out) noexcept
   if constexpr (kLanes<V> == 1) {
     out = std::copysign(x, s);
   } else {
-    using U = std::remove_reference_t<decltype(std::declval<BitsOf<V>>()[0])>;
-    const U sign = U(1) << (8 * sizeof(U) - 1);
     BitsOf<V> ux, us;
     bits_of(x, ux);
     bits_of(s, us);
-    ux = (ux & ~sign) | (us & sign);
+    ux = (ux & ~kSignBit<V>) | (us & kSignBit<V>);
     from_bits(ux, out);
   }
 }
