@@ -104,21 +104,23 @@ TEST(WorkerPool, ABatchSteppedThroughItIsStep) {
   c.command.poses.setZero(2, 6);
   c.command.poses.row(1) << 1, 0, 0.5, 0, 0, 0.3;
   c.noise_eta.setConstant(0.01);
-  std::vector<Vehicle<double>> vehicles(80, Vehicle<double>(nerov_parameters<double>()));
-  std::vector<SimulationConfig<double>> configs(80, c);
+  // Two shares (a third of a block in the second).
+  const std::size_t lanes = 2 * kMinLanesPerThread + 16;
+  std::vector<Vehicle<double>> vehicles(lanes, Vehicle<double>(nerov_parameters<double>()));
+  std::vector<SimulationConfig<double>> configs(lanes, c);
   for (std::size_t i = 0; i < configs.size(); ++i) configs[i].seed = i;
   BatchSimulator<double> pooled, plain;
   ASSERT_TRUE(BatchSimulator<double>::create(vehicles, configs, pooled).ok());
   ASSERT_TRUE(BatchSimulator<double>::create(vehicles, configs, plain).ok());
   WorkerPool pool(2);
-  std::vector<double> tau(6 * 80);
-  std::vector<std::uint8_t> a(80), b(80);
+  std::vector<double> tau(6 * lanes);
+  std::vector<std::uint8_t> a(lanes), b(lanes);
   for (int k = 0; k < 10; ++k) {
     for (std::size_t i = 0; i < tau.size(); ++i) tau[i] = 10.0 * std::sin(0.1 * (i + 7 * k));
     step_threaded(pooled, 2, tau.data(), nullptr, a.data(), nullptr, &pool);
     plain.step(tau.data(), nullptr, b.data());
     ASSERT_EQ(a, b);
-    for (std::size_t i = 0; i < 80; ++i)
+    for (std::size_t i = 0; i < lanes; ++i)
       for (int d = 0; d < 6; ++d) {
         ASSERT_EQ(pooled.lane(i).observation().eta(d), plain.lane(i).observation().eta(d));
         ASSERT_EQ(pooled.lane(i).observation().nu(d), plain.lane(i).observation().nu(d));

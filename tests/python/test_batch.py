@@ -136,10 +136,13 @@ def test_stepped_batch_equals_simulators_alone() -> None:
 
 @pytest.mark.parametrize("threads", [2, 3])  # the module's kept threads, threads started per call
 def test_threads_split_the_lanes_without_changing_a_result(threads: int) -> None:
-    """96 lanes (every feature, one diverging, a mask) stepped on 1 and on 2
-    or 3 threads (32 lanes a thread at least: each share holds lanes of
-    every kind) give the same statuses and results to the bit."""
-    scenarios = [short(FEATURES[i % 3], seed=i) for i in range(96)]
+    """Three shares' worth of lanes (every feature, one diverging, a mask)
+    stepped on 1 and on 2 or 3 threads (MIN_LANES_PER_THREAD lanes a thread
+    at least: each share holds lanes of every kind) give the same statuses
+    and results to the bit."""
+    n = 3 * _core.MIN_LANES_PER_THREAD
+    diverging = n // 3 + 1  # in the second share
+    scenarios = [short(FEATURES[i % 3], seed=i) for i in range(n)]
     for sc in scenarios[::3]:
         sc.simulation.use_thrusters = False
     vehicles = [build_vehicle(sc) for sc in scenarios]
@@ -148,17 +151,17 @@ def test_threads_split_the_lanes_without_changing_a_result(threads: int) -> None
     rng = np.random.default_rng(2)
     k = 0
     while not one.done.all():
-        tau = rng.normal(0.0, 50.0, (96, 6))
+        tau = rng.normal(0.0, 50.0, (n, 6))
         if k == 5:
-            tau[33, 0] = 1e300  # lane 33, in the second share, diverges
-        mask = rng.random(96) < 0.8
+            tau[diverging, 0] = 1e300
+        mask = rng.random(n) < 0.8
         np.testing.assert_array_equal(one.step(tau, mask, threads=1), three.step(tau, mask, threads=threads))
         k += 1
-    assert three.done.all() and one.diverged[33] and three.diverged[33]
-    for i in range(96):
+    assert three.done.all() and one.diverged[diverging] and three.diverged[diverging]
+    for i in range(n):
         same_result(one.result(i), three.result(i))
     with pytest.raises(TypeError):
-        one.step(np.zeros((96, 6)), threads=-1)
+        one.step(np.zeros((n, 6)), threads=-1)
 
 
 def test_replace_renews_a_lane_and_a_refused_one_is_untouched() -> None:

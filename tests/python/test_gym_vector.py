@@ -17,6 +17,7 @@ import pytest
 gymnasium = pytest.importorskip("gymnasium")
 import neurov  # noqa: E402
 import neurov.gym  # noqa: E402
+from neurov import _core  # noqa: E402
 from gymnasium.utils.env_checker import check_env  # noqa: E402
 from gymnasium.vector import AutoresetMode, VectorEnv  # noqa: E402
 from neurov.running.lanes import PythonLanes  # noqa: E402
@@ -98,13 +99,13 @@ def test_lane_i_is_the_single_env_under_seed_s_plus_i(name: str, action: str, ra
 
 
 def test_the_lanes_split_over_threads_give_one_thread_s_steps() -> None:
-    """96 envs (three shares of 32) stepped on 1 thread, on 2 (the module's
-    kept threads) and on 3 (threads started for the call): every array the
-    same to the bit, across autoresets."""
+    """Three shares of envs stepped on 1 thread, on 2 (the module's kept
+    threads) and on 3 (threads started for the call): every array the same
+    to the bit, across autoresets."""
     scenario = _scenario("nerov_square_disturbed")
     runs = []
     for threads in (1, 2, 3):
-        envs = TrackingVectorEnv(96, scenario, "thrusters", threads=threads)
+        envs = TrackingVectorEnv(3 * _core.MIN_LANES_PER_THREAD, scenario, "thrusters", threads=threads)
         envs.reset(seed=3)
         actions = np.random.default_rng(4).uniform(-1.2, 1.2, (16, *envs.action_space.shape))
         runs.append([envs.step(a) for a in actions])
@@ -126,14 +127,16 @@ def test_a_process_forked_after_threaded_steps_steps_and_exits() -> None:
         import os, sys
         import numpy as np
         from neurov.gym import TrackingVectorEnv
-        envs = TrackingVectorEnv(96, "paper_fig3", threads=2)
+        from neurov import _core
+        k = 2 * _core.MIN_LANES_PER_THREAD
+        envs = TrackingVectorEnv(k, "paper_fig3", threads=2)
         envs.reset(seed=0)
-        before = envs.step(np.zeros((96, 6), np.float32))[0]
+        before = envs.step(np.zeros((k, 6), np.float32))[0]
         pid = os.fork()
         if pid == 0:
-            child = TrackingVectorEnv(96, "paper_fig3", threads=2)
+            child = TrackingVectorEnv(k, "paper_fig3", threads=2)
             child.reset(seed=0)
-            same = np.array_equal(child.step(np.zeros((96, 6), np.float32))[0], before)
+            same = np.array_equal(child.step(np.zeros((k, 6), np.float32))[0], before)
             sys.exit(0 if same else 3)
         _, status = os.waitpid(pid, 0)
         sys.exit(os.waitstatus_to_exitcode(status))

@@ -333,6 +333,7 @@ void bind_batch(py::module_& m) {
   for (const WindowSumSpec& s : kWindowSums) sums.append(py::make_tuple(s.name, s.width, s.description));
   m.attr("WINDOW_SUMS") = py::tuple(sums);
   m.attr("LANE_NOT_STEPPED") = py::int_(kLaneNotStepped);
+  m.attr("MIN_LANES_PER_THREAD") = py::int_(kMinLanesPerThread);
 
   py::class_<Batch>(m, "BatchSimulator",
                     "K runs (lanes) stepped in lockstep from outside, one call per step for every "
@@ -363,7 +364,8 @@ void bind_batch(py::module_& m) {
            "(K, logged_parameters). Returns the (K,) uint8 plant statuses (neurov.Status values; "
            "non_finite_input for a lane given a non-finite force, which is not stepped) and "
            "LANE_NOT_STEPPED (255) for a lane masked out or done. The GIL is released. threads: the lanes "
-           "split over that many threads (0: one per hardware thread; at least 32 lanes a thread, so "
+           "split over that many threads (0: one per hardware thread; at least MIN_LANES_PER_THREAD lanes a "
+           "thread, so "
            "fewer threads for a small batch); the results are the same.")
       .def_property_readonly("done",
                              [](const Batch& b) {

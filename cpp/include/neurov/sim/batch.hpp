@@ -288,9 +288,11 @@ class BatchSimulator {
   Eigen::Index log_rows_ = 0;
 };
 
-/// Lanes a stepping thread gets at least: starting a thread costs tens of
-/// microseconds, about what ten lanes' control period of plant costs.
-inline constexpr std::size_t kMinLanesPerThread = 32;
+/// Lanes a stepping thread gets at least. Handing a share to another thread
+/// and waiting for it costs about what a hundred lanes' control period
+/// costs: on the 2-core machine 64 vector envs on two threads took 1.33 x
+/// the time of one, 128 1.03 x, 256 0.71 x (bench/README.md).
+inline constexpr std::size_t kMinLanesPerThread = 128;
 
 /// share(begin, end) on contiguous shares of the k lanes [0, k) over
 /// `threads` threads (0: one per hardware thread), never fewer than
