@@ -58,7 +58,8 @@ class TrackingVectorEnv(VectorEnv):
     steps one simulator per env, the reference it is tested against).
     threads: the threads that step the compiled batch's plants (0, the
     default: one per core; at least ``neurov._core.MIN_LANES_PER_THREAD``
-    (128) envs a thread, so a smaller batch steps on one); the results do not depend on it."""
+    (128) envs a thread, so a smaller batch steps on one); the results do
+    not depend on it."""
 
     metadata: dict[str, Any] = {"render_modes": [], "autoreset_mode": AutoresetMode.NEXT_STEP}
 

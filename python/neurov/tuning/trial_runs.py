@@ -29,8 +29,9 @@ _ONE_THREAD = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THR
 
 def run_keys_safely(study: Study, keys: Sequence[tuple[int, int, int]]) -> list[dict[str, Any]]:
     """The records of `keys`, simulated as one batch; a run that raises
-    gives ``{"key", "error"}`` (its exception's type and message), and the
-    others still run."""
+    gives its study record of the error (:func:`~neurov.study.one_run.run_one`),
+    or ``{"key", "error"}`` (its exception's type and message) where even
+    that fails, and the others still run."""
     try:
         return run_batch(study, keys)
     except Exception:  # noqa: BLE001, S110 - run by run below, where each run's error is its own

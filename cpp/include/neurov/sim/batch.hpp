@@ -297,8 +297,9 @@ inline constexpr std::size_t kMinLanesPerThread = 128;
 /// share(begin, end) on contiguous shares of the k lanes [0, k) over
 /// `threads` threads (0: one per hardware thread), never fewer than
 /// `min_lanes` lanes a thread (one thread below that; a period of a lane is
-/// microseconds, a whole run milliseconds); `share` must not throw. With a `pool` that is free and large enough the shares run on
-/// its threads; otherwise threads are started for the call, so it allocates
+/// microseconds, a whole run milliseconds); `share` must not throw. With a
+/// `pool` that is free and large enough the shares run on its threads;
+/// otherwise threads are started for the call, so it allocates
 /// (and may throw std::bad_alloc before any share has run): a host's batch
 /// call, not a control loop's step. A thread the system refuses leaves its
 /// share to the calling thread.
