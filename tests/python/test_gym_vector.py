@@ -58,10 +58,10 @@ def test_make_vec_gives_a_vector_env_with_batched_spaces() -> None:
 
 
 def _single_run(scenario: neurov.Scenario, seed: int, actions: np.ndarray, action: str,
-                randomize: Any) -> list[tuple[Any, ...]]:
+                randomize: Any, **task: Any) -> list[tuple[Any, ...]]:
     """What the single env gives for one lane's actions under NEXT_STEP: a
     step after an episode's end is its reset (obs, reward 0)."""
-    env = TrackingEnv(scenario, action=action, randomize=randomize)
+    env = TrackingEnv(scenario, action=action, randomize=randomize, **task)
     obs, _ = env.reset(seed=seed)
     out, ended = [], False
     for a in actions:
@@ -91,6 +91,28 @@ def test_lane_i_is_the_single_env_under_seed_s_plus_i(name: str, action: str, ra
     assert any(g[3].any() for g in got)
     for i in range(k):
         want = _single_run(scenario, 40 + i, actions[:, i], action, randomize)
+        for (obs, r, term, trunc, info), (w_obs, w_r, w_term, w_trunc, w_eta) in zip(got, want):
+            np.testing.assert_allclose(obs[i], w_obs, rtol=1e-6, atol=1e-7)
+            np.testing.assert_allclose(r[i], w_r, rtol=1e-12, atol=1e-12)
+            np.testing.assert_allclose(info["eta_true"][i], w_eta, rtol=1e-12, atol=1e-12)
+            assert (term[i], trunc[i]) == (w_term, w_trunc)
+
+
+@pytest.mark.parametrize("batch_class", [None, PythonLanes])
+def test_lane_i_is_the_single_env_across_terminations(batch_class: Any) -> None:
+    """A tight speed bound and box: episodes end terminated, each lane at its
+    own step, and every lane still steps as the single env under seed s + i."""
+    scenario = _scenario("nerov_square_disturbed")
+    task = {"velocity_bound": 0.05, "box_margin": 0.1}
+    k, steps = 4, 24
+    envs = TrackingVectorEnv(k, scenario, "body", randomize=RANDOMIZE, batch_class=batch_class, **task)
+    envs.reset(seed=7)
+    actions = np.random.default_rng(3).uniform(-1.0, 1.0, (steps, *envs.action_space.shape))
+    got = [envs.step(a) for a in actions]
+    ends = np.array([g[2] for g in got])
+    assert ends.sum() >= k and len({int(np.argmax(ends[:, i])) for i in range(k)}) > 1
+    for i in range(k):
+        want = _single_run(scenario, 7 + i, actions[:, i], "body", RANDOMIZE, **task)
         for (obs, r, term, trunc, info), (w_obs, w_r, w_term, w_trunc, w_eta) in zip(got, want):
             np.testing.assert_allclose(obs[i], w_obs, rtol=1e-6, atol=1e-7)
             np.testing.assert_allclose(r[i], w_r, rtol=1e-12, atol=1e-12)
