@@ -3,12 +3,12 @@
 // same. The reference model (control/reference_model.hpp) is open loop: its
 // desired state at row k follows from its gains, its start eta0, the command
 // r(t) and dt alone, never from the plant, the controller or the noise. Lanes
-// that differ only in those (a Monte-Carlo over perturbed plants, a vector
-// environment's episodes) would each integrate the same trajectory; a lane
-// that follows a ReferenceTrajectory reads row k instead. The rows are made by
-// the same ReferenceModel calls, with the same arguments, as a run alone
-// makes (Simulator's observe() and end_period()), so a lane that follows one
-// gets its run alone's desired states to the bit.
+// that share those and differ in the rest (a Monte-Carlo over perturbed
+// plants, a vector environment's episodes) would each integrate the same
+// trajectory; a lane that follows a ReferenceTrajectory reads row k
+// instead. The rows are made by the same ReferenceModel calls, with the same
+// arguments, as a run alone makes (Simulator's observe() and end_period()),
+// so a lane that follows one gets its run alone's desired states to the bit.
 #pragma once
 
 #include <Eigen/Core>
