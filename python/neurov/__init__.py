@@ -53,6 +53,7 @@ from neurov.laws.protocol import Controller
 from neurov.running.stepper import Observation, Simulator
 from neurov.errors import NeurovError, RefusedStepsWarning, ValidationError, VehicleFileError
 from neurov.laws import weights  # noqa: F401  (attaches NNAdaptiveController.save/load)
+from neurov import bridges  # noqa: F401  (lends the bridges to the layers beneath them: neurov.hooks)
 from neurov.identification import identify
 from neurov.results.load import load_result
 from neurov.config.reading import load_scenario

@@ -23,6 +23,7 @@ __all__ = [
     "ControllerError",
     "FactoryError",
     "NeurovError",
+    "RecordedPathError",
     "RecordingError",
     "RefusedStepsWarning",
     "ResultFileError",
@@ -53,6 +54,15 @@ class WeightsFileError(NeurovError):
 
 class RecordingError(NeurovError):
     """A recording (MCAP, ROS 2 bag) that cannot be read: names the file, the topic or the field."""
+
+
+class RecordedPathError(RecordingError):
+    """A recorded path that cannot be read; `field` is the argument at
+    fault (``file``, ``topic`` or ``start``)."""
+
+    def __init__(self, field: str, message: str) -> None:
+        super().__init__(message)
+        self.field = field
 
 
 class ResultFileError(NeurovError):

@@ -12,7 +12,7 @@ import pytest
 from neurov import cli, files
 from neurov.config.reading import load_scenario
 from neurov.config.scenario import ScenarioError
-from neurov.config.schema import as_dict
+from neurov.schema import as_dict
 from neurov.study import StudyError, load_study
 from neurov.config.vehicle_file import VehicleFileError, load_thrusters, load_vehicle_parameters
 

@@ -19,7 +19,13 @@
    ``control``, ``simulation``/``simulator``, ``run``/``run_stream`` would).
    The same name in two packages (``study.spec``, ``tuning.spec``) is a
    parallel, not a near-synonym, and is allowed.
-4. ``import neurov`` stays cheap: test_import_cost.py.
+4. No import runs up the layers of :data:`LAYERS` (docs/architecture.md's
+   table, in the same order): a module imports only modules of its own
+   layer or of the layers before it, function-local imports included and
+   ``if TYPE_CHECKING:`` blocks excluded. What a bridge lends to a layer
+   beneath it goes through ``neurov.hooks`` (registered by
+   ``neurov.bridges``, on top).
+5. ``import neurov`` stays cheap: test_import_cost.py.
 
 Run as a script, this file prints the counts docs/architecture.md quotes:
 ``python tests/python/test_package_layout.py python/neurov``.
@@ -41,6 +47,23 @@ PACKAGE = Path(__file__).resolve().parents[2] / "python" / "neurov"
 COMPILED = ("neurov._core", "neurov._bench", "neurov._core_controllers")
 PLURALS = ("es", "s")
 SUFFIXES = ("ation", "ion", "ler", "er", "or")
+
+
+LAYERS = (
+    ("foundations", ("neurov.errors", "neurov.files", "neurov.npz_file", "neurov.progress", "neurov.kernels",
+                     "neurov.hooks", "neurov.schema")),
+    ("control laws", ("neurov.laws",)),
+    ("configuration", ("neurov.config",)),
+    ("results", ("neurov.results",)),
+    ("running", ("neurov.running",)),
+    ("bridges", ("neurov.control", "neurov.recording", "neurov.replay")),
+    ("on top", ("neurov",)),
+)
+"""The layers, first to last, each as the module names (and the packages'
+names, for every module beneath them) it holds; a module belongs to the
+longest name that is its own or a package of it (so ``neurov`` itself and
+everything not named before, ``cli``, ``gym``, ``study``, ``tuning``, ...,
+are on top)."""
 
 
 @dataclass
@@ -273,6 +296,31 @@ def near_synonyms(found: dict[str, Module]) -> list[tuple[str, str]]:
     return pairs
 
 
+def layer_of(name: str) -> int:
+    """The index in :data:`LAYERS` of module `name`."""
+    best, length = len(LAYERS) - 1, 0
+    for i, (_, names) in enumerate(LAYERS):
+        for prefix in names:
+            if (name == prefix or name.startswith(prefix + ".")) and len(prefix) > length:
+                best, length = i, len(prefix)
+    return best
+
+
+def imports_up(found: dict[str, Module]) -> list[str]:
+    """Every import of a module of a later layer (rule 4), as
+    ``source:line imports target (layer -> layer)``."""
+    bad = []
+    for edge in imports(found):
+        if edge.target not in found:
+            continue
+        a, b = layer_of(edge.source), layer_of(edge.target)
+        if b > a:
+            where = " in a function" if edge.local else ""
+            bad.append(f"{edge.source}:{edge.line} imports {edge.target}{where} "
+                       f"({LAYERS[a][0]} -> {LAYERS[b][0]})")
+    return sorted(set(bad))
+
+
 FOUND = modules()
 
 
@@ -283,6 +331,10 @@ def test_no_import_cycle() -> None:
 
 def test_no_private_name_crosses_a_module() -> None:
     assert not private_imports(FOUND), "\n".join(private_imports(FOUND))
+
+
+def test_no_import_runs_up_the_layers() -> None:
+    assert not imports_up(FOUND), "\n".join(imports_up(FOUND))
 
 
 def test_no_two_module_names_differ_only_by_a_suffix() -> None:
@@ -303,12 +355,19 @@ def test_the_rules_see_what_they_forbid(tmp_path: Path) -> None:
         "from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    from neurov import simulator\n"
         "def g():\n    from neurov.running import simulation\n")
     (root / "simulator.py").write_text("import neurov._core\n")
+    (root / "results").mkdir()
+    (root / "results" / "__init__.py").write_text("")
+    (root / "results" / "table.py").write_text("def h():\n    from neurov.running import plant\n")
     planted = modules(root)
     assert cycles(planted) == [["neurov.running.plant", "neurov.running.simulation", "neurov.running.plant"]]
     assert private_imports(planted) == ["neurov.running.simulation:4 imports _build from neurov.running.plant"]
     assert near_synonyms(planted) == [("neurov.running.simulation", "neurov.simulator")]
     assert {(e.source, e.target) for e in local_imports(planted)} == {
-        ("neurov.running.simulation", "neurov.running.plant"), ("neurov.running.plant", "neurov.running.simulation")}
+        ("neurov.running.simulation", "neurov.running.plant"), ("neurov.running.plant", "neurov.running.simulation"),
+        ("neurov.results.table", "neurov.running.plant")}
+    assert imports_up(planted) == [
+        "neurov.results.table:2 imports neurov.running.plant in a function (results -> running)",
+        "neurov.running.simulation:1 imports neurov.simulator (running -> on top)"]
 
 
 @pytest.mark.parametrize("name, other", [("controller", "control"), ("controllers", "control"),
@@ -332,3 +391,6 @@ if __name__ == "__main__":  # the counts quoted in docs/architecture.md
         print("private: " + line)
     for a, b in near_synonyms(found):
         print(f"near-synonyms: {a} / {b}")
+    for line in imports_up(found):
+        print("up: " + line)
+    print(f"imports running up the layers: {len(imports_up(found))}")

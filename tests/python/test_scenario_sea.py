@@ -15,7 +15,7 @@ import pytest
 from neurov import _core
 from neurov.config.scenario import ScenarioError
 from neurov.config.reading import read_scenario, scenario_from_mapping
-from neurov.config.schema import as_dict
+from neurov.schema import as_dict
 from neurov.running.simulation import simulate
 from neurov.study.spec import SCENARIO_DIR
 

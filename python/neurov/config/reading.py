@@ -18,12 +18,13 @@ from typing import Any
 
 import numpy as np
 
-from neurov import _core
+from neurov import _core, hooks
 from neurov.config import sea, trajectories
 from neurov.files import read_toml
 from neurov.config.scenario import CommandSpec, ControllerSpec, Scenario, ScenarioError
 from neurov.config.realism import REALISM_KEYS, read_realism
-from neurov.config.schema import SchemaError, convert, field_names
+from neurov.errors import RecordedPathError
+from neurov.schema import SchemaError, convert, field_names
 from neurov.config.vehicle_file import VehicleFileError
 from neurov.config.toml_table import TableReader, tables, validated
 from neurov.laws.registry import REGISTRY
@@ -114,15 +115,12 @@ def _command(r: TableReader) -> CommandSpec:
     kind = r.string("type", choices=("waypoints", "recorded", "square", "lawnmower", "circle", "helix"))
     spec = CommandSpec(type=kind, interpolation=r.string("interpolation", "linear", choices=("linear", "hold")))
     if kind == "recorded":
-        # Deferred: reading a recorded path needs rosbags or mcap and SciPy.
-        from neurov.recording.recorded_path import RecordedPathError, recorded_path
-
         file = Path(r.string("file"))
         if not file.is_absolute() and r.origin != "<scenario>":
             file = Path(r.origin).parent / file  # beside the scenario file, as a vehicle file is
         spec.args = {"file": str(file), "topic": r.string("topic"), "start": r.number("start", 0.0)}
         try:
-            spec.times, spec.poses = recorded_path(**spec.args)
+            spec.times, spec.poses = hooks.provided("recorded_path")(**spec.args)
         except RecordedPathError as e:
             raise r.error(e.field, str(e)) from None
     elif kind == "waypoints":

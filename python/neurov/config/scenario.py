@@ -69,12 +69,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from neurov import _core
+from neurov import _core, hooks
 from neurov.config import trajectories
 from neurov.errors import ScenarioError
 from neurov.files import PACKAGE_DIR, shipped_or_path
 from neurov.config.vehicle_file import VehicleFile, preset_path, read_vehicle_file
-from neurov.config.schema import as_dict, field_names
+from neurov.schema import as_dict, field_names
 from neurov.laws.registry import REGISTRY
 
 __all__ = [
@@ -186,10 +186,8 @@ class CommandSpec:
 
     def timed_poses(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         if self.type == "recorded" and self.poses is None:
-            # Deferred: reading a recorded path needs rosbags or mcap and SciPy.
-            from neurov.recording.recorded_path import recorded_path
-
-            self.times, self.poses = recorded_path(**self.args)
+            # The recording bridge reads it (lent through neurov.hooks).
+            self.times, self.poses = hooks.provided("recorded_path")(**self.args)
         if self.type in ("waypoints", "recorded"):
             return trajectories.waypoints(self.times, self.poses)
         generator = getattr(trajectories, self.type)

@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from neurov import _core
-from neurov.config.schema import SchemaError, convert, field_names
+from neurov.schema import SchemaError, convert, field_names
 from neurov.config.toml_table import TableReader, tables, validated
 from neurov.errors import ScenarioError
 

@@ -47,6 +47,8 @@ from neurov.identification.errors import LogError
 from neurov.identification.log import Log, make_log
 from neurov.identification.mapping import Mapping, to_neurov_frames
 from neurov.identification.tlog_log import pwm_force
+from neurov.errors import RecordingError
+from neurov.recording.bag_topics import stamp_ns, topic_messages
 
 __all__ = ["read_rosbag", "euler_from_quaternion", "stamp_ns", "topic_messages"]
 
@@ -65,25 +67,6 @@ def euler_from_quaternion(q: Array) -> Array:
     pitch = np.arcsin(np.clip(2 * (w * y - z * x), -1.0, 1.0))
     yaw = np.arctan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
     return np.column_stack([roll, pitch, yaw])
-
-
-def stamp_ns(msg: Any) -> int:
-    """A stamped message's header stamp in integer nanoseconds."""
-    return int(msg.header.stamp.sec) * 1_000_000_000 + int(msg.header.stamp.nanosec)
-
-
-def topic_messages(reader: Any, topic: str, msgtype: str | tuple[str, ...], where: str) -> list[Any]:
-    """The messages of `topic` in an open ``rosbags`` reader, deserialised;
-    LogError naming `where` for a topic missing or of a type not `msgtype`
-    (one of them, for a tuple)."""
-    wanted = (msgtype,) if isinstance(msgtype, str) else msgtype
-    conns = [c for c in reader.connections if c.topic == topic]
-    if not conns:
-        raise LogError(f"{where}: no topic {topic!r} (the bag has "
-                       f"{sorted({c.topic for c in reader.connections})})")
-    if conns[0].msgtype not in wanted:
-        raise LogError(f"{where}: topic {topic!r} is {conns[0].msgtype}, expected {' or '.join(wanted)}")
-    return [reader.deserialize(raw, c.msgtype) for c, _, raw in reader.messages(connections=conns)]
 
 
 def _received(reader: Any, topic: str) -> list[int]:
@@ -149,7 +132,10 @@ def read_rosbag(path: str | Path, mapping: Mapping, thrusters: dict[str, Any] | 
     try:
         with AnyReader([path]) as reader:
             for key, topic in topics.items():
-                msgs[key] = topic_messages(reader, topic, _TOPICS[key], str(path))
+                try:
+                    msgs[key] = topic_messages(reader, topic, _TOPICS[key], str(path))
+                except RecordingError as e:
+                    raise LogError(str(e)) from None
             received = _received(reader, topics["thrusters"]) if "thrusters" in topics else []
     except LogError:
         raise

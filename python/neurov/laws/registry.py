@@ -22,7 +22,7 @@ from numpy.typing import NDArray
 from neurov import _core
 from neurov.laws import centres as centre_placement
 from neurov.laws.path_centres import along_path
-from neurov.config.schema import field_names
+from neurov.schema import field_names
 
 if TYPE_CHECKING:
     from neurov.config.scenario import ControllerSpec, Scenario

@@ -21,24 +21,14 @@ from pathlib import Path
 
 import numpy as np
 
-from neurov.errors import RecordingError
+from neurov.errors import RecordedPathError, RecordingError
 from neurov.recording.frames import euler_from_enu_quaternions, position_to_enu
-from neurov.identification.errors import LogError
-from neurov.identification.rosbag_log import stamp_ns, topic_messages
+from neurov.recording.bag_topics import stamp_ns, topic_messages
 
 __all__ = ["POSE_TYPES", "RecordedPathError", "recorded_path"]
 
 POSE_TYPES = ("geometry_msgs/msg/PoseStamped", "nav_msgs/msg/Odometry")
 """The message types a recorded path is read from."""
-
-
-class RecordedPathError(RecordingError):
-    """A recorded path that cannot be read; `field` is the argument at
-    fault (``file``, ``topic`` or ``start``)."""
-
-    def __init__(self, field: str, message: str) -> None:
-        super().__init__(message)
-        self.field = field
 
 
 def recorded_path(file: str | Path, topic: str, start: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
@@ -62,7 +52,9 @@ def recorded_path(file: str | Path, topic: str, start: float = 0.0) -> tuple[np.
     try:
         with AnyReader([path]) as reader:
             messages = topic_messages(reader, topic, POSE_TYPES, str(path))
-    except LogError as e:
+    except RecordedPathError:
+        raise
+    except RecordingError as e:  # the topic missing or of another type
         raise RecordedPathError("topic", str(e)) from None
     except Exception as e:  # rosbags' own errors for a file that is not a bag
         raise RecordedPathError("file", f"{path}: not a readable ROS 2 bag or MCAP file "

@@ -29,12 +29,12 @@ from typing import Any
 
 import numpy as np
 
+from neurov import hooks
 from neurov.results.columns import npz_series, series_from_columns
 from neurov.errors import ResultFileError
 from neurov.results.timeseries import Result
 from neurov.config.reading import load_scenario
 from neurov.config.scenario import Scenario, scenario_path
-from neurov.recording.mcap_reader import read_mcap
 
 __all__ = ["READERS", "RESULT_FILES", "SCENARIO_FILE", "load_result"]
 
@@ -130,7 +130,7 @@ def _read_npz(path: Path, scenario: Scenario | str | Path | None) -> Result:
 
 def _read_mcap(path: Path, scenario: Scenario | str | Path | None) -> Result:
     given = load_scenario(scenario_path(scenario)) if isinstance(scenario, (str, Path)) else scenario
-    return read_mcap(path, given)
+    return hooks.provided("read_mcap")(path, given)  # type: ignore[no-any-return]
 
 
 def _read_csv(path: Path, scenario: Scenario | str | Path | None) -> Result:

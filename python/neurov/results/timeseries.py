@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from neurov import _core
+from neurov import _core, hooks
 from neurov.config.scenario import Scenario
 from neurov.progress import progress_bar
 from neurov.results.columns import SERIES, STATUS_NAMES, table_columns
@@ -176,18 +176,12 @@ class Result:
         pose, wrenches and /tf in the ENU/FLU frames of REP 103 (docs/recordings.md),
         and the whole run, which :func:`neurov.recording.mcap_reader.read_mcap`
         reads back; see :func:`neurov.recording.mcap_writer.write_mcap`."""
-        # Deferred: the MCAP writer needs scipy (its frames' rotations) and mcap.
-        from neurov.recording.mcap_writer import write_mcap
-
-        return write_mcap(self, path)
+        return hooks.provided("write_mcap")(self, path)  # type: ignore[no-any-return]
 
     def to_time_response(self) -> Any:
         """This run as ``control.TimeResponseData`` (needs ``neurov[control]``);
         see :func:`neurov.control.to_time_response`."""
-        # Deferred: neurov.control needs python-control, an optional dependency.
-        from neurov.control import to_time_response
-
-        return to_time_response(self)
+        return hooks.provided("to_time_response")(self)
 
     def view(self, *others: Result, **options: Any) -> Any:
         """The 3-D replay of this run, and of `others` on the same path to
@@ -196,10 +190,7 @@ class Result:
         ``.write_html(path)`` writes as one file that opens offline.
         `options`: those of :func:`neurov.replay.replay` (``labels``,
         ``title``, ``max_frames``)."""
-        # Deferred: the replay is the bridge to plotly, an optional dependency.
-        from neurov.replay import replay
-
-        return replay([self, *others], **options)
+        return hooks.provided("replay")([self, *others], **options)
 
     def summary_json(self, after: float | None = None) -> str:
         return json.dumps({"scenario": self.scenario.name, "controller": self.controller,

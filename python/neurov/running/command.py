@@ -20,6 +20,7 @@ from neurov.results.timeseries import Result
 from neurov.running.stream import stream_run
 from neurov.config.reading import load_scenario
 from neurov.config.scenario import scenario_path
+from neurov import hooks
 from neurov.progress import progress_bar
 from neurov.running.folder import RunFolder, stopping, write_metrics, writing
 
@@ -93,24 +94,15 @@ def write_figures(drawn: Result, out: Path, quiet: bool = True, *, sea: bool | N
     `out`; the wave spectrum from `elevation` (a Result whose ``t`` and
     ``wave_elevation`` are the whole record), default `drawn`. Unless
     `quiet`, a progress bar."""
-    # Imported here: matplotlib costs a second to import and a run without
-    # plots does not need it.
-    from neurov.plotting import runs as plots
-    from neurov.plotting import sea as sea_plots
-    figures = {
-        "xy.png": plots.xy_path, "dofs.png": plots.dof_time, "errors.png": plots.errors,
-        "inputs.png": plots.control_inputs, "adaptive_norm.png": plots.adaptive_norm,
-    }
-    if sea_plots.has_sea(drawn) if sea is None else sea:
-        figures[SEA_FIGURES[0]] = sea_plots.sea_flow
-    if drawn.scenario.waves is not None:
-        figures[SEA_FIGURES[1]] = lambda _: sea_plots.wave_spectrum(elevation or drawn)
+    # The plotting layer draws them (neurov.plotting.run_figures, lent
+    # through neurov.hooks): it sits above this one, and Matplotlib costs a
+    # second to import, which a run without plots never pays.
+    figures = hooks.provided("run_figures")(drawn, sea=sea, elevation=elevation)
     written = []
     with progress_bar(len(figures), "figures", unit="figure", quiet=quiet) as bar:
         for name, draw in figures.items():
-            fig = draw(drawn)
             with writing(out / name):
-                written.append(plots.save(fig, out / name))
+                written.append(draw(out / name))
             bar.update(1)
     return written
 

@@ -21,6 +21,7 @@ from neurov.results.metrics import MetricsWindow
 from neurov.results.timeseries import SERIES, Result
 from neurov.config.scenario import Scenario
 from neurov.laws.registry import build_controller
+from neurov import hooks
 from neurov.progress import progress_bar
 from neurov.running.closed_loop import run_loop
 from neurov.running.folder import check_output_dir, write_metrics, writing
@@ -65,11 +66,8 @@ class _Sinks:
         self.csv: CsvWriter | None = None
         self.mcap: Any = None
         if out is not None and file_format == "mcap":
-            # Deferred: the MCAP writer needs scipy (its frames' rotations) and mcap.
-            from neurov.recording.mcap_writer import McapRecorder
-
-            with writing(out / "result.mcap"):
-                self.mcap = McapRecorder(out / "result.mcap", scenario, thrusters)
+            with writing(out / "result.mcap"):  # the recording bridge's, lent through neurov.hooks
+                self.mcap = hooks.provided("mcap_recorder")(out / "result.mcap", scenario, thrusters)
         self.npz = NpzWriter(out / "result.npz") if out is not None else None
         self.elevation: list[tuple[np.ndarray, np.ndarray]] | None = [] if scenario.waves is not None else None
         self.sea = False
