@@ -12,20 +12,30 @@ the TOML key in front of every message, including the C++ validator's::
 
 from __future__ import annotations
 
+import difflib
 import math
+from collections.abc import Iterable
 from typing import Any
 
 import numpy as np
 
 from neurov.errors import SchemaError
 
-__all__ = ["SchemaError", "as_dict", "convert", "field_names"]
+__all__ = ["SchemaError", "as_dict", "convert", "did_you_mean", "field_names"]
 
 
 def field_names(obj: Any) -> list[str]:
     """The read-write fields of a bound struct, in declaration order."""
     return [name for name, attr in vars(type(obj)).items()
             if isinstance(attr, property) and attr.fset is not None and not name.startswith("_")]
+
+
+def did_you_mean(name: str, known: Iterable[str]) -> str:
+    """``"; did you mean 'x'?"`` with the closest of `known` to a misspelt
+    `name`, or ``""`` if none is close: the one suggestion every reader of
+    neurov's files appends to its refusal of an unknown name."""
+    close = difflib.get_close_matches(name, sorted(known), n=1)
+    return f"; did you mean {close[0]!r}?" if close else ""
 
 
 def _describe(v: Any) -> str:

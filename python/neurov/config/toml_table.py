@@ -6,7 +6,6 @@ tunings all read through these."""
 
 from __future__ import annotations
 
-import difflib
 import math
 from collections.abc import Mapping, Sequence
 from typing import Any
@@ -15,6 +14,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from neurov.errors import ScenarioError, ValidationError
+from neurov.schema import did_you_mean
 
 __all__ = ["TableReader", "tables", "validated"]
 
@@ -136,8 +136,7 @@ class TableReader:
         known = self.used | set(allowed_extra)
         for key in self.table:
             if key not in known:
-                close = difflib.get_close_matches(key, sorted(known), n=1)
-                hint = f"; did you mean {close[0]!r}?" if close else ""
+                hint = did_you_mean(key, sorted(known))
                 raise self.error(key, f"unknown field{hint}")
 
 

@@ -47,7 +47,6 @@ Every error names the file and the field.
 
 from __future__ import annotations
 
-import difflib
 import math
 import os
 import sys
@@ -56,6 +55,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from neurov.errors import ValidationError, VehicleFileError
+from neurov.schema import did_you_mean
 from neurov.files import PACKAGE_DIR, read_text, read_toml
 from neurov._core import SimulationConfig, ThrusterConfig, ThrusterCurveConfig, Vehicle, buoyancy_in_water
 
@@ -217,8 +217,7 @@ def parameters_from_mapping(data: dict[str, Any], where: str) -> dict[str, Any]:
     for key in data:
         if key in _FIELDS or key in _OTHER_TABLES:
             continue
-        close = difflib.get_close_matches(key, list(_FIELDS), n=1)
-        hint = f"; did you mean {close[0]!r}?" if close else ""
+        hint = did_you_mean(key, list(_FIELDS))
         raise VehicleFileError(f"{where}: unknown field {key!r}{hint}")
     kwargs: dict[str, Any] = {}
     for key, (required, shapes) in _FIELDS.items():
@@ -317,8 +316,7 @@ def thrusters_from_mapping(table: Any, where: str) -> dict[str, Any]:
                "description", "curve", "supply_voltage", "names"}
     for key in table:
         if key not in allowed:
-            close = difflib.get_close_matches(key, sorted(allowed), n=1)
-            hint = f"; did you mean {close[0]!r}?" if close else ""
+            hint = did_you_mean(key, sorted(allowed))
             raise VehicleFileError(f"{where}.{key}: unknown field{hint}")
 
     def array(key: str, shape: tuple[int, ...] | None) -> Any:
@@ -432,8 +430,7 @@ def _curves(table: dict[str, Any], n: int, where: str) -> list[Any]:
 def _curve(t: dict[str, Any], where: str) -> Any:
     for key in t:
         if key not in _CURVE_KEYS:
-            close = difflib.get_close_matches(key, list(_CURVE_KEYS), n=1)
-            hint = f"; did you mean {close[0]!r}?" if close else ""
+            hint = did_you_mean(key, list(_CURVE_KEYS))
             raise VehicleFileError(f"{where}.{key}: unknown field{hint}")
     for key, required in _CURVE_KEYS.items():
         if required and key not in t:

@@ -5,11 +5,11 @@ the runs."""
 
 from __future__ import annotations
 
-import difflib
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from neurov.schema import did_you_mean
 from neurov.files import read_toml, shipped_or_path
 from neurov.study.factory import ControllerFactory, FactoryError
 from neurov.study.one_run import resolved_spec
@@ -72,8 +72,7 @@ def _perturbation(r: TableReader) -> Perturbation:
     known = (*VEHICLE_PARAMETERS, *ENVIRONMENT_PARAMETERS)
     name = r.string("parameter")
     if name not in known:
-        close = difflib.get_close_matches(name, known, n=1)
-        hint = f"; did you mean {close[0]!r}?" if close else ""
+        hint = did_you_mean(name, known)
         raise r.error("parameter", f"expected one of {list(known)}, got {name!r}{hint}")
     dist = r.string("distribution", "uniform", choices=("uniform", "normal"))
     p: dict[str, Any] = {"parameter": name, "distribution": dist}
@@ -152,8 +151,7 @@ def study_from_mapping(data: Mapping[str, Any], origin: str = "<study>") -> Stud
             path = _scenario_path(ref, base)
             if not path.is_file():
                 shipped = sorted(p.stem for p in SCENARIO_DIR.glob("*.toml"))
-                close = difflib.get_close_matches(ref, shipped, n=1)
-                hint = f"; did you mean {close[0]!r}?" if close else ""
+                hint = did_you_mean(ref, shipped)
                 raise r.error(f"scenarios[{k}]", f"no scenario {ref!r} (not a shipped name nor a file "
                               f"{path}){hint}")
             scenarios.append(load_scenario(path))
@@ -182,8 +180,7 @@ def study_from_mapping(data: Mapping[str, Any], origin: str = "<study>") -> Stud
             for v in per_vehicle:
                 if v not in vehicles:
                     # A misspelt table field ("centers") lands here too.
-                    close = difflib.get_close_matches(v, [*vehicles, "centres"], n=1)
-                    hint = f"; did you mean {close[0]!r}?" if close else ""
+                    hint = did_you_mean(v, [*vehicles, "centres"])
                     raise StudyError(f"{origin}: {where}.{v}: no scenario of this study uses a vehicle "
                                      f"{v!r} (vehicles: {vehicles}){hint}")
             for v in vehicles:
@@ -296,8 +293,7 @@ def _check_metrics(study: Study, origin: str) -> None:
     checks += [(k, f"failure.{k}") for k in study.failure]
     for key, where in checks:
         if key not in known:
-            close = difflib.get_close_matches(key, known, n=1)
-            hint = f"; did you mean {close[0]!r}?" if close else ""
+            hint = did_you_mean(key, known)
             raise StudyError(f"{origin}: {where}: unknown metric {key!r}{hint}")
     for s in study.scenarios:
         if study.after >= s.duration:

@@ -5,13 +5,13 @@ the file and the field."""
 from __future__ import annotations
 
 import copy
-import difflib
 import importlib.util
 import re
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from neurov.schema import did_you_mean
 from neurov.files import read_toml, shipped_or_path
 from neurov.config.scenario import ScenarioError
 from neurov.study.reading import STUDY_DIR, study_from_mapping
@@ -47,8 +47,7 @@ def _settings(r: TableReader, study_seed: int) -> TuneSettings:
     objective = r.string("objective", "rmse_position_m")
     known = metric_names()
     if objective not in known:
-        close = difflib.get_close_matches(objective, known, n=1)
-        hint = f"; did you mean {close[0]!r}?" if close else ""
+        hint = did_you_mean(objective, known)
         raise r.error("objective", f"not a metric: {objective!r}{hint} (metrics: {', '.join(known)})")
     aggregate = r.string("aggregate", "mean", choices=AGGREGATES)
     penalty = r.number("failure_penalty", 10.0, positive=True)
@@ -124,8 +123,7 @@ def _search_parameter(key: str, spec: Any, r: TableReader, ctype: str | None,
         if path[0] not in known or (len(path) > 1 and (path[0] != "centres" or len(path) != 2
                                                       or path[1] not in _CENTRES_FIELDS)):
             names = known + [f"centres.{f}" for f in _CENTRES_FIELDS if "centres" in kind_info.options]
-            close = difflib.get_close_matches(m.group(1), names, n=1)
-            hint = f"; did you mean {close[0]!r}?" if close else ""
+            hint = did_you_mean(m.group(1), names)
             raise r.error(key, f"unknown parameter of a {ctype!r} controller{hint} (it has: {', '.join(names)})")
         if path == ("centres",):
             raise r.error(key, "search the network's fields one by one: 'centres.n', 'centres.seed', "
