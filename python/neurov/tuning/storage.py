@@ -16,8 +16,10 @@ from __future__ import annotations
 import contextlib
 import errno
 import os
+import shutil
 import socket
 import sqlite3
+import threading
 import warnings
 from collections.abc import Iterator
 from pathlib import Path
@@ -47,10 +49,24 @@ class StorageError(OSError):
         return str(self.strerror)
 
 
+#: Below this many free bytes, an SQLite I/O error on the storage is put down
+#: to a full disk (SQLite says "disk I/O error" when it cannot grow its log).
+FULL_BELOW_BYTES = 1 << 20
+
+
+def _free_bytes(folder: Path) -> int | None:
+    try:
+        return shutil.disk_usage(folder).free
+    except OSError:
+        return None
+
+
 def _full(folder: Path) -> StorageError:
-    return StorageError(f"the disk holding {folder} is full (no space left on device); the trials finished "
-                        f"so far are kept in {folder / STORAGE_NAME}: free some space and run the same "
-                        "command again to resume", errno.ENOSPC)
+    free = _free_bytes(folder)
+    left = "" if free is None else f", {free} bytes free"
+    return StorageError(f"the disk holding {folder} is full (no space left on device{left}); the trials "
+                        f"finished so far are kept in {folder / STORAGE_NAME}: free some space and run the "
+                        "same command again to resume", errno.ENOSPC)
 
 
 def _explain(path: Path, e: BaseException) -> StorageError:
@@ -58,7 +74,9 @@ def _explain(path: Path, e: BaseException) -> StorageError:
     text = str(getattr(e, "orig", None) or e)
     low = text.lower()
     code = getattr(e, "errno", None)
-    if code == errno.ENOSPC or "disk is full" in low or "no space" in low:
+    free = _free_bytes(path.parent)
+    if code == errno.ENOSPC or "disk is full" in low or "no space" in low or (
+            "i/o error" in low and free is not None and free < FULL_BELOW_BYTES):
         return _full(path.parent)
     if code in (errno.EACCES, errno.EPERM, errno.EROFS) or "readonly" in low or "read-only" in low:
         return StorageError(f"{path}: the tuning's storage cannot be written (a read-only file or folder); "
@@ -69,22 +87,47 @@ def _explain(path: Path, e: BaseException) -> StorageError:
     return StorageError(f"{path}: the tuning's storage cannot be used: {text}")
 
 
-@contextlib.contextmanager
-def storage_errors(out: Path) -> Iterator[None]:
-    """SQLite's and SQLAlchemy's errors on ``out/tuning.db`` (and OSError
-    on the folder) inside, raised as :class:`StorageError` naming it."""
+def _storage_cause(e: BaseException) -> BaseException | None:
+    """The SQLite or SQLAlchemy error behind `e`, if any: Optuna hands a
+    failed commit on as its own error, or as an ``AssertionError`` of its
+    bookkeeping raised while handling it."""
     from sqlalchemy.exc import SQLAlchemyError
 
+    seen: set[int] = set()
+    cause: BaseException | None = e
+    while cause is not None and id(cause) not in seen:
+        if isinstance(cause, (SQLAlchemyError, sqlite3.Error)):
+            return cause
+        seen.add(id(cause))
+        cause = cause.__cause__ or cause.__context__
+    return None
+
+
+@contextlib.contextmanager
+def storage_errors(out: Path) -> Iterator[None]:
+    """SQLite's and SQLAlchemy's errors on ``out/tuning.db`` inside (however
+    Optuna hands them on), and a full disk or a read-only folder under any
+    file the tuning writes in `out`, raised as :class:`StorageError` naming
+    the storage or the folder."""
     try:
         yield
     except StorageError:
         raise
-    except (SQLAlchemyError, sqlite3.Error) as e:
-        raise _explain(out / STORAGE_NAME, e) from None
     except OSError as e:
         if e.errno == errno.ENOSPC:
             raise _full(out) from None
-        raise
+        if e.errno in (errno.EROFS, errno.EACCES, errno.EPERM):
+            raise StorageError(f"output folder {str(out)!r} cannot be written ({e.strerror}"
+                               f"{': ' + Path(e.filename).name if e.filename else ''})", e.errno) from None
+        cause = _storage_cause(e)
+        if cause is None:
+            raise
+        raise _explain(out / STORAGE_NAME, cause) from None
+    except Exception as e:
+        cause = _storage_cause(e)
+        if cause is None:
+            raise
+        raise _explain(out / STORAGE_NAME, cause) from None
 
 
 def _check_file(path: Path) -> None:
@@ -98,10 +141,23 @@ def _check_file(path: Path) -> None:
         raise StorageError(f"{path}: is not a regular file; the tuning's storage must be an SQLite database "
                            "written by neurov tune")
     with path.open("rb") as f:
-        head = f.read(len(_SQLITE_HEADER))
-    if head and head != _SQLITE_HEADER:
-        raise StorageError(f"{path}: not a tuning's storage (an SQLite database written by neurov tune): its "
-                           "first bytes are not SQLite's; move it away to start again, or use another --out")
+        head = f.read(100)
+    if not head:
+        return  # an empty file: SQLite makes it a database
+    what = f"{path}: not a tuning's storage (an SQLite database written by neurov tune)"
+    if not head.startswith(_SQLITE_HEADER):
+        raise StorageError(f"{what}: its first bytes are not SQLite's; move it away to start again, or use "
+                           "another --out")
+    # SQLite's header: the page size at byte 16 (1 for 65536), the pages at 28,
+    # valid when the change counter (24) equals the version-valid-for number (92).
+    size = path.stat().st_size
+    page = int.from_bytes(head[16:18], "big") if len(head) >= 18 else 0
+    page = 65536 if page == 1 else page
+    pages = int.from_bytes(head[28:32], "big") if len(head) >= 32 else 0
+    valid = len(head) == 100 and head[24:28] == head[92:96]
+    if len(head) < 100 or (valid and size < page * pages):
+        raise StorageError(f"{what}: truncated ({size} bytes of the {page * pages} its header declares); "
+                           "move it away to start again, or use another --out")
 
 
 def open_storage(out: Path) -> Any:
@@ -189,8 +245,9 @@ def _started(pid: int) -> int | None:
 
 
 def claim(trial: Any) -> None:
-    """Records in `trial` the process running it."""
-    trial.set_user_attr("process", {"machine": _machine(), "pid": os.getpid(), "started": _started(os.getpid())})
+    """Records in `trial` the process (and the thread) running it."""
+    trial.set_user_attr("process", {"machine": _machine(), "pid": os.getpid(), "started": _started(os.getpid()),
+                                    "thread": threading.get_ident()})
 
 
 def _dead(owner: Any) -> bool:
@@ -200,6 +257,11 @@ def _dead(owner: Any) -> bool:
     pid = int(owner.get("pid", 0))
     if pid <= 0:
         return False
+    if pid == os.getpid() and owner.get("started") == _started(pid):
+        # This process's: an earlier call that failed (a full disk), unless
+        # another thread runs it now (this one is between trials).
+        thread = owner.get("thread")
+        return thread == threading.get_ident() or thread not in {t.ident for t in threading.enumerate()}
     try:
         os.kill(pid, 0)
     except ProcessLookupError:
