@@ -103,7 +103,7 @@ def _tune(tuning: Tuning, out: Path, storage: Any, mine: list[str], workers: int
         "executor": runner.executor, "unusable": bad}, indent=2, default=str) + "\n")
     outcome = None
     if verdict and best:
-        judged = verdict_study(tuning, best)
+        judged = verdict_study(tuning, best, unusable=bad)
         discard_stale_verdict(out / "verdict", judged.fingerprint())
         outcome = run_study(judged, out / "verdict", workers=workers, scheduler=scheduler,
                             executor="dask" if scheduler else "processes", plots=plots, progress=progress)
