@@ -17,25 +17,10 @@ import pytest
 
 pytest.importorskip("optuna")
 
+from process_groups import group_members  # noqa: E402
 from tune_files import environment, run_tune, tune_command, write_tiny  # noqa: E402
 
 pytestmark = pytest.mark.skipif(sys.platform != "linux", reason="process groups and /proc are read on Linux")
-
-
-def group_members(pgid: int) -> list[int]:
-    """Living processes of the process group `pgid`, read from /proc."""
-    out = []
-    for entry in Path("/proc").iterdir():
-        if not entry.name.isdigit():
-            continue
-        try:
-            stat = (entry / "stat").read_text()
-        except OSError:
-            continue
-        fields = stat[stat.rindex(")") + 2:].split()
-        if int(fields[2]) == pgid and fields[0] != "Z":
-            out.append(int(entry.name))
-    return out
 
 
 def left_after(pgid: int, seconds: float = 3.0) -> list[str]:

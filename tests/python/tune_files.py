@@ -9,22 +9,11 @@ import subprocess
 import sys
 from pathlib import Path
 
-SCENARIO = """
-name = "short_step"
-duration = 3.0
-[vehicle]
-preset = "bluerov2_heavy"
-thrusters = false
-[command]
-type = "waypoints"
-interpolation = "hold"
-times = [0.0, 0.5]
-poses = [[0, 0, 1, 0, 0, 0], [1, 0, 1, 0, 0, 0.5]]
-[controller]
-type = "pd"
-kp = 10.0
-kd = 10.0
-"""
+from study_files import step_scenario
+
+# A PD holding a BlueROV2 at its start, then a 1 m surge step from t = 2 s, for 3 s.
+SCENARIO = step_scenario("short_step", "bluerov2_heavy", [0, 0, 1, 0, 0, 0], [1, 0, 1, 0, 0, 0.5], kp=10.0,
+                         kd=10.0, duration=3.0)
 
 TUNING = """
 name = "tiny"

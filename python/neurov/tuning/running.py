@@ -70,7 +70,7 @@ def tune(tuning: Tuning | str | Path, out_dir: str | Path, *, workers: int | Non
         try:
             return _tune(tuning, out, storage, mine, workers, scheduler, verdict, plots, progress)
         except StudyInterrupted:
-            raise  # the verdict's: it says what it saved
+            raise  # the verdict's (or the trials'): it says what it saved
         except KeyboardInterrupt as e:
             total = len(mine) * tuning.settings.trials
             saved = sum(len(counted_trials(optuna_study(tuning, c, storage))) for c in mine)

@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from neurov.study.running import StudyInterrupted
 from neurov.tuning.objective import TrialOutcome, evaluate
 from neurov.tuning.signals import deferred, live, stopping
 from neurov.tuning.space import suggest
@@ -35,15 +36,13 @@ OVER_BUDGET = "over budget"
 WAIT_SECONDS = 0.5
 
 
-class TuneInterrupted(KeyboardInterrupt):
-    """Ctrl-C or SIGTERM during a tuning: says how many trials are saved;
-    `signum` is the signal (``neurov tune`` exits with 128 + it)."""
+class TuneInterrupted(StudyInterrupted):
+    """Ctrl-C or SIGTERM during a tuning: says how many trials are saved in
+    the storage; `signum` is the signal (``neurov tune`` exits with 128 + it)."""
 
     def __init__(self, done: int, total: int, storage: Path, signum: int = signal.SIGINT) -> None:
-        how = "interrupted" if signum == signal.SIGINT else f"stopped by {signal.Signals(signum).name}"
-        super().__init__(f"{how}: {done} of {total} trials are saved in {storage}; run the same "
-                         "command again to resume")
-        self.done, self.total, self.storage, self.signum = done, total, storage, signum
+        super().__init__(done, total, storage, signum, what="trials")
+        self.done, self.storage = done, storage
 
 
 def study_name(tuning: Tuning, controller: str) -> str:
