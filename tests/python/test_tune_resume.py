@@ -17,7 +17,9 @@ import pytest
 
 optuna = pytest.importorskip("optuna")
 
-from tune_files import environment, run_tune, write_tiny  # noqa: E402
+from tune_files import environment, write_tiny  # noqa: E402
+
+from neurov import cli  # noqa: E402
 
 from neurov.tuning import load_tuning  # noqa: E402
 from neurov.tuning.search import open_storage, optuna_study  # noqa: E402
@@ -46,6 +48,12 @@ sys.exit(cli.main(sys.argv[3:]))
 """
 
 
+def resume(path: Path, out: Path) -> int:
+    """The same command again (here, in this process: the stop was in another)."""
+    return cli.main(["tune", str(path), "--out", str(out), "--workers", "1", "--quiet", "--no-verdict",
+                     "--no-plots"])
+
+
 def states(path: Path, out: Path) -> list[str]:
     study = optuna_study(load_tuning(path), "pd", open_storage(out))
     return [t.state.name for t in study.trials]
@@ -67,15 +75,14 @@ def test_ctrl_c_in_optunas_bookkeeping_exits_130_and_the_resume_ends_with_the_bu
     assert "Traceback" not in r.stderr and r.stderr.count("\n") == 1, r.stderr
     assert r.stderr.startswith("neurov: interrupted: "), r.stderr
     assert "RUNNING" not in states(path, out)  # the interrupted trial is marked failed, not left running
-    again = run_tune(path, out, "--workers", "1", "--no-verdict", "--no-plots")
-    assert again.returncode == 0, again.stderr
+    assert resume(path, out) == 0
     assert states(path, out).count("COMPLETE") == 6
 
 
-def test_a_trial_whose_heartbeat_stopped_is_run_again(tmp_path: Path) -> None:
+def test_a_trial_whose_heartbeat_stopped_is_run_again(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     path = write_tiny(tmp_path, trials=3)
     out = tmp_path / "out"
-    assert run_tune(path, out, "--workers", "1", "--no-verdict", "--no-plots").returncode == 0
+    assert resume(path, out) == 0
     # A trial of a process on another machine that died a while ago: running,
     # its last heartbeat longer ago than the grace period.
     storage = open_storage(out)
@@ -90,7 +97,6 @@ def test_a_trial_whose_heartbeat_stopped_is_run_again(tmp_path: Path) -> None:
     del storage, study
     text = path.read_text()
     path.write_text(text.replace("trials = 3", "trials = 5"))
-    again = run_tune(path, out, "--workers", "1", "--no-verdict", "--no-plots")
-    assert again.returncode == 0, again.stderr
-    assert "2 run now" in again.stdout, again.stdout
+    assert resume(path, out) == 0
+    assert "2 run now" in capsys.readouterr().out
     assert states(path, out) == ["COMPLETE"] * 3 + ["FAIL"] + ["COMPLETE"] * 2
