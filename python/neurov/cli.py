@@ -20,9 +20,11 @@ _EXIT_STATUS = """exit status:
   1    error: a bad file or argument, an output folder that cannot be written
   2    bad command line
   3    a run diverged (neurov run, neurov paper); everything simulated is
-       still written and the metrics cover it
+       still written and the metrics cover it. neurov tune: a controller
+       is not tuned (no trial feasible, or every run failed); every file
+       is still written, best.toml with the least bad gains
   130  interrupted (Ctrl-C)
-  143  stopped by SIGTERM (neurov study)
+  143  stopped by SIGTERM (neurov study, neurov tune)
 
 documentation: docs/running.md (running a scenario: outputs, metrics window,
 divergence, long runs)"""
@@ -212,10 +214,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         elif args.command == "tune":
             if args.workers is not None and args.workers < 1:
                 parser.error("--workers must be >= 1")
+            from neurov.running.command import EXIT_DIVERGED
             from neurov.tuning import main_tune
 
-            main_tune(args.tuning, args.out, args.workers, args.scheduler, verdict=not args.no_verdict,
-                      plots=not args.no_plots, quiet=args.quiet, only=args.only)
+            tuned = main_tune(args.tuning, args.out, args.workers, args.scheduler, verdict=not args.no_verdict,
+                              plots=not args.no_plots, quiet=args.quiet, only=args.only)
+            if tuned.unusable:
+                return EXIT_DIVERGED
     except KeyboardInterrupt as e:
         # A study says what it saved and that rerunning resumes; one line, no traceback.
         print(f"neurov: {str(e) or 'interrupted'}", file=sys.stderr)

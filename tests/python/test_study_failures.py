@@ -17,6 +17,7 @@ import pytest
 
 from neurov.study import LOG_NAME, load_study, read_table, run_study
 from neurov.study.processes import GRACE_SECONDS
+from process_groups import group_members as _group_members
 from study_files import step_scenario
 
 HERE = Path(__file__).resolve().parent
@@ -115,22 +116,6 @@ def test_a_study_whose_runs_all_ran_keeps_its_columns(tmp_path: Path) -> None:
                     plots=False)
     assert "error" not in out.table and "error_kind" not in out.table
     assert list(out.table.columns[:5]) == ["scenario", "vehicle", "controller", "sample", "failed"]
-
-
-def _group_members(pgid: int) -> list[int]:
-    """Processes of a process group (the study's session), read from /proc."""
-    out = []
-    for entry in Path("/proc").iterdir():
-        if not entry.name.isdigit():
-            continue
-        try:
-            stat = (entry / "stat").read_text()
-        except OSError:
-            continue
-        fields = stat[stat.rindex(")") + 2:].split()
-        if int(fields[2]) == pgid and fields[0] != "Z":
-            out.append(int(entry.name))
-    return out
 
 
 @pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads /proc")

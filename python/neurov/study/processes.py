@@ -24,7 +24,7 @@ from typing import Any
 from neurov.study.one_run import RunKey, error_record, run_batch
 from neurov.study.spec import Study, StudyError
 
-__all__ = ["GRACE_SECONDS", "run_with_processes"]
+__all__ = ["GRACE_SECONDS", "die_with_parent", "run_with_processes"]
 
 OnDone = Callable[[list[dict[str, Any]]], None]
 
@@ -40,7 +40,7 @@ _READY = "ready"
 
 def _worker_main(conn: multiprocessing.connection.Connection, study: Study) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    _die_with_parent()
+    die_with_parent()
     conn.send(_READY)
     while True:
         try:
@@ -55,9 +55,10 @@ def _worker_main(conn: multiprocessing.connection.Connection, study: Study) -> N
             conn.send(record)
 
 
-def _die_with_parent() -> None:
-    """On Linux, the kernel kills this worker when the study's process dies,
-    however it dies (even by SIGKILL, which leaves it no time to stop us)."""
+def die_with_parent() -> None:
+    """On Linux, the kernel kills this worker process when the process that
+    started it (a study's, a tuning's) dies, however it dies (even by
+    SIGKILL, which leaves it no time to stop us)."""
     try:
         import ctypes
 

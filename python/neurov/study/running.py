@@ -43,9 +43,9 @@ class StudyInterrupted(KeyboardInterrupt):
     rerunning the same study into the same folder resumes from them.
     `signum` is the signal (``neurov study`` exits with 128 + it)."""
 
-    def __init__(self, saved: int, total: int, log: Path, signum: int = signal.SIGINT) -> None:
+    def __init__(self, saved: int, total: int, log: Path, signum: int = signal.SIGINT, what: str = "runs") -> None:
         how = "interrupted" if signum == signal.SIGINT else f"stopped by {signal.Signals(signum).name}"
-        super().__init__(f"{how}: {saved} of {total} runs are saved in {log}; "
+        super().__init__(f"{how}: {saved} of {total} {what} are saved in {log}; "
                          "run the same command again to resume")
         self.saved, self.total, self.log, self.signum = saved, total, log, signum
 

@@ -4,18 +4,22 @@ best trial per controller, best.toml (those as a study file's
 
 from __future__ import annotations
 
+import json
 import math
 from pathlib import Path
 from typing import Any
 
 import pandas as pd
 
+from neurov.study.figures import FIGURE_STATE
+from neurov.study.log import LOG_NAME
 from neurov.study.tables import write_table
 from neurov.tuning.space import apply_values
 from neurov.tuning.spec import Tuning
 from neurov.tuning.toml_text import toml_text
 
-__all__ = ["best_trial", "best_tables", "draw_tuning_figures", "trials_table", "write_best_toml"]
+__all__ = ["best_trial", "best_tables", "discard_stale_verdict", "draw_tuning_figures", "trials_table", "unusable",
+           "write_best_toml"]
 
 
 def _finished(study: Any) -> list[Any]:
@@ -66,6 +70,25 @@ def best_trial(study: Any) -> Any | None:
     feasible = [t for t in trials if t.user_attrs.get("feasible", True)]
     pool = feasible or trials
     return min(pool, key=lambda t: (t.value, t.number)) if pool else None
+
+
+def unusable(studies: dict[str, Any]) -> dict[str, str]:
+    """Controller key -> why its best trial is no tuning at all: no trial was
+    feasible, or every run of the best one failed (every trial diverged,
+    say); best.toml then holds the least bad gains, not good ones."""
+    out = {}
+    for controller, study in studies.items():
+        best = best_trial(study)
+        if best is None:
+            continue
+        a = best.user_attrs
+        reasons = "; ".join(f"{n} x {r}" for r, n in a.get("reasons", {}).items())
+        failed = f"{a.get('failures')} of its {a.get('runs')} runs failed ({reasons})"
+        if not a.get("feasible", True):
+            out[controller] = f"no trial was feasible; the least bad, trial {best.number}: {failed}"
+        elif a.get("runs") and a.get("failures") == a.get("runs"):
+            out[controller] = f"every run of every trial failed; trial {best.number}: {failed}"
+    return out
 
 
 def best_tables(tuning: Tuning, studies: dict[str, Any]) -> dict[str, dict[str, Any]]:
@@ -179,3 +202,42 @@ def draw_tuning_figures(tuning: Tuning, studies: dict[str, Any], out: Path) -> l
 
 def write_trials(tuning: Tuning, studies: dict[str, Any], path: Path) -> Path:
     return write_table(trials_table(tuning, studies), path)
+
+
+# --- the verdict's folder ----------------------------------------------------------------------
+
+# What a study writes in its folder besides its figures (figures.json lists those).
+_STUDY_FILES = ("study.json", LOG_NAME, "runs.csv", "runs.parquet", "summary.csv", "league.md", "timing.json",
+                FIGURE_STATE)
+
+
+def discard_stale_verdict(folder: Path, fingerprint: str) -> list[Path]:
+    """A verdict of other tuned gains (more trials since, another process's
+    better trial) is derived from the storage and best.toml alone: its files
+    are removed (and the verdict run again) rather than refused as a study
+    folder would be. Only the study's own files go (those it writes, its
+    figures as figures.json lists them); anything else in the folder, a
+    user's notes say, stays. Returns the paths removed."""
+    meta = folder / "study.json"
+    if not meta.exists():
+        return []
+    try:
+        old = json.loads(meta.read_text()).get("fingerprint")
+    except (json.JSONDecodeError, AttributeError, UnicodeDecodeError):
+        old = None
+    if old == fingerprint:
+        return []
+    try:
+        drawn = json.loads((folder / FIGURE_STATE).read_text())
+    except (OSError, json.JSONDecodeError, UnicodeDecodeError):
+        drawn = {}
+    figures = [n for n in drawn if isinstance(n, str) and Path(n).name == n and n.endswith(".png")] \
+        if isinstance(drawn, dict) else []
+    removed = []
+    # study.json last: a stop half-way leaves a folder still known as the stale verdict.
+    for name in [*figures, *_STUDY_FILES[1:], _STUDY_FILES[0]]:
+        path = folder / name
+        if path.is_file() or path.is_symlink():
+            path.unlink()
+            removed.append(path)
+    return removed

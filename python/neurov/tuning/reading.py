@@ -7,7 +7,7 @@ from __future__ import annotations
 import copy
 import importlib.util
 import re
-from collections.abc import Mapping
+from collections.abc import Collection, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -257,18 +257,21 @@ def trial_study(tuning: Tuning, controller: str, values: Mapping[str, Any]) -> S
     return study_from_mapping(data, tuning.source)
 
 
-def verdict_study(tuning: Tuning, tuned: Mapping[str, Mapping[str, Any]], *, samples: int | None = None) -> Study:
+def verdict_study(tuning: Tuning, tuned: Mapping[str, Mapping[str, Any]], *, samples: int | None = None,
+                  unusable: Collection[str] = ()) -> Study:
     """The study of the verdict: every controller with its tuned table (and,
     with ``hand_set_in_verdict``, with its hand-set one beside it, key
     ``KEY_hand_set``) on the tuning's scenarios and the held-out ones, on
-    the test plants (another seed than the training plants')."""
+    the test plants (another seed than the training plants'). A controller
+    in `unusable` (no feasible trial) is labelled so."""
     s = tuning.settings
     data = copy.deepcopy(tuning.study_table)
     controllers: dict[str, Any] = {}
     for key, table in data["controllers"].items():
         if key in tuned:
             t = dict(tuned[key])
-            t["label"] = f"{table.get('label', key)} (tuned)"
+            tag = "tuned, no usable trial" if key in unusable else "tuned"
+            t["label"] = f"{table.get('label', key)} ({tag})"
             controllers[key] = t
             if s.hand_set_in_verdict:
                 hand = dict(table)

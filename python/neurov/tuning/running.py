@@ -6,17 +6,21 @@ from __future__ import annotations
 
 import json
 import os
-import shutil
+import signal
+import sys
 import time
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
 from neurov.progress import progress_bar
-from neurov.study.running import StudyOutcome, run_study
-from neurov.tuning.outputs import best_tables, draw_tuning_figures, write_best_toml, write_trials
+from neurov.study.running import StudyInterrupted, StudyOutcome, run_study
+from neurov.tuning.outputs import (best_tables, discard_stale_verdict, draw_tuning_figures, unusable,
+                                   write_best_toml, write_trials)
 from neurov.tuning.reading import load_tuning, verdict_study
 from neurov.tuning.search import STORAGE_NAME, TuneInterrupted, counted_trials, open_storage, optuna_study, run_trials
+from neurov.tuning.signals import stopping
+from neurov.tuning.storage import storage_errors
 from neurov.tuning.spec import Tuning
 from neurov.tuning.trial_runs import TrialRunner
 
@@ -35,6 +39,9 @@ class TuneOutcome:
     best_path: Path
     figures: list[Path]
     verdict: StudyOutcome | None
+    unusable: dict[str, str] = field(default_factory=dict)
+    """Controller key -> why its best trial is no tuning at all (no trial
+    feasible, every run failed): best.toml holds its least bad gains."""
 
 
 def tune(tuning: Tuning | str | Path, out_dir: str | Path, *, workers: int | None = None,
@@ -57,9 +64,22 @@ def tune(tuning: Tuning | str | Path, out_dir: str | Path, *, workers: int | Non
         raise ValueError(f"argument 'only': {unknown[0]!r} is not a searched controller of {tuning.source} "
                          f"(searched: {sorted(tuning.search)})")
     out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
     storage = open_storage(out)
     mine = [c for c in tuning.search if not only or c in only]
+    with stopping(), storage_errors(out):
+        try:
+            return _tune(tuning, out, storage, mine, workers, scheduler, verdict, plots, progress)
+        except StudyInterrupted:
+            raise  # the verdict's (or the trials'): it says what it saved
+        except KeyboardInterrupt as e:
+            total = len(mine) * tuning.settings.trials
+            saved = sum(len(counted_trials(optuna_study(tuning, c, storage))) for c in mine)
+            raise TuneInterrupted(saved, total, out / STORAGE_NAME,
+                                  getattr(e, "signum", signal.SIGINT)) from None
+
+
+def _tune(tuning: Tuning, out: Path, storage: Any, mine: list[str], workers: int, scheduler: str | None,
+          verdict: bool, plots: bool, progress: bool) -> TuneOutcome:
     s = tuning.settings
     start = time.perf_counter()
     ran = 0
@@ -68,46 +88,27 @@ def tune(tuning: Tuning | str | Path, out_dir: str | Path, *, workers: int | Non
             done = len(counted_trials(optuna_study(tuning, controller, storage)))
             with progress_bar(s.trials, f"{tuning.name}: {controller}", unit="trial", quiet=not progress) as bar:
                 bar.update(min(done, s.trials))
-                try:
-                    ran += run_trials(tuning, controller, storage, runner, on_trial=lambda n, o: bar.update(1))
-                except KeyboardInterrupt:
-                    total = len(mine) * s.trials
-                    saved = sum(len(counted_trials(optuna_study(tuning, c, storage))) for c in mine)
-                    raise TuneInterrupted(saved, total, out / STORAGE_NAME) from None
+                ran += run_trials(tuning, controller, storage, runner, on_trial=lambda n, o: bar.update(1))
     seconds = time.perf_counter() - start
     studies = {c: optuna_study(tuning, c, storage) for c in tuning.search}
     trials_path = write_trials(tuning, studies, out / "trials.csv")
     best_path = write_best_toml(tuning, studies, out / "best.toml")
     best = best_tables(tuning, studies)
+    bad = unusable(studies)
     figures = draw_tuning_figures(tuning, studies, out) if plots else []
     (out / "tuning.json").write_text(json.dumps({
         "name": tuning.name, "source": tuning.source, "settings": asdict(tuning.settings),
         "search": {c: [asdict(p) for p in ps] for c, ps in tuning.search.items()},
         "trials_run_by_this_call": ran, "seconds": seconds, "workers": workers,
-        "executor": runner.executor}, indent=2, default=str) + "\n")
+        "executor": runner.executor, "unusable": bad}, indent=2, default=str) + "\n")
     outcome = None
     if verdict and best:
-        judged = verdict_study(tuning, best)
-        _discard_stale_verdict(out / "verdict", judged.fingerprint())
+        judged = verdict_study(tuning, best, unusable=bad)
+        discard_stale_verdict(out / "verdict", judged.fingerprint())
         outcome = run_study(judged, out / "verdict", workers=workers, scheduler=scheduler,
                             executor="dask" if scheduler else "processes", plots=plots, progress=progress)
     return TuneOutcome(out_dir=out, ran=ran, seconds=seconds, best=best, trials_path=trials_path,
-                       best_path=best_path, figures=figures, verdict=outcome)
-
-
-def _discard_stale_verdict(folder: Path, fingerprint: str) -> None:
-    """A verdict of other tuned gains (more trials since, another process's
-    better trial) is derived from the storage and best.toml alone: it is
-    removed and run again rather than refused as a study folder would be."""
-    meta = folder / "study.json"
-    if not meta.exists():
-        return
-    try:
-        old = json.loads(meta.read_text()).get("fingerprint")
-    except (json.JSONDecodeError, AttributeError):
-        old = None
-    if old != fingerprint:
-        shutil.rmtree(folder)
+                       best_path=best_path, figures=figures, verdict=outcome, unusable=bad)
 
 
 def main_tune(path: str, out_dir: str | None, workers: int | None, scheduler: str | None, *,
@@ -123,4 +124,7 @@ def main_tune(path: str, out_dir: str | None, workers: int | None, scheduler: st
     print(f"trials: {outcome.trials_path}\ntuned gains: {outcome.best_path}")
     if outcome.verdict is not None:
         print(f"verdict on {tuning.settings.test_samples} held-out plants: {outcome.verdict.league}")
+    for controller, why in outcome.unusable.items():
+        print(f"neurov: warning: {controller} is not tuned: {why}; {outcome.best_path} holds its least bad "
+              "gains, not usable ones", file=sys.stderr)
     return outcome

@@ -5,89 +5,44 @@ duplicating trials, and an interrupted tuning resumes from the storage."""
 
 from __future__ import annotations
 
-import contextlib
 import hashlib
 import json
-import warnings
+import signal
+import time
 import zlib
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from neurov.study.running import StudyInterrupted
 from neurov.tuning.objective import TrialOutcome, evaluate
+from neurov.tuning.signals import deferred, live, stopping
 from neurov.tuning.space import suggest
 from neurov.tuning.spec import TuneError, Tuning
+from neurov.tuning.storage import STORAGE_NAME, claim, fail_dead_trials, open_storage
 from neurov.tuning.trial_runs import TrialRunner
 from neurov._core import __version__
 
 __all__ = ["OVER_BUDGET", "STORAGE_NAME", "TuneInterrupted", "counted_trials", "open_storage", "optuna_study",
            "pruner", "run_trials", "study_name"]
 
-STORAGE_NAME = "tuning.db"
-# A process that dies mid-trial leaves its trial "running"; without a
-# heartbeat for this long, the next process marks it failed (and redoes it).
-HEARTBEAT_SECONDS = 10
-GRACE_SECONDS = 60
 # The reason of a trial pruned unrun because the budget was spent when it started.
 OVER_BUDGET = "over budget"
+# Seconds between two looks at other processes' running trials, once this
+# process has no budget left to start: the tuning ends when they have.
+WAIT_SECONDS = 0.5
 
 
-class TuneInterrupted(KeyboardInterrupt):
-    def __init__(self, done: int, total: int, storage: Path) -> None:
-        super().__init__(f"interrupted: {done} of {total} trials are saved in {storage}; run the same "
-                         "command again to resume")
-        self.done, self.total, self.storage = done, total, storage
+class TuneInterrupted(StudyInterrupted):
+    """Ctrl-C or SIGTERM during a tuning: says how many trials are saved in
+    the storage; `signum` is the signal (``neurov tune`` exits with 128 + it)."""
 
-
-def open_storage(out: Path) -> Any:
-    """Optuna's RDB storage in the SQLite file ``out/tuning.db``."""
-    import sqlite3
-
-    import optuna
-
-    # Optuna logs every trial; a tuning reports by its progress bar and its files.
-    optuna.logging.set_verbosity(optuna.logging.ERROR)
-    path = (out / STORAGE_NAME).resolve()
-
-    def connect() -> sqlite3.Connection:
-        # Optuna commits some twenty times per trial. Write-ahead logging with
-        # synchronous=NORMAL syncs at checkpoints rather than at each commit
-        # (13 ms each on this disk): a process that is killed loses nothing
-        # committed, only a power cut can lose the last commits. A long timeout:
-        # processes sharing the file wait for each other's lock.
-        conn = sqlite3.connect(path, timeout=120, check_same_thread=False)
-        conn.execute("PRAGMA journal_mode=WAL")
-        conn.execute("PRAGMA synchronous=NORMAL")
-        return conn
-
-    # Optuna calls its heartbeat experimental (its interface may change); it
-    # is what tells a dead process's trial from a running one, so we use it.
-    with _creating(out), warnings.catch_warnings():
-        warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
-        return optuna.storages.RDBStorage(f"sqlite:///{path}", engine_kwargs={"creator": connect},
-                                          heartbeat_interval=HEARTBEAT_SECONDS, grace_period=GRACE_SECONDS)
-
-
-@contextlib.contextmanager
-def _creating(out: Path) -> Iterator[None]:
-    """Held while a process creates or opens the storage's tables: two
-    processes starting a new tuning at once would both create them (one
-    then fails on a unique key of Optuna's schema). Optuna itself copes
-    with two processes creating one study."""
-    with open(out / f"{STORAGE_NAME}.lock", "a+b") as lock:
-        try:
-            import fcntl
-        except ImportError:  # not on Windows, where processes do not share a folder's storage this way
-            yield
-            return
-        fcntl.flock(lock, fcntl.LOCK_EX)
-        try:
-            yield
-        finally:
-            fcntl.flock(lock, fcntl.LOCK_UN)
+    def __init__(self, done: int, total: int, storage: Path, signum: int = signal.SIGINT) -> None:
+        super().__init__(done, total, storage, signum, what="trials")
+        self.done, self.storage = done, storage
 
 
 def study_name(tuning: Tuning, controller: str) -> str:
@@ -200,16 +155,37 @@ def pruner(name: str, train_samples: int) -> Any:
     return optuna.pruners.MedianPruner(n_startup_trials=5, n_warmup_steps=train_samples - 1)
 
 
+class _DeferredPruning:
+    """The trial as the objective's pruning: what it tells the storage is not
+    cut short by a signal (:func:`~neurov.tuning.signals.deferred`)."""
+
+    def __init__(self, trial: Any) -> None:
+        self.trial = trial
+
+    def report(self, value: float, step: int) -> None:
+        with deferred():
+            self.trial.report(value, step)
+
+    def should_prune(self) -> bool:
+        with deferred():
+            return bool(self.trial.should_prune())
+
+
 def run_trials(tuning: Tuning, controller: str, storage: Any, runner: TrialRunner,
                on_trial: Callable[[int, TrialOutcome], None] | None = None,
                evaluator: Callable[..., TrialOutcome] = evaluate) -> int:
-    """Runs trials of `controller` until its budget is used (by this process
-    or others on the storage); returns how many this process ran.
+    """Runs trials of `controller` until its budget is finished (by this
+    process or others on the storage); returns how many this process ran.
 
-    Optuna's optimize loop keeps each trial's heartbeat (a process that dies
-    leaves a trial the next one marks failed and redoes) and marks a trial
-    interrupted by Ctrl-C failed; a trial that finds the budget spent by the
-    time it starts (another process took the last one) is pruned unrun."""
+    Optuna's optimize loop keeps each trial's heartbeat and marks a trial
+    interrupted by Ctrl-C or SIGTERM failed; a signal stops the loop only in
+    the objective, never in Optuna's bookkeeping
+    (:mod:`~neurov.tuning.signals`). A trial that finds the budget spent by
+    the time it starts (another process took the last one) is pruned unrun.
+    A trial whose process died is marked failed
+    (:func:`~neurov.tuning.storage.fail_dead_trials`) and its place run
+    again; once no place is left, this waits for the other processes'
+    running trials, so that the budget is finished trials when it returns."""
     import optuna
 
     study = optuna_study(tuning, controller, storage)
@@ -225,13 +201,16 @@ def run_trials(tuning: Tuning, controller: str, storage: Any, runner: TrialRunne
 
     def objective(trial: Any) -> float:
         nonlocal ran
+        claim(trial)
         ahead = [t for t in counted_trials(study) if t.number < trial.number]
         if len(ahead) >= s.trials:
             trial.set_user_attr("reason", OVER_BUDGET)
             study.stop()
             raise optuna.TrialPruned()
+        values = suggest(trial, params)
         try:
-            outcome = evaluator(tuning, controller, suggest(trial, params), runner, pruning=trial)
+            with live():  # Ctrl-C and SIGTERM stop the trial here (Optuna marks it failed)
+                outcome = evaluator(tuning, controller, values, runner, pruning=_DeferredPruning(trial))
         except BaseException:
             trial.set_user_attr("reason", "interrupted")  # Optuna marks it failed
             raise
@@ -246,9 +225,16 @@ def run_trials(tuning: Tuning, controller: str, storage: Any, runner: TrialRunne
             raise optuna.TrialPruned()  # Optuna keeps its last reported value
         return outcome.value
 
-    left = s.trials - len(counted_trials(study))
-    if left <= 0:
-        return 0
-    study.sampler = _place_seeded(s.sampler, base_seed)
-    study.optimize(objective, n_trials=left, callbacks=[stop_when_spent])
-    return ran
+    with stopping():
+        while True:
+            fail_dead_trials(study, storage)
+            counted = counted_trials(study)
+            left = s.trials - len(counted)
+            if left > 0:
+                study.sampler = _place_seeded(s.sampler, base_seed)
+                with deferred():
+                    study.optimize(objective, n_trials=left, callbacks=[stop_when_spent])
+            elif any(t.state == optuna.trial.TrialState.RUNNING for t in counted):
+                time.sleep(WAIT_SECONDS)  # other processes' trials: they finish, or their process dies
+            else:
+                return ran

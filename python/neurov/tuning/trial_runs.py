@@ -14,12 +14,15 @@ import concurrent.futures as cf
 from concurrent.futures.process import BrokenProcessPool
 import os
 import signal
+import time
 from collections.abc import Callable, Sequence
 from typing import Any
 
 from neurov.study.executors import default_batch_size, split_batches
 from neurov.study.one_run import RunKey, plan_runs, run_batch, run_one
+from neurov.study.processes import GRACE_SECONDS, die_with_parent
 from neurov.study.spec import Study
+from neurov.tuning.signals import deferred
 
 __all__ = ["TrialRunner", "run_keys_safely"]
 
@@ -47,9 +50,27 @@ def run_keys_safely(study: Study, keys: Sequence[tuple[int, int, int]]) -> list[
     return out
 
 
-def _ignore_sigint() -> None:
-    # Ctrl-C reaches the process group; the parent answers it.
+def _start_worker() -> None:
+    # Ctrl-C reaches the process group; the parent answers it. A worker dies
+    # with the tuning's process, however that is stopped (SIGKILL included).
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    die_with_parent()
+
+
+def _end_workers(pool: cf.ProcessPoolExecutor) -> None:
+    """Ends the pool's workers at once, busy or not: SIGTERM, and SIGKILL to
+    one still there after GRACE_SECONDS (a run that hangs)."""
+    # The executor's processes by pid (Python 3.14 adds terminate_workers for this).
+    procs = list((getattr(pool, "_processes", None) or {}).values())
+    for p in procs:
+        p.terminate()
+    deadline = time.monotonic() + GRACE_SECONDS
+    for p in procs:
+        p.join(max(0.0, deadline - time.monotonic()))
+    for p in procs:
+        if p.is_alive():
+            p.kill()
+            p.join()
 
 
 class TrialRunner:
@@ -72,8 +93,9 @@ class TrialRunner:
     def __enter__(self) -> TrialRunner:
         return self
 
-    def __exit__(self, *exc: object) -> None:
-        self.close()
+    def __exit__(self, kind: object, *exc: object) -> None:
+        # Stopped (Ctrl-C, SIGTERM, an error): the workers are ended, not awaited.
+        self.close(stop=kind is not None)
 
     def _processes(self) -> cf.ProcessPoolExecutor:
         if self._pool is None:
@@ -87,7 +109,7 @@ class TrialRunner:
                 # spawn, as a study's pool: forking a process with threads can deadlock.
                 self._pool = cf.ProcessPoolExecutor(max_workers=self.workers,
                                                     mp_context=multiprocessing.get_context("spawn"),
-                                                    initializer=_ignore_sigint)
+                                                    initializer=_start_worker)
             finally:
                 signal.signal(signal.SIGINT, previous)
         return self._pool
@@ -135,9 +157,13 @@ class TrialRunner:
         future = self._client.scatter(study, broadcast=True)
         return [self._client.submit(run_keys_safely, future, b, pure=False) for b in batches]
 
-    def close(self) -> None:
+    def close(self, stop: bool = False) -> None:
+        """Ends the workers: once their runs are done, or with `stop` at once."""
         if self._pool is not None:
-            self._pool.shutdown(wait=True, cancel_futures=True)
+            with deferred():  # a second Ctrl-C must not leave workers running
+                if stop:
+                    _end_workers(self._pool)
+                self._pool.shutdown(wait=True, cancel_futures=True)
             self._pool = None
         if self._client is not None:
             self._client.close()

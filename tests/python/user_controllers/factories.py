@@ -199,3 +199,36 @@ def counted_numpy_pd(scenario: neurov.Scenario) -> NumpyPD:
 def counted_batched_numpy_pd(scenario: neurov.Scenario) -> BatchedNumpyPD:
     _count_call(scenario)
     return BatchedNumpyPD()
+
+
+# --- a tuned controller that hangs (tests/python/test_tune_signals.py) ---------------------
+
+
+class _HangsFromThirdRun(Delegate):
+    def __init__(self, inner: Any) -> None:
+        super().__init__(inner)
+        self.started = False
+
+    def step(self, *args: Any) -> Any:  # type: ignore[override]
+        folder = os.environ.get("NEUROV_TEST_HANG_DIR")
+        if folder and not self.started:
+            self.started = True
+            open(os.path.join(folder, f"{os.getpid()}-{time.monotonic_ns()}"), "w").close()
+            if len(os.listdir(folder)) >= 3:
+                if threading.current_thread() is threading.main_thread():
+                    signal.signal(signal.SIGTERM, signal.SIG_IGN)
+                while True:
+                    time.sleep(1.0)
+        return self.inner.step(*args)
+
+    def reset(self) -> None:
+        self.started = False
+        self.inner.reset()
+
+
+def hangs_from_third_run(scenario: neurov.Scenario, gain: float = 1.0) -> Delegate:
+    """:func:`tunable_pd`, whose runs each leave a file in
+    $NEUROV_TEST_HANG_DIR when they start; from the third on (the third trial
+    of a one-run-per-trial tuning) the run hangs, deaf to SIGTERM where it
+    can be. Without the variable it is :func:`tunable_pd`."""
+    return _HangsFromThirdRun(neurov.PDController(np.array(KP) * gain, np.array(KD) * gain))
