@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from neurov import _core
+from neurov.identification.log_report import report_lines
 
 if TYPE_CHECKING:
     from neurov.identification.fit import Identification
@@ -49,11 +50,15 @@ def _summary(r: Identification) -> list[str]:
     return lines
 
 
+def _log_part(r: Identification) -> list[str]:
+    return [*report_lines(r.log_report), ""] if r.log_report is not None else []
+
+
 def report_text(r: Identification) -> str:
-    """The report as printed."""
-    return "\n".join([*_summary(r), "", *_table(r)]) + "\n"
+    """The report as printed: the log report first, then the fit."""
+    return "\n".join([*_log_part(r), *_summary(r), "", *_table(r)]) + "\n"
 
 
 def header_lines(r: Identification) -> list[str]:
     """The report as the fitted file's header comment lines."""
-    return [*_summary(r), "", *_table(r)]
+    return [*_summary(r), "", *_table(r), "", *_log_part(r)]

@@ -6,9 +6,11 @@ rates p, q, r); LOCAL_POSITION_NED (the autopilot's position and NED
 velocity, from its EKF: DVL, depth and IMU where logged) is held onto it and
 its velocity turned into the body frame; SERVO_OUTPUT_RAW's PWM goes through
 the template's thruster curves (``ThrusterCurveConfig.static_thrust`` at the
-template's supply voltage) and its configuration matrix to the force. A
-message older than the mapping's ``max_age`` at a row cuts the row. The
-mapping file::
+template's supply voltage) and its configuration matrix to the force, after
+the log's own MOT_n_DIRECTION reversals are undone
+(:mod:`neurov.identification.ardusub_params`). A message older than the
+mapping's ``max_age`` at a row cuts the row. No mapping file is needed; one
+only overrides::
 
     format = "tlog"
     servo_channels = [1, 2, 3, 4, 5, 6, 7, 8]   # the servo output of each thruster (default 1..n)
@@ -16,6 +18,7 @@ mapping file::
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -24,11 +27,12 @@ from numpy.typing import NDArray
 
 from neurov import _core
 from neurov.identification.alignment import hold
+from neurov.identification.ardusub_params import parameter_notes, read_log_parameters, undo_directions
 from neurov.identification.errors import LogError
 from neurov.identification.log import Log, make_log
 from neurov.identification.mapping import Mapping
 
-__all__ = ["pwm_force", "read_tlog", "servo_channels"]
+__all__ = ["ardusub_force", "pwm_force", "rate_note", "read_tlog", "servo_channels"]
 
 Array = NDArray[np.float64]
 
@@ -65,11 +69,30 @@ def pwm_force(pwm: Array, thrusters: dict[str, Any]) -> Array:
     return thrust @ thrusters["matrix"].T
 
 
-def read_tlog(path: str | Path, mapping: Mapping, thrusters: dict[str, Any] | None) -> Log:
+def rate_note(name: str, t: Array) -> str:
+    """'NAME at R Hz' from a message's stamps (its median interval)."""
+    step = float(np.median(np.diff(t))) if len(t) > 1 else float("nan")
+    return f"{name} at {1.0 / step:.3g} Hz" if step > 0 else f"{name}: {len(t)} sample(s)"
+
+
+def ardusub_force(path: Path, t: Array, pwm_t: Array, pwm: Array, mapping: Mapping,
+                  thrusters: dict[str, Any], channels: list[int], what: str) -> tuple[Array, list[str]]:
+    """The body wrench on the time base `t` from the servo outputs' PWM, with
+    the log's MOT_n_DIRECTION undone, and the notes saying what was used."""
+    notes, directions = parameter_notes(path, read_log_parameters(path), thrusters["matrix"].shape[1],
+                                        channels)
+    neutral = float(getattr(thrusters["curves"][0], "neutral", 1500.0))
+    pwm = undo_directions(pwm, directions, neutral)
+    held = hold(t, pwm_t, pwm, mapping.max_age, f"{path}: {what}")
+    return pwm_force(held, thrusters), notes
+
+
+def read_tlog(path: str | Path, mapping: Mapping | None, thrusters: dict[str, Any] | None) -> Log:
     from pymavlink import mavutil
 
     path = Path(path)
     thrusters = check_thrusters(path, thrusters)
+    mapping = mapping or Mapping({"format": "tlog"}, f"{path} (no mapping: ArduSub's messages)")
     channels = servo_channels(mapping, thrusters["matrix"].shape[1])
     rows: dict[str, list[Any]] = {"ATTITUDE": [], "LOCAL_POSITION_NED": [], "SERVO_OUTPUT_RAW": []}
     conn = mavutil.mavlink_connection(str(path), dialect="ardupilotmega")
@@ -96,11 +119,13 @@ def read_tlog(path: str | Path, mapping: Mapping, thrusters: dict[str, Any] | No
     so = rows["SERVO_OUTPUT_RAW"]
     so_t = np.array([m.time_usec for m in so], dtype=np.float64) * 1e-6
     pwm = np.array([[getattr(m, f"servo{c}_raw") for c in channels] for m in so], dtype=np.float64)
-    pwm_held = hold(t, so_t, pwm, mapping.max_age, f"{path}: SERVO_OUTPUT_RAW")
-    tau = pwm_force(pwm_held, thrusters)
+    tau, notes = ardusub_force(path, t, so_t, pwm, mapping, thrusters, channels, "SERVO_OUTPUT_RAW")
     nu = np.full((len(t), 6), np.nan)
     nu[:, 3:] = rates
     for k in np.flatnonzero(np.all(np.isfinite(held), axis=1)):
         nu[k, :3] = _core.rotation(*angles[k]).T @ held[k, 3:]
     eta = np.hstack([held[:, :3], angles])
-    return make_log(str(path), t, eta, nu, tau)
+    notes.append("signals: " + ", ".join([rate_note("ATTITUDE", t), rate_note("LOCAL_POSITION_NED", lp_t),
+                                          rate_note("SERVO_OUTPUT_RAW", so_t)]))
+    log = make_log(str(path), t, eta, nu, tau)
+    return replace(log, notes=(*notes, *log.notes))

@@ -1,0 +1,43 @@
+"""The log report and excitation plan as ``neurov identify`` prints and
+writes them: beside the fitted file (``FITTED.report.txt`` and, when a DOF
+is too weak, ``FITTED_excitation.toml``), or with ``--report`` alone beside
+``--out`` or, without it, in the current folder."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from neurov.identification.excitation_plan import plan
+from neurov.identification.log_report import LogReport, report_lines
+
+__all__ = ["report_and_plan"]
+
+
+def report_and_plan(report: LogReport | None, vehicle: str | Path, preset: str | None, out: str | Path | None,
+                    first_log: str | Path, fit_text: str = "") -> tuple[str, list[Path]]:
+    """The text to print and the files written: the log report, the plan's
+    pilot steps, and the report (with `fit_text`, the fit's) and the plan's
+    scenario written beside `out` (or in the current folder)."""
+    from neurov.config.vehicle_file import read_vehicle_file
+    from neurov.identification.parameters import template_theta
+
+    if report is None:
+        return fit_text, []
+    template = read_vehicle_file(vehicle)
+    theta0 = template_theta(template.vehicle(), str(vehicle))
+    lines, scenario = plan(report, vehicle, preset, template, float(theta0[23]))
+    base = Path(out) if out is not None else Path(Path(first_log).stem + ".toml")
+    written: list[Path] = []
+    text = fit_text or "\n".join(report_lines(report)) + "\n"
+    if lines:
+        text += "\n" + "\n".join(lines) + "\n"
+    if scenario is not None:
+        path = base.with_name(base.stem + "_excitation.toml")
+        path.write_text(scenario)
+        written.append(path)
+        text += f"The same as a neurov scenario to rehearse: neurov run {path} --out rehearsal\n"
+    if out is not None:
+        path = base.with_name(base.stem + ".report.txt")
+        path.write_text(text)
+        written.append(path)
+    return text, written
