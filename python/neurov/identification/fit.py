@@ -116,9 +116,10 @@ def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Pat
     untold = log_report.untold()
     free_idx = [i for i in asked if i not in untold]
     if not free_idx:
-        raise NothingToFit("the logs cannot tell any of the free parameters (the log report says why "
-                           "per parameter): nothing fitted; fly the excitation plan and identify again",
-                           log_report)
+        raise NothingToFit("none of the free parameters can be identified from the logs: "
+                           + "; ".join(f"{_core.THETA_NAMES[i]}: not excited" for i in untold)
+                           + " (the log report says why); nothing fitted: fly the excitation plan and "
+                           "identify again", log_report)
     model_rates = estimator != "linear"
     if estimator == "auto":
         model_estimator = output_error and any(staircase(log) for log in read)
@@ -176,7 +177,7 @@ def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Pat
                                               lin.fitted) + ": fix one of each with --free") from None
     q = centre + small_sample_scale(blocks.count) * (q - centre)
     interval[lin.fitted] = np.clip(q, lo[:, None], hi[:, None])
-    reasons = {**lin.reasons, **{i: f"left at the template's value: {why}" for i, why in untold.items()}}
+    reasons = {**lin.reasons, **{i: f"not excited: left at the template's value, {why}" for i, why in untold.items()}}
     result = Identification(template=template, logs=read, theta_template=theta0, theta=theta,
                             theta_stage1=lin.theta, fitted=lin.fitted, reasons=reasons,
                             interval=interval, condition=lin.condition, stages=stages_done,
@@ -254,7 +255,7 @@ def _fit_stages(logs: list[Log], template: dict[str, Any], theta0: Array, free_i
                               substeps=substeps, block_s=block_s, estimator=estimator, rates=rates)
     except (ValueError, IdentificationError) as e:  # LinAlgError is a ValueError
         return _Stages(rows, lin, theta1, lin.blocks, np.zeros(24), float("nan"), fallback=str(e))
-    return _Stages(rows, lin, oe.theta, oe.blocks, oe.at, oe.rms, oe.gain, oe.rejected)
+    return _Stages(rows, lin, oe.theta, oe.blocks, oe.at, oe.rms, gain=oe.gain, rejected=oe.rejected)
 
 
 def _name(path: str | Path) -> str:

@@ -83,14 +83,21 @@ def fit_warnings(logs: list[Log], rows: Any, fit: Any, interval: Array, theta: A
         elif half > WIDE * scale:
             out.append(f"too quiet for {name}: its 95 % interval [{ilo:.4g}, {ihi:.4g}] "
                        f"is wide for the estimate {theta[i]:.4g}; excite its DOF harder or longer")
-        if theta[i] <= lo[k] + 1e-12 * max(1.0, abs(lo[k])) or theta[i] >= hi[k] - 1e-12 * max(1.0, abs(hi[k])):
-            bound = lo[k] if theta[i] <= lo[k] + 1e-12 * max(1.0, abs(lo[k])) else hi[k]
+        bound = _at_bound(theta[i], lo[k], hi[k])
+        if bound is not None and _at_bound(theta0[i], lo[k], hi[k]) is None:
             out.append(f"{name} is pinned at its bound {bound:.4g}: the data push it outside the physical "
                        "range (a wrong template structure, or a DOF the log does not excite)")
         if theta0[i] != 0 and not 1 / FAR <= abs(theta[i] / theta0[i]) <= FAR:
             out.append(f"{name} moved from the template's {theta0[i]:.4g} to {theta[i]:.4g} (more than "
                        f"{FAR:g}x): check the template's structure (a term missing elsewhere ends up here)")
     return out
+
+
+def _at_bound(x: float, lo: float, hi: float) -> float | None:
+    for b in (lo, hi):
+        if np.isfinite(b) and abs(x - b) <= 1e-9 * max(1.0, abs(b)):
+            return float(b)
+    return None
 
 
 def verdict_warnings(source: str, fit: Array, moved: Array, what: str) -> list[str]:

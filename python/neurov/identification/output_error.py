@@ -267,5 +267,5 @@ def fit_output_error(logs: list[Log], template: dict[str, Any], theta0: Array, f
     if np.all(fun == OVERFLOW):
         raise IdentificationError("every simulation from the solver's points overflowed")
     return ShootingFit(theta, at, blocks, float(sol.cost), int(sol.nfev),
-                       float(np.sqrt(np.mean(fun**2))), sol.x[p:p + extra].copy() if extra else None,
-                       rejected[0])
+                       float(np.sqrt(np.mean(fun**2))), gain=sol.x[p:p + extra].copy() if extra else None,
+                       rejected=rejected[0])

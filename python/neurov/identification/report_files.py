@@ -1,7 +1,8 @@
 """The log report and excitation plan as ``neurov identify`` prints and
-writes them: beside the fitted file (``FITTED.report.txt`` and, when a DOF
-is too weak, ``FITTED_excitation.toml``), or with ``--report`` alone beside
-``--out`` or, without it, in the current folder."""
+writes them: in the fitted file's header and, when a DOF is too weak, the
+plan as ``FITTED_excitation.toml`` beside it; without a fit (``--report``, or
+a log that tells nothing) as ``FITTED.report.txt`` beside ``--out`` (the
+plan, without ``--out``, in the current folder)."""
 
 from __future__ import annotations
 
@@ -36,7 +37,7 @@ def report_and_plan(report: LogReport | None, vehicle: str | Path, preset: str |
         path.write_text(scenario)
         written.append(path)
         text += f"The same as a neurov scenario to rehearse: neurov run {path} --out rehearsal\n"
-    if out is not None:
+    if out is not None and not fit_text:  # a fit carries the report in its header
         path = base.with_name(base.stem + ".report.txt")
         path.write_text(text)
         written.append(path)
