@@ -53,6 +53,7 @@ class LogReport:
     problems: list[str] = field(default_factory=list)
     rows: int = 0
     duration: float = 0.0
+    notes: list[str] = field(default_factory=list)  #: what the readers used (parameters, rates)
 
     def weak_dofs(self) -> list[int]:
         """The DOFs whose parameters the log tells too quietly or not at all."""
@@ -134,8 +135,9 @@ def analyse_logs(logs: list[Log], free: list[int]) -> LogReport:
         if thrust[d] < QUIET and any(d in dof_of(i) for i in free):
             problems.append(f"{DOFS[d]}: the thrusters push in this DOF on only {100 * thrust[d]:.1f} % of "
                             "the log (the rest is inside the dead band or zero)")
+    notes = [f"{log.source}: {n}" for log in logs for n in log.notes]
     return LogReport(signals, thrust, motion, verdicts, problems, rows,
-                     float(sum(log.duration for log in logs)))
+                     float(sum(log.duration for log in logs)), notes)
 
 
 def _kinematic_ratio(log: Log, window_s: float = 2.0) -> float | None:
@@ -158,6 +160,7 @@ def report_lines(r: LogReport) -> list[str]:
     """The report in words and two tables."""
     lines = [f"Log report: {r.rows} rows, {r.duration:.1f} s"]
     lines += [f"Problem: {p}" for p in r.problems]
+    lines += [f"Read: {n}" for n in r.notes]
     lines += ["", f"{'signal':<8}{'unit':<7}{'changes/s':>10}{'largest gap s':>14}{'min':>11}{'max':>11}  moves"]
     for name, unit, hz, gap, lo, hi, moves in r.signals:
         lines.append(f"{name:<8}{unit:<7}{hz:>10.3g}{gap:>14.3g}{lo:>11.4g}{hi:>11.4g}  {'yes' if moves else 'NO'}")
