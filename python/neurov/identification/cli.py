@@ -87,7 +87,7 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError(f"--block: expected seconds > 0, got {args.block}")
     if args.report:
         text, written = report_and_plan(report_only(args.logs, vehicle, free=args.free, mapping=args.mapping),
-                                        vehicle, preset, args.out, args.logs[0])
+                                        vehicle, preset, args.out)
         print(text + "".join(f"wrote {p}\n" for p in written), end="")
         return 0
     try:
@@ -97,12 +97,11 @@ def run(args: argparse.Namespace) -> int:
                           velocity_lag=args.velocity_lag,
                           estimator=_ESTIMATOR[args.estimator])
     except NothingToFit as e:
-        text, written = report_and_plan(e.log_report, vehicle, preset, args.out, args.logs[0])
+        text, written = report_and_plan(e.log_report, vehicle, preset, args.out)
         print(text + "".join(f"wrote {p}\n" for p in written), end="")
         print(f"neurov: error: {e}; no vehicle file written", file=sys.stderr)
         return 1
-    text, written = report_and_plan(result.log_report, vehicle, preset, args.out, args.logs[0],
-                                    report_text(result))
+    text, written = report_and_plan(result.log_report, vehicle, preset, args.out, report_text(result))
     print(text, end="")
     if result.warnings:
         print(f"neurov: {len(result.warnings)} warning(s) above; the fit is written with them in its header",

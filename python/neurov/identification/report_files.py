@@ -1,8 +1,8 @@
 """The log report and excitation plan as ``neurov identify`` prints and
 writes them: in the fitted file's header and, when a DOF is too weak, the
 plan as ``FITTED_excitation.toml`` beside it; without a fit (``--report``, or
-a log that tells nothing) as ``FITTED.report.txt`` beside ``--out`` (the
-plan, without ``--out``, in the current folder)."""
+a log that tells nothing) as ``FITTED.report.txt`` beside ``--out``; nothing
+is written without ``--out``."""
 
 from __future__ import annotations
 
@@ -15,10 +15,10 @@ __all__ = ["report_and_plan"]
 
 
 def report_and_plan(report: LogReport | None, vehicle: str | Path, preset: str | None, out: str | Path | None,
-                    first_log: str | Path, fit_text: str = "") -> tuple[str, list[Path]]:
-    """The text to print and the files written: the log report, the plan's
-    pilot steps, and the report (with `fit_text`, the fit's) and the plan's
-    scenario written beside `out` (or in the current folder)."""
+                    fit_text: str = "") -> tuple[str, list[Path]]:
+    """The text to print and the files written: the log report (or
+    `fit_text`, the fit's, which holds it), the plan's pilot steps, and beside
+    `out` the plan's scenario and (without a fit) the report."""
     from neurov.config.vehicle_file import read_vehicle_file
     from neurov.identification.parameters import template_theta
 
@@ -27,17 +27,19 @@ def report_and_plan(report: LogReport | None, vehicle: str | Path, preset: str |
     template = read_vehicle_file(vehicle)
     theta0 = template_theta(template.vehicle(), str(vehicle))
     lines, scenario = plan(report, vehicle, preset, template, float(theta0[23]))
-    base = Path(out) if out is not None else Path(Path(first_log).stem + ".toml")
+    base = Path(out) if out is not None else None
     written: list[Path] = []
     text = fit_text or "\n".join(report_lines(report)) + "\n"
     if lines:
         text += "\n" + "\n".join(lines) + "\n"
-    if scenario is not None:
+    if scenario is not None and base is None:
+        text += "Give --out FITTED.toml to have the plan written as a neurov scenario to rehearse.\n"
+    elif scenario is not None:
         path = base.with_name(base.stem + "_excitation.toml")
         path.write_text(scenario)
         written.append(path)
         text += f"The same as a neurov scenario to rehearse: neurov run {path} --out rehearsal\n"
-    if out is not None and not fit_text:  # a fit carries the report in its header
+    if base is not None and not fit_text:  # a fit carries the report in its header
         path = base.with_name(base.stem + ".report.txt")
         path.write_text(text)
         written.append(path)
