@@ -41,7 +41,7 @@ def test_the_real_tlog_is_read_with_no_mapping_and_its_parameters_used() -> None
     params = read_log_parameters(TLOG)
     assert len(params) == 887 and params["FRAME_CONFIG"] == 2.0 and params["MOT_1_DIRECTION"] == -1.0
     log = read_log(TLOG, None, _heavy_thrusters())
-    assert len(log.t) == 5223 and abs(log.duration - 261.1) < 0.1
+    assert len(log.t) == 320 and log.cut == 5245 - 320  # the disarmed rows cut
     notes = " ".join(log.notes)
     assert "FRAME_CONFIG 2: Vectored 6DOF (BlueROV2 Heavy)" in notes
     assert "1:-1, 2:-1, 3:+1, 4:+1, 5:-1, 6:+1, 7:+1, 8:-1" in notes
@@ -55,22 +55,40 @@ def test_the_real_tlog_s_weak_excitation_is_named_and_nothing_is_written(tmp_pat
     assert "Traceback" not in printed.err + printed.out
     assert "no vehicle file written" in printed.err and not out.exists()
     assert "-X_udot: not excited" in printed.err
-    # Said first, per DOF, in words: the thrusters left the dead band on 1 % of the rows.
-    first = printed.out.splitlines()[1]
-    assert first.startswith("Problem: surge: the thrusters push in this DOF on only 1.0 % of the log")
-    assert re.search(r"^X\s+N\s+0\.023", printed.out, re.M)  # the force changes 0.023 times a second
+    # Said first, in words: armed for 16 s of 263, the force outside the dead band logged 4 times in surge.
+    lines = printed.out.splitlines()
+    assert lines[1].endswith("the vehicle was armed on only 6.1 % of the log (320 of 5245 rows, 207.0 s to "
+                             "222.9 s after the first): the disarmed rows are cut (no thrust; the vehicle "
+                             "may be out of the water)")
+    assert lines[2].startswith("Problem: surge: the force outside the dead band was logged only 4 times")
+    assert re.search(r"^X\s+N\s+0\.376", printed.out, re.M)  # the force changes 0.376 times a second
     assert "Excitation plan for the pilot (ArduSub)" in printed.out
     plan = tmp_path / "fitted_excitation.toml"
     assert (tmp_path / "fitted.report.txt").is_file() and plan.is_file()
     s = neurov.load_scenario(plan)  # the plan is a scenario neurov runs
-    assert len(s.disturbances) == 12
+    assert len(s.disturbances) == 12  # two sines in each of the six DOF
+
+
+def test_a_tlog_never_armed_is_refused_with_the_reason(tmp_path: Path, capsys) -> None:
+    import struct
+
+    from pymavlink.dialects.v20 import ardupilotmega as mavlink
+
+    mav = mavlink.MAVLink(None, srcSystem=1, srcComponent=1)
+    with open(tmp_path / "bench.tlog", "wb") as out:
+        for k in range(50):
+            beat = mavlink.MAVLink_heartbeat_message(12, 3, 0, 19, 3, 3)  # a submarine, ArduPilot, disarmed
+            out.write(struct.pack(">Q", 1_700_000_000_000_000 + k * 100_000) + beat.pack(mav))
+    assert main(["identify", str(tmp_path / "bench.tlog"), "--vehicle", "bluerov2_heavy", "--report"]) == 1
+    err = capsys.readouterr().err
+    assert "the vehicle was never armed in this log (HEARTBEAT)" in err and "Traceback" not in err
 
 
 def test_report_alone_exits_0(tmp_path: Path, capsys) -> None:
     assert main(["identify", str(TLOG), "--vehicle", "bluerov2_heavy", "--report",
                  "--out", str(tmp_path / "f.toml")]) == 0
     printed = capsys.readouterr().out
-    assert printed.startswith("Log report: 5223 rows, 261.1 s")
+    assert printed.startswith("Log report: 320 rows, 16.0 s")
     assert "Read: " in printed and "MOT_PWM_MIN/MAX 1100/1900 us" in printed
 
 

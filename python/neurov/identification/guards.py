@@ -59,7 +59,7 @@ def fit_warnings(logs: list[Log], rows: Any, fit: Any, interval: Array, theta: A
                  theta0: Array, lo: Array, hi: Array) -> list[str]:
     out = []
     for log in logs:
-        out += [f"{log.source}: {n}" for n in log.notes]
+        out += [f"{log.source}: {n}" for n in (*log.problems, *log.notes)]
     if fit.blocks.count < MIN_BLOCKS:
         out.append(f"too short: {fit.blocks.count} blocks of data (fewer than {MIN_BLOCKS}); the "
                    "95 % intervals from so few are rough: record longer")

@@ -36,6 +36,9 @@ MOVING = (0.02, 0.02, 0.02, 0.02, 0.02, 0.02)
 # below QUIET it hardly can.
 NOT_AT_ALL = 0.02
 QUIET = 0.10
+# Fewer samples of a DOF's force outside the dead band than this (counting
+# a value held over several rows once): the log cannot tell its parameters.
+MIN_SAMPLES = 20
 # Plausible sample rates [Hz] of a vehicle's log; outside, the time unit is suspect.
 RATE_RANGE = (0.5, 2000.0)
 
@@ -50,6 +53,7 @@ class LogReport:
     thrust_share: Array
     motion_share: Array
     verdicts: dict[int, tuple[str, str]]
+    thrust_samples: Array  #: per DOF: distinct logged values of the force outside the dead band
     problems: list[str] = field(default_factory=list)
     rows: int = 0
     duration: float = 0.0
@@ -57,7 +61,8 @@ class LogReport:
 
     def weak_dofs(self) -> list[int]:
         """The DOFs whose parameters the log tells too quietly or not at all."""
-        return [d for d in range(6) if min(self.thrust_share[d], self.motion_share[d]) < QUIET]
+        return [d for d in range(6) if min(self.thrust_share[d], self.motion_share[d]) < QUIET
+                or self.thrust_samples[d] < MIN_SAMPLES]
 
     def untold(self) -> dict[int, str]:
         """The free parameters the log cannot tell, with why."""
@@ -82,8 +87,12 @@ def dof_of(i: int) -> tuple[int, ...]:
     return (2,) if i == 22 else (3, 4)
 
 
-def _verdict(i: int, thrust: Array, motion: Array, peak: Array) -> tuple[str, str]:
+def _verdict(i: int, thrust: Array, motion: Array, peak: Array, samples: Array) -> tuple[str, str]:
     dofs = dof_of(i)
+    if max(samples[d] for d in dofs) < MIN_SAMPLES:
+        d = max(dofs, key=lambda k: samples[k])
+        return "no", (f"the log cannot tell it ({DOFS[d]}: the force outside the dead band was logged "
+                      f"only {int(samples[d])} times; {MIN_SAMPLES} at least)")
     share = max(min(thrust[d], motion[d]) for d in dofs)
     d = max(dofs, key=lambda k: min(thrust[k], motion[k]))
     words = (f"{DOFS[d]}: thrust outside the dead band on {100 * thrust[d]:.1f} % of the log, "
@@ -105,7 +114,7 @@ def analyse_logs(logs: list[Log], free: list[int]) -> LogReport:
     data = np.concatenate([np.hstack([log.eta, log.nu, log.tau]) for log in logs])
     rows = len(t)
     signals = []
-    problems: list[str] = []
+    problems: list[str] = [f"{log.source}: {p}" for log in logs for p in log.problems]
     for k, (name, unit) in enumerate(_COLUMNS):
         x = data[:, k]
         hz = float(np.nanmean([_updates_hz(log.t, np.hstack([log.eta, log.nu, log.tau])[:, k]) for log in logs]))
@@ -130,13 +139,23 @@ def analyse_logs(logs: list[Log], free: list[int]) -> LogReport:
         if ratio is not None and not 0.2 <= ratio <= 5.0:
             problems.append(f"{log.source}: the position changes {ratio:.3g} times as fast as the logged "
                             "velocity says: a time or velocity unit is wrong (the mapping's units)")
-    verdicts = {i: _verdict(i, thrust, motion, peak) for i in free}
+    samples = np.zeros(6)
+    for log in logs:
+        on = np.abs(log.tau) > 1e-9 * max(1.0, float(np.max(np.abs(tau))))
+        fresh = np.vstack([np.ones((1, 6), bool), np.diff(log.tau, axis=0) != 0])
+        for a, b in log.segments:
+            fresh[a] = True
+        samples += np.sum(on & fresh, axis=0)
+    verdicts = {i: _verdict(i, thrust, motion, peak, samples) for i in free}
     for d in range(6):
         if thrust[d] < QUIET and any(d in dof_of(i) for i in free):
             problems.append(f"{DOFS[d]}: the thrusters push in this DOF on only {100 * thrust[d]:.1f} % of "
                             "the log (the rest is inside the dead band or zero)")
+        elif samples[d] < MIN_SAMPLES and any(d in dof_of(i) for i in free):
+            problems.append(f"{DOFS[d]}: the force outside the dead band was logged only {int(samples[d])} "
+                            "times (the thruster outputs are logged too slowly, or pushed too briefly)")
     notes = [f"{log.source}: {n}" for log in logs for n in log.notes]
-    return LogReport(signals, thrust, motion, verdicts, problems, rows,
+    return LogReport(signals, thrust, motion, verdicts, samples, problems, rows,
                      float(sum(log.duration for log in logs)), notes)
 
 
@@ -164,9 +183,10 @@ def report_lines(r: LogReport) -> list[str]:
     lines += ["", f"{'signal':<8}{'unit':<7}{'changes/s':>10}{'largest gap s':>14}{'min':>11}{'max':>11}  moves"]
     for name, unit, hz, gap, lo, hi, moves in r.signals:
         lines.append(f"{name:<8}{unit:<7}{hz:>10.3g}{gap:>14.3g}{lo:>11.4g}{hi:>11.4g}  {'yes' if moves else 'NO'}")
-    lines += ["", f"{'DOF':<8}{'thrust outside dead band':>26}{'motion':>10}"]
+    lines += ["", f"{'DOF':<8}{'thrust outside dead band':>26}{'its samples':>13}{'motion':>10}"]
     for d in range(6):
-        lines.append(f"{DOFS[d]:<8}{100 * r.thrust_share[d]:>25.1f}%{100 * r.motion_share[d]:>9.1f}%")
+        lines.append(f"{DOFS[d]:<8}{100 * r.thrust_share[d]:>25.1f}%{int(r.thrust_samples[d]):>13d}"
+                     f"{100 * r.motion_share[d]:>9.1f}%")
     lines += ["", f"{'parameter':<16}{'can the log tell it':<22}why"]
     for i, (v, why) in sorted(r.verdicts.items()):
         lines.append(f"{_core.THETA_NAMES[i]:<16}{v:<22}{why}")

@@ -32,7 +32,7 @@ from neurov.identification.errors import LogError
 from neurov.identification.log import Log, make_log
 from neurov.identification.mapping import Mapping
 
-__all__ = ["ardusub_force", "pwm_force", "rate_note", "read_tlog", "servo_channels"]
+__all__ = ["ardusub_force", "armed_rows", "pwm_force", "rate_note", "read_tlog", "servo_channels"]
 
 Array = NDArray[np.float64]
 
@@ -87,6 +87,21 @@ def ardusub_force(path: Path, t: Array, pwm_t: Array, pwm: Array, mapping: Mappi
     return pwm_force(held, thrusters), notes
 
 
+# MAVLink: a HEARTBEAT of a ground station has autopilot MAV_AUTOPILOT_INVALID
+# (8); base_mode's bit MAV_MODE_FLAG_SAFETY_ARMED (128) is set while armed.
+_AUTOPILOT_INVALID = 8
+_ARMED = 128
+
+
+def armed_rows(beats: list[Any], stamps: Array) -> NDArray[np.bool_]:
+    """Whether the vehicle was armed at each row (by the log's receive
+    stamps `stamps`): the latest autopilot HEARTBEAT's armed flag."""
+    bt = np.array([m._timestamp for m in beats])
+    flag = np.array([bool(m.base_mode & _ARMED) for m in beats])
+    k = np.searchsorted(bt, stamps, side="right") - 1
+    return np.where(k >= 0, flag[np.clip(k, 0, None)], False)
+
+
 def read_tlog(path: str | Path, mapping: Mapping | None, thrusters: dict[str, Any] | None) -> Log:
     from pymavlink import mavutil
 
@@ -94,7 +109,8 @@ def read_tlog(path: str | Path, mapping: Mapping | None, thrusters: dict[str, An
     thrusters = check_thrusters(path, thrusters)
     mapping = mapping or Mapping({"format": "tlog"}, f"{path} (no mapping: ArduSub's messages)")
     channels = servo_channels(mapping, thrusters["matrix"].shape[1])
-    rows: dict[str, list[Any]] = {"ATTITUDE": [], "LOCAL_POSITION_NED": [], "SERVO_OUTPUT_RAW": []}
+    rows: dict[str, list[Any]] = {"ATTITUDE": [], "LOCAL_POSITION_NED": [], "SERVO_OUTPUT_RAW": [],
+                                  "HEARTBEAT": []}
     conn = mavutil.mavlink_connection(str(path), dialect="ardupilotmega")
     try:
         while True:
@@ -104,6 +120,10 @@ def read_tlog(path: str | Path, mapping: Mapping | None, thrusters: dict[str, An
             rows[m.get_type()].append(m)
     finally:
         conn.close()
+    beats = [m for m in rows.pop("HEARTBEAT") if m.autopilot != _AUTOPILOT_INVALID]
+    if beats and not any(m.base_mode & _ARMED for m in beats):
+        raise LogError(f"{path}: the vehicle was never armed in this log (HEARTBEAT): its thrusters never "
+                       "pushed, so the log holds nothing to identify")
     for name, found in rows.items():
         if not found:
             raise LogError(f"{path}: no {name} message (ArduSub sends it at the stream rates of its "
@@ -120,6 +140,17 @@ def read_tlog(path: str | Path, mapping: Mapping | None, thrusters: dict[str, An
     so_t = np.array([m.time_usec for m in so], dtype=np.float64) * 1e-6
     pwm = np.array([[getattr(m, f"servo{c}_raw") for c in channels] for m in so], dtype=np.float64)
     tau, notes = ardusub_force(path, t, so_t, pwm, mapping, thrusters, channels, "SERVO_OUTPUT_RAW")
+    problems: list[str] = []
+    if beats:
+        armed = armed_rows(beats, np.array([m._timestamp for m in att]))
+        tau[~armed] = np.nan
+        armed_note = (f"the vehicle was armed on only {100 * armed.mean():.1f} % of the log ({armed.sum()} of "
+                      f"{len(t)} rows, {t[armed][0] - t[0]:.1f} s to {t[armed][-1] - t[0]:.1f} s after the "
+                      "first): the disarmed rows are cut (no thrust; the vehicle may be out of the water)")
+        if armed.mean() >= 0.5:
+            notes.append(armed_note.replace("only ", ""))
+        else:
+            problems.append(armed_note)
     nu = np.full((len(t), 6), np.nan)
     nu[:, 3:] = rates
     for k in np.flatnonzero(np.all(np.isfinite(held), axis=1)):
@@ -128,4 +159,4 @@ def read_tlog(path: str | Path, mapping: Mapping | None, thrusters: dict[str, An
     notes.append("signals: " + ", ".join([rate_note("ATTITUDE", t), rate_note("LOCAL_POSITION_NED", lp_t),
                                           rate_note("SERVO_OUTPUT_RAW", so_t)]))
     log = make_log(str(path), t, eta, nu, tau)
-    return replace(log, notes=(*notes, *log.notes))
+    return replace(log, notes=(*notes, *log.notes), problems=tuple(problems))
