@@ -126,6 +126,9 @@ def test_a_time_column_in_milliseconds_labelled_seconds_is_flagged() -> None:
     assert any("a time or velocity unit is wrong" in p for p in report.problems)
     right = analyse_logs([make_log("s.csv", t, eta, nu, tau)], free_indices(None))
     assert not right.problems
+    fit = neurov.identify(make_log("ms.csv", t * 1000, eta, nu, tau), preset_path("nerov"), replicates=20,
+                          output_error=False)
+    assert any("implausible for a vehicle's log" in w for w in fit.warnings)  # a fit says it too
 
 
 def test_two_files_with_their_own_clocks_joined_and_irregular_sampling_resampled(tmp_path: Path) -> None:

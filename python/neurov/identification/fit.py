@@ -194,7 +194,9 @@ def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Pat
     if st.fallback:
         lag_note.append(f"the output-error stage failed ({st.fallback}): the equation-error estimate is "
                         "written; it is biased on noisy data")
-    result.warnings = lag_note + fit_warnings(read, rows, lin, interval, theta, theta0, lo, hi)
+    reader_problems = {f"{log.source}: {p}" for log in read for p in log.problems}
+    result.warnings = (lag_note + [p for p in log_report.problems if p not in reader_problems]
+                       + fit_warnings(read, rows, lin, interval, theta, theta0, lo, hi))
     fitted_vehicle = result.vehicle()
     result.warnings += _self_verdict(read, fitted_vehicle, substeps)
     for h in heldout or []:
