@@ -104,6 +104,14 @@ def _rows(r: neurov.Result) -> tuple[np.ndarray, ...]:
     return r.t, r.eta_estimate, r.nu_estimate, r.tau_applied + r.disturbance
 
 
+@pytest.mark.parametrize("name", ["junk.tlog", "junk.BIN"])
+def test_a_file_that_is_not_a_log_is_refused_in_one_line(name: str, tmp_path: Path, capsys) -> None:
+    (tmp_path / name).write_bytes(np.random.default_rng(0).bytes(5000))
+    assert main(["identify", str(tmp_path / name), "--vehicle", "bluerov2_heavy", "--report"]) == 1
+    printed = capsys.readouterr()
+    assert printed.out == "" and len(printed.err.splitlines()) == 1 and name in printed.err
+
+
 def test_dead_rates_are_named_and_their_parameters_left_at_the_template() -> None:
     t, eta, nu, tau = _rows(excitation_run("nerov", 30.0))
     nu = nu.copy()

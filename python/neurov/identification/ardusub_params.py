@@ -12,6 +12,9 @@ ArduPilot parameter list)."""
 
 from __future__ import annotations
 
+import io
+from collections.abc import Iterator
+from contextlib import contextmanager, redirect_stderr, redirect_stdout
 from pathlib import Path
 from typing import Any
 
@@ -20,7 +23,7 @@ from numpy.typing import NDArray
 
 from neurov.identification.errors import LogError
 
-__all__ = ["FRAMES", "frame_thrusters", "motor_directions", "read_log_parameters"]
+__all__ = ["FRAMES", "frame_thrusters", "motor_directions", "quiet", "read_log_parameters"]
 
 # FRAME_CONFIG -> (name, number of thrusters): ArduSub's frame list.
 FRAMES: dict[int, tuple[str, int]] = {
@@ -44,22 +47,32 @@ def read_log_parameters(path: str | Path) -> dict[str, float]:
     dataflash = path.suffix.lower() == ".bin"
     kind, name_field, value_field = ("PARM", "Name", "Value") if dataflash else (
         "PARAM_VALUE", "param_id", "param_value")
-    try:
-        conn = mavutil.mavlink_connection(str(path), dialect="ardupilotmega")
-    except Exception as e:  # pymavlink's own errors for a file it cannot open
-        raise LogError(f"{path}: not a readable {'DataFlash' if dataflash else 'telemetry'} log: {e}") from None
     out: dict[str, float] = {}
     try:
-        while True:
-            m = conn.recv_match(type=kind)
-            if m is None:
-                break
-            name = getattr(m, name_field)
-            name = name.decode(errors="replace") if isinstance(name, bytes) else str(name)
-            out[name.rstrip("\x00")] = float(getattr(m, value_field))
-    finally:
-        conn.close()
+        with quiet():
+            conn = mavutil.mavlink_connection(str(path), dialect="ardupilotmega")
+            try:
+                while True:
+                    m = conn.recv_match(type=kind)
+                    if m is None:
+                        break
+                    name = getattr(m, name_field)
+                    name = name.decode(errors="replace") if isinstance(name, bytes) else str(name)
+                    out[name.rstrip("\x00")] = float(getattr(m, value_field))
+            finally:
+                conn.close()
+    except Exception as e:  # pymavlink's own errors for a file it cannot read
+        raise LogError(f"{path}: not a readable {'DataFlash' if dataflash else 'telemetry'} log: "
+                       f"{type(e).__name__}: {e}") from None
     return out
+
+
+@contextmanager
+def quiet() -> Iterator[None]:
+    """pymavlink's readers print their diagnostics (a DataFlash log's "bad
+    header" per byte of garbage, on stderr): kept off neurov's output."""
+    with redirect_stdout(io.StringIO()), redirect_stderr(io.StringIO()):
+        yield
 
 
 def frame_thrusters(params: dict[str, float]) -> tuple[str, int] | None:

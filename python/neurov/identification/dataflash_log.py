@@ -29,6 +29,7 @@ from numpy.typing import NDArray
 
 from neurov import _core
 from neurov.identification.alignment import hold
+from neurov.identification.ardusub_params import quiet
 from neurov.identification.errors import LogError
 from neurov.identification.log import Log, make_log
 from neurov.identification.mapping import Mapping
@@ -45,17 +46,18 @@ def _messages(path: Path) -> dict[str, list[Any]]:
 
     rows: dict[str, list[Any]] = {name: [] for name in _WANTED}
     try:
-        conn = mavutil.mavlink_connection(str(path))
+        with quiet():
+            conn = mavutil.mavlink_connection(str(path))
+            try:
+                while True:
+                    m = conn.recv_match(type=list(_WANTED))
+                    if m is None:
+                        break
+                    rows[m.get_type()].append(m)
+            finally:
+                conn.close()
     except Exception as e:  # DFReader's own errors for a file that is not DataFlash
-        raise LogError(f"{path}: not a readable DataFlash log: {e}") from None
-    try:
-        while True:
-            m = conn.recv_match(type=list(_WANTED))
-            if m is None:
-                break
-            rows[m.get_type()].append(m)
-    finally:
-        conn.close()
+        raise LogError(f"{path}: not a readable DataFlash log: {type(e).__name__}: {e}") from None
     return rows
 
 

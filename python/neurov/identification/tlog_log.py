@@ -27,7 +27,7 @@ from numpy.typing import NDArray
 
 from neurov import _core
 from neurov.identification.alignment import hold
-from neurov.identification.ardusub_params import parameter_notes, read_log_parameters, undo_directions
+from neurov.identification.ardusub_params import parameter_notes, quiet, read_log_parameters, undo_directions
 from neurov.identification.errors import LogError
 from neurov.identification.log import Log, make_log
 from neurov.identification.mapping import Mapping
@@ -111,15 +111,19 @@ def read_tlog(path: str | Path, mapping: Mapping | None, thrusters: dict[str, An
     channels = servo_channels(mapping, thrusters["matrix"].shape[1])
     rows: dict[str, list[Any]] = {"ATTITUDE": [], "LOCAL_POSITION_NED": [], "SERVO_OUTPUT_RAW": [],
                                   "HEARTBEAT": []}
-    conn = mavutil.mavlink_connection(str(path), dialect="ardupilotmega")
     try:
-        while True:
-            m = conn.recv_match(type=list(rows), blocking=False)
-            if m is None:
-                break
-            rows[m.get_type()].append(m)
-    finally:
-        conn.close()
+        with quiet():
+            conn = mavutil.mavlink_connection(str(path), dialect="ardupilotmega")
+            try:
+                while True:
+                    m = conn.recv_match(type=list(rows), blocking=False)
+                    if m is None:
+                        break
+                    rows[m.get_type()].append(m)
+            finally:
+                conn.close()
+    except Exception as e:  # pymavlink's own errors on a file that is not a telemetry log
+        raise LogError(f"{path}: not a readable telemetry log: {type(e).__name__}: {e}") from None
     beats = [m for m in rows.pop("HEARTBEAT") if m.autopilot != _AUTOPILOT_INVALID]
     if beats and not any(m.base_mode & _ARMED for m in beats):
         raise LogError(f"{path}: the vehicle was never armed in this log (HEARTBEAT): its thrusters never "
