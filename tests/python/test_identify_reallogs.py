@@ -215,10 +215,16 @@ def test_a_template_of_the_wrong_structure_is_warned(tmp_path: Path) -> None:
     text = re.sub(r"(?m)^(linear|quadratic)_damping\s*=.*$", r"\1_damping = [0, 0, 0, 0, 0, 0]",
                   preset_path("nerov").read_text())
     (tmp_path / "nodamp.toml").write_text(text)
-    fit = neurov.identify(log_from_result(r), tmp_path / "nodamp.toml", free="mass", replicates=20)
+    held = log_from_result(excitation_run("nerov", 60.0, heldout=True))
+    fit = neurov.identify(log_from_result(r), tmp_path / "nodamp.toml", free="mass", replicates=20,
+                          heldout=[held])
     assert fit.theta[0] > 300  # the true mass is 185: the missing damping ends up in it
     assert any(w.startswith("fit of the free run on the fitted log") and "structure" in w
                for w in fit.warnings)
+    assert any(w.startswith("held-out fit (free run) on") and "below 50 %" in w for w in fit.warnings)
+    # The right structure passes both verdicts.
+    good = neurov.identify(log_from_result(r), preset_path("nerov"), replicates=20, heldout=[held])
+    assert not any("free run" in w for w in good.warnings), good.warnings
 
 
 def test_an_overflowing_output_error_step_is_rejected_and_counted(monkeypatch) -> None:

@@ -9,12 +9,17 @@ __all__ = ["add_parser", "run"]
 
 DESCRIPTION = (
     "Fits a vehicle file to logs of the vehicle moving under known forces: neurov runs' result.npz "
-    "or result.csv, or other logs (CSV, ROS 1/2 bags, ArduSub .tlog or DataFlash .bin) described by a --mapping file. "
+    "or result.csv, ArduSub .tlog or DataFlash .bin (no mapping needed: their standard messages and the "
+    "vehicle's own parameters), or other logs (CSV, ROS 1/2 bags) described by a --mapping file. "
+    "First a log report: each signal's rate, gaps, range and whether it moves, each DOF's share of "
+    "thrust and motion, whether the log can tell each free parameter, and an excitation plan where "
+    "it cannot (--report: only that). "
     "The free parameters (default: added mass, linear and quadratic damping of every DOF) are "
     "fitted by equation error on the regressor, then by output error over short segments; the "
     "rest is the template's. Prints each parameter's estimate and 95 % interval (a block "
     "bootstrap), the excitation's condition number, warnings, and with --heldout the fit "
-    "(NRMSE %%) of the fitted vehicle's free run on logs it was not fitted to. See "
+    "(NRMSE %) of the fitted vehicle's free run on logs it was not fitted to. A fit with warnings is "
+    "written and exits 0; a non-zero exit means nothing was fitted, and says why. See "
     "docs/identification.md.")
 
 
