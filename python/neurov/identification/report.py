@@ -9,6 +9,7 @@ import numpy as np
 
 from neurov import _core
 from neurov.identification.log_report import report_lines
+from neurov.identification.parameters import UNITS
 
 if TYPE_CHECKING:
     from neurov.identification.fit import Identification
@@ -19,13 +20,13 @@ _BODY = ("u", "v", "w", "p", "q", "r")
 
 
 def _table(r: Identification) -> list[str]:
-    lines = [f"{'parameter':<16}{'template':>12}{'estimate':>14}{'95 % interval':>30}"]
+    lines = [f"{'parameter':<16}{'template':>12}{'estimate':>14}{'95 % interval':>30}  unit"]
     for i in sorted(set(r.fitted) | set(r.reasons)):
         name = _core.THETA_NAMES[i]
         if i in r.fitted:
             lo, hi = r.interval[i]
             lines.append(f"{name:<16}{r.theta_template[i]:>12.6g}{r.theta[i]:>14.6g}"
-                         f"{f'[{lo:.6g}, {hi:.6g}]':>30}")
+                         f"{f'[{lo:.6g}, {hi:.6g}]':>30}  {UNITS[i]}")
         else:
             lines.append(f"{name:<16}{r.theta_template[i]:>12.6g}{'(template)':>14}  {r.reasons[i]}")
     return lines
