@@ -83,9 +83,10 @@ def run(args: argparse.Namespace) -> int:
     from neurov.config.vehicle_file import preset_names, preset_path
 
     vehicle = args.vehicle
-    preset = None
+    preset: str | None = None
     if not Path(vehicle).exists() and vehicle in preset_names():
-        vehicle, preset = preset_path(vehicle), vehicle
+        preset = str(vehicle)
+        vehicle = preset_path(preset)
     if args.substeps < 1:
         raise ValueError(f"--substeps: expected an integer >= 1, got {args.substeps}")
     if args.block <= 0:

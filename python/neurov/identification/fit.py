@@ -19,7 +19,7 @@ from neurov.identification.estimator_model import staircase
 from neurov.identification.lag import profile_lag
 from neurov.identification.log import Log, advance_linear_velocity
 from neurov.identification.output_error import bounds, fit_output_error
-from neurov.identification.parameters import GROUPS, free_indices, template_theta, vehicle_parameters
+from neurov.identification.parameters import free_indices, template_theta, vehicle_parameters
 from neurov.identification.readers import read_log
 from neurov.config.vehicle_file import VehicleFile, read_vehicle_file
 from neurov.files import read_toml
@@ -32,7 +32,7 @@ from neurov.identification.vehicle_writer import write_vehicle_file
 __all__ = ["Identification", "NothingToFit", "identify", "report_only", "MIN_BLOCKS", "WIDE"]
 
 Array = NDArray[np.float64]
-_BODY = ("u", "v", "w", "p", "q", "r")
+
 
 class NothingToFit(IdentificationError):
     """The logs cannot tell any free parameter: nothing fitted; `log_report` says why."""

@@ -34,7 +34,7 @@ def report_and_plan(report: LogReport | None, vehicle: str | Path, preset: str |
         text += "\n" + "\n".join(lines) + "\n"
     if scenario is not None and base is None:
         text += "Give --out FITTED.toml to have the plan written as a neurov scenario to rehearse.\n"
-    elif scenario is not None:
+    elif scenario is not None and base is not None:
         path = base.with_name(base.stem + "_excitation.toml")
         path.write_text(scenario)
         written.append(path)

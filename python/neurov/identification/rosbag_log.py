@@ -52,7 +52,7 @@ from neurov.identification.tlog_log import pwm_force
 __all__ = ["read_rosbag", "euler_from_quaternion", "stamp_ns", "topic_messages"]
 
 Array = NDArray[np.float64]
-_TOPICS = {"odometry": "nav_msgs/msg/Odometry", "wrench": "geometry_msgs/msg/WrenchStamped",
+_TOPICS: dict[str, str | tuple[str, ...]] = {"odometry": "nav_msgs/msg/Odometry", "wrench": "geometry_msgs/msg/WrenchStamped",
            "imu": "sensor_msgs/msg/Imu", "pressure": "sensor_msgs/msg/FluidPressure",
            "thrusters": ARRAY_TYPES}
 G = 9.80665  # m/s^2, standard gravity (as pressure sensors' depth uses)
