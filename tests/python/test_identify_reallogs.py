@@ -24,7 +24,7 @@ from neurov.identification import read_log
 from neurov.identification.ardusub_params import read_log_parameters
 from neurov.identification.guards import fit_warnings, inseparable
 from neurov.identification.log import make_log
-from neurov.identification.log_report import analyse_logs, report_lines
+from neurov.identification.survey import analyse_logs, report_lines
 from neurov.identification.neurov_log import log_from_result
 from neurov.identification.parameters import free_indices
 

@@ -79,7 +79,7 @@ def run(args: argparse.Namespace) -> int:
 
     from neurov.identification.fit import NothingToFit, identify, report_only
     from neurov.identification.report import report_text
-    from neurov.identification.report_files import report_and_plan
+    from neurov.identification.printout import report_and_plan
     from neurov.config.vehicle_file import preset_names, preset_path
 
     vehicle = args.vehicle

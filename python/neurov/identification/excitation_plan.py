@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from neurov.identification.log_report import DOFS, dof_of
+from neurov.identification.survey import DOFS, dof_of
 
 __all__ = ["capacity", "plan", "plan_scenario", "pilot_steps"]
 

@@ -26,7 +26,7 @@ from neurov.files import read_toml
 from neurov.identification.report import header_lines
 from neurov.identification.guards import MIN_BLOCKS, WIDE, fit_warnings, inseparable, verdict_warnings
 from neurov.identification.heldout import free_run, nrmse_fit
-from neurov.identification.log_report import LogReport, analyse_logs
+from neurov.identification.survey import LogReport, analyse_logs
 from neurov.identification.vehicle_writer import write_vehicle_file
 
 __all__ = ["Identification", "NothingToFit", "identify", "report_only", "MIN_BLOCKS", "WIDE"]

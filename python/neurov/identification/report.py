@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from neurov import _core
-from neurov.identification.log_report import report_lines
+from neurov.identification.survey import report_lines
 from neurov.identification.parameters import UNITS
 
 if TYPE_CHECKING:

@@ -9,7 +9,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from neurov.identification.excitation_plan import plan
-from neurov.identification.log_report import LogReport, report_lines
+from neurov.identification.survey import LogReport, report_lines
 
 __all__ = ["report_and_plan"]
 
