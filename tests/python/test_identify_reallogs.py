@@ -283,3 +283,32 @@ def test_a_parameter_moved_from_a_template_zero_is_drawn_as_its_value(tmp_path: 
     assert 11 in absolute and 11 not in rel  # Y_v: 0 in the template
     assert all(fit.theta_template[i] != 0 for i in rel)
     assert plot_identification(fit, tmp_path / "f.png").read_bytes()[:4] == b"\x89PNG"
+
+
+def test_a_dataflash_log_s_disarmed_rows_are_cut(tmp_path: Path) -> None:
+    import struct
+
+    from test_identify_readers import _ardusub_run, _dataflash_fmt, _write_dataflash
+
+    r, thrusters, pwm = _ardusub_run()
+    _write_dataflash(tmp_path / "dive.bin", r, pwm)
+    whole = read_log(tmp_path / "dive.bin", None, thrusters)
+
+    def with_arm(name: str, events: list[tuple[float, int]]) -> Path:
+        data = (tmp_path / "dive.bin").read_bytes() + _dataflash_fmt(140, "ARM", "QbIbB",
+                                                                      "TimeUS,ArmState,ArmChecks,Forced,Method")
+        for t, state in events:
+            data += b"\xa3\x95\x8c" + struct.pack("<QbIbB", int(t * 1e6), state, 0, 0, 0)
+        (tmp_path / name).write_bytes(data)
+        return tmp_path / name
+
+    # Disarmed at 20 s (armed before it, the state it changed from): the last 10 s cut, and said.
+    log = read_log(with_arm("disarm.bin", [(20.0, 0)]), None, thrusters)
+    assert log.t[-1] < 20.0 and len(log.t) < len(whole.t)
+    assert any("armed on 66.6 % of the log (400 of 601 rows" in n for n in log.notes)
+    np.testing.assert_array_equal(log.tau, whole.tau[:len(log.t)])
+    # Armed only from 25 s: a problem, said first in the report.
+    late = read_log(with_arm("late.bin", [(0.0, 0), (25.0, 1)]), None, thrusters)
+    assert late.problems and "armed on only 16.8 % of the log (101 of 601 rows" in late.problems[0]
+    with pytest.raises(neurov.identification.LogError, match=r"never\.bin \(ARM\): the vehicle was never armed"):
+        read_log(with_arm("never.bin", [(0.0, 0)]), None, thrusters)

@@ -11,7 +11,8 @@ into the body frame; RCOU's ``C1``..``C14`` are the servo outputs' PWM, which
 go through the template's thruster curves and configuration matrix as a
 tlog's SERVO_OUTPUT_RAW does (:mod:`neurov.identification.tlog_log`). Each
 signal is held onto the time base and cut where older than ``max_age``. The
-log's PARM messages give MOT_n_DIRECTION and FRAME_CONFIG as in a tlog. No
+log's PARM messages give MOT_n_DIRECTION and FRAME_CONFIG as in a tlog; its
+ARM messages (each change of ``ArmState``) cut the disarmed rows. No
 mapping file is needed; one only overrides::
 
     format = "dataflash"
@@ -33,12 +34,13 @@ from neurov.identification.ardusub_params import quiet
 from neurov.identification.errors import LogError
 from neurov.identification.log import Log, make_log
 from neurov.identification.mapping import Mapping
-from neurov.identification.tlog_log import ardusub_force, check_thrusters, rate_note, servo_channels
+from neurov.identification.tlog_log import (ardusub_force, check_thrusters, cut_disarmed, rate_note,
+                                           servo_channels)
 
 __all__ = ["read_dataflash"]
 
 Array = NDArray[np.float64]
-_WANTED = ("ATT", "IMU", "XKF1", "NKF1", "RCOU")
+_WANTED = ("ATT", "IMU", "XKF1", "NKF1", "RCOU", "ARM")
 
 
 def _messages(path: Path) -> dict[str, list[Any]]:
@@ -107,5 +109,17 @@ def read_dataflash(path: str | Path, mapping: Mapping | None, thrusters: dict[st
     notes.append("signals: " + ", ".join([rate_note("ATT", t), rate_note("IMU", np.array([m.TimeUS for m in imu]) * 1e-6),
                                           rate_note(ekf, np.array([m.TimeUS for m in kf]) * 1e-6),
                                           rate_note("RCOU", rc_t)]))
+    problems: list[str] = []
+    if rows["ARM"]:
+        cut_disarmed(_armed(rows["ARM"], t_us), t, tau, notes, problems, f"{path} (ARM)")
     log = make_log(str(path), t, eta, nu, tau)
-    return replace(log, notes=(*notes, *log.notes))
+    return replace(log, notes=(*notes, *log.notes), problems=tuple(problems))
+
+
+def _armed(arms: list[Any], t_us: Array) -> NDArray[np.bool_]:
+    """Armed at each row from the ARM messages (``ArmState`` at ``TimeUS``,
+    logged at each change); before the first, the state it changed from."""
+    at = np.array([m.TimeUS for m in arms], dtype=np.float64)
+    state = np.array([bool(m.ArmState) for m in arms])
+    k = np.searchsorted(at, t_us, side="right") - 1
+    return np.where(k >= 0, state[np.clip(k, 0, None)], not state[0])

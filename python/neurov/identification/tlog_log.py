@@ -32,7 +32,7 @@ from neurov.identification.errors import LogError
 from neurov.identification.log import Log, make_log
 from neurov.identification.mapping import Mapping
 
-__all__ = ["ardusub_force", "armed_rows", "pwm_force", "rate_note", "read_tlog", "servo_channels"]
+__all__ = ["ardusub_force", "armed_rows", "cut_disarmed", "pwm_force", "rate_note", "read_tlog", "servo_channels"]
 
 Array = NDArray[np.float64]
 
@@ -102,6 +102,24 @@ def armed_rows(beats: list[Any], stamps: Array) -> NDArray[np.bool_]:
     return np.where(k >= 0, flag[np.clip(k, 0, None)], False)
 
 
+def cut_disarmed(armed: NDArray[np.bool_], t: Array, tau: Array, notes: list[str],
+                 problems: list[str], where: str) -> None:
+    """Cuts (NaN force) the rows where the vehicle was disarmed, and says so:
+    a note, or a problem where it was armed on less than half of the log;
+    LogError naming `where` when it was never armed."""
+    if not armed.any():
+        raise LogError(f"{where}: the vehicle was never armed in this log: its thrusters never pushed, so "
+                       "the log holds nothing to identify")
+    tau[~armed] = np.nan
+    text = (f"the vehicle was armed on only {100 * armed.mean():.1f} % of the log ({armed.sum()} of "
+            f"{len(t)} rows, {t[armed][0] - t[0]:.1f} s to {t[armed][-1] - t[0]:.1f} s after the "
+            "first): the disarmed rows are cut (no thrust; the vehicle may be out of the water)")
+    if armed.mean() >= 0.5:
+        notes.append(text.replace("only ", ""))
+    else:
+        problems.append(text)
+
+
 def read_tlog(path: str | Path, mapping: Mapping | None, thrusters: dict[str, Any] | None) -> Log:
     from pymavlink import mavutil
 
@@ -146,15 +164,8 @@ def read_tlog(path: str | Path, mapping: Mapping | None, thrusters: dict[str, An
     tau, notes = ardusub_force(path, t, so_t, pwm, mapping, thrusters, channels, "SERVO_OUTPUT_RAW")
     problems: list[str] = []
     if beats:
-        armed = armed_rows(beats, np.array([m._timestamp for m in att]))
-        tau[~armed] = np.nan
-        armed_note = (f"the vehicle was armed on only {100 * armed.mean():.1f} % of the log ({armed.sum()} of "
-                      f"{len(t)} rows, {t[armed][0] - t[0]:.1f} s to {t[armed][-1] - t[0]:.1f} s after the "
-                      "first): the disarmed rows are cut (no thrust; the vehicle may be out of the water)")
-        if armed.mean() >= 0.5:
-            notes.append(armed_note.replace("only ", ""))
-        else:
-            problems.append(armed_note)
+        cut_disarmed(armed_rows(beats, np.array([m._timestamp for m in att])), t, tau, notes, problems,
+                     f"{path} (HEARTBEAT)")
     nu = np.full((len(t), 6), np.nan)
     nu[:, 3:] = rates
     for k in np.flatnonzero(np.all(np.isfinite(held), axis=1)):
