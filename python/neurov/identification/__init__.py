@@ -14,11 +14,12 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:
     from neurov.identification.fit import Identification
 
-__all__ = ["Identification", "IdentificationError", "Log", "LogError", "identify", "make_log",
-           "read_log", "report_text"]
+__all__ = ["Identification", "IdentificationError", "Log", "LogError", "NothingToFit", "identify",
+           "make_log", "read_log", "read_log_parameters", "report_only", "report_text"]
 
 _WHERE = {"Identification": "fit", "IdentificationError": "errors", "LogError": "errors",
-          "Log": "log", "make_log": "log", "read_log": "readers", "report_text": "report"}
+          "Log": "log", "make_log": "log", "read_log": "readers", "report_text": "report",
+          "NothingToFit": "fit", "report_only": "fit", "read_log_parameters": "ardusub_params"}
 
 
 def __getattr__(name: str) -> Any:

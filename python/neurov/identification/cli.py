@@ -9,12 +9,17 @@ __all__ = ["add_parser", "run"]
 
 DESCRIPTION = (
     "Fits a vehicle file to logs of the vehicle moving under known forces: neurov runs' result.npz "
-    "or result.csv, or other logs (CSV, ROS 1/2 bags, ArduSub .tlog or DataFlash .bin) described by a --mapping file. "
+    "or result.csv, ArduSub .tlog or DataFlash .bin (no mapping needed: their standard messages and the "
+    "vehicle's own parameters), or other logs (CSV, ROS 1/2 bags) described by a --mapping file. "
+    "First a log report: each signal's rate, gaps, range and whether it moves, each DOF's share of "
+    "thrust and motion, whether the log can tell each free parameter, and an excitation plan where "
+    "it cannot (--report: only that). "
     "The free parameters (default: added mass, linear and quadratic damping of every DOF) are "
     "fitted by equation error on the regressor, then by output error over short segments; the "
     "rest is the template's. Prints each parameter's estimate and 95 % interval (a block "
     "bootstrap), the excitation's condition number, warnings, and with --heldout the fit "
-    "(NRMSE %%) of the fitted vehicle's free run on logs it was not fitted to. See "
+    "(NRMSE %) of the fitted vehicle's free run on logs it was not fitted to. A fit with warnings is "
+    "written and exits 0; a non-zero exit means nothing was fitted, and says why. See "
     "docs/identification.md.")
 
 
@@ -48,6 +53,9 @@ def add_parser(sub: Any, epilog: str) -> None:
                         "(an EKF's staircase) and filters the rates in the output error: auto (where "
                         "the logs show one), on, off, or linear (the staircase only, for logged raw "
                         "gyro rates) (default auto)")
+    p.add_argument("--report", action="store_true",
+                   help="print the log report (signals, excitation per DOF, what the log can tell, "
+                        "an excitation plan) and stop before the fit")
     p.add_argument("--water-density", type=float, default=None, metavar="KG_M3",
                    help="the water of the logs, for a template that gives its displaced volume")
 
@@ -66,27 +74,46 @@ def _lag(text: str) -> float | str:
 
 def run(args: argparse.Namespace) -> int:
     # Deferred: this module is imported for `neurov --help`; the fit needs SciPy.
+    import sys
     from pathlib import Path
 
-    from neurov.identification.fit import identify
+    from neurov.identification.fit import NothingToFit, identify, report_only
     from neurov.identification.report import report_text
+    from neurov.identification.printout import report_and_plan
     from neurov.config.vehicle_file import preset_names, preset_path
 
     vehicle = args.vehicle
+    preset: str | None = None
     if not Path(vehicle).exists() and vehicle in preset_names():
-        vehicle = preset_path(vehicle)
+        preset = str(vehicle)
+        vehicle = preset_path(preset)
     if args.substeps < 1:
         raise ValueError(f"--substeps: expected an integer >= 1, got {args.substeps}")
     if args.block <= 0:
         raise ValueError(f"--block: expected seconds > 0, got {args.block}")
-    result = identify(args.logs, vehicle, free=args.free, heldout=args.heldout, out=args.out,
-                      mapping=args.mapping, output_error=not args.equation_error_only,
-                      substeps=args.substeps, block_s=args.block, water_density=args.water_density,
-                      velocity_lag=args.velocity_lag,
-                      estimator=_ESTIMATOR[args.estimator])
-    print(report_text(result), end="")
-    if result.out is not None:
-        print(f"wrote {result.out}")
+    if args.report:
+        text, written = report_and_plan(report_only(args.logs, vehicle, free=args.free, mapping=args.mapping),
+                                        vehicle, preset, args.out)
+        print(text + "".join(f"wrote {p}\n" for p in written), end="")
+        return 0
+    try:
+        result = identify(args.logs, vehicle, free=args.free, heldout=args.heldout, out=args.out,
+                          mapping=args.mapping, output_error=not args.equation_error_only,
+                          substeps=args.substeps, block_s=args.block, water_density=args.water_density,
+                          velocity_lag=args.velocity_lag,
+                          estimator=_ESTIMATOR[args.estimator])
+    except NothingToFit as e:
+        text, written = report_and_plan(e.log_report, vehicle, preset, args.out)
+        print(text + "".join(f"wrote {p}\n" for p in written), end="")
+        print(f"neurov: error: {e}; no vehicle file written", file=sys.stderr)
+        return 1
+    text, written = report_and_plan(result.log_report, vehicle, preset, args.out, report_text(result))
+    print(text, end="")
+    if result.warnings:
+        print(f"neurov: {len(result.warnings)} warning(s) above; the fit is written with them in its header",
+              file=sys.stderr)
+    for p in [result.out, *written] if result.out is not None else written:
+        print(f"wrote {p}")
     if args.plot is not None:
         from neurov.identification.plots import plot_identification
 

@@ -11,7 +11,9 @@ into the body frame; RCOU's ``C1``..``C14`` are the servo outputs' PWM, which
 go through the template's thruster curves and configuration matrix as a
 tlog's SERVO_OUTPUT_RAW does (:mod:`neurov.identification.tlog_log`). Each
 signal is held onto the time base and cut where older than ``max_age``. The
-mapping file::
+log's PARM messages give MOT_n_DIRECTION and FRAME_CONFIG as in a tlog; its
+ARM messages (each change of ``ArmState``) cut the disarmed rows. No
+mapping file is needed; one only overrides::
 
     format = "dataflash"
     servo_channels = [1, 2, 3, 4, 5, 6, 7, 8]   # the RCOU channel of each thruster (default 1..n)
@@ -19,6 +21,7 @@ mapping file::
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -27,15 +30,17 @@ from numpy.typing import NDArray
 
 from neurov import _core
 from neurov.identification.alignment import hold
+from neurov.identification.ardusub_params import quiet
 from neurov.identification.errors import LogError
 from neurov.identification.log import Log, make_log
 from neurov.identification.mapping import Mapping
-from neurov.identification.tlog_log import check_thrusters, pwm_force, servo_channels
+from neurov.identification.tlog_log import (ardusub_force, check_thrusters, cut_disarmed, rate_note,
+                                           servo_channels)
 
 __all__ = ["read_dataflash"]
 
 Array = NDArray[np.float64]
-_WANTED = ("ATT", "IMU", "XKF1", "NKF1", "RCOU")
+_WANTED = ("ATT", "IMU", "XKF1", "NKF1", "RCOU", "ARM")
 
 
 def _messages(path: Path) -> dict[str, list[Any]]:
@@ -43,17 +48,18 @@ def _messages(path: Path) -> dict[str, list[Any]]:
 
     rows: dict[str, list[Any]] = {name: [] for name in _WANTED}
     try:
-        conn = mavutil.mavlink_connection(str(path))
+        with quiet():
+            conn = mavutil.mavlink_connection(str(path))
+            try:
+                while True:
+                    m = conn.recv_match(type=list(_WANTED))
+                    if m is None:
+                        break
+                    rows[m.get_type()].append(m)
+            finally:
+                conn.close()
     except Exception as e:  # DFReader's own errors for a file that is not DataFlash
-        raise LogError(f"{path}: not a readable DataFlash log: {e}") from None
-    try:
-        while True:
-            m = conn.recv_match(type=list(_WANTED))
-            if m is None:
-                break
-            rows[m.get_type()].append(m)
-    finally:
-        conn.close()
+        raise LogError(f"{path}: not a readable DataFlash log: {type(e).__name__}: {e}") from None
     return rows
 
 
@@ -62,9 +68,10 @@ def _first_instance(found: list[Any], field: str) -> list[Any]:
     return [m for m in found if int(getattr(m, field, 0)) == 0]
 
 
-def read_dataflash(path: str | Path, mapping: Mapping, thrusters: dict[str, Any] | None) -> Log:
+def read_dataflash(path: str | Path, mapping: Mapping | None, thrusters: dict[str, Any] | None) -> Log:
     path = Path(path)
     thrusters = check_thrusters(path, thrusters)
+    mapping = mapping or Mapping({"format": "dataflash"}, f"{path} (no mapping: ArduSub's messages)")
     channels = servo_channels(mapping, thrusters["matrix"].shape[1])
     rows = _messages(path)
     ekf = "XKF1" if rows["XKF1"] else "NKF1"
@@ -92,11 +99,27 @@ def read_dataflash(path: str | Path, mapping: Mapping, thrusters: dict[str, Any]
     except AttributeError as e:
         raise LogError(f"{path}: RCOU has no field for a servo channel of {mapping.where}'s "
                        f"servo_channels ({e})") from None
-    pwm_held = hold(t, np.array([m.TimeUS for m in rc], dtype=np.float64) * 1e-6, pwm,
-                    mapping.max_age, f"{path}: RCOU")
+    rc_t = np.array([m.TimeUS for m in rc], dtype=np.float64) * 1e-6
+    tau, notes = ardusub_force(path, t, rc_t, pwm, mapping, thrusters, channels, "RCOU")
     nu = np.full((len(t), 6), np.nan)
     nu[:, 3:] = gyro
     for k in np.flatnonzero(np.all(np.isfinite(state), axis=1)):
         nu[k, :3] = _core.rotation(*angles[k]).T @ state[k, 3:]
     eta = np.hstack([state[:, :3], angles])
-    return make_log(str(path), t, eta, nu, pwm_force(pwm_held, thrusters))
+    notes.append("signals: " + ", ".join([rate_note("ATT", t), rate_note("IMU", np.array([m.TimeUS for m in imu]) * 1e-6),
+                                          rate_note(ekf, np.array([m.TimeUS for m in kf]) * 1e-6),
+                                          rate_note("RCOU", rc_t)]))
+    problems: list[str] = []
+    if rows["ARM"]:
+        cut_disarmed(_armed(rows["ARM"], t_us), t, tau, notes, problems, f"{path} (ARM)")
+    log = make_log(str(path), t, eta, nu, tau)
+    return replace(log, notes=(*notes, *log.notes), problems=tuple(problems))
+
+
+def _armed(arms: list[Any], t_us: Array) -> NDArray[np.bool_]:
+    """Armed at each row from the ARM messages (``ArmState`` at ``TimeUS``,
+    logged at each change); before the first, the state it changed from."""
+    at = np.array([m.TimeUS for m in arms], dtype=np.float64)
+    state = np.array([bool(m.ArmState) for m in arms])
+    k = np.searchsorted(at, t_us, side="right") - 1
+    return np.where(k >= 0, state[np.clip(k, 0, None)], not state[0])

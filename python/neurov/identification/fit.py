@@ -19,22 +19,27 @@ from neurov.identification.estimator_model import staircase
 from neurov.identification.lag import profile_lag
 from neurov.identification.log import Log, advance_linear_velocity
 from neurov.identification.output_error import bounds, fit_output_error
-from neurov.identification.parameters import GROUPS, free_indices, template_theta, vehicle_parameters
+from neurov.identification.parameters import free_indices, template_theta, vehicle_parameters
 from neurov.identification.readers import read_log
 from neurov.config.vehicle_file import VehicleFile, read_vehicle_file
 from neurov.files import read_toml
 from neurov.identification.report import header_lines
+from neurov.identification.guards import MIN_BLOCKS, WIDE, fit_warnings, inseparable, verdict_warnings
+from neurov.identification.heldout import free_run, nrmse_fit
+from neurov.identification.survey import LogReport, analyse_logs
 from neurov.identification.vehicle_writer import write_vehicle_file
 
-__all__ = ["Identification", "identify"]
+__all__ = ["Identification", "NothingToFit", "identify", "report_only", "MIN_BLOCKS", "WIDE"]
 
 Array = NDArray[np.float64]
-_BODY = ("u", "v", "w", "p", "q", "r")
 
-# Fewer blocks than this give a rough bootstrap.
-MIN_BLOCKS = 10
-# A 95 % interval wider than this fraction of the estimate either side: too quiet.
-WIDE = 0.5
+
+class NothingToFit(IdentificationError):
+    """The logs cannot tell any free parameter: nothing fitted; `log_report` says why."""
+
+    def __init__(self, message: str, log_report: LogReport) -> None:
+        super().__init__(message)
+        self.log_report = log_report
 
 
 @dataclass
@@ -56,6 +61,7 @@ class Identification:
     heldout: list[HeldOut] = field(default_factory=list)
     warnings: list[str] = field(default_factory=list)
     out: Path | None = None
+    log_report: LogReport | None = None
 
     def parameters(self) -> dict[str, Any]:
         """The fitted vehicle's :class:`neurov.Vehicle` keyword arguments."""
@@ -69,37 +75,6 @@ class Identification:
 
     def vehicle(self) -> Any:
         return _core.Vehicle(**vehicle_parameters(self.template.parameters, self.theta))
-
-
-def _warnings(logs: list[Log], rows: Any, fit: Any, interval: Array,
-              theta: Array) -> list[str]:
-    out = []
-    for log in logs:
-        out += [f"{log.source}: {n}" for n in log.notes]
-    if fit.blocks.count < MIN_BLOCKS:
-        out.append(f"too short: {fit.blocks.count} blocks of data (fewer than {MIN_BLOCKS}); the "
-                   "95 % intervals from so few are rough: record longer")
-    y = rows.y
-    for d in range(6):
-        lin, quad = 10 + d, 16 + d
-        if lin in fit.fitted and quad in fit.fitted:
-            a, b = y[:, d, lin], y[:, d, quad]
-            if np.std(a) > 0 and np.std(b) > 0 and abs(np.corrcoef(a, b)[0, 1]) > 0.99:
-                out.append(f"too slow in {_BODY[d]}: the speed stays in too narrow a range to tell "
-                           f"linear from quadratic damping apart (correlation "
-                           f"{np.corrcoef(a, b)[0, 1]:.3f}); excite it with larger amplitudes")
-    for i in fit.fitted:
-        lo, hi = interval[i]
-        half = 0.5 * (hi - lo)
-        scale = max(abs(theta[i]), max(abs(theta[j]) for j in _group(i)) * 1e-2)
-        if half > WIDE * scale:
-            out.append(f"too quiet for {_core.THETA_NAMES[i]}: its 95 % interval [{lo:.4g}, {hi:.4g}] "
-                       f"is wide for the estimate {theta[i]:.4g}; excite its DOF harder or longer")
-    return out
-
-
-def _group(i: int) -> tuple[int, ...]:
-    return next(g for g in GROUPS.values() if i in g)
 
 
 def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Path, *,
@@ -136,7 +111,15 @@ def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Pat
     if water_density is not None:
         template = template.in_water(water_density)
     theta0 = template_theta(template.vehicle(), str(vehicle))
-    free_idx = free_indices(free)
+    asked = free_indices(free)
+    log_report = analyse_logs(read, asked)
+    untold = log_report.untold()
+    free_idx = [i for i in asked if i not in untold]
+    if not free_idx:
+        raise NothingToFit("none of the free parameters can be identified from the logs: "
+                           + "; ".join(f"{_core.THETA_NAMES[i]}: not excited" for i in untold)
+                           + " (the log report says why); nothing fitted: fly the excitation plan and "
+                           "identify again", log_report)
     model_rates = estimator != "linear"
     if estimator == "auto":
         model_estimator = output_error and any(staircase(log) for log in read)
@@ -175,35 +158,73 @@ def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Pat
         samples = blocks.bootstrap(replicates, seed)
     except np.linalg.LinAlgError:
         raise IdentificationError("the logs are too short for a bootstrap: resampled blocks leave a "
-                                  "free parameter unexcited") from None
+                                  "free parameter unexcited; "
+                                  + inseparable(blocks.gram.sum(axis=0)[:len(lin.fitted), :len(lin.fitted)],
+                                                lin.fitted)) from None
+    if st.fallback:
+        output_error = False
+        stages_done = "equation error (the output-error stage failed: " + st.fallback + ")"
     if output_error:
         samples = samples + offset[lin.fitted]
     interval = np.full((24, 2), np.nan)
     q = np.percentile(samples, [2.5, 97.5], axis=0).T
     # Few blocks: the percentiles' distances from the estimate (before the
     # bounds, as the samples are) stretched (blocks.py).
-    centre = (blocks.solve() + (offset[lin.fitted] if output_error else 0.0))[:, None]
+    try:
+        centre = (blocks.solve() + (offset[lin.fitted] if output_error else 0.0))[:, None]
+    except np.linalg.LinAlgError:
+        raise IdentificationError(inseparable(blocks.gram.sum(axis=0)[:len(lin.fitted), :len(lin.fitted)],
+                                              lin.fitted) + ": fix one of each with --free") from None
     q = centre + small_sample_scale(blocks.count) * (q - centre)
     interval[lin.fitted] = np.clip(q, lo[:, None], hi[:, None])
+    reasons = {**lin.reasons, **{i: f"not excited: left at the template's value, {why}" for i, why in untold.items()}}
     result = Identification(template=template, logs=read, theta_template=theta0, theta=theta,
-                            theta_stage1=lin.theta, fitted=lin.fitted, reasons=lin.reasons,
-                            interval=interval, condition=lin.condition, stages=stages_done)
+                            theta_stage1=lin.theta, fitted=lin.fitted, reasons=reasons,
+                            interval=interval, condition=lin.condition, stages=stages_done,
+                            log_report=log_report)
     if st.gain is not None:
         lag_note.append("the logs' linear velocity is held between sensor updates (an estimator's "
                         "staircase): modelled in the output error, update gains (u, v, w) "
                         + ", ".join(f"{g:.3f}" for g in st.gain[:3])
                         + (", (p, q, r) " + ", ".join(f"{g:.3f}" for g in st.gain[3:])
                            if len(st.gain) > 3 else ""))
-    result.warnings = lag_note + _warnings(read, rows, lin, interval, theta)
+    if st.rejected:
+        lag_note.append(f"output error: {st.rejected} trial step(s) overflowed in the simulation and were "
+                        "rejected (the solver went on from the last good point)")
+    if st.fallback:
+        lag_note.append(f"the output-error stage failed ({st.fallback}): the equation-error estimate is "
+                        "written; it is biased on noisy data")
+    reader_problems = {f"{log.source}: {p}" for log in read for p in log.problems}
+    result.warnings = (lag_note + [p for p in log_report.problems if p not in reader_problems]
+                       + fit_warnings(read, rows, lin, interval, theta, theta0, lo, hi))
     fitted_vehicle = result.vehicle()
+    result.warnings += _self_verdict(read, fitted_vehicle, substeps)
     for h in heldout or []:
         hl = h if isinstance(h, Log) else read_log(h, mapping, _thrusters(vehicle))
         result.heldout.append(held_out(hl, fitted_vehicle, template.vehicle(), substeps))
+        moved = np.ptp(hl.nu, axis=0) > 1e-3
+        result.warnings += verdict_warnings(hl.source, result.heldout[-1].fit, moved,
+                                            "held-out fit (free run)")
     if out is not None:
         result.out = write_vehicle_file(out, vehicle, result.parameters(), header_lines(result),
                                         name=f"{_name(vehicle)} (fitted)",
                                         source=f"neurov identify from {', '.join(l.source for l in read)}")
     return result
+
+
+def _self_verdict(logs: list[Log], vehicle: Any, substeps: int) -> list[str]:
+    """The fitted vehicle's free run on the logs it was fitted to, judged."""
+    out = []
+    for log in logs:
+        try:
+            run = free_run(vehicle, log, substeps)
+        except ValueError as e:  # the free run overflowed: the model is far off
+            out.append(f"the fitted vehicle's free run on {log.source} fails ({e}): the template's "
+                       "structure or the log is wrong")
+            continue
+        out += verdict_warnings(log.source, nrmse_fit(log.nu, run), np.ptp(log.nu, axis=0) > 1e-3,
+                                "fit of the free run on the fitted log")
+    return out
 
 
 @dataclass
@@ -215,6 +236,8 @@ class _Stages:
     offset: Array
     rms: float
     gain: Array | None = None
+    rejected: int = 0
+    fallback: str = ""
 
 
 def _fit_stages(logs: list[Log], template: dict[str, Any], theta0: Array, free_idx: list[int],
@@ -229,9 +252,12 @@ def _fit_stages(logs: list[Log], template: dict[str, Any], theta0: Array, free_i
     theta1[lin.fitted] = np.clip(theta1[lin.fitted], lo, hi)
     if not output_error:
         return _Stages(rows, lin, theta1, lin.blocks, np.zeros(24), float("nan"))
-    oe = fit_output_error(logs, template, theta1, lin.fitted, segment_s=segment_s,
-                          substeps=substeps, block_s=block_s, estimator=estimator, rates=rates)
-    return _Stages(rows, lin, oe.theta, oe.blocks, oe.at, oe.rms, oe.gain)
+    try:
+        oe = fit_output_error(logs, template, theta1, lin.fitted, segment_s=segment_s,
+                              substeps=substeps, block_s=block_s, estimator=estimator, rates=rates)
+    except (ValueError, IdentificationError) as e:  # LinAlgError is a ValueError
+        return _Stages(rows, lin, theta1, lin.blocks, np.zeros(24), float("nan"), fallback=str(e))
+    return _Stages(rows, lin, oe.theta, oe.blocks, oe.at, oe.rms, gain=oe.gain, rejected=oe.rejected)
 
 
 def _name(path: str | Path) -> str:
@@ -241,3 +267,13 @@ def _name(path: str | Path) -> str:
 
 def _thrusters(path: str | Path) -> Any:
     return read_vehicle_file(path).thrusters
+
+
+def report_only(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Path, *,
+                free: str | list[str] | None = None, mapping: str | Path | None = None) -> LogReport:
+    """The log report of `logs` for the `free` parameters, without a fit."""
+    items = logs if isinstance(logs, list) else [logs]
+    read = [x if isinstance(x, Log) else read_log(x, mapping, _thrusters(vehicle)) for x in items]
+    if not read:
+        raise IdentificationError("no log given")
+    return analyse_logs(read, free_indices(free))

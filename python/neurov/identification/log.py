@@ -38,6 +38,8 @@ class Log:
     segments: tuple[tuple[int, int], ...]
     cut: int = 0
     notes: tuple[str, ...] = field(default_factory=tuple)
+    #: what the reader found wrong with the log, said first in the log report
+    problems: tuple[str, ...] = field(default_factory=tuple)
 
     @property
     def dt(self) -> float:

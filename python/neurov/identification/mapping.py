@@ -46,7 +46,7 @@ UNITS: dict[str, dict[str, float]] = {
 KINDS = {"eta": ("length",) * 3 + ("angle",) * 3, "nu": ("velocity",) * 3 + ("rate",) * 3,
          "tau": ("force",) * 3 + ("moment",) * 3}
 _TOP = {"format", "body_frame", "world_frame", "time", "signals", "topics", "servo_channels", "max_age",
-        "water_density", "surface_pressure", "thruster_command"}
+        "water_density", "surface_pressure", "thruster_command", "resample", "arrays"}
 
 
 class Mapping:

@@ -42,6 +42,10 @@ MAX_NFEV_ESTIMATOR = 60
 GAIN0 = (0.8,) * 3 + (0.95,) * 3
 
 
+# The residual of a trial point whose simulation overflowed.
+OVERFLOW = 1e6
+
+
 def bounds(fitted: list[int], template: dict[str, Any]) -> tuple[Array, Array]:
     """Physical bounds of the fitted entries of theta."""
     lo = np.full(len(fitted), -np.inf)
@@ -128,6 +132,7 @@ class ShootingFit:
     cost: float
     nfev: int
     rms: float = 0.0  #: RMS of the scaled residual at the solution (comparable across logs)
+    rejected: int = 0  #: trial points whose simulation overflowed (given a large residual: rejected)
     gain: Array | None = None  #: the estimator's fitted update gains (u, v, w, p, q, r), with `estimator`
 
 
@@ -202,12 +207,23 @@ def fit_output_error(logs: list[Log], template: dict[str, Any], theta0: Array, f
     log_no = np.array([logs.index(s.log) for s in segs])
     seg_blocks = block_ids(log_no, seg_t, block_s)
 
+    rejected, calls = [0], [0]
+
     def residual(x: Array) -> Array:
         theta = theta0.copy()
         theta[fitted] = x[:p]
         vehicle = _core.Vehicle(**vehicle_parameters(template, theta))
         starts = x[p + extra:].reshape(-1, 6)
-        pred = simulate_segments(vehicle, segs, starts, substeps, inputs)
+        try:
+            pred = simulate_segments(vehicle, segs, starts, substeps, inputs)
+        except ValueError:
+            # An overflowing trial point: a residual far above any finite
+            # one makes the solver reject the step; counted and said.
+            rejected[0] += 1
+            if calls[0] == 0:  # the start itself: the stage cannot begin
+                raise
+            return np.full(measured.size, OVERFLOW)
+        calls[0] += 1
         if estimator:
             pred[:, LINEAR] = through_updates(pred[:, LINEAR], lengths, fresh_lin, x[p:p + 3],
                                               seg_e0[:, LINEAR], moves_lin)
@@ -248,5 +264,8 @@ def fit_output_error(logs: list[Log], template: dict[str, Any], theta0: Array, f
     at = theta0.copy()
     at[fitted] = sol.x[:p]
     fun = np.asarray(sol.fun)
+    if np.all(fun == OVERFLOW):
+        raise IdentificationError("every simulation from the solver's points overflowed")
     return ShootingFit(theta, at, blocks, float(sol.cost), int(sol.nfev),
-                       float(np.sqrt(np.mean(fun**2))), sol.x[p:p + extra].copy() if extra else None)
+                       float(np.sqrt(np.mean(fun**2))), gain=sol.x[p:p + extra].copy() if extra else None,
+                       rejected=rejected[0])

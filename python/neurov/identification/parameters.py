@@ -17,7 +17,7 @@ from numpy.typing import NDArray
 from neurov import _core
 from neurov.identification.errors import IdentificationError
 
-__all__ = ["DEFAULT_FREE", "GROUPS", "free_indices", "template_theta", "vehicle_parameters"]
+__all__ = ["DEFAULT_FREE", "GROUPS", "UNITS", "free_indices", "template_theta", "vehicle_parameters"]
 
 GROUPS: dict[str, tuple[int, ...]] = {
     "mass": (0,),
@@ -29,6 +29,11 @@ GROUPS: dict[str, tuple[int, ...]] = {
 }
 DEFAULT_FREE = ("added_mass", "linear_damping", "quadratic_damping")
 NAMES: tuple[str, ...] = tuple(_core.THETA_NAMES)
+# The unit of each entry of theta (SI; the rotational DOF per radian).
+_LIN, _ROT = ("kg", "N s/m", "N s^2/m^2"), ("kg m^2", "N m s/rad", "N m s^2/rad^2")
+UNITS: tuple[str, ...] = ("kg", "kg m^2", "kg m^2", "kg m^2",
+                          *(u for group in range(3) for u in (_LIN[group],) * 3 + (_ROT[group],) * 3),
+                          "N", "N m")
 
 
 def free_indices(free: str | list[str] | tuple[str, ...] | None) -> list[int]:

@@ -20,9 +20,15 @@ __all__ = ["read_log"]
 def read_log(path: str | Path, mapping: str | Path | None = None, thrusters: Any = None) -> Log:
     """A log from `path`: with `mapping`, a CSV, a ROS bag, an ArduSub
     telemetry log or DataFlash log as the mapping file says (a tlog's or DataFlash log's PWM goes through
-    `thrusters`, the template's ``[thrusters]`` table); without, a neurov
-    run's result.npz, result.csv or Parquet file."""
+    `thrusters`, the template's ``[thrusters]`` table); without, an ArduSub
+    ``.tlog`` or ``.bin`` by its standard messages, or a neurov run's
+    result.npz, result.csv or Parquet file."""
     if mapping is None:
+        suffix = Path(path).suffix.lower()
+        if suffix == ".tlog":
+            return read_tlog(path, None, thrusters)
+        if suffix == ".bin":
+            return read_dataflash(path, None, thrusters)
         return read_neurov_log(path)
     m = read_mapping(mapping)
     if m.format == "rosbag":

@@ -8,6 +8,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from neurov import _core
+from neurov.identification.survey import report_lines
+from neurov.identification.parameters import UNITS
 
 if TYPE_CHECKING:
     from neurov.identification.fit import Identification
@@ -18,13 +20,13 @@ _BODY = ("u", "v", "w", "p", "q", "r")
 
 
 def _table(r: Identification) -> list[str]:
-    lines = [f"{'parameter':<16}{'template':>12}{'estimate':>14}{'95 % interval':>30}"]
+    lines = [f"{'parameter':<16}{'template':>12}{'estimate':>14}{'95 % interval':>30}  unit"]
     for i in sorted(set(r.fitted) | set(r.reasons)):
         name = _core.THETA_NAMES[i]
         if i in r.fitted:
             lo, hi = r.interval[i]
             lines.append(f"{name:<16}{r.theta_template[i]:>12.6g}{r.theta[i]:>14.6g}"
-                         f"{f'[{lo:.6g}, {hi:.6g}]':>30}")
+                         f"{f'[{lo:.6g}, {hi:.6g}]':>30}  {UNITS[i]}")
         else:
             lines.append(f"{name:<16}{r.theta_template[i]:>12.6g}{'(template)':>14}  {r.reasons[i]}")
     return lines
@@ -49,11 +51,15 @@ def _summary(r: Identification) -> list[str]:
     return lines
 
 
+def _log_part(r: Identification) -> list[str]:
+    return [*report_lines(r.log_report), ""] if r.log_report is not None else []
+
+
 def report_text(r: Identification) -> str:
-    """The report as printed."""
-    return "\n".join([*_summary(r), "", *_table(r)]) + "\n"
+    """The report as printed: the log report first, then the fit."""
+    return "\n".join([*_log_part(r), *_summary(r), "", *_table(r)]) + "\n"
 
 
 def header_lines(r: Identification) -> list[str]:
     """The report as the fitted file's header comment lines."""
-    return [*_summary(r), "", *_table(r)]
+    return [*_summary(r), "", *_table(r), "", *_log_part(r)]

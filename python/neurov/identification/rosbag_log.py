@@ -46,6 +46,7 @@ from neurov.identification.alignment import hold
 from neurov.identification.errors import LogError
 from neurov.identification.log import Log, make_log
 from neurov.identification.mapping import Mapping, to_neurov_frames
+from neurov.identification.ros_arrays import ARRAY_TYPES, array_rows, array_specs
 from neurov.identification.tlog_log import pwm_force
 from neurov.errors import RecordingError
 from neurov.recording.bag_topics import stamp_ns, topic_messages
@@ -53,9 +54,9 @@ from neurov.recording.bag_topics import stamp_ns, topic_messages
 __all__ = ["read_rosbag", "euler_from_quaternion", "stamp_ns", "topic_messages"]
 
 Array = NDArray[np.float64]
-_TOPICS = {"odometry": "nav_msgs/msg/Odometry", "wrench": "geometry_msgs/msg/WrenchStamped",
+_TOPICS: dict[str, str | tuple[str, ...]] = {"odometry": "nav_msgs/msg/Odometry", "wrench": "geometry_msgs/msg/WrenchStamped",
            "imu": "sensor_msgs/msg/Imu", "pressure": "sensor_msgs/msg/FluidPressure",
-           "thrusters": "std_msgs/msg/Float64MultiArray"}
+           "thrusters": ARRAY_TYPES}
 G = 9.80665  # m/s^2, standard gravity (as pressure sensors' depth uses)
 SURFACE_PRESSURE = 101325.0  # Pa, the standard atmosphere
 
@@ -85,8 +86,9 @@ def _topics(mapping: Mapping) -> dict[str, str]:
             raise LogError(f"{where}: topics.{key}: unknown (expected some of {sorted(_TOPICS)})")
         if not isinstance(name, str):
             raise LogError(f"{where}: topics.{key}: expected a topic name, got {name!r}")
-    if "odometry" not in topics:
-        raise LogError(f"{where}: topics.odometry: expected a topic name (the time base and velocity)")
+    if "odometry" not in topics and not mapping.data.get("arrays"):
+        raise LogError(f"{where}: topics.odometry: expected a topic name (the time base and velocity), "
+                       "or [[arrays]] giving the pose and velocity")
     if ("wrench" in topics) == ("thrusters" in topics):
         raise LogError(f"{where}: topics: expected one of 'wrench' and 'thrusters' for the force")
     return topics
@@ -129,6 +131,7 @@ def read_rosbag(path: str | Path, mapping: Mapping, thrusters: dict[str, Any] | 
     density = _positive(mapping, "water_density", None) if "pressure" in topics else 0.0
     p0 = _positive(mapping, "surface_pressure", SURFACE_PRESSURE) if "pressure" in topics else 0.0
     msgs: dict[str, list[Any]] = {}
+    arrays = []
     try:
         with AnyReader([path]) as reader:
             for key, topic in topics.items():
@@ -137,6 +140,10 @@ def read_rosbag(path: str | Path, mapping: Mapping, thrusters: dict[str, Any] | 
                 except RecordingError as e:
                     raise LogError(str(e)) from None
             received = _received(reader, topics["thrusters"]) if "thrusters" in topics else []
+            for topic, cols in array_specs(mapping):
+                found = topic_messages(reader, topic, ARRAY_TYPES, str(path))
+                arrays.append((topic, np.array(_received(reader, topic), dtype=np.int64),
+                               array_rows(found, cols, f"{path}: {topic}")))
     except LogError:
         raise
     except Exception as e:  # rosbags' own errors for a file that is not a bag
@@ -144,22 +151,24 @@ def read_rosbag(path: str | Path, mapping: Mapping, thrusters: dict[str, Any] | 
     for key, found in msgs.items():
         if not found:
             raise LogError(f"{path}: topic {topics[key]!r} has no message")
-    odom = msgs["odometry"]
-    t_ns = np.array([stamp_ns(m) for m in odom], dtype=np.int64)
+    odom = msgs.get("odometry", [])
+    t_ns = np.array([stamp_ns(m) for m in odom], dtype=np.int64) if odom else arrays[0][1]
     t = (t_ns - t_ns[0]) * 1e-9
 
     def held(key: str, values: Array, stamps: Any = None) -> Array:
         ns = np.array([stamp_ns(m) for m in msgs[key]] if stamps is None else stamps, dtype=np.int64)
         return hold(t, (ns - t_ns[0]) * 1e-9, values, mapping.max_age, f"{path}: {topics[key]}")
 
-    pos = np.array([[m.pose.pose.position.x, m.pose.pose.position.y, m.pose.pose.position.z]
-                    for m in odom])
-    quat = np.array([[m.pose.pose.orientation.x, m.pose.pose.orientation.y,
-                      m.pose.pose.orientation.z, m.pose.pose.orientation.w] for m in odom])
-    twist = np.array([[m.twist.twist.linear.x, m.twist.twist.linear.y, m.twist.twist.linear.z,
-                       m.twist.twist.angular.x, m.twist.twist.angular.y, m.twist.twist.angular.z]
-                      for m in odom])
-    angles = euler_from_quaternion(quat)
+    pos, angles, twist = np.full((len(t), 3), np.nan), np.full((len(t), 3), np.nan), np.full((len(t), 6), np.nan)
+    if odom:
+        pos = np.array([[m.pose.pose.position.x, m.pose.pose.position.y, m.pose.pose.position.z]
+                        for m in odom])
+        quat = np.array([[m.pose.pose.orientation.x, m.pose.pose.orientation.y,
+                          m.pose.pose.orientation.z, m.pose.pose.orientation.w] for m in odom])
+        twist = np.array([[m.twist.twist.linear.x, m.twist.twist.linear.y, m.twist.twist.linear.z,
+                           m.twist.twist.angular.x, m.twist.twist.angular.y, m.twist.twist.angular.z]
+                          for m in odom])
+        angles = euler_from_quaternion(quat)
     if "imu" in msgs:
         imu = msgs["imu"]
         q = np.array([[m.orientation.x, m.orientation.y, m.orientation.z, m.orientation.w] for m in imu])
@@ -189,5 +198,14 @@ def read_rosbag(path: str | Path, mapping: Mapping, thrusters: dict[str, Any] | 
         if mapping.body_frame == "flu":
             tau = tau * np.array([1, -1, -1, 1, -1, -1.0])
     eta = np.hstack([pos, angles])
+    for topic, ns, values in arrays:
+        got = hold(t, (ns - t_ns[0]) * 1e-9, values, mapping.max_age, f"{path}: {topic}")
+        for col in np.flatnonzero(np.any(np.isfinite(values), axis=0)):
+            (eta if col < 6 else twist)[:, col % 6] = got[:, col]
+    names = ("x", "y", "z", "roll", "pitch", "yaw", "u", "v", "w", "p", "q", "r")
+    empty = [n for k, n in enumerate(names) if np.all(np.isnan(eta[:, k] if k < 6 else twist[:, k - 6]))]
+    if empty:
+        raise LogError(f"{path}: no topic gives {', '.join(empty)} ({mapping.where}: an odometry topic, "
+                       "or [[arrays]] elements for them)")
     eta, nu, tau = to_neurov_frames(eta, twist, tau, mapping.body_frame, mapping.world_frame)
     return make_log(str(path), t, eta, nu, tau)
