@@ -135,10 +135,7 @@ def read_rosbag(path: str | Path, mapping: Mapping, thrusters: dict[str, Any] | 
     try:
         with AnyReader([path]) as reader:
             for key, topic in topics.items():
-                try:
-                    msgs[key] = topic_messages(reader, topic, _TOPICS[key], str(path))
-                except RecordingError as e:
-                    raise LogError(str(e)) from None
+                msgs[key] = topic_messages(reader, topic, _TOPICS[key], str(path))
             received = _received(reader, topics["thrusters"]) if "thrusters" in topics else []
             for topic, cols in array_specs(mapping):
                 found = topic_messages(reader, topic, ARRAY_TYPES, str(path))
@@ -146,6 +143,8 @@ def read_rosbag(path: str | Path, mapping: Mapping, thrusters: dict[str, Any] | 
                                array_rows(found, cols, f"{path}: {topic}")))
     except LogError:
         raise
+    except RecordingError as e:  # a topic missing or of another type
+        raise LogError(str(e)) from None
     except Exception as e:  # rosbags' own errors for a file that is not a bag
         raise LogError(f"{path}: not a readable bag: {e}") from None
     for key, found in msgs.items():
