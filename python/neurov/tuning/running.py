@@ -14,6 +14,7 @@ from typing import Any
 
 from neurov.progress import progress_bar
 from neurov.study.running import StudyOutcome, run_study
+from neurov.tuning.closing import closing_message
 from neurov.tuning.outputs import best_tables, draw_tuning_figures, write_best_toml, write_trials
 from neurov.tuning.reading import load_tuning, verdict_study
 from neurov.tuning.search import STORAGE_NAME, TuneInterrupted, counted_trials, open_storage, optuna_study, run_trials
@@ -120,7 +121,5 @@ def main_tune(path: str, out_dir: str | None, workers: int | None, scheduler: st
                    progress=not quiet, only=only)
     print(f"{tuning.name}: {len(tuning.search)} controller(s) x {tuning.settings.trials} trials "
           f"({outcome.ran} run now in {outcome.seconds:.1f} s)")
-    print(f"trials: {outcome.trials_path}\ntuned gains: {outcome.best_path}")
-    if outcome.verdict is not None:
-        print(f"verdict on {tuning.settings.test_samples} held-out plants: {outcome.verdict.league}")
+    print(closing_message(outcome, tuning.settings.test_samples))
     return outcome
