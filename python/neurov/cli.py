@@ -108,12 +108,12 @@ def _parser() -> argparse.ArgumentParser:
         help="print a study folder's tables as Markdown (runs nothing)",
         description="Prints a table of a study folder (written by 'neurov study', or a tuning's verdict "
         "folder) as Markdown: medians (controllers by mean rank against the scenarios), overall (mean "
-        "rank, first places, failure rate), verdict (the verdict in words) or league (league.md). It "
+        "rank, first places, failure rate), verdict (the verdict in words), league (league.md) or timing (runs and time, from timing.json). It "
         "refuses a folder whose runs are of another version of the study. The docs' tables are "
         "printed so (docs/studies.md).",
     )
     report.add_argument("folder", metavar="DIR", help="the study folder (study.json and runs.csv[.gz])")
-    report.add_argument("--table", choices=("medians", "overall", "verdict", "league"), default="league",
+    report.add_argument("--table", choices=("medians", "overall", "verdict", "league", "timing"), default="league",
                         help="which table (default: league)")
     report.add_argument("--study", default=None, metavar="STUDY.toml",
                         help="the study file (default: the shipped study of study.json's name, else its source)")

@@ -7,8 +7,9 @@ study file it came from.
 Tables: ``medians`` (controllers by mean rank against the scenarios: each
 cell the median of the ranking metric, with the 5th-95th percentile when
 there is more than one plant, and the failure rate), ``overall`` (mean rank,
-first places, mean failure rate), ``verdict`` (the verdict in words) and
-``league`` (the whole league.md).
+first places, mean failure rate), ``verdict`` (the verdict in words),
+``league`` (the whole league.md) and ``timing`` (how many runs, how long, on
+what, from timing.json).
 """
 
 from __future__ import annotations
@@ -25,12 +26,12 @@ from neurov.study.reading import load_study, shipped_studies
 from neurov.study.report import league_markdown
 from neurov.study.spec import Study, StudyError, identity_differences
 from neurov.study.tables import Summary, read_table, summarise
-from neurov.study.verdict import vehicle_verdicts, verdict_markdown
+from neurov.study.verdict import vehicle_verdicts, verdict_lines
 from neurov.units import label_for_people
 
 __all__ = ["TABLES", "main_report", "medians_table", "overall_table", "read_study_folder"]
 
-TABLES = ("medians", "overall", "verdict", "league")
+TABLES = ("medians", "overall", "verdict", "league", "timing")
 
 
 def _runs_file(folder: Path) -> Path:
@@ -67,6 +68,8 @@ def _cell(g: Summary, factor: float, spread: bool) -> str:
         if math.isinf(x):
             return "inf"
         x *= factor
+        if x != 0 and abs(x) < 0.01:
+            return f"{x:.2g}"
         return f"{x:.3f}" if abs(x) < 1 else f"{x:.3g}" if abs(x) < 100 else f"{x:.0f}"
 
     text = f"**{num(g.median)}**" if g.rank == 1 else num(g.median)
@@ -114,7 +117,8 @@ def medians_table(study: Study, runs: pd.DataFrame) -> str:
 def overall_table(study: Study, runs: pd.DataFrame) -> str:
     """Mean rank over the scenarios, first places and mean failure rate, per controller."""
     rows = _mean_ranks(study, summarise(study, runs))
-    lines = [f"over {len(study.scenarios)} scenarios, {study.samples} plant(s) each", "",
+    each = "one run each" if study.samples == 1 else f"{study.samples} plants each"
+    lines = [f"over {len(study.scenarios)} scenarios, {each}", "",
              "| controller | mean rank | first places | mean failure rate |", "|---|---|---|---|"]
     lines += [f"| {study.label(c)} | {r:.2f} | {f} | {100 * fr:.0f} % |" for c, r, f, fr in rows]
     return "\n".join(lines) + "\n"
@@ -130,8 +134,28 @@ def report(folder: str | Path, table: str = "league", study: str | Path | None =
     if table == "overall":
         return overall_table(s, runs)
     if table == "verdict":
-        return "\n".join(verdict_markdown(vehicle_verdicts(s, runs))[2:]).rstrip() + "\n"
+        return "\n".join(verdict_lines(vehicle_verdicts(s, runs))) + "\n"
+    if table == "timing":
+        return timing_sentence(s, runs, Path(folder))
     return league_markdown(s, runs)
+
+
+def timing_sentence(study: Study, runs: pd.DataFrame, folder: Path) -> str:
+    """How many runs the study has and what running them took (timing.json)."""
+    n = len(runs)
+    each = "1 plant" if study.samples == 1 else f"{study.samples} plants"
+    text = (f"{study.name}: {len(study.scenarios)} scenarios x {len(study.controllers)} controllers x "
+            f"{each} = {n} runs")
+    try:
+        t = json.loads((folder / "timing.json").read_text())
+    except (OSError, json.JSONDecodeError):
+        return text + ".\n"
+    load = t.get("load_average_at_start_and_end") or [None, None]
+    where = f"{t['workers']} {'local processes' if t.get('executor') == 'processes' else 'Dask workers'}"
+    text += (f", run in {t['seconds']:.1f} s on {where} ({t.get('worker_cpu_seconds', math.nan):.1f} s of worker "
+             f"CPU; load average {load[0]} at the start, {load[1]} at the end); "
+             f"{t.get('figures_drawn', 0)} figures drawn in {t.get('plot_seconds', math.nan):.1f} s")
+    return text + ".\n"
 
 
 def main_report(folder: str, table: str, study: str | None = None) -> None:

@@ -242,7 +242,9 @@ def verdict_text(verdicts: Sequence[VehicleVerdict], title: str = "verdict") -> 
     if not verdicts:
         return ""
     name, _, _ = _quantity(verdicts[0].metric)
-    return "\n".join([f"{title} ({name}, lower is better; {verdicts[0].samples} plant(s) per scenario):",
+    n = verdicts[0].samples
+    each = "one run per scenario" if n == 1 else f"{n} plants per scenario"
+    return "\n".join([f"{title} ({name}, lower is better; {each}):",
                       *verdict_lines(verdicts)])
 
 
