@@ -25,6 +25,7 @@ from neurov.config.vehicle_file import VehicleFile, read_vehicle_file
 from neurov.files import read_toml
 from neurov.identification.report import header_lines
 from neurov.identification.vehicle_writer import write_vehicle_file
+from neurov.threads import one_blas_thread
 
 __all__ = ["Identification", "identify"]
 
@@ -102,6 +103,7 @@ def _group(i: int) -> tuple[int, ...]:
     return next(g for g in GROUPS.values() if i in g)
 
 
+@one_blas_thread
 def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Path, *,
              free: str | list[str] | None = None, heldout: list[str | Path | Log] | None = None,
              out: str | Path | None = None, mapping: str | Path | None = None,
