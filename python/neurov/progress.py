@@ -40,9 +40,8 @@ def progress_bar(total: int, description: str, unit: str = "run", quiet: bool = 
 
 
 def stage(text: str, quiet: bool = False) -> None:
-    """One line on stdout saying what a step does, flushed (shown in a piped
-    log as it happens); nothing with `quiet` or while a bar on a terminal
-    says it."""
-    if quiet or shows_progress(quiet):
-        return
-    print(text, flush=True)
+    """One line on stdout saying what a step without a bar does (or, from
+    :func:`progress_bar`, what a bar would show), flushed so that it shows in
+    a piped log as it happens; nothing with `quiet`."""
+    if not quiet:
+        print(text, flush=True)

@@ -70,6 +70,7 @@ def run(args: argparse.Namespace) -> int:
 
     from neurov.identification.fit import identify
     from neurov.identification.report import report_text
+    from neurov.progress import stage
     from neurov.config.vehicle_file import preset_names, preset_path
 
     vehicle = args.vehicle
@@ -79,6 +80,9 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError(f"--substeps: expected an integer >= 1, got {args.substeps}")
     if args.block <= 0:
         raise ValueError(f"--block: expected seconds > 0, got {args.block}")
+    stages = "equation error" + ("" if args.equation_error_only else ", then output error") + \
+        ", 95 % intervals by a block bootstrap" + (", then the held-out logs" if args.heldout else "")
+    stage(f"identify: fitting {vehicle} to {len(args.logs)} log(s): {stages} (tens of seconds)")
     result = identify(args.logs, vehicle, free=args.free, heldout=args.heldout, out=args.out,
                       mapping=args.mapping, output_error=not args.equation_error_only,
                       substeps=args.substeps, block_s=args.block, water_density=args.water_density,
@@ -91,4 +95,6 @@ def run(args: argparse.Namespace) -> int:
         from neurov.identification.plots import plot_identification
 
         print(f"wrote {plot_identification(result, args.plot)}")
+    if result.out is None and args.plot is None:
+        print("wrote nothing (--out FITTED.toml writes the fitted vehicle file, --plot FILE the figure)")
     return 0
