@@ -24,6 +24,7 @@ from neurov.config.reading import load_scenario
 from neurov.config.scenario import ControllerSpec, SCENARIO_DIR, Scenario
 from neurov.running.simulation import simulate
 from neurov.units import ANGLE_UNIT, DEGREES_PER_RADIAN
+from neurov.progress import stage
 
 __all__ = ["EXPERIMENTS", "METRIC_KEYS", "OUTPUT_NAMES", "Experiment", "diverged_runs", "fig5_caption", "paper_scenario",
            "paper_tables", "run_paper"]
@@ -194,6 +195,8 @@ def run_paper(out_dir: str | Path = "paper-results", quiet: bool = False) -> dic
 def _run_into(out: Path, quiet: bool) -> dict[str, Any]:
     """What :func:`run_paper` does, writing into the staging folder `out`."""
     start = time.perf_counter()
+    stage(f"paper: {len(EXPERIMENTS)} experiments and the Fig. 5 sweep "
+          f"({len(SWEEP_AMPLITUDES) * len(SWEEP_FREQUENCIES)} cases x 2 controllers)", quiet)
     results = run_experiments()
     sweep = run_disturbance_sweep()
     sim_time = time.perf_counter() - start
@@ -214,6 +217,7 @@ def _run_into(out: Path, quiet: bool) -> dict[str, Any]:
         "fig4_inputs.png": lambda: figure_inputs(results["fig3_nn"]),
         "fig5_yaw_disturbance.png": lambda: figure_yaw([results["fig5_nn"], results["fig5_linear"]], caption5),
     }
+    stage(f"paper: drawing {len(figures)} figures", quiet)
     for name, draw in figures.items():
         fig = draw()
         with writing(out / name):
