@@ -112,7 +112,8 @@ def _parser() -> argparse.ArgumentParser:
         "refuses a folder whose runs are of another version of the study. The docs' tables are "
         "printed so (docs/studies.md).",
     )
-    report.add_argument("folder", metavar="DIR", help="the study folder (study.json and runs.csv[.gz])")
+    report.add_argument("folder", metavar="DIR", help="the study folder (study.json and runs.csv[.gz]), or a "
+                        "tuning's folder (its verdict's tables)")
     report.add_argument("--table", choices=("medians", "overall", "verdict", "league", "timing"), default="league",
                         help="which table (default: league)")
     report.add_argument("--study", default=None, metavar="STUDY.toml",
@@ -216,8 +217,12 @@ def main(argv: Sequence[str] | None = None) -> int:
                        batch_size=args.batch_size, quiet=args.quiet)
         elif args.command == "report":
             from neurov.study.markdown import main_report
+            from neurov.tuning.folder import is_tuning_folder, verdict_of_folder
 
-            main_report(args.folder, args.table, args.study)
+            folder, study = args.folder, args.study
+            if study is None and is_tuning_folder(folder):
+                folder, study = verdict_of_folder(folder)  # a tuning's folder: its verdict's tables
+            main_report(folder, args.table, study)
         elif args.command == "view":
             if args.frames is not None and args.frames < 2:
                 args.usage_of.error("--frames must be >= 2")

@@ -106,3 +106,20 @@ def test_report_prints_the_folder_tables_and_refuses_another_study_version(tmp_p
         read_study_folder(out)
     assert meta["name"] == "small"
     shutil.rmtree(out)
+
+
+def test_cli_tune_lists_its_files_ends_with_the_verdict_and_report_reads_its_folder(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    from test_tune import write
+
+    out = tmp_path / "out"
+    assert cli.main(["tune", str(write(tmp_path, trials=3)), "--out", str(out), "--workers", "1",
+                     "--no-plots"]) == 0
+    text = capsys.readouterr().out
+    assert "trials.csv" in text and "best.toml" in text and "tuning.db" in text
+    assert text.index("verdict study on") < text.index("verdict of the tuning (RMS position error")
+    assert text.rstrip().splitlines()[-1].startswith("  ")
+    assert cli.main(["report", str(out), "--table", "verdict"]) == 0
+    assert capsys.readouterr().out.startswith("- bluerov2_heavy: pd (tuned) is first")
+    assert cli.main(["report", str(out), "--table", "league"]) == 0
+    assert capsys.readouterr().out == (out / "verdict" / "league.md").read_text()

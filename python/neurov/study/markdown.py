@@ -41,7 +41,7 @@ def _runs_file(folder: Path) -> Path:
     raise StudyError(f"{folder}: no runs table (runs.csv, runs.csv.gz or runs.parquet); is it a study's folder?")
 
 
-def read_study_folder(folder: str | Path, study: str | Path | None = None) -> tuple[Study, pd.DataFrame]:
+def read_study_folder(folder: str | Path, study: str | Path | Study | None = None) -> tuple[Study, pd.DataFrame]:
     """The study (`study`, else the shipped study of study.json's name, else
     its source file) and the runs table of a study folder. Raises
     :class:`StudyError` when the runs are of another version of the study
@@ -53,7 +53,7 @@ def read_study_folder(folder: str | Path, study: str | Path | None = None) -> tu
         raise StudyError(f"{folder}/study.json: not readable ({e}); is it a study's folder?") from None
     if study is None:
         study = meta.get("name") if meta.get("name") in shipped_studies() else meta.get("source", "")
-    s = load_study(study)
+    s = study if isinstance(study, Study) else load_study(study)
     old = meta.get("identity", {})
     diffs = [d for d in identity_differences(old, s.identity()) if not d.startswith("neurov version")]
     if diffs:
@@ -124,8 +124,9 @@ def overall_table(study: Study, runs: pd.DataFrame) -> str:
     return "\n".join(lines) + "\n"
 
 
-def report(folder: str | Path, table: str = "league", study: str | Path | None = None) -> str:
-    """The Markdown `table` (one of :data:`TABLES`) of a study folder."""
+def report(folder: str | Path, table: str = "league", study: str | Path | Study | None = None) -> str:
+    """The Markdown `table` (one of :data:`TABLES`) of a study folder (the
+    study given, or found as :func:`read_study_folder` finds it)."""
     if table not in TABLES:
         raise ValueError(f"argument 'table' must be one of {list(TABLES)}, got {table!r}")
     s, runs = read_study_folder(folder, study)
@@ -158,6 +159,6 @@ def timing_sentence(study: Study, runs: pd.DataFrame, folder: Path) -> str:
     return text + ".\n"
 
 
-def main_report(folder: str, table: str, study: str | None = None) -> None:
-    """What ``neurov report`` does: print the table."""
+def main_report(folder: str, table: str, study: str | Path | Study | None = None) -> None:
+    """What ``neurov report`` does for a study folder: print the table."""
     print(report(folder, table, study), end="")
