@@ -89,7 +89,9 @@ def _code_lines(text: str) -> list[tuple[int, str]]:
 
 def _commands(prefix: str) -> list[tuple[str, str]]:
     """(where, command) of the documented commands starting with `prefix`
-    (after environment settings such as ``PYTHONPATH=python``)."""
+    (after environment settings such as ``PYTHONPATH=python``); a line with
+    a placeholder (``...``, ``[--option]``, ``A|B``, a shell ``$variable``)
+    is not a command to check."""
     found = []
     for page in PAGES:
         for line, code in _code_lines(page.read_text()):
@@ -101,7 +103,7 @@ def _commands(prefix: str) -> list[tuple[str, str]]:
                 part = part.strip()
                 words = part.split()
                 command_like = prefix != "neurov" or (len(words) > 1 and (words[1] in COMMANDS or words[1].startswith("-")))
-                if part.startswith(prefix + " ") and command_like and not re.search(r"\.\.\.|\[--|\|", part):
+                if part.startswith(prefix + " ") and command_like and not re.search(r"\.\.\.|\[--|\||\$", part):
                     found.append((f"{page.relative_to(ROOT)}:{line}", part))
     return found
 
