@@ -26,6 +26,7 @@ so this folder must be on PYTHONPATH (the script sets it for its workers).
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import sys
 import tempfile
@@ -132,7 +133,7 @@ def main() -> None:
     result = neurov.simulate(scenario, make_controller(scenario), label="integral sliding mode")
     m = result.metrics()
     print(f"{scenario.name}: RMS position error {m['rmse_position_m']:.3f} m, "
-          f"RMS yaw error {m['rmse_yaw_rad']:.4f} rad, refused steps {m['refused_steps']}, "
+          f"RMS yaw error {math.degrees(m['rmse_yaw_rad']):.3f} deg, refused steps {m['refused_steps']}, "
           f"{result.wall_time * 1e3:.0f} ms for {len(result.t)} steps")
 
     # The workers import this module by name: put its folder on their path.

@@ -105,6 +105,22 @@ def _parser() -> argparse.ArgumentParser:
                        help="no progress bars (there are none either when stderr is not a terminal)")
     study.set_defaults(usage_of=study)
 
+    report = sub.add_parser(
+        "report",
+        help="print a study folder's tables as Markdown (runs nothing)",
+        description="Prints a table of a study folder (written by 'neurov study', or a tuning's verdict "
+        "folder) as Markdown: medians (controllers by mean rank against the scenarios), overall (mean "
+        "rank, first places, failure rate), verdict (the verdict in words), league (league.md) or timing (runs and time, from timing.json). It "
+        "refuses a folder whose runs are of another version of the study. The docs' tables are "
+        "printed so (docs/studies.md).",
+    )
+    report.add_argument("folder", metavar="DIR", help="the study folder (study.json and runs.csv[.gz]), or a "
+                        "tuning's folder (its verdict's tables)")
+    report.add_argument("--table", choices=("medians", "overall", "verdict", "league", "timing"), default="league",
+                        help="which table (default: league)")
+    report.add_argument("--study", default=None, metavar="STUDY.toml",
+                        help="the study file (default: the shipped study of study.json's name, else its source)")
+
     view = sub.add_parser(
         "view",
         help="write a 3-D replay of runs as one HTML file (needs neurov[view])",
@@ -201,6 +217,14 @@ def main(argv: Sequence[str] | None = None) -> int:
             main_study(args.study, args.out, args.workers, args.scheduler, executor=args.executor,
                        table_format=args.table_format, plots=not args.no_plots,
                        batch_size=args.batch_size, quiet=args.quiet)
+        elif args.command == "report":
+            from neurov.study.markdown import main_report
+            from neurov.tuning.folder import is_tuning_folder, verdict_of_folder
+
+            folder, study = args.folder, args.study
+            if study is None and is_tuning_folder(folder):
+                folder, study = verdict_of_folder(folder)  # a tuning's folder: its verdict's tables
+            main_report(folder, args.table, study)
         elif args.command == "view":
             if args.frames is not None and args.frames < 2:
                 args.usage_of.error("--frames must be >= 2")

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import sys
 from pathlib import Path
 from typing import Any
@@ -42,3 +43,11 @@ def general_parameters(coriolis_form: str) -> dict[str, Any]:
 def general_vehicle(general_parameters: dict[str, Any]) -> neurov.Vehicle:
     return neurov.Vehicle(**general_parameters)
 
+
+@pytest.fixture
+def user_controllers_importable(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The package of the tests' own controllers (user_controllers/, beside
+    this file) importable here and in every worker process a study starts."""
+    here = str(Path(__file__).resolve().parent)
+    monkeypatch.syspath_prepend(here)
+    monkeypatch.setenv("PYTHONPATH", os.pathsep.join([here, os.environ.get("PYTHONPATH", "")]))

@@ -151,3 +151,28 @@ def study_with(change: str) -> str:
     else:
         base.append(change)
     return "\n".join(base) + "\n"
+
+
+def pd_study(name: str, seed: int, samples: int, after: float) -> str:
+    """The head of the user-controller studies: scenarios a.toml and b.toml
+    (beside the study file) and a PD controller; the tests add theirs."""
+    return f"""
+name = "{name}"
+seed = {seed}
+samples = {samples}
+after = {after}
+scenarios = ["a.toml", "b.toml"]
+
+[controllers.pd]
+type = "pd"
+kp = [200, 200, 200, 50, 50, 50]
+kd = [200, 200, 200, 50, 50, 50]
+"""
+
+
+#: The mass perturbation both user-controller studies draw.
+MASS_PERTURBATION = """
+[[perturbations]]
+parameter = "mass"
+relative = 0.2
+"""

@@ -21,29 +21,12 @@ from neurov.results.timeseries import SERIES, TRANSIENT_S, metrics_start
 from neurov.config.reading import load_scenario
 from neurov.results.timeseries import Result
 from neurov.running.simulation import simulate
+from square_pd import square_pd_scenario
 
 ROOT = Path(__file__).resolve().parents[2]
 
 # PD gains of 10^7 on NEROV at 5 Hz: the plant overflows within the first second.
-DIVERGING = """
-name = "diverging_pd"
-duration = 60.0
-dt = 0.2
-substeps = 5
-
-[vehicle]
-preset = "nerov"
-
-[command]
-type = "square"
-side = 2.0
-start = 1.0
-
-[controller]
-type = "pd"
-kp = [1e7, 1e7, 1e7, 1e7, 1e7, 1e7]
-kd = [1e7, 1e7, 1e7, 1e7, 1e7, 1e7]
-"""
+DIVERGING = square_pd_scenario("diverging_pd", 60.0, substeps=5, gain="1e7")
 
 
 @pytest.fixture

@@ -16,23 +16,9 @@ from neurov import cli
 from neurov.paper import experiments as paper
 from neurov.results.export import CsvWriter
 from neurov.running.stream import _Sinks
+from square_pd import square_pd_scenario
 
-SHORT = """
-name = "short_pd"
-duration = 4.0
-dt = 0.2
-
-[vehicle]
-preset = "nerov"
-
-[command]
-type = "square"
-side = 2.0
-start = 1.0
-
-[controller]
-type = "pd"
-"""
+SHORT = square_pd_scenario("short_pd", 4.0)
 
 
 @pytest.fixture

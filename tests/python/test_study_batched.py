@@ -11,7 +11,10 @@ import pandas as pd
 import pytest
 
 from neurov.study import run_study
-from test_study_factory import importable, write  # noqa: F401 - the fixture makes the factories importable
+from test_study_factory import write
+
+# The factories importable here and in the workers (conftest.py).
+pytestmark = pytest.mark.usefixtures("user_controllers_importable")
 
 
 def _mine(name: str) -> str:

@@ -4,7 +4,6 @@ beside the built-ins; a factory that cannot run is named before any run."""
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import numpy as np
@@ -12,29 +11,13 @@ import pytest
 
 from neurov.results.metrics import metric_names
 from neurov.study import StudyError, load_study, run_study
-from study_files import NOISE, step_scenario
+from study_files import MASS_PERTURBATION, NOISE, pd_study, step_scenario
 
-HERE = Path(__file__).resolve().parent
 
-STUDY = """
-name = "byoc"
-seed = 3
-samples = 3
-after = 5.0
-scenarios = ["a.toml", "b.toml"]
-
-[controllers.pd]
-type = "pd"
-kp = [200, 200, 200, 50, 50, 50]
-kd = [200, 200, 200, 50, 50, 50]
-
+STUDY = pd_study("byoc", seed=3, samples=3, after=5.0) + """
 [controllers.mine]
 {mine}
-
-[[perturbations]]
-parameter = "mass"
-relative = 0.2
-
+""" + MASS_PERTURBATION + """
 [[perturbations]]
 parameter = "current_speed"
 range = [0.0, 0.3]
@@ -53,11 +36,7 @@ def write(folder: Path, mine: str = PYTHON_PD) -> Path:
     return path
 
 
-@pytest.fixture(autouse=True)
-def importable(monkeypatch: pytest.MonkeyPatch) -> None:
-    """The factories' package importable here and in every worker process."""
-    monkeypatch.syspath_prepend(str(HERE))
-    monkeypatch.setenv("PYTHONPATH", os.pathsep.join([str(HERE), os.environ.get("PYTHONPATH", "")]))
+pytestmark = pytest.mark.usefixtures("user_controllers_importable")
 
 
 @pytest.mark.parametrize("executor", ["processes", "dask"])

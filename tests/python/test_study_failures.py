@@ -18,26 +18,10 @@ import pytest
 from neurov.study import LOG_NAME, load_study, read_table, run_study
 from neurov.study.processes import GRACE_SECONDS
 from process_groups import group_members as _group_members
-from study_files import step_scenario
+from study_files import MASS_PERTURBATION, pd_study, step_scenario
 
-HERE = Path(__file__).resolve().parent
 
-STUDY = """
-name = "hostile"
-seed = 5
-samples = 2
-after = 1.0
-scenarios = ["a.toml", "b.toml"]
-
-[controllers.pd]
-type = "pd"
-kp = [200, 200, 200, 50, 50, 50]
-kd = [200, 200, 200, 50, 50, 50]
-
-[[perturbations]]
-parameter = "mass"
-relative = 0.2
-"""
+STUDY = pd_study("hostile", seed=5, samples=2, after=1.0) + MASS_PERTURBATION
 
 BAD = {
     "tensor": "tensor_raises",     # its output's __array__ raises RuntimeError
@@ -58,11 +42,7 @@ def write(folder: Path, controllers: dict[str, str], samples: int = 2) -> Path:
     return path
 
 
-@pytest.fixture(autouse=True)
-def importable(monkeypatch: pytest.MonkeyPatch) -> None:
-    """The factories' package importable here and in every worker process."""
-    monkeypatch.syspath_prepend(str(HERE))
-    monkeypatch.setenv("PYTHONPATH", os.pathsep.join([str(HERE), os.environ.get("PYTHONPATH", "")]))
+pytestmark = pytest.mark.usefixtures("user_controllers_importable")
 
 
 @pytest.mark.parametrize("executor", ["processes", "dask"])

@@ -80,6 +80,7 @@ def run(args: argparse.Namespace) -> int:
     from neurov.identification.fit import NothingToFit, identify, report_only
     from neurov.identification.report import report_text
     from neurov.identification.printout import report_and_plan
+    from neurov.progress import stage
     from neurov.config.vehicle_file import preset_names, preset_path
 
     vehicle = args.vehicle
@@ -96,6 +97,9 @@ def run(args: argparse.Namespace) -> int:
                                         vehicle, preset, args.out)
         print(text + "".join(f"wrote {p}\n" for p in written), end="")
         return 0
+    stages = "equation error" + ("" if args.equation_error_only else ", then output error") + \
+        ", 95 % intervals by a block bootstrap" + (", then the held-out logs" if args.heldout else "")
+    stage(f"identify: fitting {vehicle} to {len(args.logs)} log(s): {stages} (tens of seconds)")
     try:
         result = identify(args.logs, vehicle, free=args.free, heldout=args.heldout, out=args.out,
                           mapping=args.mapping, output_error=not args.equation_error_only,
@@ -118,4 +122,6 @@ def run(args: argparse.Namespace) -> int:
         from neurov.identification.plots import plot_identification
 
         print(f"wrote {plot_identification(result, args.plot)}")
+    if result.out is None and args.plot is None:
+        print("wrote nothing (--out FITTED.toml writes the fitted vehicle file, --plot FILE the figure)")
     return 0

@@ -28,6 +28,7 @@ from neurov.identification.guards import MIN_BLOCKS, WIDE, fit_warnings, insepar
 from neurov.identification.heldout import free_run, nrmse_fit
 from neurov.identification.survey import LogReport, analyse_logs
 from neurov.identification.vehicle_writer import write_vehicle_file
+from neurov.threads import one_blas_thread
 
 __all__ = ["Identification", "NothingToFit", "identify", "report_only", "MIN_BLOCKS", "WIDE"]
 
@@ -77,6 +78,7 @@ class Identification:
         return _core.Vehicle(**vehicle_parameters(self.template.parameters, self.theta))
 
 
+@one_blas_thread
 def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Path, *,
              free: str | list[str] | None = None, heldout: list[str | Path | Log] | None = None,
              out: str | Path | None = None, mapping: str | Path | None = None,

@@ -23,8 +23,11 @@ from neurov.results.timeseries import Result, TRANSIENT_S, metrics_start
 from neurov.config.reading import load_scenario
 from neurov.config.scenario import ControllerSpec, SCENARIO_DIR, Scenario
 from neurov.running.simulation import simulate
+from neurov.units import ANGLE_UNIT, DEGREES_PER_RADIAN
+from neurov.progress import stage
 
-__all__ = ["EXPERIMENTS", "METRIC_KEYS", "OUTPUT_NAMES", "Experiment", "diverged_runs", "fig5_caption", "paper_scenario", "run_paper"]
+__all__ = ["EXPERIMENTS", "METRIC_KEYS", "OUTPUT_NAMES", "Experiment", "diverged_runs", "fig5_caption", "paper_scenario",
+           "paper_tables", "run_paper"]
 
 #: The files ``neurov paper`` writes in its folder (see neurov.running.folder).
 OUTPUT_NAMES = ("fig3_xy.png", "fig4_inputs.png", "fig5_yaw_disturbance.png", "metrics.json", "summary.md")
@@ -98,7 +101,7 @@ def run_disturbance_sweep() -> list[dict[str, Any]]:
 
 
 def _sweep_table(rows: list[dict[str, Any]]) -> str:
-    lines = ["| amplitude [N m] | frequency [Hz] | NN: RMS yaw [rad] | linear: RMS yaw [rad] | "
+    lines = [f"| amplitude [N m] | frequency [Hz] | NN: RMS yaw [{ANGLE_UNIT}] | linear: RMS yaw [{ANGLE_UNIT}] | "
              "NN: RMS position [m] | linear: RMS position [m] | lower yaw error |",
              "|" + "---|" * 7]
     for r in rows:
@@ -107,21 +110,29 @@ def _sweep_table(rows: list[dict[str, Any]]) -> str:
             better = "(diverged: " + ", ".join(k for k, m in (("NN", nn), ("linear", lin)) if m["diverged"]) + ")"
         else:
             better = "NN" if nn["rmse_yaw_rad"] < lin["rmse_yaw_rad"] else "linear"
-        lines.append(f"| {r['amplitude_nm']:g} | {r['frequency_hz']:g} | {nn['rmse_yaw_rad']:.4f} | "
-                     f"{lin['rmse_yaw_rad']:.4f} | {nn['rmse_position_m']:.4f} | "
+        lines.append(f"| {r['amplitude_nm']:g} | {r['frequency_hz']:g} | {_deg(nn['rmse_yaw_rad']):.3f} | "
+                     f"{_deg(lin['rmse_yaw_rad']):.3f} | {nn['rmse_position_m']:.4f} | "
                      f"{lin['rmse_position_m']:.4f} | {better} |")
     return "\n".join(lines)
 
 
-def fig5_caption(compared: list[tuple[str, dict[str, Any]]], after: float = TRANSIENT_S) -> str:
+def _deg(x: float) -> float:
+    return x * DEGREES_PER_RADIAN
+
+
+def fig5_caption(compared: list[tuple[str, dict[str, Any]]], after: float = TRANSIENT_S,
+                 degrees: bool = False) -> str:
     """Which controller has the lower RMS yaw and position error in the case
     Fig. 5 shows, from `compared`: (controller label, its metrics over
-    t >= `after`) for each controller drawn."""
+    t >= `after`) for each controller drawn; the yaw error in degrees with
+    `degrees` (as ``neurov paper`` draws it), else in radians."""
     if len(compared) < 2:
         raise ValueError(f"argument 'compared' must hold at least two controllers, got {len(compared)}")
     parts = []
-    for key, what, unit in (("rmse_yaw_rad", "yaw", "rad"), ("rmse_position_m", "position", "m")):
-        values = [(float(m[key]), label) for label, m in compared]
+    yaw_unit, yaw_factor = ("deg", DEGREES_PER_RADIAN) if degrees else ("rad", 1.0)
+    for key, what, unit, factor in (("rmse_yaw_rad", "yaw", yaw_unit, yaw_factor),
+                                    ("rmse_position_m", "position", "m", 1.0)):
+        values = [(float(m[key]) * factor, label) for label, m in compared]
         low = min(v for v, _ in values)
         best = [label for v, label in values if v == low]
         verdict = f"{best[0]} lower" if len(best) == 1 else "equal"
@@ -134,14 +145,24 @@ def fig5_caption(compared: list[tuple[str, dict[str, Any]]], after: float = TRAN
 
 
 def _table(rows: list[tuple[str, str, dict[str, Any]]]) -> str:
-    head = "| experiment | controller | RMS position [m] | RMS yaw [rad] | max position error [m] | mean abs tau | max abs tau |"
+    head = (f"| experiment | controller | RMS position [m] | RMS yaw [{ANGLE_UNIT}] | max position error [m] | "
+            "mean abs tau [N, N m] | max abs tau [N, N m] |")
     lines = [head, "|" + "---|" * 7]
     for key, ctrl, m in rows:
         lines.append(
-            f"| {key} | {ctrl} | {m['rmse_position_m']:.4f} | {m['rmse_yaw_rad']:.4f} | "
+            f"| {key} | {ctrl} | {m['rmse_position_m']:.4f} | {_deg(m['rmse_yaw_rad']):.3f} | "
             f"{m['max_position_error_m']:.4f} | {m['mean_abs_tau']:.2f} | {m['max_abs_tau']:.2f} |"
         )
     return "\n".join(lines)
+
+
+def paper_tables() -> tuple[str, str]:
+    """The two Markdown tables ``neurov paper`` prints (the experiments'
+    metrics, and Fig. 5 over the disturbance's amplitude and frequency),
+    from the runs alone: no figure, no file."""
+    results = run_experiments()
+    rows = [(e.key, results[e.key].controller, results[e.key].metrics()) for e in EXPERIMENTS]
+    return _table(rows), _sweep_table(run_disturbance_sweep())
 
 
 def diverged_runs(metrics: dict[str, Any]) -> list[str]:
@@ -174,6 +195,8 @@ def run_paper(out_dir: str | Path = "paper-results", quiet: bool = False) -> dic
 def _run_into(out: Path, quiet: bool) -> dict[str, Any]:
     """What :func:`run_paper` does, writing into the staging folder `out`."""
     start = time.perf_counter()
+    stage(f"paper: {len(EXPERIMENTS)} experiments and the Fig. 5 sweep "
+          f"({len(SWEEP_AMPLITUDES) * len(SWEEP_FREQUENCIES)} cases x 2 controllers)", quiet)
     results = run_experiments()
     sweep = run_disturbance_sweep()
     sim_time = time.perf_counter() - start
@@ -186,7 +209,7 @@ def _run_into(out: Path, quiet: bool) -> dict[str, Any]:
         metrics[e.key] = {"scenario": e.scenario, "controller": r.controller, **m}
         rows.append((e.key, r.controller, m))
     caption5 = fig5_caption([(results[k].controller, metrics[k]) for k in ("fig5_nn", "fig5_linear")],
-                            after=metrics_start(results["fig5_nn"].scenario.duration))
+                            after=metrics_start(results["fig5_nn"].scenario.duration), degrees=True)
 
     figures = {
         "fig3_xy.png": lambda: figure_xy([results["fig3_nn"], results["fig3_nn_kd0"]],
@@ -194,6 +217,7 @@ def _run_into(out: Path, quiet: bool) -> dict[str, Any]:
         "fig4_inputs.png": lambda: figure_inputs(results["fig3_nn"]),
         "fig5_yaw_disturbance.png": lambda: figure_yaw([results["fig5_nn"], results["fig5_linear"]], caption5),
     }
+    stage(f"paper: drawing {len(figures)} figures", quiet)
     for name, draw in figures.items():
         fig = draw()
         with writing(out / name):

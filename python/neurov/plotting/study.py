@@ -24,6 +24,7 @@ if TYPE_CHECKING:
 
 from neurov.plotting.colours import OTHERS_GREY, controller_colours
 from neurov.plotting.labels import metric_label
+from neurov.units import label_for_people
 
 __all__ = ["FEW_SAMPLES", "BandPlotter", "box_figure", "plot_bands", "plot_boxes"]
 
@@ -84,10 +85,13 @@ def box_figure(study: Study, table: pd.DataFrame) -> Figure:
     fig = Figure(figsize=(width, height))
     fig.subplots_adjust(left=left / width, right=1 - 0.2 / width, bottom=0.6 / height,
                         top=1 - top / height, wspace=gap_w / panel_w, hspace=gap_h / panel_h)
-    axes = fig.subplots(nrows, cols, squeeze=False, sharey=True)
-    groups = {key: g[metric].to_numpy(dtype=np.float64)
+    # Every panel on one scale: the scenarios are compared with each other too.
+    axes = fig.subplots(nrows, cols, squeeze=False, sharey=True, sharex=True)
+    label, factor = label_for_people(metric_label(metric))
+    groups = {key: factor * g[metric].to_numpy(dtype=np.float64)
               for key, g in table.groupby(["scenario", "controller"], sort=False)}
-    label = metric_label(metric)
+    finite = np.concatenate([v[np.isfinite(v)] for v in groups.values()] or [np.ones(1)])
+    log_scale = bool(finite.size) and bool(np.all(finite > 0))
     any_box = any_points = any_median = False
     for ax, s in zip(axes.flat, study.scenarios):
         data: dict[int, np.ndarray] = {}
@@ -117,7 +121,7 @@ def box_figure(study: Study, table: pd.DataFrame) -> Figure:
                           gid="median")
                 any_median = True
             any_points = True
-        if data and all(v > 0 for d in data.values() for v in d):
+        if log_scale:
             ax.set_xscale("log")
             # Plain numbers (0.3, not 3 x 10^-1): narrower, so the label beside them fits.
             ax.xaxis.set_major_formatter(_PlainLog())
@@ -129,6 +133,7 @@ def box_figure(study: Study, table: pd.DataFrame) -> Figure:
                             fontsize=7, color="C3")
         ax.set_title(s.name, fontsize=10, y=1.0)
         ax.set_xlabel(label, fontsize=8)
+        ax.xaxis.set_tick_params(labelbottom=True)  # shared, but each panel is read on its own
         ax.grid(True, axis="x", alpha=0.3)
         ax.tick_params(which="both", labelsize=7)
         # Every row's first panel names the controllers (sharey hides the others' names).
@@ -146,9 +151,11 @@ def box_figure(study: Study, table: pd.DataFrame) -> Figure:
     if any_box:
         how.append("boxes: quartiles, whiskers 5th-95th percentile")
     if any_points:
-        how.append(f"points: each run (under {FEW_SAMPLES} per controller)"
+        how.append(("points: the run" if study.samples == 1 else f"points: each run (under {FEW_SAMPLES} per controller)")
                    + (", bar: median" if any_median else ""))
-    fig.suptitle(f"{study.name}: {label} over {study.samples} sample(s)\n" + "; ".join(how), fontsize=10,
+    over = ("one run per scenario and controller" if study.samples == 1 else
+            f"over {study.samples} perturbed plants per scenario")
+    fig.suptitle(f"{study.name}: {label}, {over}; one scale for every panel\n" + "; ".join(how), fontsize=10,
                  wrap=True, y=1 - 0.12 / height, va="top")
     return fig
 
@@ -281,8 +288,11 @@ class BandPlotter:
         times = [m[0] for m in curves.values() if len(m[0])]
         if times:
             ax.set_xlim(min(float(t[0]) for t in times), max(float(t[-1]) for t in times))
-        self.title.set_text(f"{scenario.name}: median and 5th-95th percentile over {study.samples} "
-                            "sample(s); grey: the other controllers' medians")
+        if study.samples == 1:
+            self.title.set_text(f"{scenario.name}: each controller's one run; grey: the other controllers' runs")
+        else:
+            self.title.set_text(f"{scenario.name}: median and 5th-95th percentile over {study.samples} "
+                                "perturbed plants; grey: the other controllers' medians")
         self.fig.savefig(path, dpi=dpi)
         return path
 

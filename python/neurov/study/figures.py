@@ -25,7 +25,8 @@ FIGURE_STATE = "figures.json"
 #: release, so that a study folder drawn by the old code is redrawn.
 #: 2: few samples as points, metric labels in words, fixed layouts.
 #: 3: one colour per controller, horizontal boxes named on every row, titles that wrap.
-FIGURE_STYLE = 3
+#: 4: one scale for every box panel, angles in degrees, one-run studies drawn and titled as such.
+FIGURE_STYLE = 4
 
 
 def _digest(*parts: object) -> str:

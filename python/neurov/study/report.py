@@ -11,6 +11,7 @@ import pandas as pd
 
 from neurov.study.spec import NORMAL_TRUNCATION, Perturbation, Study
 from neurov.study.tables import Rows, Summary, as_frame, head_to_head, summarise
+from neurov.study.verdict import vehicle_verdicts, verdict_markdown
 
 __all__ = ["league_markdown"]
 
@@ -36,6 +37,7 @@ def league_markdown(study: Study, runs: Rows) -> str:
         "",
         study.description,
         "",
+        *verdict_markdown(vehicle_verdicts(study, rows, summ)),
         f"{study.samples} sample(s) per scenario and controller, seed {study.seed}; metrics over "
         f"t >= {study.after:g} s. Ranked by the median of `{metric}` (lower is better). A run fails "
         f"if it diverges or a metric is not finite{'; or ' + bounds if bounds else ''}; a run that "

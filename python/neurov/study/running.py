@@ -12,7 +12,7 @@ import threading
 import time
 import warnings
 from collections.abc import Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -27,6 +27,7 @@ from neurov.study.reading import load_study
 from neurov.study.report import league_markdown
 from neurov.study.spec import Study, StudyError, identity_differences
 from neurov.study.tables import failure_counts, runs_table, summary_table, write_table
+from neurov.study.verdict import vehicle_verdicts, verdict_text
 
 __all__ = ["StudyInterrupted", "StudyOutcome", "main_study", "run_study"]
 
@@ -88,6 +89,10 @@ class StudyOutcome:
     table_path: Path
     summary_path: Path
     league: Path
+    figures: list[Path] = field(default_factory=list)
+    """The figures this call drew (those whose data changed)."""
+    study: Study | None = None
+    """The study run."""
 
     @property
     def without_result(self) -> int:
@@ -278,7 +283,8 @@ def run_study(study: Study | str | Path, out_dir: str | Path, *, workers: int | 
     (out / "timing.json").write_text(json.dumps(timing, indent=2) + "\n")
     return StudyOutcome(out_dir=out, total=len(plan), ran=len(todo), skipped=skipped, executor=executor,
                         workers=used_workers, seconds=seconds, table=table, summary=summary,
-                        table_path=table_path, summary_path=summary_path, league=league)
+                        table_path=table_path, summary_path=summary_path, league=league, figures=drawn,
+                        study=study)
 
 
 def main_study(path: str, out_dir: str | None, workers: int | None, scheduler: str | None,
@@ -295,5 +301,19 @@ def main_study(path: str, out_dir: str | None, workers: int | None, scheduler: s
     if outcome.without_result:
         print(f"{outcome.without_result} run(s) gave no result (raised, or their worker died): each counts as "
               f"failed; their errors are listed in {outcome.league}")
-    print(f"table: {outcome.table_path}\nleague table: {outcome.league}")
+    print(written_message(outcome))
+    text = verdict_text(vehicle_verdicts(study, outcome.table))
+    if text:
+        print(f"\n{text}")
     return outcome
+
+
+def written_message(outcome: StudyOutcome) -> str:
+    """Everything a study wrote into its folder, one line per kind."""
+    out = outcome.out_dir
+    drawn = sorted(p.name for p in outcome.figures)
+    figures = (f"\n  {len(drawn)} figure(s) drawn: {', '.join(drawn)}" if drawn else
+               "\n  figures: none drawn (unchanged since the last run, or --no-plots)")
+    return (f"wrote to {out}/:\n  table: {outcome.table_path.name} (one row per run)\n"
+            f"  summary: {outcome.summary_path.name}\n  league table: {outcome.league.name} (the verdict first)\n"
+            f"  log: {LOG_NAME}, study.json, timing.json{figures}")

@@ -15,6 +15,7 @@ from typing import Any
 
 from neurov.progress import progress_bar
 from neurov.study.running import StudyInterrupted, StudyOutcome, run_study
+from neurov.tuning.closing import closing_message
 from neurov.tuning.outputs import (best_tables, discard_stale_verdict, draw_tuning_figures, unusable,
                                    write_best_toml, write_trials)
 from neurov.tuning.reading import load_tuning, verdict_study
@@ -121,10 +122,8 @@ def main_tune(path: str, out_dir: str | None, workers: int | None, scheduler: st
                    progress=not quiet, only=only)
     print(f"{tuning.name}: {len(tuning.search)} controller(s) x {tuning.settings.trials} trials "
           f"({outcome.ran} run now in {outcome.seconds:.1f} s)")
-    print(f"trials: {outcome.trials_path}\ntuned gains: {outcome.best_path}")
-    if outcome.verdict is not None:
-        print(f"verdict on {tuning.settings.test_samples} held-out plants: {outcome.verdict.league}")
     for controller, why in outcome.unusable.items():
         print(f"neurov: warning: {controller} is not tuned: {why}; {outcome.best_path} holds its least bad "
               "gains, not usable ones", file=sys.stderr)
+    print(closing_message(outcome, tuning.settings.test_samples))
     return outcome
