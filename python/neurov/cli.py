@@ -147,6 +147,8 @@ def _parser() -> argparse.ArgumentParser:
     tune.add_argument("--no-verdict", action="store_true", help="tune only, no study on the test plants")
     tune.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
     tune.add_argument("--quiet", action="store_true", help="no progress bars")
+    tune.add_argument("--seed", type=int, default=None, metavar="N",
+                      help="the sampler's seed instead of the file's [tune] seed (a seed spread: one folder each)")
     return p
 
 
@@ -215,7 +217,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             from neurov.tuning import main_tune
 
             main_tune(args.tuning, args.out, args.workers, args.scheduler, verdict=not args.no_verdict,
-                      plots=not args.no_plots, quiet=args.quiet, only=args.only)
+                      plots=not args.no_plots, quiet=args.quiet, only=args.only, seed=args.seed)
     except KeyboardInterrupt as e:
         # A study says what it saved and that rerunning resumes; one line, no traceback.
         print(f"neurov: {str(e) or 'interrupted'}", file=sys.stderr)

@@ -8,6 +8,7 @@ from __future__ import annotations
 import contextlib
 import hashlib
 import json
+import math
 import warnings
 import zlib
 from collections.abc import Callable, Iterator
@@ -17,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from neurov.tuning import budget
 from neurov.tuning.objective import TrialOutcome, evaluate
 from neurov.tuning.space import suggest
 from neurov.tuning.spec import TuneError, Tuning
@@ -118,6 +120,8 @@ def _sampler(name: str, seed: int) -> Any:
         return optuna.samplers.CmaEsSampler(seed=seed)
     if name == "gp":
         return optuna.samplers.GPSampler(seed=seed)
+    if name == "nsga2":
+        return optuna.samplers.NSGAIISampler(seed=seed)
     return optuna.samplers.RandomSampler(seed=seed)
 
 
@@ -165,8 +169,10 @@ def optuna_study(tuning: Tuning, controller: str, storage: Any) -> Any:
     import optuna
 
     name = study_name(tuning, controller)
-    study = optuna.create_study(storage=storage, study_name=name, direction="minimize", load_if_exists=True,
-                                pruner=pruner(tuning.settings.pruner, tuning.settings.train_samples))
+    # Two objectives (error, effort): Optuna's multi-objective study; its pruners judge one objective only.
+    study = optuna.create_study(storage=storage, study_name=name, directions=["minimize"] * len(
+        tuning.settings.objectives), load_if_exists=True,
+        pruner=pruner(tuning.settings.pruner, tuning.settings.train_samples))
     fp = fingerprint(tuning, controller)
     old = study.user_attrs.get("fingerprint")
     if old is None:
@@ -220,23 +226,26 @@ def run_trials(tuning: Tuning, controller: str, storage: Any, runner: TrialRunne
 
     def stop_when_spent(study: Any, _trial: Any) -> None:
         # Other processes' trials count too.
-        if len(counted_trials(study)) >= s.trials:
+        if budget.spent(tuning, counted_trials(study)) >= budget.limit(tuning):
             study.stop()
 
-    def objective(trial: Any) -> float:
+    def objective(trial: Any) -> float | tuple[float, float]:
         nonlocal ran
         ahead = [t for t in counted_trials(study) if t.number < trial.number]
-        if len(ahead) >= s.trials:
+        if budget.spent(tuning, ahead) >= budget.limit(tuning):
             trial.set_user_attr("reason", OVER_BUDGET)
             study.stop()
             raise optuna.TrialPruned()
         try:
-            outcome = evaluator(tuning, controller, suggest(trial, params), runner, pruning=trial)
+            # Optuna reports one objective only: with two, every trial runs whole.
+            outcome = evaluator(tuning, controller, suggest(trial, params), runner,
+                                pruning=None if s.two_objectives else trial)
         except BaseException:
             trial.set_user_attr("reason", "interrupted")  # Optuna marks it failed
             raise
         for k, v in {"runs": outcome.runs, "failures": outcome.failures, "feasible": outcome.feasible,
-                     "seconds": outcome.seconds, "reasons": outcome.reasons}.items():
+                     "seconds": outcome.seconds, "reasons": outcome.reasons, "effort": outcome.effort,
+                     "by_vehicle": outcome.by_vehicle}.items():
             trial.set_user_attr(k, v)
         ran += 1
         if on_trial is not None:
@@ -244,11 +253,14 @@ def run_trials(tuning: Tuning, controller: str, storage: Any, runner: TrialRunne
         if outcome.pruned:
             trial.set_user_attr("reason", "pruned")
             raise optuna.TrialPruned()  # Optuna keeps its last reported value
+        if s.two_objectives:
+            return outcome.value, math.inf if outcome.effort is None else outcome.effort
         return outcome.value
 
-    left = s.trials - len(counted_trials(study))
-    if left <= 0:
+    if budget.spent(tuning, counted_trials(study)) >= budget.limit(tuning):
         return 0
+    # Trials started: as many as are left; other units: until the budget is spent (the callback stops).
+    left = s.trials - len(counted_trials(study)) if s.budget == "trials_started" else None
     study.sampler = _place_seeded(s.sampler, base_seed)
     study.optimize(objective, n_trials=left, callbacks=[stop_when_spent])
     return ran
