@@ -149,6 +149,13 @@ def _parser() -> argparse.ArgumentParser:
     tune.add_argument("--quiet", action="store_true", help="no progress bars")
     tune.add_argument("--seed", type=int, default=None, metavar="N",
                       help="the sampler's seed instead of the file's [tune] seed (a seed spread: one folder each)")
+    table = sub.add_parser(
+        "tune-table", help="print a Markdown table of tuning folders' outputs (budget, fronts, equal effort, "
+        "seed spread)", description="Reads a tuning folder's budget.csv, pareto.csv, picks.csv or "
+        "equal_effort.csv (or, for 'spread', several folders of one tuning with other seeds) and prints a "
+        "Markdown table; it runs nothing.")
+    table.add_argument("folders", nargs="+", metavar="DIR", help="tuning folder(s) (neurov tune --out)")
+    table.add_argument("--table", required=True, choices=["budget", "fronts", "equal-effort", "spread"])
     return p
 
 
@@ -211,6 +218,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             from neurov.identification.cli import run as run_identify
 
             return run_identify(args)
+        elif args.command == "tune-table":
+            from neurov.tuning.tables import main_table
+
+            return main_table(args.folders, args.table)
         elif args.command == "tune":
             if args.workers is not None and args.workers < 1:
                 parser.error("--workers must be >= 1")
