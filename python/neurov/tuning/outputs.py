@@ -56,12 +56,13 @@ def trials_table(tuning: Tuning, studies: dict[str, Any]) -> pd.DataFrame:
             rows.append({
                 "controller": controller, "trial": t.number, "state": "pruned" if pruned else "complete",
                 "objective": None if pruned else _value(t), "pruned_value": last,
-                "effort": t.user_attrs.get("effort"),
                 "feasible": t.user_attrs.get("feasible", True), "runs": t.user_attrs.get("runs"),
                 "failures": t.user_attrs.get("failures"),
                 "failure_reasons": "; ".join(f"{n} x {r}" for r, n in reasons.items()),
                 "seconds": t.user_attrs.get("seconds"),
                 **{f"param_{k}": v for k, v in t.params.items()},
+                # With an effort metric: its aggregate (the second objective, or the penalised one's).
+                **({"effort": t.user_attrs.get("effort")} if tuning.settings.effort is not None else {}),
             })
     return pd.DataFrame(rows)
 
