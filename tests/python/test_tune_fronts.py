@@ -67,6 +67,10 @@ def test_two_objectives_give_a_front_read_at_the_hand_set_effort(tmp_path: Path)
 
     # The level: the hand-set gains' effort on the training plants, as a trial of them is judged.
     hand = evaluate(tuning, "pd", {"kp": 1.0, "kd": 1.0}, TrialRunner(1))
+    # The first trial is the hand-set gains (a factor of 1 on each vector), judged as any trial.
+    first = trials[trials["trial"] == 0].iloc[0]
+    assert (first["param_kp"], first["param_kd"]) == (1.0, 1.0)
+    assert (first["objective"], first["effort"]) == pytest.approx((hand.value, hand.effort), rel=1e-12)
     picks = pd.read_csv(folder / "picks.csv")
     (pick,) = picks.itertuples()
     assert pick.effort_at == pytest.approx(hand.by_vehicle["bluerov2_heavy"][1], rel=1e-12)

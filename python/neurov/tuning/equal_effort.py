@@ -28,11 +28,18 @@ __all__ = ["Fronts", "at_equal_effort", "effort_levels", "equal_effort_picks", "
 
 def hand_set_points(tuning: Tuning, studies: Mapping[str, Any], runner: TrialRunner) -> dict[str, Any]:
     """Controller -> vehicle -> [error, effort] of its hand-set gains on the
-    training plants (as a trial is judged); kept in its Optuna study, so
-    that a resumed tuning does not run them again."""
+    training plants (as a trial is judged): its trial of them, or a run of
+    them kept in its Optuna study, so that a resumed tuning does not run
+    them again."""
+    import optuna
+
     out = {}
     for controller, study in studies.items():
         known = study.user_attrs.get("hand_set")
+        first = [t for t in study.get_trials(deepcopy=False, states=(optuna.trial.TrialState.COMPLETE,))
+                 if t.user_attrs.get("hand_set") and t.user_attrs.get("by_vehicle")]
+        if known is None and first:
+            known = first[0].user_attrs["by_vehicle"]  # the hand-set gains were its first trial
         if known is None:
             plain = dataclasses.replace(tuning, search={**tuning.search, controller: []})
             known = evaluate(plain, controller, {}, runner).by_vehicle

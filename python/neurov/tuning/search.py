@@ -20,12 +20,13 @@ import numpy as np
 
 from neurov.tuning import budget
 from neurov.tuning.objective import TrialOutcome, evaluate
-from neurov.tuning.space import suggest
+from neurov.tuning.space import hand_set_values, suggest
 from neurov.tuning.spec import TuneError, Tuning
 from neurov.tuning.trial_runs import TrialRunner
 from neurov._core import __version__
 
-__all__ = ["OVER_BUDGET", "STORAGE_NAME", "TuneInterrupted", "counted_trials", "open_storage", "optuna_study",
+__all__ = ["OVER_BUDGET", "STORAGE_NAME", "TuneInterrupted", "counted_trials", "enqueue_hand_set", "open_storage",
+           "optuna_study",
            "pruner", "run_trials", "study_name"]
 
 STORAGE_NAME = "tuning.db"
@@ -194,6 +195,18 @@ def counted_trials(study: Any) -> list[Any]:
                    if t.user_attrs.get("reason") != OVER_BUDGET), key=lambda t: t.number)
 
 
+def enqueue_hand_set(tuning: Tuning, controller: str, study: Any) -> None:
+    """With two objectives, a controller's first trial is its hand-set gains
+    (where they are inside the searched ranges): its front then holds them or
+    what beats them, and the fronts are read where the hand-set gains are."""
+    if study.user_attrs.get("hand_set_enqueued") or study.trials:
+        return
+    values = hand_set_values(tuning.study_table["controllers"][controller], tuning.search[controller])
+    study.set_user_attr("hand_set_enqueued", values is not None)
+    if values is not None:
+        study.enqueue_trial(values, user_attrs={"hand_set": True})
+
+
 def pruner(name: str, train_samples: int) -> Any:
     """Optuna's pruner for ``[tune] pruner``. The median rule judges a trial
     at each run against the finished trials' running objective at the same
@@ -259,6 +272,8 @@ def run_trials(tuning: Tuning, controller: str, storage: Any, runner: TrialRunne
 
     if budget.spent(tuning, counted_trials(study)) >= budget.limit(tuning):
         return 0
+    if s.two_objectives:
+        enqueue_hand_set(tuning, controller, study)
     # Trials started: as many as are left; other units: until the budget is spent (the callback stops).
     left = s.trials - len(counted_trials(study)) if s.budget == "trials_started" else None
     study.sampler = _place_seeded(s.sampler, base_seed)
