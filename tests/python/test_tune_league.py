@@ -60,3 +60,15 @@ def test_a_seed_spread_counts_how_often_each_rank_held(tmp_path: Path) -> None:
     assert "the order is settled" in settled
     table = markdown_table(folders, "spread")
     assert "| nn | 1 1 2 (1: 2 of 3) | 1 1 1 (1: 3 of 3) |" in table and "not settled" in table
+
+
+def test_cli_tune_table_prints_the_spread_and_names_a_bad_folder(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    from neurov import cli
+
+    a = {("sq", "nn"): 1, ("sq", "pid"): 2}
+    folders = [str(_seed(tmp_path / f"seed{i}", a)) for i in (1, 2)]
+    assert cli.main(["tune-table", *folders, "--table", "spread"]) == 0
+    assert "| nn | 1 1 (1: 2 of 2) |" in capsys.readouterr().out
+    assert cli.main(["tune-table", str(tmp_path / "nowhere"), "--table", "budget"]) == 1
+    assert "argument 'folders'" in capsys.readouterr().err
