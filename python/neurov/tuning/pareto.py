@@ -95,6 +95,7 @@ def draw_fronts(tuning: Tuning, studies: Mapping[str, Any], path: Path, *,
     fig, axes = plt.subplots(1, max(1, len(vehicles)), figsize=(5.5 * max(1, len(vehicles)), 4.5), squeeze=False)
     colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     for ax, v in zip(axes[0], vehicles):
+        shown: list[float] = [effort_at[v]] if effort_at and v in effort_at else []
         for n, (controller, study) in enumerate(studies.items()):
             c = colours[n % len(colours)]
             trials = judged_points(study)
@@ -102,6 +103,7 @@ def draw_fronts(tuning: Tuning, studies: Mapping[str, Any], path: Path, *,
             ok = [p for p in pts if math.isfinite(p[0]) and math.isfinite(p[1])]
             ax.plot([p[1] for p in ok], [p[0] for p in ok], ".", color=c, alpha=0.2, ms=4)
             f = [pts[i] for i in front(pts)]
+            shown += [p[1] for p in f]
             ax.step([p[1] for p in f], [p[0] for p in f], where="post", color=c, marker="o", ms=3,
                     label=controller)
             if hand_set and controller in hand_set and v in hand_set[controller]:
@@ -114,6 +116,8 @@ def draw_fronts(tuning: Tuning, studies: Mapping[str, Any], path: Path, *,
         if effort_at and v in effort_at:
             ax.axvline(effort_at[v], color="k", ls="--", lw=1)
         ax.set_xscale("log")
+        if shown:  # the fronts, not the diverged trials' thrust far to the right
+            ax.set_xlim(min(shown) / 1.3, max(shown) * 1.3)
         ax.set_yscale("log")
         ax.set_xlabel(f"{tuning.settings.aggregate} {tuning.settings.effort} (training plants)")
         ax.set_ylabel(f"{tuning.settings.aggregate} {tuning.settings.objective} (penalised)")
