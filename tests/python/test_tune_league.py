@@ -72,3 +72,19 @@ def test_cli_tune_table_prints_the_spread_and_names_a_bad_folder(
     assert "| nn | 1 1 (1: 2 of 2) |" in capsys.readouterr().out
     assert cli.main(["tune-table", str(tmp_path / "nowhere"), "--table", "budget"]) == 1
     assert "argument 'folders'" in capsys.readouterr().err
+
+
+def test_cli_tune_seed_replaces_the_files_seed(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    pytest.importorskip("optuna")
+    import json
+
+    from test_tune import write
+
+    from neurov import cli
+
+    path = write(tmp_path, trials=2)
+    assert cli.main(["tune", str(path), "--out", str(tmp_path / "seed7"), "--seed", "7", "--workers", "1",
+                     "--no-verdict", "--no-plots", "--quiet"]) in (0, None)
+    settings = json.loads((tmp_path / "seed7" / "tuning.json").read_text())["settings"]
+    assert settings["seed"] == 7 and load_tuning(path).settings.seed == 1
+    assert "budget: 2 trials started" in capsys.readouterr().out
