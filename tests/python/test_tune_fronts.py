@@ -147,3 +147,11 @@ def test_the_tables_refuse_folders_they_cannot_read(tmp_path: Path) -> None:
         f.mkdir(parents=True)
     with pytest.raises(ValueError, match="repeat"):
         markdown_table([a, b], "spread")
+
+
+def test_nsga2_searches_two_objectives(tmp_path: Path) -> None:
+    tuning = load_tuning(write(tmp_path, trials=4, tuning=TWO.replace("seed = 1\n", 'seed = 1\nsampler = "nsga2"\n')))
+    assert tuning.settings.sampler == "nsga2"
+    tune(tuning, tmp_path / "out", workers=1, verdict=False, plots=False, progress=False)
+    trials = pd.read_csv(tmp_path / "out" / "trials.csv")
+    assert len(trials) == 4 and trials["effort"].notna().all() and len(set(trials["param_kp"])) == 4

@@ -26,8 +26,7 @@ from neurov.tuning.trial_runs import TrialRunner
 from neurov._core import __version__
 
 __all__ = ["OVER_BUDGET", "STORAGE_NAME", "TuneInterrupted", "counted_trials", "enqueue_hand_set", "open_storage",
-           "optuna_study",
-           "pruner", "run_trials", "study_name"]
+           "optuna_study", "pruner", "run_trials", "study_name"]
 
 STORAGE_NAME = "tuning.db"
 # A process that dies mid-trial leaves its trial "running"; without a
