@@ -145,7 +145,10 @@ def main_tune(path: str, out_dir: str | None, workers: int | None, scheduler: st
     print(f"{tuning.name}: {len(tuning.search)} controller(s) x {tuning.settings.trials} trials "
           f"({outcome.ran} run now in {outcome.seconds:.1f} s)")
     print(f"trials: {outcome.trials_path}\ntuned gains: {outcome.best_path}")
-    print(f"budget: {unit_words(tuning)} per controller; used: {outcome.out_dir / 'budget.csv'}")
+    print(f"budget: {unit_words(tuning)} per controller ({outcome.out_dir / 'budget.csv'}):")
+    for r in pd.read_csv(outcome.out_dir / "budget.csv").itertuples():
+        print(f"  {r.controller}: {r.trials_started} trials started, {r.trials_pruned} pruned, "
+              f"{r.trials_completed} completed, {r.runs_finished} runs finished")
     if outcome.verdict is not None:
         print(f"verdict on {tuning.settings.test_samples} held-out plants: {outcome.verdict.league}")
     if outcome.equal_effort_words:
