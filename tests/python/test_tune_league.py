@@ -56,6 +56,7 @@ def test_a_seed_spread_counts_how_often_each_rank_held(tmp_path: Path) -> None:
     words = spread_words(spread.reset_index())
     assert "not settled on 1 of 2 scenarios: sq (nn, pid moved)" in words
     assert "Rank 1 in every seed: nn on 1 scenario(s)" in words
+    assert "Rank 1 changed with the seed on sq: nn in 2 of 3 seeds, pid in 1 of 3 seeds: not settled." in words
     settled = spread_words(rank_spread(folders[:2]))
     assert "the order is settled" in settled
     table = markdown_table(folders, "spread")

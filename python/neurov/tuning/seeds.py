@@ -75,4 +75,13 @@ def spread_words(spread: pd.DataFrame) -> str:
         said.append("Rank 1 in every seed: " + ", ".join(f"{c} on {k} scenario(s)" for c, k in kept.items()) + ".")
     else:
         said.append("No controller held rank 1 in every seed on any scenario.")
+    changed = []
+    for scenario, g in spread.groupby("scenario", sort=False):
+        if (g["modal_rank"].eq(1) & g["held"].eq(g["seeds"])).any():
+            continue
+        tops = [(c, sum(r == "1" for r in ranks.split())) for c, ranks in zip(g["controller"], g["ranks"])]
+        tops = sorted((t for t in tops if t[1]), key=lambda t: -t[1])
+        changed.append(f"{scenario}: " + ", ".join(f"{c} in {k} of {n} seeds" for c, k in tops))
+    if changed:
+        said.append("Rank 1 changed with the seed on " + "; ".join(changed) + ": not settled.")
     return " ".join(said)
