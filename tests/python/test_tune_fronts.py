@@ -155,3 +155,14 @@ def test_nsga2_searches_two_objectives(tmp_path: Path) -> None:
     tune(tuning, tmp_path / "out", workers=1, verdict=False, plots=False, progress=False)
     trials = pd.read_csv(tmp_path / "out" / "trials.csv")
     assert len(trials) == 4 and trials["effort"].notna().all() and len(set(trials["param_kp"])) == 4
+
+
+def test_a_two_objective_tuning_resumes_with_its_hand_set_trial_once(tmp_path: Path) -> None:
+    first = tune(load_tuning(write(tmp_path, trials=3, tuning=TWO)), tmp_path / "out", workers=1, verdict=False,
+                 plots=False, progress=False)
+    more = tune(load_tuning(write(tmp_path, trials=5, tuning=TWO)), tmp_path / "out", workers=1, verdict=False,
+                plots=False, progress=False)
+    assert (first.ran, more.ran) == (3, 2)
+    trials = pd.read_csv(tmp_path / "out" / "trials.csv")
+    hand = trials[(trials["param_kp"] == 1.0) & (trials["param_kd"] == 1.0)]
+    assert list(trials["trial"]) == [0, 1, 2, 3, 4] and list(hand["trial"]) == [0]
