@@ -165,6 +165,15 @@ def _parser() -> argparse.ArgumentParser:
     tune.add_argument("--no-verdict", action="store_true", help="tune only, no study on the test plants")
     tune.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
     tune.add_argument("--quiet", action="store_true", help="no progress bars")
+    tune.add_argument("--seed", type=int, default=None, metavar="N",
+                      help="the sampler's seed instead of the file's [tune] seed (a seed spread: one folder each)")
+    table = sub.add_parser(
+        "tune-table", help="print a Markdown table of tuning folders' outputs (budget, fronts, equal effort, "
+        "seed spread)", description="Reads a tuning folder's budget.csv, pareto.csv, picks.csv or "
+        "equal_effort.csv (or, for 'spread', several folders of one tuning with other seeds) and prints a "
+        "Markdown table; it runs nothing.")
+    table.add_argument("folders", nargs="+", metavar="DIR", help="tuning folder(s) (neurov tune --out)")
+    table.add_argument("--table", required=True, choices=["budget", "fronts", "equal-effort", "spread"])
     return p
 
 
@@ -235,6 +244,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             from neurov.identification.cli import run as run_identify
 
             return run_identify(args)
+        elif args.command == "tune-table":
+            from neurov.tuning.tables import main_table
+
+            return main_table(args.folders, args.table)
         elif args.command == "tune":
             if args.workers is not None and args.workers < 1:
                 parser.error("--workers must be >= 1")
@@ -242,7 +255,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             from neurov.tuning import main_tune
 
             tuned = main_tune(args.tuning, args.out, args.workers, args.scheduler, verdict=not args.no_verdict,
-                              plots=not args.no_plots, quiet=args.quiet, only=args.only)
+                              plots=not args.no_plots, quiet=args.quiet, only=args.only, seed=args.seed)
             if tuned.unusable:
                 return EXIT_DIVERGED
     except KeyboardInterrupt as e:

@@ -288,7 +288,9 @@ def test_a_vehicles_gains_are_searched_on_their_own() -> None:
 
 def test_the_shipped_tuned_league_reads() -> None:
     tuning = load_tuning("tuned_league")
-    assert set(tuning.search) == {"pd", "pid", "smc", "computed_torque", "linear", "nn", "nn_network"}
+    # Issue 42 added super-twisting (every built-in controller: test_tune_league.py).
+    assert set(tuning.search) == {"pd", "pid", "smc", "computed_torque", "linear", "nn", "nn_network",
+                                  "super_twisting"}
     assert all(p.vehicle in ("nerov", "bluerov2_heavy") for p in tuning.search["pd"])
     assert tuning.settings.test_seed != tuning.study_table["seed"]
     realistic = load_tuning("tuned_realism")

@@ -7,7 +7,7 @@ failure bounds) plus, per controller, the parameters to search and a
 
     [tune]
     trials = 100                   # per controller
-    objective = "rmse_position_m"  # any metric of a study
+    objective = "rmse_position_m"  # any metric of a study; or ["rmse_position_m", "mean_abs_tau"]
     train_samples = 20             # plants of the study's seed, for the trials
     test_samples = 50              # plants of another seed, for the verdict
 
@@ -25,8 +25,13 @@ The modules, in the order a tuning goes through them:
 :mod:`~neurov.tuning.trial_runs` (a trial's runs on workers kept for the
 whole tuning), :mod:`~neurov.tuning.objective` (runs to a penalised
 aggregate), :mod:`~neurov.tuning.search` (Optuna: storage, budget, samplers),
-:mod:`~neurov.tuning.outputs` (trials.csv, best.toml, figures) and
-:mod:`~neurov.tuning.running` (all of it, ``neurov tune``).
+:mod:`~neurov.tuning.budget` (the budget in its unit, budget.csv),
+:mod:`~neurov.tuning.outputs` (trials.csv, best.toml, figures), with two
+objectives :mod:`~neurov.tuning.pareto` (the fronts, pareto.csv, fronts.png)
+and :mod:`~neurov.tuning.equal_effort` (the fronts read at a stated effort,
+the verdict among them), and :mod:`~neurov.tuning.running` (all of it,
+``neurov tune``); over tuning seeds, :mod:`~neurov.tuning.seeds`, and the
+Markdown of kept outputs, :mod:`~neurov.tuning.tables` (``neurov tune-table``).
 """
 
 from neurov.tuning.reading import load_tuning, trial_study, tuning_from_mapping, verdict_study

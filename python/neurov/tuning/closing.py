@@ -27,4 +27,6 @@ def closing_message(outcome: TuneOutcome, test_samples: int) -> str:
     lines += ["", f"verdict study on {test_samples} held-out plants per scenario, in {v.out_dir}:",
               written_message(v)]
     text = verdict_text(vehicle_verdicts(v.study, v.table) if v.study else [], title="verdict of the tuning")
+    if outcome.equal_effort_words:  # two objectives: the controllers compared where their efforts are equal
+        text += ("\n" if text else "") + f"at equal effort: {outcome.equal_effort_words}"
     return "\n".join(lines + (["", text] if text else []))

@@ -15,7 +15,7 @@ import numpy as np
 import pandas as pd
 
 from neurov.study.one_run import plan_runs
-from neurov.study.spec import StudyError
+from neurov.study.spec import StudyError, vehicle_key
 from neurov.study.tables import failed_runs
 from neurov.tuning.reading import trial_study
 from neurov.tuning.spec import Tuning
@@ -35,6 +35,12 @@ class TrialOutcome:
     seconds: float = 0.0
     pruned: bool = False
     """Stopped by the pruner after `runs` of the trial's runs."""
+    effort: float | None = None
+    """With ``[tune] effort``: the aggregate of the effort metric (a failed run
+    counts its measured effort, infinite where that is not finite)."""
+    by_vehicle: dict[str, list[float]] = field(default_factory=dict)
+    """Vehicle -> [penalised error, effort] aggregated over its runs alone
+    (with an effort metric; where the fronts are read per vehicle)."""
 
     @property
     def failure_rate(self) -> float:
@@ -81,19 +87,30 @@ def evaluate(tuning: Tuning, controller: str, values: Mapping[str, Any], runner:
     agg = np.mean if s.aggregate == "mean" else np.median
     reasons: Counter[str] = Counter()
     values_per_run: list[float] = []
+    # With an effort metric: per run, its vehicle, penalised error and effort.
+    vehicles = {sc.name: vehicle_key(sc) for sc in study.scenarios}
+    per_run: list[tuple[str, float, float]] = []
+
+    def effort_of(rec: Mapping[str, Any]) -> float:
+        v = float(rec["row"].get(s.effort, math.inf)) if "row" in rec else math.inf
+        return v if math.isfinite(v) else math.inf
 
     def take(records: list[dict[str, Any]]) -> bool:
         rows = [r["row"] for r in records if "row" in r]
         failed = iter(failed_runs(pd.DataFrame(rows), study.failure).tolist() if rows else [])
         for rec in records:
+            bad = "error" in rec or next(failed)
             if "error" in rec:
                 reasons[_error_text(rec["error"])] += 1
-                values_per_run.append(s.failure_penalty)
-            elif next(failed):
+            elif bad:
                 reasons[_reason(rec["row"], s.objective, study.failure)] += 1
-                values_per_run.append(s.failure_penalty)
-            else:
-                values_per_run.append(float(rec["row"][s.objective]))
+            values_per_run.append(s.failure_penalty if bad else float(rec["row"][s.objective]))
+            if s.effort is not None:
+                effort = effort_of(rec)
+                per_run.append((vehicles.get(rec["key"][0], ""), values_per_run[-1], effort))
+                if s.effort_weight is not None and not bad:
+                    # One objective: error + weight x effort, run by run; a failed run counts the penalty.
+                    values_per_run[-1] += s.effort_weight * effort
             # Judged after each run, whatever the batches the runs came in, so that
             # the trials do not depend on the number of workers; never after the last.
             if pruning is not None and len(values_per_run) < total:
@@ -111,4 +128,10 @@ def evaluate(tuning: Tuning, controller: str, values: Mapping[str, Any], runner:
     if not feasible and not pruned:
         # Infeasible whatever its aggregate: worth no more than a trial whose every run failed.
         value = max(value, s.failure_penalty)
-    return TrialOutcome(value, runs, failures, dict(reasons), feasible, time.perf_counter() - start, pruned)
+    outcome = TrialOutcome(value, runs, failures, dict(reasons), feasible, time.perf_counter() - start, pruned)
+    if per_run:
+        outcome.effort = float(agg([e for _, _, e in per_run]))
+        for v in sorted({v for v, _, _ in per_run}):
+            mine = [(x, e) for w, x, e in per_run if w == v]
+            outcome.by_vehicle[v] = [float(agg([x for x, _ in mine])), float(agg([e for _, e in mine]))]
+    return outcome

@@ -29,6 +29,11 @@ def _finished(study: Any) -> list[Any]:
                   key=lambda t: t.number)
 
 
+def _value(t: Any) -> float:
+    """A finished trial's objective (its first, the error, when there are two)."""
+    return float(t.values[0])
+
+
 def _judged(study: Any) -> list[Any]:
     """The finished trials and those the pruner stopped, in number order."""
     import optuna
@@ -54,12 +59,14 @@ def trials_table(tuning: Tuning, studies: dict[str, Any]) -> pd.DataFrame:
             last = t.intermediate_values[max(t.intermediate_values)] if pruned and t.intermediate_values else None
             rows.append({
                 "controller": controller, "trial": t.number, "state": "pruned" if pruned else "complete",
-                "objective": None if pruned else t.value, "pruned_value": last,
+                "objective": None if pruned else _value(t), "pruned_value": last,
                 "feasible": t.user_attrs.get("feasible", True), "runs": t.user_attrs.get("runs"),
                 "failures": t.user_attrs.get("failures"),
                 "failure_reasons": "; ".join(f"{n} x {r}" for r, n in reasons.items()),
                 "seconds": t.user_attrs.get("seconds"),
                 **{f"param_{k}": v for k, v in t.params.items()},
+                # With an effort metric: its aggregate (the second objective, or the penalised one's).
+                **({"effort": t.user_attrs.get("effort")} if tuning.settings.effort is not None else {}),
             })
     return pd.DataFrame(rows)
 
@@ -69,7 +76,7 @@ def best_trial(study: Any) -> Any | None:
     trials = _finished(study)
     feasible = [t for t in trials if t.user_attrs.get("feasible", True)]
     pool = feasible or trials
-    return min(pool, key=lambda t: (t.value, t.number)) if pool else None
+    return min(pool, key=lambda t: (_value(t), t.number)) if pool else None
 
 
 def unusable(studies: dict[str, Any]) -> dict[str, str]:
@@ -103,19 +110,24 @@ def best_tables(tuning: Tuning, studies: dict[str, Any]) -> dict[str, dict[str, 
     return out
 
 
-def write_best_toml(tuning: Tuning, studies: dict[str, Any], path: Path) -> Path:
+def write_best_toml(tuning: Tuning, studies: dict[str, Any], path: Path,
+                    tables: dict[str, dict[str, Any]] | None = None, notes: list[str] | None = None) -> Path:
+    """best.toml: the best trials' tables, or `tables` described by `notes`
+    (the trials read at equal effort)."""
     s = tuning.settings
     head = [f"# Tuned by `neurov tune` from {Path(tuning.source).name}: {s.trials} trials per controller, "
             f"sampler {s.sampler} (seed {s.seed}),",
             f"# objective: the {s.aggregate} of {s.objective} over {s.train_samples} training plants per "
             f"scenario (a failed run counts {s.failure_penalty:g}).",
             "# Paste the tables into a study file's [controllers]."]
-    tables = best_tables(tuning, studies)
-    for controller, study in studies.items():
+    if tables is not None:
+        head += [f"# {n}" for n in notes or []]
+    for controller, study in studies.items() if tables is None else ():
         best = best_trial(study)
         if best is not None:
             note = "" if best.user_attrs.get("feasible", True) else " (no trial was feasible: the least bad)"
-            head.append(f"# {controller}: trial {best.number}, objective {best.value:.6g}{note}")
+            head.append(f"# {controller}: trial {best.number}, objective {_value(best):.6g}{note}")
+    tables = best_tables(tuning, studies) if tables is None else tables
     path.write_text("\n".join(head) + "\n\n" + toml_text({"controllers": tables}))
     return path
 
@@ -136,7 +148,9 @@ def _importance(study: Any) -> list[str]:
         with warnings.catch_warnings():
             # Experimental in Optuna (its interface may change), not in what it computes.
             warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
-            ranked = get_param_importances(study, evaluator=PedAnovaImportanceEvaluator())
+            warnings.simplefilter("ignore", UserWarning)  # with two objectives: "low target values" is meant
+            ranked = get_param_importances(study, evaluator=PedAnovaImportanceEvaluator(),
+                                           target=_value if len(study.directions) > 1 else None)
     except (ValueError, RuntimeError, ZeroDivisionError):  # a parameter that never varied, for one
         return names
     return list(ranked)
@@ -156,7 +170,7 @@ def draw_tuning_figures(tuning: Tuning, studies: dict[str, Any], out: Path) -> l
         if not trials:
             continue
         numbers = [t.number for t in trials]
-        values = [t.value for t in trials]
+        values = [_value(t) for t in trials]
         best = [min(values[: i + 1]) for i in range(len(values))]
         fig, ax = plt.subplots(figsize=(6, 3.5))
         ax.plot(numbers, values, "o", ms=3, alpha=0.5, label="trial")

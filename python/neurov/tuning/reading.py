@@ -17,7 +17,7 @@ from neurov.config.scenario import ScenarioError
 from neurov.study.reading import STUDY_DIR, study_from_mapping
 from neurov.study.spec import Study, StudyError, metric_names
 from neurov.tuning.space import apply_values, vehicle_tables
-from neurov.tuning.spec import AGGREGATES, PRUNERS, SAMPLERS, SearchParameter, TuneError, TuneSettings, Tuning
+from neurov.tuning.spec import AGGREGATES, BUDGETS, PRUNERS, SAMPLERS, SearchParameter, TuneError, TuneSettings, Tuning
 from neurov.config.toml_table import TableReader
 from neurov.laws.registry import REGISTRY
 
@@ -44,22 +44,42 @@ def load_tuning(path: str | Path) -> Tuning:
 
 def _settings(r: TableReader, study_seed: int) -> TuneSettings:
     trials = r.integer("trials", minimum=1)
-    objective = r.string("objective", "rmse_position_m")
-    known = metric_names()
-    if objective not in known:
-        hint = did_you_mean(objective, known)
-        raise r.error("objective", f"not a metric: {objective!r}{hint} (metrics: {', '.join(known)})")
+    raw = r.raw("objective", "rmse_position_m")
+    if isinstance(raw, list) and len(raw) == 2 and all(isinstance(x, str) for x in raw):
+        objective, effort = (_metric(r, "objective", x) for x in raw)
+    elif isinstance(raw, str):
+        objective, effort = _metric(r, "objective", raw), None
+    else:
+        raise r.error("objective", f"expected a metric or a list of two (error, effort), got {raw!r}")
+    weight = None
+    if r.has("effort_penalty"):
+        pen = TableReader(r.raw("effort_penalty"), f"{r.where}.effort_penalty", r.origin) \
+            if isinstance(r.raw("effort_penalty"), Mapping) else None
+        if pen is None or effort is not None:
+            raise r.error("effort_penalty", "expected { metric = \"...\", weight = ... } beside a single objective")
+        effort = _metric(pen, "metric", pen.string("metric"))
+        weight = pen.number("weight", positive=True)
+        pen.finish()
+    budget = r.string("budget", TuneSettings.budget, choices=BUDGETS)
+    effort_at = _effort_at(r, effort is not None and weight is None)
     aggregate = r.string("aggregate", "mean", choices=AGGREGATES)
     penalty = r.number("failure_penalty", 10.0, positive=True)
     rate = r.number("max_failure_rate", -1.0)
     if r.has("max_failure_rate") and not 0.0 <= rate < 1.0:
         raise r.error("max_failure_rate", f"expected a share in [0, 1), got {rate}")
     sampler = r.string("sampler", "tpe", choices=SAMPLERS)
+    if sampler == "cmaes" and isinstance(raw, list):
+        raise r.error("sampler", "Optuna's CMA-ES searches one objective: with two, choose 'tpe', 'nsga2', "
+                      "'gp' or 'random'")
     needs = _SAMPLER_NEEDS.get(sampler)
     if needs and importlib.util.find_spec(needs) is None:
         raise r.error("sampler", f"Optuna's {sampler!r} sampler needs the package {needs!r} "
                       f"(pip install {needs}), or choose 'tpe' or 'random'")
-    pruner = r.string("pruner", TuneSettings.pruner, choices=PRUNERS)
+    pruner = r.string("pruner", "none" if effort is not None and weight is None else TuneSettings.pruner,
+                      choices=PRUNERS)
+    if pruner != "none" and effort is not None and weight is None:
+        raise r.error("pruner", "Optuna's pruners judge one objective: with two, every trial runs whole "
+                      "(pruner = \"none\", the default then)")
     seed = r.integer("seed", 0)
     train = r.integer("train_samples", 20, minimum=1)
     test = r.integer("test_samples", 50, minimum=1)
@@ -76,7 +96,31 @@ def _settings(r: TableReader, study_seed: int) -> TuneSettings:
     return TuneSettings(trials=trials, objective=objective, aggregate=aggregate, failure_penalty=penalty,
                         max_failure_rate=rate if rate >= 0 else None, sampler=sampler, pruner=pruner, seed=seed,
                         train_samples=train, test_samples=test, test_seed=test_seed,
-                        test_scenarios=tuple(held), hand_set_in_verdict=hand)
+                        test_scenarios=tuple(held), hand_set_in_verdict=hand, effort=effort,
+                        effort_weight=weight, effort_at=effort_at, budget=budget)
+
+
+def _metric(r: TableReader, field: str, name: str) -> str:
+    known = metric_names()
+    if name not in known:
+        hint = did_you_mean(name, known)
+        raise r.error(field, f"not a metric: {name!r}{hint} (metrics: {', '.join(known)})")
+    return name
+
+
+def _effort_at(r: TableReader, two: bool) -> str | tuple[tuple[str, float], ...] | None:
+    """``effort_at``: a controller key, or a table of vehicle = effort."""
+    if not r.has("effort_at"):
+        return None
+    if not two:
+        raise r.error("effort_at", "reads the fronts of two objectives: give objective = [error, effort]")
+    v = r.raw("effort_at")
+    if isinstance(v, str):
+        return v
+    if isinstance(v, Mapping) and v and all(isinstance(x, (int, float)) and not isinstance(x, bool) and x > 0
+                                           for x in v.values()):
+        return tuple((str(k), float(x)) for k, x in v.items())
+    raise r.error("effort_at", f"expected a controller's key or {{ VEHICLE = effort, ... }}, got {v!r}")
 
 
 def _bounds(r: TableReader, field: str, integer: bool) -> tuple[float, float]:
@@ -213,6 +257,9 @@ def tuning_from_mapping(data: Mapping[str, Any], origin: str = "<tuning>") -> Tu
         study = study_from_mapping(study_table, origin)
     except (ScenarioError, StudyError) as e:
         raise TuneError(str(e)) from None
+    if isinstance(settings.effort_at, str) and settings.effort_at not in study.controllers:
+        raise TuneError(f"{origin}: tune.effort_at: {settings.effort_at!r} is not a controller of the file "
+                        f"(controllers: {', '.join(study.controllers)})")
     name = study.name
     tuning = Tuning(name=name, source=origin, settings=settings, study_table=study_table, search=search,
                     controllers=list(study.controllers))

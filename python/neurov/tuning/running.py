@@ -9,13 +9,18 @@ import os
 import signal
 import sys
 import time
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
+import pandas as pd
+
 from neurov.progress import progress_bar
 from neurov.study.running import StudyInterrupted, StudyOutcome, run_study
+from neurov.study.tables import write_table
+from neurov.tuning.budget import budget_table, unit_words
 from neurov.tuning.closing import closing_message
+from neurov.tuning.equal_effort import hand_set_points, read_fronts, write_equal_effort
 from neurov.tuning.outputs import (best_tables, discard_stale_verdict, draw_tuning_figures, unusable,
                                    write_best_toml, write_trials)
 from neurov.tuning.reading import load_tuning, verdict_study
@@ -43,6 +48,9 @@ class TuneOutcome:
     unusable: dict[str, str] = field(default_factory=dict)
     """Controller key -> why its best trial is no tuning at all (no trial
     feasible, every run failed): best.toml holds its least bad gains."""
+    equal_effort: pd.DataFrame | None = None
+    """Two objectives: the verdict among the controllers read at equal effort (equal_effort.csv)."""
+    equal_effort_words: str = ""
 
 
 def tune(tuning: Tuning | str | Path, out_dir: str | Path, *, workers: int | None = None,
@@ -90,11 +98,21 @@ def _tune(tuning: Tuning, out: Path, storage: Any, mine: list[str], workers: int
             with progress_bar(s.trials, f"{tuning.name}: {controller}", unit="trial", quiet=not progress) as bar:
                 bar.update(min(done, s.trials))
                 ran += run_trials(tuning, controller, storage, runner, on_trial=lambda n, o: bar.update(1))
+        studies = {c: optuna_study(tuning, c, storage) for c in tuning.search}
+        # Two objectives: the hand-set gains on the training plants, where the fronts are read.
+        hand_set = hand_set_points(tuning, studies, runner) if s.two_objectives else {}
     seconds = time.perf_counter() - start
-    studies = {c: optuna_study(tuning, c, storage) for c in tuning.search}
     trials_path = write_trials(tuning, studies, out / "trials.csv")
-    best_path = write_best_toml(tuning, studies, out / "best.toml")
-    best = best_tables(tuning, studies)
+    write_table(budget_table(tuning, studies), out / "budget.csv")
+    fronts = read_fronts(tuning, studies, hand_set, out, plots) if s.two_objectives else None
+    if fronts is not None:
+        best = fronts.tables
+        best_path = write_best_toml(tuning, studies, out / "best.toml", best, [
+            f"read at equal effort ({fronts.source}: " + ", ".join(f"{v} {e:.4g}" for v, e in fronts.levels.items())
+            + "); the trials per vehicle are in picks.csv"])
+    else:
+        best_path = write_best_toml(tuning, studies, out / "best.toml")
+        best = best_tables(tuning, studies)
     bad = unusable(studies)
     figures = draw_tuning_figures(tuning, studies, out) if plots else []
     (out / "tuning.json").write_text(json.dumps({
@@ -102,26 +120,36 @@ def _tune(tuning: Tuning, out: Path, storage: Any, mine: list[str], workers: int
         "search": {c: [asdict(p) for p in ps] for c, ps in tuning.search.items()},
         "trials_run_by_this_call": ran, "seconds": seconds, "workers": workers,
         "executor": runner.executor, "unusable": bad}, indent=2, default=str) + "\n")
-    outcome = None
+    outcome, equal, words = None, None, ""
     if verdict and best:
         judged = verdict_study(tuning, best, unusable=bad)
         discard_stale_verdict(out / "verdict", judged.fingerprint())
         outcome = run_study(judged, out / "verdict", workers=workers, scheduler=scheduler,
                             executor="dask" if scheduler else "processes", plots=plots, progress=progress)
+        if fronts is not None:
+            equal, words = write_equal_effort(tuning, fronts, judged, outcome.table, out)
     return TuneOutcome(out_dir=out, ran=ran, seconds=seconds, best=best, trials_path=trials_path,
-                       best_path=best_path, figures=figures, verdict=outcome, unusable=bad)
+                       best_path=best_path, figures=figures, verdict=outcome, unusable=bad, equal_effort=equal,
+                       equal_effort_words=words)
 
 
 def main_tune(path: str, out_dir: str | None, workers: int | None, scheduler: str | None, *,
               verdict: bool = True, plots: bool = True, quiet: bool = False,
-              only: list[str] | None = None) -> TuneOutcome:
-    """What ``neurov tune`` does: tune, then print where things are."""
+              only: list[str] | None = None, seed: int | None = None) -> TuneOutcome:
+    """What ``neurov tune`` does: tune (with `seed`, the sampler's seed instead
+    of the file's), then print where things are."""
     tuning = load_tuning(path)
+    if seed is not None:
+        tuning = replace(tuning, settings=replace(tuning.settings, seed=seed))
     out = out_dir or f"tune-{tuning.name}"
     outcome = tune(tuning, out, workers=workers, scheduler=scheduler, verdict=verdict, plots=plots,
                    progress=not quiet, only=only)
     print(f"{tuning.name}: {len(tuning.search)} controller(s) x {tuning.settings.trials} trials "
           f"({outcome.ran} run now in {outcome.seconds:.1f} s)")
+    print(f"budget: {unit_words(tuning)} per controller ({outcome.out_dir / 'budget.csv'}):")
+    for r in pd.read_csv(outcome.out_dir / "budget.csv").itertuples():
+        print(f"  {r.controller}: {r.trials_started} trials started, {r.trials_pruned} pruned, "
+              f"{r.trials_completed} completed, {r.runs_finished} runs finished")
     for controller, why in outcome.unusable.items():
         print(f"neurov: warning: {controller} is not tuned: {why}; {outcome.best_path} holds its least bad "
               "gains, not usable ones", file=sys.stderr)

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import signal
 import time
 import zlib
@@ -18,16 +19,17 @@ from typing import Any
 import numpy as np
 
 from neurov.study.running import StudyInterrupted
+from neurov.tuning import budget
 from neurov.tuning.objective import TrialOutcome, evaluate
 from neurov.tuning.signals import deferred, live, stopping
-from neurov.tuning.space import suggest
+from neurov.tuning.space import hand_set_values, suggest
 from neurov.tuning.spec import TuneError, Tuning
 from neurov.tuning.storage import STORAGE_NAME, claim, fail_dead_trials, open_storage
 from neurov.tuning.trial_runs import TrialRunner
 from neurov._core import __version__
 
-__all__ = ["OVER_BUDGET", "STORAGE_NAME", "TuneInterrupted", "counted_trials", "open_storage", "optuna_study",
-           "pruner", "run_trials", "study_name"]
+__all__ = ["OVER_BUDGET", "STORAGE_NAME", "TuneInterrupted", "counted_trials", "enqueue_hand_set", "open_storage",
+           "optuna_study", "pruner", "run_trials", "study_name"]
 
 # The reason of a trial pruned unrun because the budget was spent when it started.
 OVER_BUDGET = "over budget"
@@ -73,6 +75,8 @@ def _sampler(name: str, seed: int) -> Any:
         return optuna.samplers.CmaEsSampler(seed=seed)
     if name == "gp":
         return optuna.samplers.GPSampler(seed=seed)
+    if name == "nsga2":
+        return optuna.samplers.NSGAIISampler(seed=seed)
     return optuna.samplers.RandomSampler(seed=seed)
 
 
@@ -120,8 +124,10 @@ def optuna_study(tuning: Tuning, controller: str, storage: Any) -> Any:
     import optuna
 
     name = study_name(tuning, controller)
-    study = optuna.create_study(storage=storage, study_name=name, direction="minimize", load_if_exists=True,
-                                pruner=pruner(tuning.settings.pruner, tuning.settings.train_samples))
+    # Two objectives (error, effort): Optuna's multi-objective study; its pruners judge one objective only.
+    study = optuna.create_study(storage=storage, study_name=name, directions=["minimize"] * len(
+        tuning.settings.objectives), load_if_exists=True,
+        pruner=pruner(tuning.settings.pruner, tuning.settings.train_samples))
     fp = fingerprint(tuning, controller)
     old = study.user_attrs.get("fingerprint")
     if old is None:
@@ -141,6 +147,18 @@ def counted_trials(study: Any) -> list[Any]:
     S = optuna.trial.TrialState
     return sorted((t for t in study.get_trials(deepcopy=False, states=(S.COMPLETE, S.PRUNED, S.RUNNING))
                    if t.user_attrs.get("reason") != OVER_BUDGET), key=lambda t: t.number)
+
+
+def enqueue_hand_set(tuning: Tuning, controller: str, study: Any) -> None:
+    """With two objectives, a controller's first trial is its hand-set gains
+    (where they are inside the searched ranges): its front then holds them or
+    what beats them, and the fronts are read where the hand-set gains are."""
+    if study.user_attrs.get("hand_set_enqueued") or study.trials:
+        return
+    values = hand_set_values(tuning.study_table["controllers"][controller], tuning.search[controller])
+    study.set_user_attr("hand_set_enqueued", values is not None)
+    if values is not None:
+        study.enqueue_trial(values, user_attrs={"hand_set": True})
 
 
 def pruner(name: str, train_samples: int) -> Any:
@@ -196,26 +214,29 @@ def run_trials(tuning: Tuning, controller: str, storage: Any, runner: TrialRunne
 
     def stop_when_spent(study: Any, _trial: Any) -> None:
         # Other processes' trials count too.
-        if len(counted_trials(study)) >= s.trials:
+        if budget.spent(tuning, counted_trials(study)) >= budget.limit(tuning):
             study.stop()
 
-    def objective(trial: Any) -> float:
+    def objective(trial: Any) -> float | tuple[float, float]:
         nonlocal ran
         claim(trial)
         ahead = [t for t in counted_trials(study) if t.number < trial.number]
-        if len(ahead) >= s.trials:
+        if budget.spent(tuning, ahead) >= budget.limit(tuning):
             trial.set_user_attr("reason", OVER_BUDGET)
             study.stop()
             raise optuna.TrialPruned()
         values = suggest(trial, params)
         try:
             with live():  # Ctrl-C and SIGTERM stop the trial here (Optuna marks it failed)
-                outcome = evaluator(tuning, controller, values, runner, pruning=_DeferredPruning(trial))
+                # Optuna reports one objective only: with two, every trial runs whole.
+                outcome = evaluator(tuning, controller, values, runner,
+                                    pruning=None if s.two_objectives else _DeferredPruning(trial))
         except BaseException:
             trial.set_user_attr("reason", "interrupted")  # Optuna marks it failed
             raise
         for k, v in {"runs": outcome.runs, "failures": outcome.failures, "feasible": outcome.feasible,
-                     "seconds": outcome.seconds, "reasons": outcome.reasons}.items():
+                     "seconds": outcome.seconds, "reasons": outcome.reasons, "effort": outcome.effort,
+                     "by_vehicle": outcome.by_vehicle}.items():
             trial.set_user_attr(k, v)
         ran += 1
         if on_trial is not None:
@@ -223,14 +244,20 @@ def run_trials(tuning: Tuning, controller: str, storage: Any, runner: TrialRunne
         if outcome.pruned:
             trial.set_user_attr("reason", "pruned")
             raise optuna.TrialPruned()  # Optuna keeps its last reported value
+        if s.two_objectives:
+            return outcome.value, math.inf if outcome.effort is None else outcome.effort
         return outcome.value
 
     with stopping():
         while True:
             fail_dead_trials(study, storage)
             counted = counted_trials(study)
-            left = s.trials - len(counted)
-            if left > 0:
+            if budget.spent(tuning, counted) < budget.limit(tuning):
+                if s.two_objectives:
+                    enqueue_hand_set(tuning, controller, study)
+                # Trials started: as many as are left; other units: until the budget is spent
+                # (the callback stops).
+                left = s.trials - len(counted) if s.budget == "trials_started" else None
                 study.sampler = _place_seeded(s.sampler, base_seed)
                 with deferred():
                     study.optimize(objective, n_trials=left, callbacks=[stop_when_spent])

@@ -68,3 +68,27 @@ def apply_values(table: Mapping[str, Any], params: Sequence[SearchParameter],
             else:
                 t[name] = v
     return out
+
+
+def hand_set_values(table: Mapping[str, Any], params: Sequence[SearchParameter]) -> dict[str, Any] | None:
+    """The values of the search that give the controller's table as written
+    (a factor of 1, the table's own value, its own choice), or None where
+    one of them is not in its range or not given."""
+    out: dict[str, Any] = {}
+    for p in params:
+        if p.kind == "scale":
+            v: Any = 1.0
+        else:
+            t = table[p.vehicle] if p.vehicle is not None else table
+            for part in p.path[:-1]:
+                t = t.get(part, {}) if isinstance(t, Mapping) else {}
+            v = t.get(p.path[-1], table.get(p.path[-1]) if len(p.path) == 1 else None)
+            if p.index is not None and isinstance(v, list) and p.index < len(v):
+                v = v[p.index]
+        if p.kind == "choices":
+            if v not in p.choices:
+                return None
+        elif isinstance(v, bool) or not isinstance(v, (int, float)) or not p.low <= float(v) <= p.high:
+            return None
+        out[p.key] = int(v) if p.integer else v
+    return out

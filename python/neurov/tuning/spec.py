@@ -8,12 +8,16 @@ from typing import Any
 
 from neurov.study.spec import StudyError
 
-__all__ = ["AGGREGATES", "PRUNERS", "SAMPLERS", "SearchParameter", "TuneError", "TuneSettings", "Tuning"]
+__all__ = ["AGGREGATES", "BUDGETS", "PRUNERS", "SAMPLERS", "SearchParameter", "TuneError", "TuneSettings", "Tuning"]
 
-SAMPLERS = ("tpe", "cmaes", "gp", "random")
+SAMPLERS = ("tpe", "cmaes", "gp", "random", "nsga2")
 AGGREGATES = ("mean", "median")
 # "median": Optuna's MedianPruner on the running objective after each run; "none": every trial runs whole.
 PRUNERS = ("median", "none")
+# What ``trials`` counts (docs/tuning.md, "Budgets"): trials started (pruned ones
+# included), trials completed (pruned ones not counted), or runs finished
+# (``trials`` x the runs of a whole trial; a pruned trial's runs counted as run).
+BUDGETS = ("trials_started", "trials_completed", "runs_finished")
 
 
 class TuneError(StudyError):
@@ -62,6 +66,26 @@ class TuneSettings:
     test_scenarios: tuple[str, ...] = ()
     hand_set_in_verdict: bool = True
     """The verdict also runs each controller with its hand-set gains, labelled so."""
+    effort: str | None = None
+    """The second objective (``objective = [error, effort]``): each controller
+    gets its front of error against effort (docs/tuning.md, "Error and effort")."""
+    effort_weight: float | None = None
+    """Set with ``effort``: one objective, error + effort_weight x effort run by run
+    (``[tune] effort_penalty = { metric, weight }``)."""
+    effort_at: str | tuple[tuple[str, float], ...] | None = None
+    """Where the fronts are read, per vehicle: a controller key (its hand-set
+    gains' effort on the training plants) or (vehicle, effort) pairs."""
+    budget: str = "trials_started"
+    """What ``trials`` counts: one of :data:`BUDGETS`."""
+
+    @property
+    def two_objectives(self) -> bool:
+        """Error and effort searched together (a front per controller)."""
+        return self.effort is not None and self.effort_weight is None
+
+    @property
+    def objectives(self) -> tuple[str, ...]:
+        return (self.objective, self.effort) if self.two_objectives else (self.objective,)
 
 
 @dataclass
