@@ -44,7 +44,15 @@ class TrackingVectorEnv(VectorEnv):
     ``AutoresetMode.SAME_STEP`` (the step that ends an episode resets the env
     at once and returns its first observation, the last one in
     ``info["final_obs"]`` and its info in ``info["final_info"]``: what
-    Stable-Baselines3 expects). A string ("NextStep", "SameStep") is taken too.
+    Stable-Baselines3 expects). A string ("NextStep", "SameStep") is taken
+    too. (``AutoresetMode.DISABLED`` is not offered.)
+
+    ``reset(options={"reset_mask": mask})`` (gymnasium's partial reset, in
+    either mode) resets only the envs where `mask` (a bool array of
+    `num_envs`) is True, clearing their pending autoreset; the others go on
+    as they were and their observations are returned as they stand. It is
+    the one option: any other key, or options that are not a dict, are
+    refused.
 
     Seeding: ``reset(seed=s)`` seeds env i with s + i (a list gives each
     env's seed), so env i is the single env under ``reset(seed=s + i)``; its
@@ -141,16 +149,49 @@ class TrackingVectorEnv(VectorEnv):
         self._batch.reset(noise, mask)
         self._clips[mask] = 0
 
+    def _reset_mask(self, options: Any) -> NDArray[np.bool_] | None:
+        """The envs `options` asks to reset (None: every env), checked as
+        gymnasium checks them."""
+        if options is None:
+            return None
+        if not isinstance(options, dict):
+            raise TypeError(f"argument 'options' must be None or a dict (its one key 'reset_mask'), "
+                            f"got {type(options).__name__}")
+        unknown = sorted(map(repr, set(options) - {"reset_mask"}))
+        if unknown:
+            raise ValueError(f"argument 'options': unknown key(s) {', '.join(unknown)}; the one option is "
+                             "'reset_mask' (a bool array of num_envs: the envs to reset)")
+        if "reset_mask" not in options:
+            return None
+        mask = options["reset_mask"]
+        k = self.num_envs
+        if not isinstance(mask, np.ndarray) or mask.dtype != np.bool_ or mask.shape != (k,):
+            got = f"an array of {mask.dtype} {mask.shape}" if isinstance(mask, np.ndarray) else type(mask).__name__
+            raise TypeError(f"argument 'options': 'reset_mask' must be a numpy bool array of shape ({k},), got {got}")
+        if not mask.any():
+            raise ValueError("argument 'options': 'reset_mask' must have at least one True (the envs to reset)")
+        if not self._started and not mask.all():
+            raise RuntimeError("TrackingVectorEnv.reset: a partial reset (reset_mask) before the first reset; "
+                               "call reset() for every env first")
+        return mask.copy()
+
     def reset(self, *, seed: int | Sequence[int | None] | None = None, options: dict[str, Any] | None = None
               ) -> tuple[NDArray[np.float32], dict[str, Any]]:
-        """Every env back to t = 0 (see the class for the seeds)."""
+        """Every env back to t = 0, or those of ``options["reset_mask"]``
+        (see the class for the seeds and the options)."""
         self._require_open()
         seeds = self._lane_seeds(seed)
-        super().reset(seed=seed if isinstance(seed, (int, np.integer)) else None)
-        self._reset_lanes(np.arange(self.num_envs), seeds)
-        self._ended[:] = False
+        mask = self._reset_mask(options)
+        if mask is None:
+            super().reset(seed=seed if isinstance(seed, (int, np.integer)) else None)
+            mask = np.ones(self.num_envs, dtype=bool)
+        self._reset_lanes(np.flatnonzero(mask), seeds)
+        self._ended[mask] = False
         self._started = True
-        return self._observe()
+        obs, info = self._lanes()
+        info["action_clips"] = self._clips.copy()
+        info.update({f"_{key}": mask for key in list(info)})
+        return obs, info
 
     # --- steps ------------------------------------------------------------------------------------
 
