@@ -37,7 +37,8 @@ def add_parser(sub: Any, epilog: str) -> None:
     p.add_argument("--equation-error-only", action="store_true",
                    help="skip the output-error stage (faster, biased on noisy data)")
     p.add_argument("--substeps", type=int, default=1, metavar="N",
-                   help="RK4 steps per log interval in the output error and free runs (default 1)")
+                   help="RK4 steps per log interval in the output error and free runs, 1..10000 "
+                        "(neurov.MAX_SUBSTEPS, as a scenario's) (default 1)")
     p.add_argument("--block", type=float, default=5.0, metavar="SECONDS",
                    help="length of the bootstrap's blocks (default 5 s)")
     p.add_argument("--velocity-lag", type=_lag, default=0.0, metavar="SECONDS|auto",
@@ -68,6 +69,8 @@ def run(args: argparse.Namespace) -> int:
     # Deferred: this module is imported for `neurov --help`; the fit needs SciPy.
     from pathlib import Path
 
+    from neurov import _core
+    from neurov.files import check_output_file, writing
     from neurov.identification.fit import identify
     from neurov.identification.report import report_text
     from neurov.config.vehicle_file import preset_names, preset_path
@@ -75,10 +78,15 @@ def run(args: argparse.Namespace) -> int:
     vehicle = args.vehicle
     if not Path(vehicle).exists() and vehicle in preset_names():
         vehicle = preset_path(vehicle)
-    if args.substeps < 1:
-        raise ValueError(f"--substeps: expected an integer >= 1, got {args.substeps}")
+    if not 1 <= args.substeps <= _core.MAX_SUBSTEPS:
+        raise ValueError(f"--substeps: expected an integer in 1..{_core.MAX_SUBSTEPS} (neurov.MAX_SUBSTEPS, "
+                         f"as a scenario's substeps), got {args.substeps}")
     if args.block <= 0:
         raise ValueError(f"--block: expected seconds > 0, got {args.block}")
+    # Before the fit: a path that cannot be written is said now, not after minutes of work.
+    for option, path in (("--out", args.out), ("--plot", args.plot)):
+        if path is not None:
+            check_output_file(path, option)
     result = identify(args.logs, vehicle, free=args.free, heldout=args.heldout, out=args.out,
                       mapping=args.mapping, output_error=not args.equation_error_only,
                       substeps=args.substeps, block_s=args.block, water_density=args.water_density,
@@ -90,5 +98,18 @@ def run(args: argparse.Namespace) -> int:
     if args.plot is not None:
         from neurov.identification.plots import plot_identification
 
-        print(f"wrote {plot_identification(result, args.plot)}")
+        import os
+        import tempfile
+
+        # Drawn beside it and moved in whole: a full disk leaves neither half a figure nor the old one cut.
+        plot = Path(args.plot)
+        with writing(plot, f"{args.plot!r} (--plot)"):
+            fd, tmp = tempfile.mkstemp(prefix=f".{plot.name}.", suffix=plot.suffix, dir=plot.parent)
+            os.close(fd)
+            try:
+                plot_identification(result, tmp)
+                os.replace(tmp, plot)
+            finally:
+                Path(tmp).unlink(missing_ok=True)
+        print(f"wrote {plot}")
     return 0
