@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from neurov.identification.errors import LogError
+from neurov.memory import check_csv_fits
 from neurov.identification.log import Log, make_log
 from neurov.identification.mapping import Mapping, to_neurov_frames
 
@@ -22,6 +23,7 @@ def read_mapped_csv(path: str | Path, mapping: Mapping) -> Log:
     path = Path(path)
     if not path.is_file():
         raise LogError(f"{path}: no such file")
+    check_csv_fits(path, LogError)  # a file too large for memory refused before pandas reads it
     try:
         frame = pd.read_csv(path)
     except (ValueError, OSError) as e:

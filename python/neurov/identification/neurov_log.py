@@ -15,6 +15,7 @@ from typing import Any
 
 import numpy as np
 
+from neurov.memory import check_csv_fits
 from neurov.npz_file import NpzFile
 from neurov.results.columns import RESULT_SERIES, column_names
 from neurov.identification.errors import LogError
@@ -88,6 +89,7 @@ def read_neurov_log(path: str | Path) -> Log:
     if suffix == ".csv":
         import pandas as pd
 
+        check_csv_fits(path, LogError)
         try:
             frame = pd.read_csv(path)
         except (ValueError, OSError) as e:
