@@ -26,11 +26,36 @@ from neurov.gym.randomize import Randomization
 from neurov.gym.task import TrackingTask, resolve_scenario
 from neurov.gym.tracking import TrackingEnv
 from neurov.config.scenario import Scenario
+from neurov.memory import heap_bytes, require_memory
 from neurov.running.plant import build_vehicle, simulation_config
 
 __all__ = ["TrackingVectorEnv"]
 
 _MODES = (AutoresetMode.NEXT_STEP, AutoresetMode.SAME_STEP)
+
+
+#: Envs of the batch built to measure an env's memory (a larger one is checked against the memory there is).
+_PROBE_ENVS = 64
+#: Bytes an env's arrays take in Python (the batched spaces' bounds, a step's observation, info,
+#: rewards and flags, the lists the batch is built from), rounded up.
+_PYTHON_ENV_BYTES = 2048
+
+
+def _check_memory(k: int, vehicle: _core.Vehicle, config: _core.SimulationConfig) -> None:
+    """Refuses `k` envs whose memory would not fit (neurov.memory), before
+    the batch is built: an env's bytes measured on a batch of
+    _PROBE_ENVS, twice over (the batch copies each env's vehicle and
+    configuration once more while it is built)."""
+    if k <= _PROBE_ENVS:
+        return
+    before = heap_bytes()
+    probe = _core.BatchSimulator([vehicle] * _PROBE_ENVS, [config] * _PROBE_ENVS, log_rows=1)
+    after = heap_bytes()
+    del probe
+    if before is None or after is None:
+        return
+    per_env = 2 * max(after - before, 0) // _PROBE_ENVS + _PYTHON_ENV_BYTES
+    require_memory(k * per_env, f"argument 'num_envs' = {k} ({per_env / 1024:.1f} kB an env)", ValueError)
 
 
 class TrackingVectorEnv(VectorEnv):
@@ -67,7 +92,13 @@ class TrackingVectorEnv(VectorEnv):
     threads: the threads that step the compiled batch's plants (0, the
     default: one per core; at least ``neurov._core.MIN_LANES_PER_THREAD``
     (128) envs a thread, so a smaller batch steps on one); the results do
-    not depend on it."""
+    not depend on it.
+
+    Memory: an env holds its run's state, not its rows (the compiled batch
+    keeps a log window of one row). A `num_envs` whose memory would not fit
+    in what the machine has available, or under the process's address-space
+    limit (``ulimit -v``), is refused before anything is built: a
+    ValueError naming the memory it would need (:mod:`neurov.memory`)."""
 
     metadata: dict[str, Any] = {"render_modes": [], "autoreset_mode": AutoresetMode.NEXT_STEP}
 
@@ -97,6 +128,9 @@ class TrackingVectorEnv(VectorEnv):
                                  attitude_weight=attitude_weight, effort_weight=effort_weight,
                                  box_margin=box_margin, velocity_bound=velocity_bound)
         self.randomization = Randomization.of(randomize, self.scenario)
+        vehicle = build_vehicle(self.scenario)
+        if batch_class is None:
+            _check_memory(self.num_envs, vehicle, config)  # before the batched spaces, the first K-sized arrays
         self.autoreset_mode = mode
         self.metadata = {**self.metadata, "autoreset_mode": mode}
         self.render_mode = None
@@ -106,11 +140,18 @@ class TrackingVectorEnv(VectorEnv):
         self.action_space = batch_space(self.single_action_space, self.num_envs)
 
         k = self.num_envs
-        self._batch = (batch_class or _core.BatchSimulator)([build_vehicle(self.scenario)] * k, [config] * k)
+        if batch_class is None:
+            # A window of one row: the env reads its observations, never a run's rows (880 kB an env
+            # for paper_fig3's 1,001 rows, 3.6 GB at 4,096 envs, written as they stepped).
+            self._batch = _core.BatchSimulator([vehicle] * k, [config] * k, log_rows=1)
+        else:
+            self._batch = batch_class([vehicle] * k, [config] * k)
         self._compiled = isinstance(self._batch, _core.BatchSimulator)
         self._rngs: list[np.random.Generator | None] = [None] * k
         self._clips = np.zeros(k, dtype=np.int64)
         self._ended = np.zeros(k, dtype=bool)  # NEXT_STEP: reset at the next step
+        self._every = np.ones(k, dtype=bool)
+        self._every.flags.writeable = False
         self._started = False
 
     # --- resets -----------------------------------------------------------------------------------
@@ -213,20 +254,23 @@ class TrackingVectorEnv(VectorEnv):
         return obs, self._masked(info)
 
     def _masked(self, info: dict[str, Any]) -> dict[str, Any]:
-        """info with gymnasium's mask _key beside each key: every env has it."""
-        every = np.ones(self.num_envs, dtype=bool)
+        """info with gymnasium's mask _key beside each key: every env has it
+        (one read-only array of K True, made once)."""
+        every = self._every
         info.update({f"_{key}": every for key in list(info)})
         return info
 
-    def _advance(self, actions: Any, stepped: NDArray[np.bool_]) -> tuple[Any, ...]:
-        """The envs in `stepped` stepped under their actions: (obs, reward,
-        terminated, truncated, info, clipped) of every env (reward 0 and no
-        flag for one not stepped). The compiled batch does it all in one
-        call into C++; another batch (PythonLanes) through the task's row
-        functions."""
+    def _advance(self, actions: Any, stepped: NDArray[np.bool_] | None) -> tuple[Any, ...]:
+        """The envs in `stepped` (None: every env) stepped under their
+        actions: (obs, reward, terminated, truncated, info, clipped) of every
+        env (reward 0 and no flag for one not stepped). The compiled batch
+        does it all in one call into C++; another batch (PythonLanes)
+        through the task's row functions."""
         core = self.task.core
         if self._compiled:
             return core.step_batch(self._batch, actions, stepped, self.threads)[:6]
+        if stepped is None:
+            stepped = self._every
         shape = (self.num_envs, *self.task.action_shape)
         a, clipped = core.clip(actions)  # refuses what is not real numbers, or not finite
         if a.shape != shape:
@@ -251,20 +295,23 @@ class TrackingVectorEnv(VectorEnv):
         self._require_open()
         if not self._started:
             raise RuntimeError("TrackingVectorEnv.step: call reset() before step()")
-        stepped = ~self._ended
+        # NEXT_STEP: the envs whose episode ended are not stepped (their action is ignored).
+        waiting = self._ended.any()
+        stepped = ~self._ended if waiting else None
         try:
             obs, reward, terminated, truncated, info, clipped = self._advance(actions, stepped)
         except (TypeError, ValueError) as e:
             raise type(e)(f"TrackingVectorEnv.step: {e}") from None
-        if not stepped.all():
-            # NEXT_STEP: the envs whose episode ended start again (their action was ignored).
+        if waiting:
+            # ... and start again.
             self._reset_lanes(np.flatnonzero(self._ended), [None] * self.num_envs)
             obs, fresh = self._lanes()
             info.update(fresh)
-        self._clips += clipped & stepped
+            clipped &= stepped
+        self._clips += clipped
         info["action_clips"] = self._clips.copy()
         self._masked(info)
-        info["_plant_status"] = stepped
+        info["_plant_status"] = self._every if stepped is None else stepped
         ended = terminated | truncated
         if self.autoreset_mode == AutoresetMode.NEXT_STEP:
             self._ended = ended
