@@ -50,14 +50,18 @@ def main() -> None:
                    help="SyncVectorEnv steps per timing (0: no SyncVectorEnv)")
     p.add_argument("--repeats", type=int, default=3)
     p.add_argument("--scaling", action="store_true", help=f"also time K = {', '.join(map(str, SCALING))}")
-    p.add_argument("--plot", type=Path, help="the scaling plot (PNG), with --scaling")
+    p.add_argument("--plot", type=Path, help="the scaling plot (PNG), with --scaling or --table")
     p.add_argument("--json", type=Path, help="also write the figures to this file")
     p.add_argument("--table", type=Path, nargs="+", metavar="JSON",
                    help="print the scaling of these --json files (each with --scaling) as a Markdown table, "
-                        "one column a file, and exit")
+                        "one column a file (with --plot: plot the last file's), and exit")
     args = p.parse_args()
     if args.table:
         print(table(args.table))
+        if args.plot:  # the last file's scaling
+            last = json.loads(args.table[-1].read_text())
+            plot({int(n): v for n, v in last["scaling"].items()}, last.get("sync_vector_env_steps_per_s", 0.0),
+                 last["envs"], args.plot)
         return
 
     k = args.envs

@@ -141,8 +141,8 @@ class TrackingVectorEnv(VectorEnv):
 
         k = self.num_envs
         if batch_class is None:
-            # A window of one row: the env reads its observations, never a run's rows (880 kB an env
-            # for paper_fig3's 1,001 rows, 3.6 GB at 4,096 envs, written as they stepped).
+            # A window of one row: the env reads its observations, never a run's rows (859 kB an env
+            # for paper_fig3's 1,251 rows, 3.4 GB at 4,096 envs, written as they stepped).
             self._batch = _core.BatchSimulator([vehicle] * k, [config] * k, log_rows=1)
         else:
             self._batch = batch_class([vehicle] * k, [config] * k)
