@@ -119,18 +119,24 @@ def failed_result(scenario: Scenario, label: str, error: BaseException) -> Resul
                   extra={"error": {"type": type(error).__name__, "message": str(error)}}, **empty)
 
 
-def _check(planned: list[Run], resolver: _Resolver) -> None:
+def _check(planned: list[Run], resolver: _Resolver) -> dict[int, tuple[Any, str]]:
     """Everything a run can be refused for, before any run: its controller
-    built (then dropped: a built controller takes tens of kB, a batch holds
-    only its own), its vehicle and its checked configuration. The first
-    refusal is raised naming the run's 0-based index."""
+    built, its vehicle and its checked configuration. The first refusal is
+    raised naming the run's 0-based index. The controllers of the first
+    :data:`BATCH_RUNS` runs are kept for their run (the others are built
+    again when their batch comes: a built controller takes tens of kB, and
+    a batch holds only its own)."""
+    kept: dict[int, tuple[Any, str]] = {}
     for i, (scenario, controller) in enumerate(planned):
         try:
-            resolver.build(scenario, controller)
+            built = resolver.build(scenario, controller)
             build_vehicle(scenario)
             simulation_config(scenario)
         except (TypeError, ValueError) as e:
             raise run_error(e, i, f"scenario {scenario.name!r}") from e
+        if i < BATCH_RUNS:
+            kept[i] = built
+    return kept
 
 
 def simulate_many(runs: Scenario | Iterable[Scenario | tuple[Scenario, Any]],
@@ -165,7 +171,7 @@ def simulate_many(runs: Scenario | Iterable[Scenario | tuple[Scenario, Any]],
         raise ValueError(f"argument 'after' must be a finite time [s] or None, got {after}")
     planned = _runs(runs, overrides)
     resolver = _Resolver()
-    _check(planned, resolver)
+    kept = _check(planned, resolver)
     out: list[Any] = [None] * len(planned)
     batch: list[tuple[int, Scenario, Any, str]] = []
     # A batched policy's runs, by policy object: id -> (policy, label, [(index, scenario)]).
@@ -234,7 +240,7 @@ def simulate_many(runs: Scenario | Iterable[Scenario | tuple[Scenario, Any]],
 
     with progress_bar(len(planned), "runs", quiet=not progress) as bar:
         for i, (scenario, controller) in enumerate(planned):
-            ctrl, name = resolver.build(scenario, controller)
+            ctrl, name = kept.pop(i) if i in kept else resolver.build(scenario, controller)
             if is_built_in(ctrl):
                 batch.append((i, scenario, ctrl, name))
                 if len(batch) >= BATCH_RUNS:
