@@ -59,6 +59,10 @@ def test_a_full_disk_names_the_users_file(tmp_path: Path, capsys: pytest.Capture
             assert f"cannot write '{disk / name}' ({option}): No space left on device (the disk is full)" in err
             assert ".fitted-" not in err and "Errno" not in err
         assert sorted(p.name for p in disk.iterdir()) == ["filler"]  # no temporary file left
+    import sys
+
+    if "matplotlib.pyplot" in sys.modules:  # nor a figure left open
+        assert sys.modules["matplotlib.pyplot"].get_fignums() == []
 
 
 def test_a_read_only_folder_is_named_before_the_fit(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
