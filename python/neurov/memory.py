@@ -16,27 +16,36 @@ import os
 import resource
 from pathlib import Path
 
-__all__ = ["CSV_BYTES_PER_VALUE", "available_memory", "check_csv_fits", "heap_bytes", "require_memory"]
+__all__ = ["CSV_ADDRESS_BYTES_PER_VALUE", "CSV_BYTES_PER_VALUE", "available_memory", "check_csv_fits",
+           "heap_bytes", "memory_limits", "require_memory"]
 
 #: Bytes a CSV's value takes at the peak of pandas reading it (its float64
-#: column, the parser's text and chunks): 36 measured (the peak RSS of
-#: ``pandas.read_csv`` on a 10^6-row file of 19 columns, 365 MB), rounded up.
+#: column, the parser's text and chunks): 26-36 measured (the peak RSS of
+#: ``pandas.read_csv`` on 10^6-row files of 19 columns, 174 and 365 MB,
+#: pandas 3.1), rounded up.
 CSV_BYTES_PER_VALUE = 40
+
+#: The same in address space, which ``ulimit -v`` bounds: 106 measured (the
+#: peak virtual size, VmPeak, over the 174 MB file: pandas' reading threads
+#: each take a heap arena of their own), rounded up.
+CSV_ADDRESS_BYTES_PER_VALUE = 112
 
 
 def _gib(n: float) -> str:
     return f"{n / 2**30:.1f} GiB" if n >= 2**30 else f"{n / 2**20:.0f} MiB"
 
 
-def available_memory() -> tuple[int | None, str]:
-    """(bytes, how they were found): what the process may still allocate,
-    or (None, "") where it cannot be told."""
+def memory_limits() -> list[tuple[int, str, bool]]:
+    """What the process may still allocate, each as (bytes, how they were
+    found, whether it bounds address space rather than memory): the
+    machine's available memory and what the address-space limit leaves.
+    Empty where neither can be told."""
     limits = []
     try:
         for line in Path("/proc/meminfo").read_text().splitlines():
             if line.startswith("MemAvailable:"):
                 free = int(line.split()[1]) * 1024
-                limits.append((free, f"{_gib(free)} available on this machine"))
+                limits.append((free, f"{_gib(free)} available on this machine", False))
     except (OSError, ValueError, IndexError):
         pass
     soft, _ = resource.getrlimit(resource.RLIMIT_AS)
@@ -47,10 +56,18 @@ def available_memory() -> tuple[int | None, str]:
             mapped = 0
         left = max(soft - mapped, 0)
         limits.append((left, f"{_gib(left)} left under this process's address-space limit of {_gib(soft)} "
-                             f"(ulimit -v; {_gib(mapped)} mapped already)"))
+                             f"(ulimit -v; {_gib(mapped)} mapped already)", True))
+    return limits
+
+
+def available_memory() -> tuple[int | None, str]:
+    """(bytes, how they were found): the least of :func:`memory_limits`,
+    or (None, "") where none can be told."""
+    limits = memory_limits()
     if not limits:
         return None, ""
-    return min(limits)
+    have, said, _ = min(limits)
+    return have, said
 
 
 class _MallInfo2(ctypes.Structure):
@@ -71,14 +88,17 @@ def heap_bytes() -> int | None:
     return int(info.uordblks + info.hblkhd)
 
 
-def require_memory(need: int, what: str, error: type[Exception] = MemoryError) -> None:
-    """Raises `error` (``"<what> would need about N GiB; ... : ..."``) if
-    `need` bytes exceed :func:`available_memory`, before anything is
-    allocated."""
-    have, said = available_memory()
-    if have is not None and need > have:
-        raise error(f"{what} would need about {_gib(need)} of memory, but there is {said}; "
-                    "ask for less")
+def require_memory(need: int, what: str, error: type[Exception] = MemoryError,
+                   address_space: int | None = None) -> None:
+    """Raises `error` (``"<what> would need about N GiB of memory; ..."``)
+    if `need` bytes exceed what the machine has available, or
+    `address_space` (default `need`) bytes what the address-space limit
+    leaves, before anything is allocated."""
+    for have, said, virtual in sorted(memory_limits()):  # the tightest first: the one to name
+        wanted = address_space if virtual and address_space is not None else need
+        if wanted > have:
+            raise error(f"{what} would need about {_gib(wanted)} of {'address space' if virtual else 'memory'}, "
+                        f"but there is {said}; ask for less")
 
 
 def check_csv_fits(path: str | os.PathLike[str], error: type[Exception] = MemoryError) -> None:
@@ -86,7 +106,8 @@ def check_csv_fits(path: str | os.PathLike[str], error: type[Exception] = Memory
     they would need) a CSV file whose values would not fit in memory as
     pandas reads them: the rows estimated from the file's size and its
     first lines, the columns from its header, :data:`CSV_BYTES_PER_VALUE`
-    a value. Reads at most 64 kB."""
+    a value (:data:`CSV_ADDRESS_BYTES_PER_VALUE` against an address-space
+    limit). Reads at most 64 kB."""
     path = Path(path)
     try:
         size = path.stat().st_size
@@ -101,6 +122,6 @@ def check_csv_fits(path: str | os.PathLike[str], error: type[Exception] = Memory
     columns = header.count(b",") + 1
     per_row = max(sum(len(x) + 1 for x in sample) / len(sample), 1.0)
     rows = int((size - len(header) - 1) / per_row)
-    need = rows * columns * CSV_BYTES_PER_VALUE
-    require_memory(need, f"{path}: reading about {rows:,} rows of {columns} columns "
-                         f"({_gib(size)} of CSV)", error)
+    require_memory(rows * columns * CSV_BYTES_PER_VALUE,
+                   f"{path}: reading about {rows:,} rows of {columns} columns ({_gib(size)} of CSV)", error,
+                   address_space=rows * columns * CSV_ADDRESS_BYTES_PER_VALUE)

@@ -50,7 +50,7 @@ def test_ten_million_envs_under_a_limit_are_refused_naming_the_memory(tmp_path: 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="RLIMIT_AS and /proc are Linux's")
 def test_a_csv_too_large_for_the_memory_is_refused_before_it_is_read(tmp_path: Path) -> None:
-    rows = 1_500_000  # 19 columns, 57 MB: about 1.1 GB as pandas reads it, under a limit of 256 MiB more
+    rows = 1_500_000  # 19 columns, 57 MB: about 3 GB of address space as pandas reads it, under 256 MiB more
     line = ",".join(str(i % 10) for i in range(19)) + "\n"
     with open(tmp_path / "big.csv", "w") as f:
         f.write("t," + ",".join(f"c{i}" for i in range(18)) + "\n")
@@ -65,7 +65,8 @@ def test_a_csv_too_large_for_the_memory_is_refused_before_it_is_read(tmp_path: P
         sys.exit(neurov.cli.main(["identify", {str(tmp_path / "big.csv")!r}, "--vehicle", "nerov"]))
     """, 256, tmp_path)
     assert "MemoryError" not in done.stderr and "Traceback" not in done.stderr, done.stderr[-2000:]
-    said = r"big.csv: reading about 1,5\d\d,\d\d\d rows of 19 columns \(5\d MiB of CSV\) would need about 1.\d GiB"
+    said = (r"big.csv: reading about 1,5\d\d,\d\d\d rows of 19 columns \(5\d MiB of CSV\) would need about 3.\d GiB "
+            r"of address space, but there is 2\d\d MiB left under this process's address-space limit")
     import re
 
     assert re.search("load_result: .*" + said, done.stdout), done.stdout
@@ -95,3 +96,19 @@ def test_a_vector_env_holds_its_envs_state_not_their_rows() -> None:
     per_env = (heap_bytes() - before) / k
     assert per_env < 200_000, per_env  # the state: 113 kB, 91 kB of it the inline wave storage
     assert gymnasium is not None
+
+
+def test_memory_no_check_foresaw_is_said_not_a_traceback(monkeypatch: pytest.MonkeyPatch,
+                                                          capsys: pytest.CaptureFixture[str]) -> None:
+    """A MemoryError past the checks (identify's regressor of a log whose
+    CSV fitted, say) ends the command with a sentence and exit status 1."""
+    import neurov.identification.cli as identify_cli
+    from neurov.cli import main
+
+    def short_of_memory(args: object) -> int:
+        raise MemoryError("Unable to allocate 1.07 GiB for an array with shape (999999, 6, 24)")
+
+    monkeypatch.setattr(identify_cli, "run", short_of_memory)
+    assert main(["identify", "log.csv", "--vehicle", "nerov"]) == 1
+    err = capsys.readouterr().err
+    assert err.startswith("neurov: error: out of memory (MemoryError: Unable to allocate 1.07 GiB") and "Traceback" not in err
