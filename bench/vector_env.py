@@ -4,10 +4,12 @@ SyncVectorEnv over K single TrackingEnvs, in the same run; with --scaling,
 the vector env's rate from 1 to 4096 envs and a log-log plot.
 
     python bench/vector_env.py [--scenario paper_fig3] [--envs 256] [--steps 400]
-        [--scaling] [--plot docs/images/vector_env_scaling.png] [--json out.json]
+        [--sync-steps 40 (0: none)] [--scaling] [--plot docs/images/vector_env_scaling.png] [--json out.json]
 
 Prints env-steps per second (K times vector steps per second), the median
-of --repeats timings, and the ratio to SyncVectorEnv.
+of --repeats timings, and the ratio to SyncVectorEnv. --table prints the
+scaling of runs written with --json as a Markdown table (env-steps per
+second and, in brackets, the time of one vector step).
 """
 
 from __future__ import annotations
@@ -44,26 +46,41 @@ def main() -> None:
     p.add_argument("--scenario", default="paper_fig3")
     p.add_argument("--envs", type=int, default=256)
     p.add_argument("--steps", type=int, default=400, help="vector steps per timing")
-    p.add_argument("--sync-steps", type=int, default=40, help="SyncVectorEnv steps per timing")
+    p.add_argument("--sync-steps", type=int, default=40,
+                   help="SyncVectorEnv steps per timing (0: no SyncVectorEnv)")
     p.add_argument("--repeats", type=int, default=3)
     p.add_argument("--scaling", action="store_true", help=f"also time K = {', '.join(map(str, SCALING))}")
-    p.add_argument("--plot", type=Path, help="the scaling plot (PNG), with --scaling")
+    p.add_argument("--plot", type=Path, help="the scaling plot (PNG), with --scaling or --table")
     p.add_argument("--json", type=Path, help="also write the figures to this file")
+    p.add_argument("--table", type=Path, nargs="+", metavar="JSON",
+                   help="print the scaling of these --json files (each with --scaling) as a Markdown table, "
+                        "one column a file (with --plot: plot the last file's), and exit")
     args = p.parse_args()
+    if args.table:
+        print(table(args.table))
+        if args.plot:  # the last file's scaling
+            last = json.loads(args.table[-1].read_text())
+            plot({int(n): v for n, v in last["scaling"].items()}, last.get("sync_vector_env_steps_per_s", 0.0),
+                 last["envs"], args.plot)
+        return
 
     k = args.envs
     vec = TrackingVectorEnv(k, args.scenario)
     vector_rate = rate(vec, args.steps, args.repeats)
-    sync = gymnasium.vector.SyncVectorEnv([lambda: TrackingEnv(args.scenario) for _ in range(k)])
-    sync_rate = rate(sync, args.sync_steps, args.repeats)
     out: dict[str, Any] = {
         "scenario": args.scenario, "envs": k, "batch": type(vec._batch).__name__,
-        "vector_env_steps_per_s": vector_rate, "sync_vector_env_steps_per_s": sync_rate,
-        "ratio": vector_rate / sync_rate, "python": platform.python_version(), "numpy": np.__version__,
+        "vector_env_steps_per_s": vector_rate, "python": platform.python_version(), "numpy": np.__version__,
         "gymnasium": gymnasium.__version__,
     }
-    print(f"TrackingVectorEnv ({args.scenario}, {k} envs, batch {out['batch']}): {vector_rate:,.0f} env-steps/s; "
-          f"SyncVectorEnv over {k} TrackingEnv: {sync_rate:,.0f} env-steps/s; ratio {out['ratio']:.1f}x")
+    said = (f"TrackingVectorEnv ({args.scenario}, {k} envs, batch {out['batch']}): {vector_rate:,.0f} env-steps/s "
+            f"({1e6 * k / vector_rate:.2f} us a vector step)")
+    sync_rate = 0.0
+    if args.sync_steps > 0:
+        sync = gymnasium.vector.SyncVectorEnv([lambda: TrackingEnv(args.scenario) for _ in range(k)])
+        sync_rate = rate(sync, args.sync_steps, args.repeats)
+        out.update(sync_vector_env_steps_per_s=sync_rate, ratio=vector_rate / sync_rate)
+        said += f"; SyncVectorEnv over {k} TrackingEnv: {sync_rate:,.0f} env-steps/s; ratio {out['ratio']:.1f}x"
+    print(said)
     if args.scaling:
         out["scaling"] = {}
         for n in SCALING:
@@ -77,6 +94,21 @@ def main() -> None:
         args.json.write_text(json.dumps(out, indent=2))
 
 
+def table(paths: list[Path]) -> str:
+    """The env-steps per second of each file's scaling, by K, and what one
+    vector step takes [us] (Markdown)."""
+    runs = [json.loads(p.read_text()) for p in paths]
+    names = [p.stem for p in paths]
+    lines = ["| K | " + " | ".join(names) + " |", "|---:|" + "---:|" * len(runs)]
+    for k in sorted({int(n) for r in runs for n in r["scaling"]}):
+        cells = []
+        for r in runs:
+            v = r["scaling"].get(str(k))
+            cells.append("" if v is None else f"{v:,.0f} ({1e6 * k / v:,.1f} µs)")
+        lines.append(f"| {k:,} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
 def plot(scaling: dict[int, float], sync_rate: float, k: int, path: Path) -> None:
     import matplotlib
 
@@ -86,7 +118,8 @@ def plot(scaling: dict[int, float], sync_rate: float, k: int, path: Path) -> Non
     fig, ax = plt.subplots(figsize=(6, 4.2))
     ns, rates = zip(*sorted(scaling.items()))
     ax.loglog(ns, rates, marker="o", label="TrackingVectorEnv")
-    ax.loglog([k], [sync_rate], marker="s", linestyle="none", label=f"SyncVectorEnv over {k} TrackingEnv")
+    if sync_rate > 0:
+        ax.loglog([k], [sync_rate], marker="s", linestyle="none", label=f"SyncVectorEnv over {k} TrackingEnv")
     ax.axhline(1e6, color="grey", linestyle=":", label="target: 10^6 env-steps/s")
     ax.set_xlabel("envs K")
     ax.set_ylabel("env-steps per second")

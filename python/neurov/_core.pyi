@@ -3018,9 +3018,9 @@ class BatchSimulator:
     """
     K runs (lanes) stepped in lockstep from outside, one call per step for every lane; each lane gives the rows of the same run alone (a Simulator).
     """
-    def __init__(self, vehicles: collections.abc.Iterable[Vehicle], configs: collections.abc.Iterable[SimulationConfig], logged_parameters: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def __init__(self, vehicles: collections.abc.Iterable[Vehicle], configs: collections.abc.Iterable[SimulationConfig], logged_parameters: typing.SupportsInt | typing.SupportsIndex = 0, log_rows: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         """
-        Lane i from vehicles[i] (a Vehicle) and configs[i] (a SimulationConfig), each copied. A refused lane raises ValidationError naming the lane and the field.
+        Lane i from vehicles[i] (a Vehicle) and configs[i] (a SimulationConfig), each copied. log_rows: the rows each lane's log holds (0, the default: every row of the run; n > 0: a window of n rows, which TrackingTask.step_batch empties as it steps, so that a vector environment holds the lanes' state and not a run's rows per lane). A refused lane raises ValidationError naming the lane and the field.
         """
     def replace(self, i: typing.SupportsIndex, vehicle: Vehicle, config: SimulationConfig) -> None:
         """
@@ -3047,6 +3047,11 @@ class BatchSimulator:
     def done(self) -> numpy.typing.NDArray[numpy.bool]:
         """
         (K,) bool: the lane's run is over (every row, or diverged).
+        """
+    @property
+    def log_rows(self) -> int:
+        """
+        Rows each lane's log holds: 0 for every row of a run, else the window.
         """
     @property
     def logged_parameters(self) -> int:

@@ -267,6 +267,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         # file and the field: the message is the whole story, no traceback.
         print(f"neurov: error: {e}", file=sys.stderr)
         return 1
+    except MemoryError as e:
+        # What neurov.memory could not foresee (a fit's working arrays, say): said, not a traceback.
+        print(f"neurov: error: out of memory ({type(e).__name__}: {e or 'no message'}); the machine, or the "
+              "process's address-space limit (ulimit -v), has too little for this input", file=sys.stderr)
+        return 1
     return 0
 
 

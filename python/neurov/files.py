@@ -2,6 +2,10 @@
 regular files only, of bounded size, TOML in UTF-8 (a byte-order mark
 skipped) and nested at most :data:`MAX_TOML_DEPTH` deep, and every failure an
 error that names the file. The bounds on what a file may hold are here.
+Writing the files a user names: the path checked before any work
+(:func:`check_output_file`), and a failed write (a full disk, a read-only
+file system) an :class:`OutputWriteError` naming the user's path, not an
+internal temporary file (:func:`writing`).
 
 A path to ``/dev/zero`` or a FIFO would otherwise be read without bound (or
 block in ``open``), a directory would give a bare ``IsADirectoryError``, a
@@ -10,9 +14,12 @@ deep would end the parser in a ``RecursionError``.
 """
 from __future__ import annotations
 
+import contextlib
+import errno
 import os
 import stat
 import sys
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -168,3 +175,61 @@ def shipped_or_path(name_or_path: str | os.PathLike[str], folder: Path, kind: st
     raise error(f"{name_or_path}: no such {kind} file, and no shipped {kind} of that name "
                 f"(shipped: {', '.join(names) or 'none'})")
 
+
+
+#: What a write's errno means for the user, said after the system's words.
+_WRITE_HINTS = {
+    errno.ENOSPC: "the disk is full",
+    errno.EDQUOT: "the disk quota is used up",
+    errno.EROFS: "the folder is on a read-only file system",
+    errno.EACCES: "the folder is not writable by this user",
+    errno.EPERM: "the folder is not writable by this user",
+}
+
+
+class OutputWriteError(OSError):
+    """Writing a file the user asked for failed (a full disk, say): the
+    message names the file as the user knows it (`shown`, default the
+    file's name); ``errno`` is the cause's."""
+
+    def __init__(self, path: Path, cause: OSError, shown: str | None = None) -> None:
+        why = cause.strerror or str(cause)
+        hint = _WRITE_HINTS.get(cause.errno or 0)
+        super().__init__(cause.errno, f"cannot write {path.name if shown is None else shown}: {why}"
+                                      + (f" ({hint})" if hint else ""))
+        self.path = path
+
+    def __str__(self) -> str:
+        return str(self.strerror)
+
+
+@contextlib.contextmanager
+def writing(path: str | os.PathLike[str], shown: str | None = None) -> Iterator[None]:
+    """An OSError raised inside becomes an :class:`OutputWriteError` naming
+    `path` (as `shown`, if given: ``"'fit.toml' (--out)"``)."""
+    try:
+        yield
+    except OutputWriteError:
+        raise
+    except OSError as e:
+        raise OutputWriteError(Path(path), e, shown) from e
+
+
+def check_output_file(path: str | os.PathLike[str], option: str) -> Path:
+    """The file `path` that the option `option` (``"--out"``) asks to be
+    written, checked before any work: not a folder, in a folder that exists,
+    is a folder and can be written. Raises OSError naming the option and the
+    path."""
+    out = Path(path)
+    folder = out.parent if str(out.parent) else Path(".")
+    if out.is_dir():
+        raise IsADirectoryError(f"{option} {str(out)!r} is an existing folder; {option} names a file to write")
+    if not folder.exists():
+        raise FileNotFoundError(f"{option} {str(out)!r}: the folder {str(folder)!r} does not exist")
+    if not folder.is_dir():
+        raise NotADirectoryError(f"{option} {str(out)!r}: {str(folder)!r} is a file, not a folder")
+    if not os.access(folder, os.W_OK | os.X_OK):
+        ro = os.statvfs(folder).f_flag & os.ST_RDONLY
+        raise PermissionError(f"{option} {str(out)!r}: the folder {str(folder)!r} cannot be written ("
+                              + ("a read-only file system)" if ro else "no write permission)"))
+    return out

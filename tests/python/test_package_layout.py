@@ -52,7 +52,7 @@ SUFFIXES = ("ation", "ion", "ler", "er", "or")
 
 LAYERS = (
     ("foundations", ("neurov.errors", "neurov.files", "neurov.npz_file", "neurov.progress", "neurov.kernels",
-                     "neurov.hooks", "neurov.schema", "neurov.units", "neurov.threads")),
+                     "neurov.hooks", "neurov.schema", "neurov.units", "neurov.threads", "neurov.memory")),
     ("control laws", ("neurov.laws",)),
     ("configuration", ("neurov.config",)),
     ("results", ("neurov.results",)),

@@ -153,7 +153,8 @@ std::string lane_what(const char* where, std::size_t lane) {
 }
 
 Batch make_batch(const typed::IterableOf<Vehicle<double>>& vehicles_in,
-                 const typed::IterableOf<SimulationConfig<double>>& configs_in, int logged_parameters) {
+                 const typed::IterableOf<SimulationConfig<double>>& configs_in, int logged_parameters,
+                 Eigen::Index log_rows) {
   const char* where = "BatchSimulator";
   auto vehicles = items<Vehicle<double>>(vehicles_in, where, "vehicles", "neurov.Vehicle");
   auto configs = items<SimulationConfig<double>>(configs_in, where, "configs", "neurov.SimulationConfig");
@@ -162,7 +163,7 @@ Batch make_batch(const typed::IterableOf<Vehicle<double>>& vehicles_in,
                  std::to_string(configs.size()));
   Batch b;
   std::size_t lane = 0;
-  const ValidationError e = Batch::create(vehicles, configs, b, logged_parameters, 0, &lane);
+  const ValidationError e = Batch::create(vehicles, configs, b, logged_parameters, log_rows, &lane);
   if (e) py_args::raise_if_invalid(e, lane_what(where, lane).c_str());
   return b;
 }
@@ -339,8 +340,14 @@ void bind_batch(py::module_& m) {
                     "K runs (lanes) stepped in lockstep from outside, one call per step for every "
                     "lane; each lane gives the rows of the same run alone (a Simulator).")
       .def(py::init(&make_batch), py::arg("vehicles"), py::arg("configs"), py::arg("logged_parameters") = 0,
+           py::arg("log_rows") = 0,
            "Lane i from vehicles[i] (a Vehicle) and configs[i] (a SimulationConfig), each copied. "
+           "log_rows: the rows each lane's log holds (0, the default: every row of the run; n > 0: a "
+           "window of n rows, which TrackingTask.step_batch empties as it steps, so that a vector "
+           "environment holds the lanes' state and not a run's rows per lane). "
            "A refused lane raises ValidationError naming the lane and the field.")
+      .def_property_readonly("log_rows", &Batch::log_rows,
+                             "Rows each lane's log holds: 0 for every row of a run, else the window.")
       .def_property_readonly("size", &Batch::size, "K, the number of lanes.")
       .def_property_readonly("logged_parameters", &Batch::logged_parameters,
                              "Parameters each lane logs per row (step's `parameters` width).")

@@ -226,6 +226,11 @@ StepTuple<F32, F64, Bools> step_batch(const Task& task, Batch& batch, const type
     split_lanes(k, threads, batch_pool(threads), [&](std::size_t b, std::size_t e) noexcept {
       const auto n = static_cast<std::size_t>(task.action_size());
       tracking_forces(task, e - b, a.data() + n * b, tau.data() + 6 * b);
+      // A batch made with a log window (the vector env's, of one row) is read from its
+      // observations, never its log: a full window is emptied so that the lane steps on.
+      if (batch.log_rows() > 0)
+        for (std::size_t i = b; i < e; ++i)
+          if (batch.lane(i).log_full() && !batch.lane(i).done()) batch.discard(i);
       batch.step_lanes(b, e, tau.data(), mask, status);
       for (std::size_t i = b; i < e; ++i) lanes.read(i, batch.lane(i));
       float* obs_b = observation + static_cast<std::size_t>(kObs) * b;

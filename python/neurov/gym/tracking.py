@@ -91,7 +91,11 @@ class TrackingEnv(gymnasium.Env):
         draws a seed from the environment's generator (itself seeded by the
         last reset with a seed), so the same seed gives the same episode.
         With `randomize`, the episode's plant is drawn from that generator
-        first (docs/gymnasium.md)."""
+        first (docs/gymnasium.md). It takes no options: `options` is None or
+        an empty dict."""
+        if options is not None and (not isinstance(options, dict) or options):
+            raise ValueError(f"argument 'options': TrackingEnv.reset takes no options (None or {{}}), "
+                             f"got {options!r}"[:300])
         if seed is not None:
             # First: the core refuses a seed outside its range (saying it) before anything changes.
             self._sim.reset(seed)

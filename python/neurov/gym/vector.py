@@ -26,11 +26,36 @@ from neurov.gym.randomize import Randomization
 from neurov.gym.task import TrackingTask, resolve_scenario
 from neurov.gym.tracking import TrackingEnv
 from neurov.config.scenario import Scenario
+from neurov.memory import heap_bytes, require_memory
 from neurov.running.plant import build_vehicle, simulation_config
 
 __all__ = ["TrackingVectorEnv"]
 
 _MODES = (AutoresetMode.NEXT_STEP, AutoresetMode.SAME_STEP)
+
+
+#: Envs of the batch built to measure an env's memory (a larger one is checked against the memory there is).
+_PROBE_ENVS = 64
+#: Bytes an env's arrays take in Python (the batched spaces' bounds, a step's observation, info,
+#: rewards and flags, the lists the batch is built from), rounded up.
+_PYTHON_ENV_BYTES = 2048
+
+
+def _check_memory(k: int, vehicle: _core.Vehicle, config: _core.SimulationConfig) -> None:
+    """Refuses `k` envs whose memory would not fit (neurov.memory), before
+    the batch is built: an env's bytes measured on a batch of
+    _PROBE_ENVS, twice over (the batch copies each env's vehicle and
+    configuration once more while it is built)."""
+    if k <= _PROBE_ENVS:
+        return
+    before = heap_bytes()
+    probe = _core.BatchSimulator([vehicle] * _PROBE_ENVS, [config] * _PROBE_ENVS, log_rows=1)
+    after = heap_bytes()
+    del probe
+    if before is None or after is None:
+        return
+    per_env = 2 * max(after - before, 0) // _PROBE_ENVS + _PYTHON_ENV_BYTES
+    require_memory(k * per_env, f"argument 'num_envs' = {k} ({per_env / 1024:.1f} kB an env)", ValueError)
 
 
 class TrackingVectorEnv(VectorEnv):
@@ -44,7 +69,15 @@ class TrackingVectorEnv(VectorEnv):
     ``AutoresetMode.SAME_STEP`` (the step that ends an episode resets the env
     at once and returns its first observation, the last one in
     ``info["final_obs"]`` and its info in ``info["final_info"]``: what
-    Stable-Baselines3 expects). A string ("NextStep", "SameStep") is taken too.
+    Stable-Baselines3 expects). A string ("NextStep", "SameStep") is taken
+    too. (``AutoresetMode.DISABLED`` is not offered.)
+
+    ``reset(options={"reset_mask": mask})`` (gymnasium's partial reset, in
+    either mode) resets only the envs where `mask` (a bool array of
+    `num_envs`) is True, clearing their pending autoreset; the others go on
+    as they were and their observations are returned as they stand. It is
+    the one option: any other key, or options that are not a dict, are
+    refused.
 
     Seeding: ``reset(seed=s)`` seeds env i with s + i (a list gives each
     env's seed), so env i is the single env under ``reset(seed=s + i)``; its
@@ -59,7 +92,13 @@ class TrackingVectorEnv(VectorEnv):
     threads: the threads that step the compiled batch's plants (0, the
     default: one per core; at least ``neurov._core.MIN_LANES_PER_THREAD``
     (128) envs a thread, so a smaller batch steps on one); the results do
-    not depend on it."""
+    not depend on it.
+
+    Memory: an env holds its run's state, not its rows (the compiled batch
+    keeps a log window of one row). A `num_envs` whose memory would not fit
+    in what the machine has available, or under the process's address-space
+    limit (``ulimit -v``), is refused before anything is built: a
+    ValueError naming the memory it would need (:mod:`neurov.memory`)."""
 
     metadata: dict[str, Any] = {"render_modes": [], "autoreset_mode": AutoresetMode.NEXT_STEP}
 
@@ -89,6 +128,9 @@ class TrackingVectorEnv(VectorEnv):
                                  attitude_weight=attitude_weight, effort_weight=effort_weight,
                                  box_margin=box_margin, velocity_bound=velocity_bound)
         self.randomization = Randomization.of(randomize, self.scenario)
+        vehicle = build_vehicle(self.scenario)
+        if batch_class is None:
+            _check_memory(self.num_envs, vehicle, config)  # before the batched spaces, the first K-sized arrays
         self.autoreset_mode = mode
         self.metadata = {**self.metadata, "autoreset_mode": mode}
         self.render_mode = None
@@ -98,11 +140,18 @@ class TrackingVectorEnv(VectorEnv):
         self.action_space = batch_space(self.single_action_space, self.num_envs)
 
         k = self.num_envs
-        self._batch = (batch_class or _core.BatchSimulator)([build_vehicle(self.scenario)] * k, [config] * k)
+        if batch_class is None:
+            # A window of one row: the env reads its observations, never a run's rows (859 kB an env
+            # for paper_fig3's 1,251 rows, 3.4 GB at 4,096 envs, written as they stepped).
+            self._batch = _core.BatchSimulator([vehicle] * k, [config] * k, log_rows=1)
+        else:
+            self._batch = batch_class([vehicle] * k, [config] * k)
         self._compiled = isinstance(self._batch, _core.BatchSimulator)
         self._rngs: list[np.random.Generator | None] = [None] * k
         self._clips = np.zeros(k, dtype=np.int64)
         self._ended = np.zeros(k, dtype=bool)  # NEXT_STEP: reset at the next step
+        self._every = np.ones(k, dtype=bool)
+        self._every.flags.writeable = False
         self._started = False
 
     # --- resets -----------------------------------------------------------------------------------
@@ -141,16 +190,49 @@ class TrackingVectorEnv(VectorEnv):
         self._batch.reset(noise, mask)
         self._clips[mask] = 0
 
+    def _reset_mask(self, options: Any) -> NDArray[np.bool_] | None:
+        """The envs `options` asks to reset (None: every env), checked as
+        gymnasium checks them."""
+        if options is None:
+            return None
+        if not isinstance(options, dict):
+            raise TypeError(f"argument 'options' must be None or a dict (its one key 'reset_mask'), "
+                            f"got {type(options).__name__}")
+        unknown = sorted(map(repr, set(options) - {"reset_mask"}))
+        if unknown:
+            raise ValueError(f"argument 'options': unknown key(s) {', '.join(unknown)}; the one option is "
+                             "'reset_mask' (a bool array of num_envs: the envs to reset)")
+        if "reset_mask" not in options:
+            return None
+        mask = options["reset_mask"]
+        k = self.num_envs
+        if not isinstance(mask, np.ndarray) or mask.dtype != np.bool_ or mask.shape != (k,):
+            got = f"an array of {mask.dtype} {mask.shape}" if isinstance(mask, np.ndarray) else type(mask).__name__
+            raise TypeError(f"argument 'options': 'reset_mask' must be a numpy bool array of shape ({k},), got {got}")
+        if not mask.any():
+            raise ValueError("argument 'options': 'reset_mask' must have at least one True (the envs to reset)")
+        if not self._started and not mask.all():
+            raise RuntimeError("TrackingVectorEnv.reset: a partial reset (reset_mask) before the first reset; "
+                               "call reset() for every env first")
+        return mask.copy()
+
     def reset(self, *, seed: int | Sequence[int | None] | None = None, options: dict[str, Any] | None = None
               ) -> tuple[NDArray[np.float32], dict[str, Any]]:
-        """Every env back to t = 0 (see the class for the seeds)."""
+        """Every env back to t = 0, or those of ``options["reset_mask"]``
+        (see the class for the seeds and the options)."""
         self._require_open()
         seeds = self._lane_seeds(seed)
-        super().reset(seed=seed if isinstance(seed, (int, np.integer)) else None)
-        self._reset_lanes(np.arange(self.num_envs), seeds)
-        self._ended[:] = False
+        mask = self._reset_mask(options)
+        if mask is None:
+            super().reset(seed=seed if isinstance(seed, (int, np.integer)) else None)
+            mask = np.ones(self.num_envs, dtype=bool)
+        self._reset_lanes(np.flatnonzero(mask), seeds)
+        self._ended[mask] = False
         self._started = True
-        return self._observe()
+        obs, info = self._lanes()
+        info["action_clips"] = self._clips.copy()
+        info.update({f"_{key}": mask for key in list(info)})
+        return obs, info
 
     # --- steps ------------------------------------------------------------------------------------
 
@@ -172,20 +254,23 @@ class TrackingVectorEnv(VectorEnv):
         return obs, self._masked(info)
 
     def _masked(self, info: dict[str, Any]) -> dict[str, Any]:
-        """info with gymnasium's mask _key beside each key: every env has it."""
-        every = np.ones(self.num_envs, dtype=bool)
+        """info with gymnasium's mask _key beside each key: every env has it
+        (one read-only array of K True, made once)."""
+        every = self._every
         info.update({f"_{key}": every for key in list(info)})
         return info
 
-    def _advance(self, actions: Any, stepped: NDArray[np.bool_]) -> tuple[Any, ...]:
-        """The envs in `stepped` stepped under their actions: (obs, reward,
-        terminated, truncated, info, clipped) of every env (reward 0 and no
-        flag for one not stepped). The compiled batch does it all in one
-        call into C++; another batch (PythonLanes) through the task's row
-        functions."""
+    def _advance(self, actions: Any, stepped: NDArray[np.bool_] | None) -> tuple[Any, ...]:
+        """The envs in `stepped` (None: every env) stepped under their
+        actions: (obs, reward, terminated, truncated, info, clipped) of every
+        env (reward 0 and no flag for one not stepped). The compiled batch
+        does it all in one call into C++; another batch (PythonLanes)
+        through the task's row functions."""
         core = self.task.core
         if self._compiled:
             return core.step_batch(self._batch, actions, stepped, self.threads)[:6]
+        if stepped is None:
+            stepped = self._every
         shape = (self.num_envs, *self.task.action_shape)
         a, clipped = core.clip(actions)  # refuses what is not real numbers, or not finite
         if a.shape != shape:
@@ -210,20 +295,23 @@ class TrackingVectorEnv(VectorEnv):
         self._require_open()
         if not self._started:
             raise RuntimeError("TrackingVectorEnv.step: call reset() before step()")
-        stepped = ~self._ended
+        # NEXT_STEP: the envs whose episode ended are not stepped (their action is ignored).
+        waiting = self._ended.any()
+        stepped = ~self._ended if waiting else None
         try:
             obs, reward, terminated, truncated, info, clipped = self._advance(actions, stepped)
         except (TypeError, ValueError) as e:
             raise type(e)(f"TrackingVectorEnv.step: {e}") from None
-        if not stepped.all():
-            # NEXT_STEP: the envs whose episode ended start again (their action was ignored).
+        if waiting:
+            # ... and start again.
             self._reset_lanes(np.flatnonzero(self._ended), [None] * self.num_envs)
             obs, fresh = self._lanes()
             info.update(fresh)
-        self._clips += clipped & stepped
+            clipped &= stepped
+        self._clips += clipped
         info["action_clips"] = self._clips.copy()
         self._masked(info)
-        info["_plant_status"] = stepped
+        info["_plant_status"] = self._every if stepped is None else stepped
         ended = terminated | truncated
         if self.autoreset_mode == AutoresetMode.NEXT_STEP:
             self._ended = ended

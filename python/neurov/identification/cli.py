@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 from typing import Any
 
 __all__ = ["add_parser", "run"]
@@ -42,7 +43,8 @@ def add_parser(sub: Any, epilog: str) -> None:
     p.add_argument("--equation-error-only", action="store_true",
                    help="skip the output-error stage (faster, biased on noisy data)")
     p.add_argument("--substeps", type=int, default=1, metavar="N",
-                   help="RK4 steps per log interval in the output error and free runs (default 1)")
+                   help="RK4 steps per log interval in the output error and free runs, 1..10000 "
+                        "(neurov.MAX_SUBSTEPS, as a scenario's) (default 1)")
     p.add_argument("--block", type=float, default=5.0, metavar="SECONDS",
                    help="length of the bootstrap's blocks (default 5 s)")
     p.add_argument("--velocity-lag", type=_lag, default=0.0, metavar="SECONDS|auto",
@@ -75,8 +77,9 @@ def _lag(text: str) -> float | str:
 def run(args: argparse.Namespace) -> int:
     # Deferred: this module is imported for `neurov --help`; the fit needs SciPy.
     import sys
-    from pathlib import Path
 
+    from neurov import _core
+    from neurov.files import check_output_file
     from neurov.identification.fit import NothingToFit, identify, report_only
     from neurov.identification.report import report_text
     from neurov.identification.printout import report_and_plan
@@ -88,10 +91,15 @@ def run(args: argparse.Namespace) -> int:
     if not Path(vehicle).exists() and vehicle in preset_names():
         preset = str(vehicle)
         vehicle = preset_path(preset)
-    if args.substeps < 1:
-        raise ValueError(f"--substeps: expected an integer >= 1, got {args.substeps}")
+    if not 1 <= args.substeps <= _core.MAX_SUBSTEPS:
+        raise ValueError(f"--substeps: expected an integer in 1..{_core.MAX_SUBSTEPS} (neurov.MAX_SUBSTEPS, "
+                         f"as a scenario's substeps), got {args.substeps}")
     if args.block <= 0:
         raise ValueError(f"--block: expected seconds > 0, got {args.block}")
+    # Before the fit: a path that cannot be written is said now, not after minutes of work.
+    for option, path in (("--out", args.out), ("--plot", args.plot)):
+        if path is not None:
+            check_output_file(path, option)
     if args.report:
         text, written = report_and_plan(report_only(args.logs, vehicle, free=args.free, mapping=args.mapping),
                                         vehicle, preset, args.out)
@@ -119,9 +127,27 @@ def run(args: argparse.Namespace) -> int:
     for p in [result.out, *written] if result.out is not None else written:
         print(f"wrote {p}")
     if args.plot is not None:
-        from neurov.identification.plots import plot_identification
-
-        print(f"wrote {plot_identification(result, args.plot)}")
+        print(f"wrote {_write_plot(result, Path(args.plot))}")
     if result.out is None and args.plot is None:
         print("wrote nothing (--out FITTED.toml writes the fitted vehicle file, --plot FILE the figure)")
     return 0
+
+
+def _write_plot(result: Any, plot: Path) -> Path:
+    """The identification figure into `plot`, drawn beside it and moved in
+    whole: a full disk leaves neither half a figure nor the old one cut."""
+    import os
+    import tempfile
+
+    from neurov.files import writing
+    from neurov.identification.plots import plot_identification  # deferred: Matplotlib
+
+    with writing(plot, f"{str(plot)!r} (--plot)"):
+        fd, tmp = tempfile.mkstemp(prefix=f".{plot.name}.", suffix=plot.suffix, dir=plot.parent)
+        os.close(fd)
+        try:
+            plot_identification(result, tmp)
+            os.replace(tmp, plot)
+        finally:
+            Path(tmp).unlink(missing_ok=True)
+    return plot

@@ -28,6 +28,7 @@ from numpy.typing import NDArray
 
 from neurov.identification.alignment import hold
 from neurov.identification.errors import LogError
+from neurov.memory import check_csv_fits
 from neurov.identification.log import GAP_FACTOR, Log, make_log
 from neurov.identification.mapping import UNITS, Mapping, to_neurov_frames
 
@@ -41,6 +42,7 @@ def _frame(path: Path) -> Any:
 
     if not path.is_file():
         raise LogError(f"{path}: no such file")
+    check_csv_fits(path, LogError)  # a file too large for memory refused before pandas reads it
     try:
         return pd.read_csv(path)
     except (ValueError, OSError) as e:

@@ -15,6 +15,8 @@ from typing import Any
 
 import numpy as np
 
+from neurov.memory import check_csv_fits
+from neurov.npz_file import NpzFile
 from neurov.results.columns import RESULT_SERIES, column_names
 from neurov.identification.errors import LogError
 from neurov.identification.log import Log, make_log
@@ -47,6 +49,34 @@ def _columns(frame: dict[str, Any], path: Path) -> Log:
                     block("tau_applied") + disturbance, current)
 
 
+#: The largest result.npz read, as :func:`neurov.load_result` reads one.
+_MAX_NPZ_BYTES = 1 << 36
+
+
+def _npz_log(path: Path) -> Log:
+    """A result.npz read as :class:`neurov.npz_file.NpzFile` reads (random
+    bytes, a single .npy, Python objects: a LogError naming the file, never
+    numpy's advice to unpickle), each array real before it is read."""
+    with NpzFile(path, LogError, _MAX_NPZ_BYTES, str(path),
+                 " (a neurov run's result.npz holds named arrays)") as z:
+        names = {n.removesuffix(".npy") for n in z.zip.namelist()}
+        missing = [k for k in ("t", "eta_estimate", "nu_estimate", "tau_applied") if k not in names]
+        if missing:
+            raise LogError(f"{path}: missing array(s) {missing} (a neurov result.npz has them)")
+
+        def real(name: str) -> Any:
+            def check(shape: tuple[int, ...], dtype: np.dtype) -> None:
+                if dtype.kind not in "fiu" or len(shape) != (1 if name == "t" else 2):
+                    raise LogError(f"{path}: array {name!r} is {dtype} {shape}, expected real numbers "
+                                   f"({'one' if name == 't' else 'a row'} per sample)")
+            return np.array(z.array(name, check), dtype=np.float64)
+
+        disturbance = real("disturbance") if "disturbance" in names else 0.0
+        current = real("current") if "current" in names else None
+        return make_log(str(path), real("t"), real("eta_estimate"), real("nu_estimate"),
+                        real("tau_applied") + disturbance, current)
+
+
 def read_neurov_log(path: str | Path) -> Log:
     """Reads a neurov run's ``.npz``, ``.csv`` or ``.parquet``; a missing
     signal raises :class:`LogError` naming the file and the signal."""
@@ -55,17 +85,11 @@ def read_neurov_log(path: str | Path) -> Log:
         raise LogError(f"{path}: no such file")
     suffix = path.suffix.lower()
     if suffix == ".npz":
-        with np.load(path, allow_pickle=False) as z:
-            missing = [k for k in ("t", "eta_estimate", "nu_estimate", "tau_applied") if k not in z.files]
-            if missing:
-                raise LogError(f"{path}: missing array(s) {missing} (a neurov result.npz has them)")
-            disturbance = z["disturbance"] if "disturbance" in z.files else 0.0
-            current = z["current"] if "current" in z.files else None
-            return make_log(str(path), z["t"], z["eta_estimate"], z["nu_estimate"],
-                            z["tau_applied"] + disturbance, current)
+        return _npz_log(path)
     if suffix == ".csv":
         import pandas as pd
 
+        check_csv_fits(path, LogError)
         try:
             frame = pd.read_csv(path)
         except (ValueError, OSError) as e:

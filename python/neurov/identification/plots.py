@@ -88,6 +88,8 @@ def plot_identification(r: Identification, path: str | Path, truth: Any = None) 
         for a in axes[1]:
             a.set_xlabel("t [s]", fontsize=8)
     path = Path(path)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    try:
+        fig.savefig(path, dpi=110)
+    finally:  # a failed write (a full disk) leaves no figure open in pyplot
+        plt.close(fig)
     return path

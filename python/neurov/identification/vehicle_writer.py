@@ -11,6 +11,7 @@ import tempfile
 from pathlib import Path
 from typing import Any
 
+from neurov.files import writing
 from neurov.identification.errors import IdentificationError
 from neurov.config.vehicle_file import read_vehicle_file
 
@@ -49,13 +50,14 @@ def write_vehicle_file(out: str | Path, template: str | Path, parameters: dict[s
     folder = out.parent if str(out.parent) else Path(".")
     if not folder.is_dir():
         raise IdentificationError(f"--out {out}: the folder {folder} does not exist")
-    fd, tmp = tempfile.mkstemp(prefix=".fitted-", suffix=".toml", dir=folder)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as f:
-            f.write(text)
-        read_vehicle_file(tmp).vehicle()
-        os.replace(tmp, out)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    with writing(out, f"{str(out)!r} (--out)"):  # a failure names the user's file, not the temporary one
+        fd, tmp = tempfile.mkstemp(prefix=".fitted-", suffix=".toml", dir=folder)
+        try:
+            with os.fdopen(fd, "w", encoding="utf-8") as f:
+                f.write(text)
+            read_vehicle_file(tmp).vehicle()
+            os.replace(tmp, out)
+        except BaseException:
+            Path(tmp).unlink(missing_ok=True)
+            raise
     return out

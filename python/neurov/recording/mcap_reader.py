@@ -71,12 +71,27 @@ def _scenario(attachments: dict[str, bytes], info: dict[str, str], path: Path) -
         data = tomllib.loads(text.decode("utf-8"))
     except (UnicodeDecodeError, tomllib.TOMLDecodeError) as e:
         raise RecordingError(f"{path}: attachment scenario.toml: not valid TOML ({e})") from None
-    scenario = scenario_from_mapping(data, info.get("source") or f"{path}:scenario.toml")
+    # Read with the file's original path as its origin (a vehicle file beside it is found), but
+    # what is wrong is the recording's: its errors name the MCAP, not the scenario file it came from.
+    origin = info.get("source") or f"{path}:scenario.toml"
+    where = f"{path}: attachment scenario.toml" + (f" (the run's scenario, read from {origin})"
+                                                    if info.get("source") else "")
+    try:
+        scenario = scenario_from_mapping(data, origin)
+    except (ValueError, TypeError) as e:
+        raise RecordingError(f"{where}: {str(e).removeprefix(origin + ': ')}") from None
     # Deferred: the writer's module needs SciPy (its frames' rotations); reading does not.
     from neurov.recording.mcap_writer import plain
 
     # The file's scenario is the run's unless it was changed in Python after it was read.
-    recorded, rebuilt = json.loads(info.get("describe", "null")), plain(scenario.describe())
+    try:
+        recorded = json.loads(info.get("describe", "null"))
+    except ValueError as e:
+        raise RecordingError(f"{path}: metadata scenario: describe: not JSON ({e})") from None
+    if recorded is not None and not isinstance(recorded, dict):
+        raise RecordingError(f"{path}: metadata scenario: describe: expected a JSON object, got "
+                             f"{type(recorded).__name__}")
+    rebuilt = plain(scenario.describe())
     if recorded is not None and recorded != rebuilt:
         changed = sorted(k for k in recorded if recorded.get(k) != rebuilt.get(k))
         raise RecordingError(f"{path}: the run's scenario differs from its file scenario.toml in "

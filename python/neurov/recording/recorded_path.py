@@ -36,7 +36,8 @@ def recorded_path(file: str | Path, topic: str, start: float = 0.0) -> tuple[np.
     (see the module): times (K,) strictly increasing from `start`, poses
     (K, 6) NED [x, y, z, phi, theta, psi]. Raises :class:`RecordedPathError`
     for a file missing or unreadable, a topic missing or of another type,
-    fewer than two poses, repeated stamps or non-finite values."""
+    fewer than two poses, repeated stamps or stamps going backwards in the
+    order logged, or non-finite values."""
     path = Path(file)
     if not isinstance(topic, str) or not topic:
         raise RecordedPathError("topic", f"expected a topic name, got {topic!r}")
@@ -69,13 +70,19 @@ def recorded_path(file: str | Path, topic: str, start: float = 0.0) -> tuple[np.
         raise RecordedPathError("topic", f"{path}: topic {topic!r} has non-finite positions or orientations")
     if np.any(np.linalg.norm(q, axis=1) < 1e-9):
         raise RecordedPathError("topic", f"{path}: topic {topic!r} has a zero quaternion (no orientation)")
+    # In the order logged: a header stamp going backwards is refused, as
+    # ``neurov identify`` refuses time going backwards (not re-sorted into
+    # another path).
     ns = np.array([stamp_ns(m) for m in messages], dtype=np.int64)
-    order = np.argsort(ns, kind="stable")
-    ns, xyz, q = ns[order], xyz[order], q[order]
-    if np.any(np.diff(ns) <= 0):
-        k = int(np.flatnonzero(np.diff(ns) <= 0)[0])
-        raise RecordedPathError("topic", f"{path}: topic {topic!r}: two poses stamped {ns[k]} ns; "
-                                         "a path needs strictly increasing stamps")
+    steps = np.diff(ns)
+    if np.any(steps <= 0):
+        k = int(np.flatnonzero(steps <= 0)[0])
+        if steps[k] == 0:
+            raise RecordedPathError("topic", f"{path}: topic {topic!r}: two poses stamped {ns[k]} ns; "
+                                             "a path needs strictly increasing stamps")
+        raise RecordedPathError("topic", f"{path}: topic {topic!r}: header stamps must not go backwards; pose "
+                                         f"{k + 1} (in the order logged) is stamped {(ns[k + 1] - ns[0]) * 1e-9:.9g} "
+                                         f"s after the first, before pose {k} at {(ns[k] - ns[0]) * 1e-9:.9g} s")
     euler = euler_from_enu_quaternions(q)
     euler[:, 2] = np.unwrap(euler[:, 2])
     times = float(start) + (ns - ns[0]) * 1e-9

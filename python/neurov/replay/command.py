@@ -5,11 +5,13 @@
 from __future__ import annotations
 
 import sys
+import warnings
 from collections.abc import Sequence
 from pathlib import Path
 
 from neurov.errors import NeurovError, ResultFileError
 from neurov.replay import MAX_FRAMES, replay
+from neurov.replay.scene import AbsurdValuesWarning
 from neurov.results.load import load_result
 
 __all__ = ["main_view"]
@@ -48,11 +50,15 @@ def main_view(results: Sequence[str], out: str, frames: int | None = None,
             said = said.removeprefix(f"{r}: ").removeprefix(f"{Path(r)}: ")  # the path once, as given
             raise ResultFileError(f"RESULT {r!r}: {said}") from None
     try:
-        view = replay(runs, names=[_name(Path(r)) for r in results],
-                      max_frames=MAX_FRAMES if frames is None else frames)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", AbsurdValuesWarning)  # said below, once, as the command's warnings
+            view = replay(runs, names=[_name(Path(r)) for r in results],
+                          max_frames=MAX_FRAMES if frames is None else frames)
     except ImportError as e:  # plotly missing: the message says which extra to install
         print(f"neurov: error: {e}", file=sys.stderr)
         return 1
+    for note in view.scene.notes:
+        print(f"neurov: warning: {note}", file=sys.stderr)
     written = view.write_html(path)
     size = written.stat().st_size
     print(f"wrote {written} ({size / 1e6:.1f} MB, {len(view.scene.times)} frames, "

@@ -19,11 +19,22 @@ its body (and its thrusters' positions) is drawn enlarged by a round factor
 legend says the factor. Arrows are scaled by the largest value of their kind
 over every result and frame, which gets an arrow as long as the longest
 drawn body; the legend says that value.
+
+Absurd values: a finite value no run can have (a position beyond
+:data:`MAX_POSITION_M`, a force or thrust beyond :data:`MAX_FORCE_N`, a
+flow beyond :data:`MAX_FLOW_M_S`: a damaged file, say, holding 1e300) would
+set the scene's extent or an arrow's scale and shrink everything else to a
+point. Such values are passed over as a non-finite one is (a pose: its rows
+are not drawn; an arrow: not drawn in those rows), and the scene's
+``notes`` say which, how many and from when; ``neurov view`` prints them
+and :func:`build_scene` warns (:class:`AbsurdValuesWarning`).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
@@ -36,7 +47,8 @@ from neurov import _core
 if TYPE_CHECKING:
     from neurov.results.timeseries import Result
 
-__all__ = ["BODY_SHARE", "MAX_FRAMES", "MAX_PATH_POINTS", "NED_TO_DISPLAY", "Scene", "Track", "build_scene"]
+__all__ = ["AbsurdValuesWarning", "BODY_SHARE", "MAX_FLOW_M_S", "MAX_FORCE_N", "MAX_FRAMES", "MAX_PATH_POINTS",
+           "MAX_POSITION_M", "NED_TO_DISPLAY", "Scene", "Track", "build_scene"]
 
 Array = NDArray[np.float64]
 
@@ -47,6 +59,23 @@ MAX_PATH_POINTS = 5000
 """Points of a drawn path at most (every k-th row and the last)."""
 BODY_SHARE = 0.1
 """The body is drawn at least this share of the scene's extent long."""
+MAX_POSITION_M = 1e7
+"""The farthest position drawn [m] from the origin along an axis: a quarter of
+the Earth's circumference; beyond it a pose is absurd (see the module)."""
+MAX_FORCE_N = 1e9
+"""The largest force or thrust drawn [N]: a thousand times a ship's largest
+thruster."""
+MAX_FLOW_M_S = 1e3
+"""The fastest current or wave velocity drawn [m/s]."""
+
+# The series checked, each a (name, columns or None for all, bound, unit): a row beyond is passed over.
+_BOUNDS = (("eta", slice(0, 3), MAX_POSITION_M, "m"), ("eta_d", slice(0, 3), MAX_POSITION_M, "m"),
+           ("thrusts", slice(None), MAX_FORCE_N, "N"), ("tau_applied", slice(0, 3), MAX_FORCE_N, "N"),
+           ("current", slice(None), MAX_FLOW_M_S, "m/s"), ("wave_velocity", slice(None), MAX_FLOW_M_S, "m/s"))
+
+
+class AbsurdValuesWarning(UserWarning):
+    """A result holds finite values no run can have; they are not drawn."""
 
 NED_TO_DISPLAY = np.array([[0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, -1.0]])
 """NED (x north, y east, z down) to display (x east, y north, z up)."""
@@ -91,6 +120,31 @@ class Scene:
     reach: float = 1.0  #: [m] the longest arrow: the largest drawn body's largest extent
     lower: Array = field(default_factory=lambda: np.zeros(3))  #: the scene's box
     upper: Array = field(default_factory=lambda: np.ones(3))
+    notes: list[str] = field(default_factory=list)  #: absurd values passed over (see the module)
+
+
+def _passed_over(result: Result, label: str) -> tuple[Result, list[str]]:
+    """`result` with its absurd values (see the module) made NaN, so that
+    they are passed over as non-finite ones are, and a note for each series."""
+    changed: dict[str, Array] = {}
+    notes = []
+    for name, columns, bound, unit in _BOUNDS:
+        values = np.asarray(getattr(result, name), dtype=np.float64)
+        if values.ndim != 2 or not values.size:
+            continue
+        part = values[:, columns]
+        # Finite only: NaN and inf are passed over already, as a diverged run's last rows are.
+        bad = np.any(np.isfinite(part) & (np.abs(part) > bound), axis=1)
+        if not bad.any():
+            continue
+        first = int(np.flatnonzero(bad)[0])
+        worst = float(np.max(np.abs(part[bad]), where=np.isfinite(part[bad]), initial=0.0))
+        notes.append(f"{label}: {name} beyond {bound:g} {unit} in {int(bad.sum())} of {len(bad)} rows (first at "
+                     f"t = {result.t[first]:g} s, up to {worst:.3g} {unit}): absurd for any run, not drawn")
+        copy = values.copy()
+        copy[bad] = np.nan
+        changed[name] = copy
+    return (dataclasses.replace(result, **changed) if changed else result), notes
 
 
 def frame_times(results: Sequence[Result], max_frames: int) -> Array:
@@ -185,6 +239,11 @@ def _peak(values: list[Array], axis: int) -> float:
 
 def build_scene(results: Sequence[Result], labels: Sequence[str], max_frames: int = MAX_FRAMES) -> Scene:
     """The frames of `results` (labelled `labels`), sampled as the module says."""
+    checked = [_passed_over(r, label) for r, label in zip(results, labels)]
+    results = [r for r, _ in checked]
+    notes = [n for _, said in checked for n in said]
+    for note in notes:
+        warnings.warn(note, AbsurdValuesWarning, stacklevel=2)
     times = frame_times(results, max_frames)
     layouts = [_layout(r) for r in results]
     paths = [(_path(r.eta[:, :3]), _path(r.eta_d[:, :3])) for r in results]
@@ -233,7 +292,7 @@ def build_scene(results: Sequence[Result], labels: Sequence[str], max_frames: in
     half = np.full(3, max((upper - lower)[:2].max() / 2 + margin, 1.0))
     half[2] = max((upper - lower)[2] / 2 + margin, 0.25 * half[0])
     return Scene(times=times, tracks=tracks, thrust_peak=thrust_peak, force_peak=force_peak,
-                 flow_peak=flow_peak, reach=reach, lower=centre - half, upper=centre + half)
+                 flow_peak=flow_peak, reach=reach, lower=centre - half, upper=centre + half, notes=notes)
 
 
 def labels_for(results: Sequence[Result], given: Sequence[str] | None = None,

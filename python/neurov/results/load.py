@@ -32,6 +32,7 @@ import numpy as np
 from neurov import hooks
 from neurov.results.columns import npz_series, series_from_columns
 from neurov.errors import ResultFileError
+from neurov.memory import check_csv_fits
 from neurov.results.timeseries import Result
 from neurov.config.reading import load_scenario
 from neurov.config.scenario import Scenario, scenario_path
@@ -136,6 +137,7 @@ def _read_mcap(path: Path, scenario: Scenario | str | Path | None) -> Result:
 def _read_csv(path: Path, scenario: Scenario | str | Path | None) -> Result:
     import pandas as pd
 
+    check_csv_fits(path, ResultFileError)
     try:
         frame = pd.read_csv(path)
     except (ValueError, OSError, pd.errors.ParserError) as e:

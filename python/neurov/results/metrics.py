@@ -160,12 +160,13 @@ class MetricsWindow:
 
     def window(self) -> Window:
         """What the metrics are computed from: the sums of the rows judged. A
-        diverged run with no row in the window is judged over every row;
+        diverged run with no row in the window is judged over every row (a
+        run that failed before its first row over none: its metrics nan);
         otherwise an empty window raises ValueError naming 'after'."""
         w = self._window
         if not w.rows:
             last = self._before.t_last if self._before.rows else 0
-            if not (self._diverged and self._before.rows):
+            if not self._diverged:
                 raise ValueError(f"argument 'after' = {self.after} leaves no samples (run ends at {last})")
             w = self._before
         return Window(sums=w, dt=self.dt, refused_steps=self._window.refused + self._before.refused,
@@ -180,7 +181,10 @@ class MetricsWindow:
         out: dict[str, Any] = {}
         with np.errstate(over="ignore", invalid="ignore"):
             for m in METRICS.values():
-                v = m.compute(window)
+                if window.sums.rows:
+                    v = m.compute(window)
+                else:  # a run that failed before its first row: its counts, and no value
+                    v = m.compute(window) if m.name in _COUNTS else math.inf if m.error else math.nan
                 if m.nest is None:
                     out[m.name] = v
                 elif isinstance(m.nest[1], int):
@@ -229,6 +233,10 @@ class Metric:
     nest: tuple[str, str | int] | None = None
     column: bool = True
 
+
+#: The metrics that are counts over the whole run, not values of its rows:
+#: the only ones a run that failed before its first row has.
+_COUNTS = ("refused_steps", "refused_steps_in_window", "diverged", "diverged_at_s")
 
 #: Every metric, in the order of :meth:`Result.metrics` and of a study's runs
 #: table. Filled below and by :func:`register_metric`.

@@ -32,34 +32,10 @@ from pathlib import Path
 import math
 from typing import Any
 
+from neurov.files import OutputWriteError, writing
+
 __all__ = ["OutputWriteError", "RunFolder", "check_output_dir", "finite_or_none", "kept_files", "stop_reason",
            "stopped_run", "stopping", "write_metrics", "writing"]
-
-
-class OutputWriteError(OSError):
-    """Writing one of a run's files failed (a full disk, say): the message
-    names the file; ``errno`` is the cause's."""
-
-    def __init__(self, path: Path, cause: OSError) -> None:
-        why = cause.strerror or str(cause)
-        if cause.errno == errno.ENOSPC:
-            why += " (the disk is full)"
-        super().__init__(cause.errno, f"cannot write {path.name}: {why}")
-        self.path = path
-
-    def __str__(self) -> str:
-        return str(self.strerror)
-
-
-@contextlib.contextmanager
-def writing(path: Path) -> Iterator[None]:
-    """An OSError raised inside becomes an :class:`OutputWriteError` naming `path`."""
-    try:
-        yield
-    except OutputWriteError:
-        raise
-    except OSError as e:
-        raise OutputWriteError(Path(path), e) from e
 
 
 def check_output_dir(out_dir: str | Path, *, create: bool = True) -> Path:

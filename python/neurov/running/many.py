@@ -23,6 +23,7 @@ from neurov.config.scenario import ControllerSpec, Scenario
 from neurov.laws.protocol import is_batched, is_built_in, require_controller
 from neurov.laws.registry import build_controller, default_centre_box, make_centres
 from neurov.progress import progress_bar
+from neurov.results.columns import RESULT_SERIES
 from neurov.results.metrics import MetricsWindow, metrics_start
 from neurov.results.timeseries import Result
 from neurov.running.plant import build_vehicle, simulation_config
@@ -51,7 +52,10 @@ def _runs(runs: Scenario | Iterable[Scenario | tuple[Scenario, Any]],
             if not isinstance(o, Mapping):
                 raise TypeError(f"argument 'overrides'[{i}] must be a dict of Scenario fields, "
                                 f"got {type(o).__name__}")
-            out.append((runs.replace(**o), None))
+            try:
+                out.append((runs.replace(**o), None))
+            except (TypeError, ValueError) as e:
+                raise run_error(e, i, f"overrides[{i}]") from e
         return out
     if overrides is not None:
         raise TypeError("argument 'overrides' goes with one Scenario as 'runs' (a list of runs takes none)")
@@ -92,6 +96,49 @@ class _Resolver:
         return build_controller(spec, scenario), name
 
 
+def run_error(error: Exception, index: int, what: str) -> Exception:
+    """`error` again, of the same type and attributes (a ValidationError's
+    ``field``, ``index``, ...), its message naming the run: ``"run 3
+    (scenario 'x'): ..."``; the run's 0-based index as its ``run``."""
+    try:
+        named = type(error)(f"run {index} ({what}): {error}")
+        named.__dict__.update(error.__dict__)
+    except Exception:  # noqa: BLE001 - an exception type that takes no message: a ValueError says it
+        named = ValueError(f"run {index} ({what}): {type(error).__name__}: {error}")
+    named.run = index  # type: ignore[attr-defined]
+    return named
+
+
+def failed_result(scenario: Scenario, label: str, error: BaseException) -> Result:
+    """The result of a run that raised while it ran: no rows, counted as
+    diverged (its error metrics inf, as a study's failed run ranks), the
+    error in ``extra["error"]`` (``{"type": ..., "message": ...}``)."""
+    empty = {spec.name: np.zeros((0,) if spec.width == 1 else (0, spec.width or 0), dtype=spec.dtype)
+             for spec in RESULT_SERIES}
+    return Result(scenario=scenario, controller=label, diverged=True,
+                  extra={"error": {"type": type(error).__name__, "message": str(error)}}, **empty)
+
+
+def _check(planned: list[Run], resolver: _Resolver) -> dict[int, tuple[Any, str]]:
+    """Everything a run can be refused for, before any run: its controller
+    built, its vehicle and its checked configuration. The first refusal is
+    raised naming the run's 0-based index. The controllers of the first
+    :data:`BATCH_RUNS` runs are kept for their run (the others are built
+    again when their batch comes: a built controller takes tens of kB, and
+    a batch holds only its own)."""
+    kept: dict[int, tuple[Any, str]] = {}
+    for i, (scenario, controller) in enumerate(planned):
+        try:
+            built = resolver.build(scenario, controller)
+            build_vehicle(scenario)
+            simulation_config(scenario)
+        except (TypeError, ValueError) as e:
+            raise run_error(e, i, f"scenario {scenario.name!r}") from e
+        if i < BATCH_RUNS:
+            kept[i] = built
+    return kept
+
+
 def simulate_many(runs: Scenario | Iterable[Scenario | tuple[Scenario, Any]],
                   overrides: Sequence[Mapping[str, Any]] | None = None, *, threads: int = 0,
                   metrics_only: bool = False, after: float | None = None,
@@ -108,7 +155,15 @@ def simulate_many(runs: Scenario | Iterable[Scenario | tuple[Scenario, Any]],
     stepped by one ``step_batch`` call per step (:func:`run_batched_policy`:
     a batch the policy fails on is run again run by run, so only the failing
     runs record refused steps); their metrics_only dicts are computed from
-    the full results (no C++ sums on that path). With `progress`, a
+    the full results (no C++ sums on that path).
+
+    Every run is checked before any runs (its controller built, its vehicle
+    and configuration validated): a refusal raises the validator's error
+    naming the run's 0-based index (``"run 600 (scenario 'x'): ..."``, its
+    ``run`` attribute). A run that raises while it runs is a failed result
+    among the others, as a study's failed run: no rows, ``diverged`` true,
+    ``extra["error"]`` its error's type and message (with `metrics_only`,
+    its metrics inf or nan and an ``"error"`` key). With `progress`, a
     progress bar on stderr while stderr is a terminal."""
     if not isinstance(threads, int) or isinstance(threads, bool) or threads < 0:
         raise ValueError(f"argument 'threads' must be an int >= 0 (0: one per core), got {threads!r}")
@@ -116,6 +171,7 @@ def simulate_many(runs: Scenario | Iterable[Scenario | tuple[Scenario, Any]],
         raise ValueError(f"argument 'after' must be a finite time [s] or None, got {after}")
     planned = _runs(runs, overrides)
     resolver = _Resolver()
+    kept = _check(planned, resolver)
     out: list[Any] = [None] * len(planned)
     batch: list[tuple[int, Scenario, Any, str]] = []
     # A batched policy's runs, by policy object: id -> (policy, label, [(index, scenario)]).
@@ -124,39 +180,67 @@ def simulate_many(runs: Scenario | Iterable[Scenario | tuple[Scenario, Any]],
     def window_start(scenario: Scenario) -> float:
         return metrics_start(scenario.duration) if after is None else float(after)
 
-    def flush() -> None:
-        if not batch:
+    def finish(i: int, sc: Scenario, result: Result) -> None:
+        if not metrics_only:
+            out[i] = result
             return
-        vehicles = [build_vehicle(sc) for _, sc, _, _ in batch]
-        configs = [simulation_config(sc) for _, sc, _, _ in batch]
-        controllers = [c for _, _, c, _ in batch]
-        starts = [window_start(sc) for _, sc, _, _ in batch]
+        out[i] = result.metrics(after=window_start(sc))
+        if "error" in result.extra:
+            out[i]["error"] = result.extra["error"]
+
+    def run_lanes(lanes: list[tuple[int, Scenario, Any, str]]) -> None:
+        vehicles = [build_vehicle(sc) for _, sc, _, _ in lanes]
+        configs = [simulation_config(sc) for _, sc, _, _ in lanes]
+        controllers = [c for _, _, c, _ in lanes]
+        starts = [window_start(sc) for _, sc, _, _ in lanes]
         start = time.perf_counter()
         raws = _core.run_batch(vehicles, controllers, configs, threads=threads, metrics_only=metrics_only,
                                after=np.array(starts) if metrics_only else None)
-        wall = (time.perf_counter() - start) / len(batch)
-        for (i, sc, _, name), raw in zip(batch, raws):
+        wall = (time.perf_counter() - start) / len(lanes)
+        for (i, sc, _, name), raw in zip(lanes, raws):
             if metrics_only:
                 out[i] = MetricsWindow.from_sums(raw, sc.duration, sc.dt).value()
             else:
                 diverged = bool(raw.pop("diverged"))
                 out[i] = Result(scenario=sc, controller=name, diverged=diverged, wall_time=wall, **raw)
+
+    def flush() -> None:
+        if not batch:
+            return
+        try:
+            run_lanes(batch)
+        except Exception:  # noqa: BLE001 - a run that fails is a failed result; the others are run alone
+            for lane in batch:
+                try:
+                    run_lanes([lane])
+                except Exception as e:  # noqa: BLE001
+                    finish(lane[0], lane[1], failed_result(lane[1], lane[3], e))
         bar.update(len(batch))
         batch.clear()
 
-    def flush_policy(key: int) -> None:
-        policy, name, runs_of = policies.pop(key)
+    def run_policy(policy: Any, name: str, runs_of: list[tuple[int, Scenario]]) -> None:
         scenarios = [sc for _, sc in runs_of]
         vehicles = [build_vehicle(sc) for sc in scenarios]
         lanes = _core.BatchSimulator(vehicles, [simulation_config(sc) for sc in scenarios])
         results = run_batched_policy(lanes, policy, scenarios, vehicles=vehicles, label=name)
         for (i, sc), result in zip(runs_of, results):
-            out[i] = result.metrics(after=window_start(sc)) if metrics_only else result
+            finish(i, sc, result)
+
+    def flush_policy(key: int) -> None:
+        policy, name, runs_of = policies.pop(key)
+        try:
+            run_policy(policy, name, runs_of)
+        except Exception:  # noqa: BLE001 - as flush(): the failing runs alone are failed results
+            for run in runs_of:
+                try:
+                    run_policy(policy, name, [run])
+                except Exception as e:  # noqa: BLE001
+                    finish(run[0], run[1], failed_result(run[1], name, e))
         bar.update(len(runs_of))
 
     with progress_bar(len(planned), "runs", quiet=not progress) as bar:
         for i, (scenario, controller) in enumerate(planned):
-            ctrl, name = resolver.build(scenario, controller)
+            ctrl, name = kept.pop(i) if i in kept else resolver.build(scenario, controller)
             if is_built_in(ctrl):
                 batch.append((i, scenario, ctrl, name))
                 if len(batch) >= BATCH_RUNS:
@@ -167,8 +251,11 @@ def simulate_many(runs: Scenario | Iterable[Scenario | tuple[Scenario, Any]],
                 if len(policies[id(ctrl)][2]) >= BATCH_RUNS:
                     flush_policy(id(ctrl))
                 continue
-            result = simulate(scenario, ctrl)
-            out[i] = result.metrics(after=window_start(scenario)) if metrics_only else result
+            try:
+                result = simulate(scenario, ctrl)
+            except Exception as e:  # noqa: BLE001 - a run that fails is a failed result among the others
+                result = failed_result(scenario, name, e)
+            finish(i, scenario, result)
             bar.update(1)
         flush()
         for key in list(policies):

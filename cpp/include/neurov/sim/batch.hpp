@@ -104,6 +104,14 @@ class BatchSimulator {
 
   std::size_t size() const noexcept { return lanes_.size(); }
   int logged_parameters() const noexcept { return logged_parameters_; }
+  /// Rows each lane's log holds: 0 for every row of a run, else the window
+  /// of create() (a batch whose rows are read from its observations, a
+  /// vector environment's, keeps a window of one row: its memory is the
+  /// lanes' state, not a run's rows per lane).
+  Eigen::Index log_rows() const noexcept { return log_rows_; }
+
+  /// Lane i's log emptied (Simulator::discard): its rows were read elsewhere.
+  void discard(std::size_t i) noexcept { lanes_[i].discard(); }
 
   /// Lane i re-created from a new vehicle and configuration (a new episode's
   /// plant); on failure lane i is untouched.
@@ -306,8 +314,12 @@ inline constexpr std::size_t kMinLanesPerThread = 128;
 template <typename Share>
 void split_lanes(std::size_t k, unsigned threads, WorkerPool* pool, Share&& share,
                  std::size_t min_lanes = kMinLanesPerThread) {
+  const std::size_t most = k / std::max<std::size_t>(1, min_lanes);
+  // One share: no thread, and no hardware_concurrency() either (it reads
+  // /sys at every call, 2.6 us of a one-env vector step of 13 us).
+  if (most <= 1) return share(0, k);
   std::size_t n = threads ? threads : std::max(1u, std::thread::hardware_concurrency());
-  n = std::max<std::size_t>(1, std::min(n, k / std::max<std::size_t>(1, min_lanes)));
+  n = std::max<std::size_t>(1, std::min(n, most));
   auto part = [&](std::size_t t) noexcept { share(k * t / n, k * (t + 1) / n); };
   if (n == 1) return part(0);
   auto pooled = [&](unsigned t) noexcept { part(t); };
