@@ -1,0 +1,151 @@
+"""The firmware image of processor-in-the-loop runs, built on first use and
+cached: the task of ``examples/firmware/cortex-m7/pil`` over neurov's C
+interface, for QEMU's Cortex-M7 board ``mps2-an500`` (with the Arm GNU
+toolchain, ``arm-none-eabi-gcc``) or for the host (the same float controller
+run natively, with ``cc``/``c++``). The sources ship in the package
+(``neurov/pil/firmware``, installed there by CMake); in a source checkout
+they are read where they live. An image is cached under
+``$NEUROV_CACHE_DIR`` (default ``$XDG_CACHE_HOME/neurov`` or
+``~/.cache/neurov``), in ``pil/<hash>/``, the hash of its sources, flags and
+compiler, so a change of any rebuilds it."""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import shutil
+import subprocess
+import tempfile
+from pathlib import Path
+
+from neurov.files import PACKAGE_DIR
+from neurov.pil.framing import PILError
+
+__all__ = ["ARM_FLAGS", "build_image", "cache_dir", "firmware_tree"]
+
+#: The Cortex-M7 code generation: FPv5 with double precision (QEMU's
+#: cortex-m7 reports MVFR0 0x10110221, single and double), hard-float ABI,
+#: -Os as in cmake/toolchains/arm-none-eabi-cortex-m7.cmake.
+ARM_FLAGS = ("-mcpu=cortex-m7", "-mfpu=fpv5-d16", "-mfloat-abi=hard", "-mthumb", "-Os")
+_COMMON = ("-DNDEBUG", "-ffunction-sections", "-fdata-sections")
+_CXX = ("-std=c++17", "-fno-exceptions", "-fno-rtti", "-fno-threadsafe-statics")
+_LIBRARY = ("c_api.cpp", "c_api_allocation.cpp", "c_api_estimator.cpp")
+_TASK = ("pil_task.c", "pil_frame.c")
+
+
+def firmware_tree() -> tuple[Path, Path, Path]:
+    """(the firmware folder with pil/, the include folder with neurov/, the
+    folder of c_api*.cpp): the package's copy, else the source checkout's."""
+    shipped = PACKAGE_DIR / "pil" / "firmware"
+    if (shipped / "cortex-m7").is_dir():
+        return shipped / "cortex-m7", shipped / "include", shipped / "src"
+    root = PACKAGE_DIR.parent.parent
+    if (root / "examples" / "firmware" / "cortex-m7" / "pil").is_dir():
+        return root / "examples" / "firmware" / "cortex-m7", root / "cpp" / "include", root / "cpp" / "src"
+    raise PILError(f"the firmware sources are missing: neither {shipped} nor a source checkout around "
+                   f"{PACKAGE_DIR}; reinstall neurov or pass --image")
+
+
+def cache_dir() -> Path:
+    """Where built images are kept (see the module)."""
+    base = os.environ.get("NEUROV_CACHE_DIR") or os.path.join(
+        os.environ.get("XDG_CACHE_HOME") or os.path.expanduser("~/.cache"), "neurov")
+    return Path(base) / "pil"
+
+
+def _eigen(include: Path) -> Path:
+    candidates = [os.environ.get("NEUROV_EIGEN_INCLUDE", ""), str(include.parent / "eigen"),
+                  "/usr/include/eigen3", "/usr/local/include/eigen3"]
+    for c in candidates:
+        if c and (Path(c) / "Eigen" / "Core").is_file():
+            return Path(c)
+    raise PILError("Eigen's headers (Eigen/Core) were not found: set NEUROV_EIGEN_INCLUDE to the folder "
+                   "holding Eigen/, or install them (Debian: libeigen3-dev)")
+
+
+def _tool(name: str, package: str) -> str:
+    path = shutil.which(name)
+    if path is None:
+        raise PILError(f"{name} not found: install {package}, or pass --image with a prebuilt image")
+    return path
+
+
+def build_image(centres: int, *, target: str = "mps2-an500", kd_scale: float = 1.0) -> Path:
+    """The image for `target` ("mps2-an500": an ELF for QEMU; "host": a host
+    program) with N = `centres`, built unless cached; `kd_scale` != 1 builds
+    the deliberately changed firmware of the tests (K_d times it)."""
+    if target not in ("mps2-an500", "host"):
+        raise ValueError(f"argument 'target' must be 'mps2-an500' or 'host', got {target!r}")
+    firmware, include, src = firmware_tree()
+    pil = firmware / "pil"
+    arm = target != "host"
+    if arm:
+        cc = _tool("arm-none-eabi-gcc", "the Arm GNU toolchain (Debian: gcc-arm-none-eabi "
+                   "libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib)")
+        cxx = _tool("arm-none-eabi-g++", "the Arm GNU toolchain's C++ (Debian: libstdc++-arm-none-eabi-newlib)")
+        flags = [*ARM_FLAGS, *_COMMON]
+    else:
+        cc, cxx = _tool("cc", "a C compiler"), _tool("c++", "a C++ compiler")
+        flags = ["-O2", *_COMMON]
+    defines = [f"-DNEUROV_C_CENTRES={int(centres)}"] + ([f"-DPIL_KD_SCALE={kd_scale!r}f"] if kd_scale != 1.0 else [])
+    includes = [f"-I{include}", f"-I{pil}", "-isystem", str(_eigen(include))]
+    c_sources = [pil / s for s in _TASK] + ([pil / "board_mps2_an500.c", firmware / "startup.c"] if arm
+                                             else [pil / "board_host.c"])
+    cpp_sources = [src / s for s in _LIBRARY]
+    scripts = [pil / "mps2_an500.ld", firmware / "sections.ld"] if arm else []
+    digest = hashlib.sha256()
+    for part in [cc, cxx, *flags, *defines, _version(cc)]:
+        digest.update(part.encode() + b"\0")
+    for path in [*c_sources, *cpp_sources, *scripts, *sorted(include.rglob("*.h*")), *sorted(src.glob("*.hpp")),
+                 *sorted(pil.glob("*.h"))]:
+        digest.update(path.name.encode() + b"\0" + path.read_bytes())
+    out = cache_dir() / digest.hexdigest()[:16]
+    image = out / ("neurov_pil.elf" if arm else "neurov_pil_host")
+    if image.is_file():
+        return image
+    out.parent.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory(dir=out.parent, prefix=".building-") as tmp:
+        work = Path(tmp)
+        objects = _compile(cxx, [*flags, *_CXX, *defines, *includes], cpp_sources, work)
+        link = [cc, *flags, "-std=c11", "-Wall", "-Wextra", *defines, *includes, *map(str, c_sources), *objects]
+        if arm:
+            link += ["-nostartfiles", "--specs=nano.specs", "-Wl,--gc-sections", f"-L{firmware}",
+                     f"-T{pil / 'mps2_an500.ld'}", f"-Wl,-Map={work / 'neurov_pil.map'}", "-lm"]
+        else:
+            link += ["-lstdc++", "-lm"]
+        _run([*link, "-o", str(work / image.name)])
+        try:
+            os.rename(work, out)
+        except OSError:  # built meanwhile by another run: theirs is the same
+            pass
+        work.mkdir(exist_ok=True)  # for TemporaryDirectory's clean-up
+    return image
+
+
+def _compile(cxx: str, flags: list[str], sources: list[Path], work: Path) -> list[str]:
+    """Two compilers at a time (Eigen makes each take seconds)."""
+    objects, running = [], []
+    for s in sources:
+        obj = str(work / (s.stem + ".o"))
+        objects.append(obj)
+        running.append(subprocess.Popen([cxx, *flags, "-c", str(s), "-o", obj], stdout=subprocess.PIPE,
+                                        stderr=subprocess.STDOUT, text=True))
+        if len(running) == 2:
+            _finish(running.pop(0))
+    for p in running:
+        _finish(p)
+    return objects
+
+
+def _finish(process: subprocess.Popen[str]) -> None:
+    out, _ = process.communicate()
+    if process.returncode != 0:
+        raise PILError(f"building the firmware failed: {' '.join(map(str, process.args))}\n{out}")  # type: ignore[arg-type]
+
+
+def _run(argv: list[str]) -> None:
+    _finish(subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True))
+
+
+def _version(cc: str) -> str:
+    return subprocess.run([cc, "--version"], capture_output=True, text=True).stdout
