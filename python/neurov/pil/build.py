@@ -13,15 +13,18 @@ from __future__ import annotations
 
 import hashlib
 import os
+import re
 import shutil
+import struct
 import subprocess
+import sys
 import tempfile
 from pathlib import Path
 
 from neurov.files import PACKAGE_DIR
 from neurov.pil.framing import PILError
 
-__all__ = ["ARM_FLAGS", "build_image", "cache_dir", "firmware_tree"]
+__all__ = ["ARM_FLAGS", "EXCEPTION_FRAME_BYTES", "build_image", "cache_dir", "firmware_tree", "image_sizes", "static_stack"]
 
 #: The Cortex-M7 code generation: FPv5 with double precision (QEMU's
 #: cortex-m7 reports MVFR0 0x10110221, single and double), hard-float ABI,
@@ -93,8 +96,10 @@ def build_image(centres: int, *, target: str = "mps2-an500", kd_scale: float = 1
                                              else [pil / "board_host.c"])
     cpp_sources = [src / s for s in _LIBRARY]
     scripts = [pil / "mps2_an500.ld", firmware / "sections.ld"] if arm else []
+    # -fcallgraph-info=su: the frames and calls static_stack() adds up.
+    stack = ["-fcallgraph-info=su"] if arm else []
     digest = hashlib.sha256()
-    for part in [cc, cxx, *flags, *defines, _version(cc)]:
+    for part in [cc, cxx, *flags, *stack, *defines, _version(cc)]:
         digest.update(part.encode() + b"\0")
     for path in [*c_sources, *cpp_sources, *scripts, *sorted(include.rglob("*.h*")), *sorted(src.glob("*.hpp")),
                  *sorted(pil.glob("*.h"))]:
@@ -106,8 +111,9 @@ def build_image(centres: int, *, target: str = "mps2-an500", kd_scale: float = 1
     out.parent.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(dir=out.parent, prefix=".building-") as tmp:
         work = Path(tmp)
-        objects = _compile(cxx, [*flags, *_CXX, *defines, *includes], cpp_sources, work)
-        link = [cc, *flags, "-std=c11", "-Wall", "-Wextra", *defines, *includes, *map(str, c_sources), *objects]
+        objects = _compile(cxx, [*flags, *stack, *_CXX, *defines, *includes], cpp_sources, work)
+        objects += _compile(cc, [*flags, *stack, "-std=c11", "-Wall", "-Wextra", *defines, *includes], c_sources, work)
+        link = [cc, *flags, *objects]
         if arm:
             link += ["-nostartfiles", "--specs=nano.specs", "-Wl,--gc-sections", f"-L{firmware}",
                      f"-T{pil / 'mps2_an500.ld'}", f"-Wl,-Map={work / 'neurov_pil.map'}", "-lm"]
@@ -149,3 +155,48 @@ def _run(argv: list[str]) -> None:
 
 def _version(cc: str) -> str:
     return subprocess.run([cc, "--version"], capture_output=True, text=True).stdout
+
+
+#: Bytes an interrupt adds to the stack it lands on: the exception frame
+#: with the FPU's registers (ARMv7-M: 26 words, 8-byte aligned, plus one).
+EXCEPTION_FRAME_BYTES = 108
+
+
+def static_stack(image: Path) -> dict[str, int] | None:
+    """The static bound of the image's main stack, from GCC's call graphs
+    (the firmware's stack_usage.py): the deepest path from Reset_Handler,
+    plus the deepest interrupt handler and its exception frame. None for an
+    image without its build's call graphs (a prebuilt one, say)."""
+    graphs = sorted(str(p) for p in image.parent.glob("*.ci"))
+    if not graphs:
+        return None
+    script = firmware_tree()[0] / "stack_usage.py"
+    out = subprocess.run([sys.executable, str(script), "--entry", "Reset_Handler|SysTick_Handler|UART0RX_Handler",
+                          *graphs], capture_output=True, text=True)
+    depths = {m.group(1): int(m.group(2)) for m in re.finditer(r"^(\w+)\s+(\d+) bytes$", out.stdout, re.M)}
+    if out.returncode != 0 or "Reset_Handler" not in depths:
+        raise PILError(f"the stack bound failed: {out.stdout}{out.stderr}")
+    handlers = max((v for k, v in depths.items() if k != "Reset_Handler"), default=0)
+    return {"reset_to_deepest_call": depths["Reset_Handler"], "deepest_interrupt": handlers,
+            "exception_frame": EXCEPTION_FRAME_BYTES,
+            "bound": depths["Reset_Handler"] + handlers + EXCEPTION_FRAME_BYTES}
+
+
+def image_sizes(image: Path) -> dict[str, int]:
+    """Flash (code, constants, .data's initial values) and static RAM
+    (.data + .bss) of an ELF32 image, from its section headers, in bytes."""
+    data = Path(image).read_bytes()
+    if data[:5] != b"\x7fELF\x01":
+        raise PILError(f"argument 'image': {str(image)!r} is not a 32-bit ELF file")
+    shoff, = struct.unpack_from("<I", data, 0x20)
+    shentsize, shnum = struct.unpack_from("<HH", data, 0x2E)
+    flash = ram = 0
+    for i in range(shnum):
+        _, kind, flags, _, _, size = struct.unpack_from("<IIIIII", data, shoff + i * shentsize)
+        if not flags & 2:  # SHF_ALLOC
+            continue
+        if kind != 8:  # not SHT_NOBITS: stored in the image
+            flash += size
+        if flags & 1:  # SHF_WRITE
+            ram += size
+    return {"flash_bytes": flash, "ram_bytes": ram}

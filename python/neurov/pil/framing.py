@@ -19,7 +19,7 @@ from numpy.typing import NDArray
 
 from neurov.errors import NeurovError
 
-__all__ = ["FAULTS", "PILError", "MAX_PAYLOAD", "Answer", "Hello", "Report", "FrameReader", "config_payload", "encode",
+__all__ = ["FAULTS", "PILError", "STATUSES", "MAX_PAYLOAD", "Answer", "Hello", "Report", "FrameReader", "config_payload", "encode",
            "measurement_payload", "parse_answer", "parse_hello", "parse_report"]
 
 
@@ -35,6 +35,8 @@ HELLO, ACK, COMMAND, REPORT = b"H", b"A", b"T", b"R"
 NO_SEQ = 0xFFFFFFFF
 #: The board's reasons for a safe command (PIL_FAULT_* of pil_frame.h), by code.
 FAULTS = {0: "none", 1: "bad_frame", 2: "out_of_range", 3: "timeout", 4: "not_configured"}
+#: The C interface's status codes (neurov_status), by code.
+STATUSES = {0: "ok", 1: "near_singularity", 2: "non_finite_input", 3: "invalid_argument", 4: "non_finite_output"}
 
 
 def encode(kind: bytes, payload: bytes) -> bytes:

@@ -17,7 +17,7 @@ from numpy.typing import NDArray
 from neurov.config.scenario import Scenario
 from neurov.laws.registry import build_controller
 from neurov.pil.board import Board
-from neurov.pil.framing import NO_SEQ, Answer, PILError, Report, config_payload, measurement_payload
+from neurov.pil.framing import NO_SEQ, STATUSES, Answer, PILError, Report, config_payload, measurement_payload
 from neurov.results.timeseries import Result
 from neurov.running.stepper import Simulator
 
@@ -105,7 +105,7 @@ class BoardController:
             return np.zeros(6)
         f.ticks.append(answer.ticks), f.status.append(answer.status), f.fault.append(answer.fault)
         if answer.status != 0:
-            f.count(f"status_{answer.status}", t, kind)
+            f.count(STATUSES.get(answer.status, f"status_{answer.status}"), t, kind)
         if answer.fault != "none":
             f.count(answer.fault, t, kind)
         self.s = answer.s if answer.fault == "none" else np.full(6, np.nan)
