@@ -97,7 +97,8 @@ def test_faults_are_answered_with_the_safe_command_and_counted(cache: Path) -> N
 
 
 @needs_board
-def test_qemu_dies_with_a_killed_neurov_pil(cache: Path) -> None:
+@pytest.mark.parametrize("how", [signal.SIGKILL, signal.SIGTERM])
+def test_qemu_dies_with_a_stopped_neurov_pil(cache: Path, how: signal.Signals) -> None:
     parent = subprocess.Popen([sys.executable, "-m", "neurov", "pil", "bluerov2_depth_step"],
                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     qemu = None
@@ -108,8 +109,8 @@ def test_qemu_dies_with_a_killed_neurov_pil(cache: Path) -> None:
             break
         time.sleep(0.1)
     assert qemu is not None, "neurov pil did not start QEMU"
-    parent.send_signal(signal.SIGKILL)
-    parent.wait()
+    parent.send_signal(how)
+    assert parent.wait() == (143 if how == signal.SIGTERM else -signal.SIGKILL)
     for _ in range(100):
         if not qemu.exists() or _state_of(qemu) == "Z":
             break

@@ -41,9 +41,8 @@ class Board:
     """One board, booted (its hello read: :attr:`hello`). Use as a context
     manager, or call :meth:`close`."""
 
-    def __init__(self, process: subprocess.Popen[bytes], link: socket.socket, kind: str,
-                 workdir: tempfile.TemporaryDirectory[str] | None = None) -> None:
-        self.process, self.link, self.kind, self._workdir = process, link, kind, workdir
+    def __init__(self, process: subprocess.Popen[bytes], link: socket.socket, kind: str) -> None:
+        self.process, self.link, self.kind = process, link, kind
         self.reader = FrameReader()
         self.pending: list[tuple[bytes, bytes]] = []
         try:
@@ -79,7 +78,10 @@ class Board:
             raise PILError(f"QEMU did not connect its UART ({e}): {' '.join(argv)}\n{err}") from None
         finally:
             server.close()
-        return cls(process, link, "qemu mps2-an500", workdir)
+        # Connected: the socket's name is no longer needed, and nothing is
+        # left on disk however this process ends.
+        workdir.cleanup()
+        return cls(process, link, "qemu mps2-an500")
 
     @classmethod
     def host(cls, program: str | Path) -> Board:
@@ -98,9 +100,6 @@ class Board:
         if self.process.stderr is not None:
             self.process.stderr.close()
         self.link.close()
-        if self._workdir is not None:
-            self._workdir.cleanup()
-            self._workdir = None
 
     def __enter__(self) -> Board:
         return self

@@ -19,6 +19,7 @@ import struct
 import subprocess
 import sys
 import tempfile
+from collections.abc import Callable
 from pathlib import Path
 
 from neurov.files import PACKAGE_DIR
@@ -90,42 +91,60 @@ def build_image(centres: int, *, target: str = "mps2-an500", kd_scale: float = 1
     else:
         cc, cxx = _tool("cc", "a C compiler"), _tool("c++", "a C++ compiler")
         flags = ["-O2", *_COMMON]
-    defines = [f"-DNEUROV_C_CENTRES={int(centres)}"] + ([f"-DPIL_KD_SCALE={kd_scale!r}f"] if kd_scale != 1.0 else [])
+    size = [f"-DNEUROV_C_CENTRES={int(centres)}"]
+    defines = size + ([f"-DPIL_KD_SCALE={kd_scale!r}f"] if kd_scale != 1.0 else [])
     includes = [f"-I{include}", f"-I{pil}", "-isystem", str(_eigen(include))]
     c_sources = [pil / s for s in _TASK] + ([pil / "board_mps2_an500.c", firmware / "startup.c"] if arm
                                              else [pil / "board_host.c"])
     cpp_sources = [src / s for s in _LIBRARY]
-    scripts = [pil / "mps2_an500.ld", firmware / "sections.ld"] if arm else []
     # -fcallgraph-info=su: the frames and calls static_stack() adds up.
     stack = ["-fcallgraph-info=su"] if arm else []
-    digest = hashlib.sha256()
-    for part in [cc, cxx, *flags, *stack, *defines, _version(cc)]:
-        digest.update(part.encode() + b"\0")
-    for path in [*c_sources, *cpp_sources, *scripts, *sorted(include.rglob("*.h*")), *sorted(src.glob("*.hpp")),
-                 *sorted(pil.glob("*.h"))]:
-        digest.update(path.name.encode() + b"\0" + path.read_bytes())
-    out = cache_dir() / digest.hexdigest()[:16]
-    image = out / ("neurov_pil.elf" if arm else "neurov_pil_host")
-    if image.is_file():
-        return image
-    out.parent.mkdir(parents=True, exist_ok=True)
-    with tempfile.TemporaryDirectory(dir=out.parent, prefix=".building-") as tmp:
-        work = Path(tmp)
-        objects = _compile(cxx, [*flags, *stack, *_CXX, *defines, *includes], cpp_sources, work)
-        objects += _compile(cc, [*flags, *stack, "-std=c11", "-Wall", "-Wextra", *defines, *includes], c_sources, work)
-        link = [cc, *flags, *objects]
+    version = _version(cc)
+    # The C interface, compiled once per toolchain and N (a changed task or
+    # gain relinks it).
+    lib_flags = [*flags, *stack, *_CXX, *size, *includes]
+    library = _cached([cxx, *lib_flags, version], [*cpp_sources, *sorted(include.rglob("*.h*")), *src.glob("*.hpp")],
+                      lambda work: _compile(cxx, lib_flags, cpp_sources, work))
+    name = "neurov_pil.elf" if arm else "neurov_pil_host"
+    c_flags = [*flags, *stack, "-std=c11", "-Wall", "-Wextra", *defines, *includes]
+    scripts = [pil / "mps2_an500.ld", firmware / "sections.ld"] if arm else []
+
+    def make(work: Path) -> None:
+        link = [cc, *flags, *_compile(cc, c_flags, c_sources, work), *map(str, sorted(library.glob("*.o")))]
         if arm:
             link += ["-nostartfiles", "--specs=nano.specs", "-Wl,--gc-sections", f"-L{firmware}",
                      f"-T{pil / 'mps2_an500.ld'}", f"-Wl,-Map={work / 'neurov_pil.map'}", "-lm"]
         else:
             link += ["-lstdc++", "-lm"]
-        _run([*link, "-o", str(work / image.name)])
+        _run([*link, "-o", str(work / name)])
+        for graph in library.glob("*.ci"):
+            shutil.copyfile(graph, work / graph.name)
+
+    return _cached([cc, *c_flags, version, library.name], [*c_sources, *scripts, *sorted(pil.glob("*.h"))], make) / name
+
+
+def _cached(parts: list[str], files: list[Path], make: Callable[[Path], object]) -> Path:
+    """The cache's folder for `parts` and the contents of `files`, made by
+    ``make(folder)`` unless it is there (built in a temporary folder and
+    renamed into place, so that a stopped build leaves nothing half made)."""
+    digest = hashlib.sha256()
+    for part in parts:
+        digest.update(part.encode() + b"\0")
+    for path in files:
+        digest.update(path.name.encode() + b"\0" + path.read_bytes())
+    out = cache_dir() / digest.hexdigest()[:16]
+    if out.is_dir():
+        return out
+    out.parent.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory(dir=out.parent, prefix=".building-") as tmp:
+        work = Path(tmp)
+        make(work)
         try:
             os.rename(work, out)
-        except OSError:  # built meanwhile by another run: theirs is the same
+        except OSError:  # made meanwhile by another run: theirs is the same
             pass
         work.mkdir(exist_ok=True)  # for TemporaryDirectory's clean-up
-    return image
+    return out
 
 
 def _compile(cxx: str, flags: list[str], sources: list[Path], work: Path) -> list[str]:

@@ -37,10 +37,21 @@ def add_parser(sub: Any, epilog: str) -> None:
 def run(args: argparse.Namespace) -> int:
     if args.watchdog_ms < 1:
         args.usage_of.error("--watchdog-ms must be >= 1")
+    import signal
+
     from neurov.pil.command import check, run_pil
 
-    pil = run_pil(args.scenario, args.out, image=args.image, faults=args.fault, duration=args.duration,
-                  watchdog_ms=args.watchdog_ms)
+    def stop(signum: int, _frame: Any) -> None:  # SIGTERM unwinds as Ctrl-C does: the board is stopped
+        error = KeyboardInterrupt("stopped by SIGTERM")
+        error.signum = signum  # type: ignore[attr-defined]
+        raise error
+
+    previous = signal.signal(signal.SIGTERM, stop)
+    try:
+        pil = run_pil(args.scenario, args.out, image=args.image, faults=args.fault, duration=args.duration,
+                      watchdog_ms=args.watchdog_ms)
+    finally:
+        signal.signal(signal.SIGTERM, previous)
     if args.check:
         check(pil)
     return 0
