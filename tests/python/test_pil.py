@@ -72,6 +72,18 @@ def test_bluerov2_on_the_board_matches_the_host_build_and_loads(cache: Path, tmp
 
 
 @needs_board
+def test_the_image_has_no_heap_exceptions_or_rtti(cache: Path) -> None:
+    from neurov.pil.build import build_image
+
+    symbols = subprocess.run(["arm-none-eabi-nm", str(build_image(64))], capture_output=True, text=True,
+                             check=True).stdout.split()
+    banned = [s for s in symbols if s in ("malloc", "free", "calloc", "realloc", "_sbrk", "__cxa_throw",
+                                          "__gxx_personality_v0", "__cxa_allocate_exception")
+              or s.startswith(("_Znw", "_Zna", "_Zdl", "_Zda", "_ZTI", "_ZTS"))]
+    assert "Reset_Handler" in symbols and not banned, banned
+
+
+@needs_board
 def test_a_gain_change_in_the_firmware_leaves_the_tolerance(cache: Path) -> None:
     """K_d times 1.01 on the board: the comparison with the host must fail."""
     from neurov.pil.command import run_pil
