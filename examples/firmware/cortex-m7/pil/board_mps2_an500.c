@@ -77,8 +77,9 @@ int board_read(uint32_t since, uint32_t timeout) {
     if (timeout != 0u && board_ticks() - since >= timeout) return -1;
     /* Sleeps until an interrupt: a byte, or at the latest the next SysTick
      * (10 ms), which also covers a byte whose interrupt came between the
-     * test above and the WFI. (Not the usual cpsid/wfi/cpsie: QEMU 7.2
-     * does not wake a WFI for an interrupt that PRIMASK holds back.) */
+     * test above and the WFI. (Not the usual cpsid/wfi/cpsie, which
+     * closes that gap: under QEMU 7.2 the board, so written, never woke
+     * for the host's first frame.) */
     __asm volatile("wfi" ::: "memory");
   }
 }
