@@ -132,8 +132,12 @@ class Board:
         return self.pending.pop(0)
 
     def _exit_note(self) -> str:
-        code = self.process.poll()
-        return "" if code is None else f" (it exited with status {code})"
+        try:
+            code = self.process.wait(timeout=1.0)
+        except subprocess.TimeoutExpired:
+            return ""
+        err = self.process.stderr.read().decode(errors="replace").strip() if self.process.stderr else ""
+        return f" (it exited with status {code}{': ' + err if err else ''})"
 
     def _expect(self, kind: bytes, timeout: float, what: str) -> bytes:
         frame = self.receive(timeout)

@@ -204,9 +204,12 @@ def static_stack(image: Path) -> dict[str, int] | None:
 def image_sizes(image: Path) -> dict[str, int]:
     """Flash (code, constants, .data's initial values) and static RAM
     (.data + .bss) of an ELF32 image, from its section headers, in bytes."""
-    data = Path(image).read_bytes()
-    if data[:5] != b"\x7fELF\x01":
-        raise PILError(f"argument 'image': {str(image)!r} is not a 32-bit ELF file")
+    try:
+        data = Path(image).read_bytes()
+    except OSError as e:
+        raise PILError(f"argument 'image': cannot read {str(image)!r}: {e.strerror or e}") from None
+    if data[:5] != b"\x7fELF\x01" or len(data) < 0x34 or struct.unpack_from("<H", data, 0x12)[0] != 40:
+        raise PILError(f"argument 'image': {str(image)!r} is not a 32-bit ELF file for Arm")
     shoff, = struct.unpack_from("<I", data, 0x20)
     shentsize, shnum = struct.unpack_from("<HH", data, 0x2E)
     flash = ram = 0

@@ -94,6 +94,7 @@ def run_pil(source: str | Path, out_dir: str | Path | None = None, *, image: str
         print(f"firmware image for N = {n} (built on first use, then cached) ...", file=stream, flush=True)
         image = build_image(n, kd_scale=kd_scale)
     image = Path(image)
+    sizes = image_sizes(image)  # a file that is no ELF image is refused before QEMU starts
     built = time.perf_counter()
     with Board.qemu(image) as board:
         result, flight, report = fly(scenario, board, faults=injected, watchdog_ms=watchdog_ms, timeout=timeout)
@@ -108,7 +109,7 @@ def run_pil(source: str | Path, out_dir: str | Path | None = None, *, image: str
         "board": {"machine": "qemu-system-arm -M mps2-an500", "cpuid": f"0x{hello.cpuid:08x}",
                   "mvfr0": f"0x{hello.mvfr0:08x}", "tick_hz": hello.tick_hz, "icount_shift": ICOUNT_SHIFT,
                   "centres": hello.centres},
-        "image": {"path": str(image), **image_sizes(image)},
+        "image": {"path": str(image), **sizes},
         "instructions_per_step": _instructions(flight.ticks, flight.fault, hello.tick_hz),
         "stack": {"painted_bytes": report.stack_used, "reserved_bytes": report.stack_size,
                   "static_bound": static_stack(image)},
