@@ -145,6 +145,10 @@ def _parser() -> argparse.ArgumentParser:
 
     add_identify(sub, _EXIT_STATUS)
 
+    from neurov.pil.cli import add_parser as add_pil
+
+    add_pil(sub, _EXIT_STATUS)
+
     tune = sub.add_parser(
         "tune",
         help="tune every controller of a tuning file with the same budget, then judge it on held-out plants",
@@ -248,6 +252,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             from neurov.tuning.tables import main_table
 
             return main_table(args.folders, args.table)
+        elif args.command == "pil":
+            from neurov.pil.cli import run as run_pil
+
+            return run_pil(args)
         elif args.command == "tune":
             if args.workers is not None and args.workers < 1:
                 parser.error("--workers must be >= 1")

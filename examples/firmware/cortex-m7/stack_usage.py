@@ -25,6 +25,9 @@ def main() -> int:
                              "a function inline in several counts with its largest frame)")
     parser.add_argument("--external", type=int, default=64,
                         help="bytes assumed for a function outside the object")
+    parser.add_argument("--entry", default=r"neurov_\w+",
+                        help="regular expression of the functions to report (default: the C interface's); "
+                             "the processor-in-the-loop image asks for Reset_Handler and its interrupt handlers")
     args = parser.parse_args()
 
     text = "".join(open(g, encoding="utf-8").read() for g in args.graph)
@@ -58,9 +61,9 @@ def main() -> int:
             memo[node] = frame.get(node, args.external) + max(below, default=0)
         return memo[node]
 
-    entries = sorted(t for t in frame if re.fullmatch(r"neurov_\w+", t))
+    entries = sorted(t for t in frame if re.fullmatch(args.entry, t))
     if not entries:
-        print("no neurov_* functions in", *args.graph)
+        print(f"no function matching {args.entry!r} in", *args.graph)
         return 1
     try:
         for name in entries:
