@@ -8,13 +8,14 @@ import json
 import os
 import shutil
 import time
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
 from neurov.progress import progress_bar
 from neurov.study.running import StudyOutcome, run_study
 from neurov.tuning.outputs import best_tables, draw_tuning_figures, write_best_toml, write_trials
+from neurov.tuning.param_file import write_best_params
 from neurov.tuning.reading import load_tuning, verdict_study
 from neurov.tuning.search import STORAGE_NAME, TuneInterrupted, counted_trials, open_storage, optuna_study, run_trials
 from neurov.tuning.spec import Tuning
@@ -35,6 +36,8 @@ class TuneOutcome:
     best_path: Path
     figures: list[Path]
     verdict: StudyOutcome | None
+    param_files: list[tuple[Path, bool]] = field(default_factory=list)
+    """(path, feasible) of each ArduSub parameter file written beside best.toml."""
 
 
 def tune(tuning: Tuning | str | Path, out_dir: str | Path, *, workers: int | None = None,
@@ -78,6 +81,7 @@ def tune(tuning: Tuning | str | Path, out_dir: str | Path, *, workers: int | Non
     studies = {c: optuna_study(tuning, c, storage) for c in tuning.search}
     trials_path = write_trials(tuning, studies, out / "trials.csv")
     best_path = write_best_toml(tuning, studies, out / "best.toml")
+    param_files = write_best_params(tuning, studies, out)
     best = best_tables(tuning, studies)
     figures = draw_tuning_figures(tuning, studies, out) if plots else []
     (out / "tuning.json").write_text(json.dumps({
@@ -92,7 +96,7 @@ def tune(tuning: Tuning | str | Path, out_dir: str | Path, *, workers: int | Non
         outcome = run_study(judged, out / "verdict", workers=workers, scheduler=scheduler,
                             executor="dask" if scheduler else "processes", plots=plots, progress=progress)
     return TuneOutcome(out_dir=out, ran=ran, seconds=seconds, best=best, trials_path=trials_path,
-                       best_path=best_path, figures=figures, verdict=outcome)
+                       best_path=best_path, figures=figures, verdict=outcome, param_files=param_files)
 
 
 def _discard_stale_verdict(folder: Path, fingerprint: str) -> None:
@@ -121,6 +125,9 @@ def main_tune(path: str, out_dir: str | None, workers: int | None, scheduler: st
     print(f"{tuning.name}: {len(tuning.search)} controller(s) x {tuning.settings.trials} trials "
           f"({outcome.ran} run now in {outcome.seconds:.1f} s)")
     print(f"trials: {outcome.trials_path}\ntuned gains: {outcome.best_path}")
+    for path, feasible in outcome.param_files:
+        note = "" if feasible else " (no trial was feasible: the least bad values)"
+        print(f"ArduSub parameters: {path}{note}")
     if outcome.verdict is not None:
         print(f"verdict on {tuning.settings.test_samples} held-out plants: {outcome.verdict.league}")
     return outcome
