@@ -76,9 +76,14 @@ def test_what_ardusub_would_not_fly_is_refused_and_out_of_range_warned(tmp_path)
     with pytest.raises(ScenarioError, match=r"FRAME_CONFIG = 3: expected 1 \(vectored"):
         _scenario(tmp_path, "bluerov2_depth_step", {"type": "ardusub", "FRAME_CONFIG": 3})
     (tmp_path / "v.param").write_text(_qgc({"FRAME_CONFIG": 2, "PSC_VELZ_IMAX": 5000, "ATC_RAT_RLL_FLTT": 0}))
-    with pytest.warns(ap.ArduSubRangeWarning, match=r"PSC_VELZ_IMAX = 5000 is outside ArduSub's documented range"):
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
         s = _scenario(tmp_path, "bluerov2_depth_step", {"type": "ardusub", "params": "v.param"})
-    assert s.controller.config.PSC_VELZ_IMAX == 5000
+    said = sorted(str(w.message).split(": ", 1)[1] for w in caught if w.category is ap.ArduSubRangeWarning)
+    assert said == ["ATC_RAT_RLL_FLTT = 0 is outside ArduSub's documented range [1, 100] Hz; taken as ArduSub takes it",
+                    "PSC_VELZ_IMAX = 5000 is outside ArduSub's documented range [1, 1000] cm/s/s; taken as ArduSub "
+                    "takes it"]
+    assert (s.controller.config.PSC_VELZ_IMAX, s.controller.config.ATC_RAT_RLL_FLTT) == (5000, 0)
 
 
 def test_a_frame_that_does_not_fit_the_vehicle_is_named(tmp_path):

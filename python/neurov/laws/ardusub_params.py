@@ -142,10 +142,11 @@ def _read_log(path: Path, message: str) -> dict[str, float]:
 
 
 def out_of_range(name: str, value: float) -> str | None:
-    """A sentence when `value` lies outside `name`'s documented range, else None."""
+    """A sentence when `value` lies outside `name`'s documented range but is
+    one ArduSub flies, else None."""
     p = PARAMETERS[name]
-    if p.min <= value <= p.max:
-        return None
+    if p.min <= value <= p.max or not math.isfinite(value) or (value < 0 <= p.min):
+        return None  # inside, or refused by the validator (not a number, a negative gain)
     return (f"{name} = {value:g} is outside ArduSub's documented range [{p.min:g}, {p.max:g}]"
             f"{' ' + p.unit if p.unit else ''}; taken as ArduSub takes it")
 
