@@ -140,6 +140,11 @@ TEST(ArduSubController, DepthHoldFirstIterationByHand) {
   for (int i = 0; i < 4; ++i) EXPECT_DOUBLE_EQ(ctl.pwm()(i), 1500);
   EXPECT_GT(tau(2), 0.0);  // pushes down
   EXPECT_NEAR(tau(0), 0.0, 1e-12);
+  // PSC_ACCZ_FF adds FF x the acceleration target: 0.1 x -400 x 0.002 = -0.08.
+  c.PSC_ACCZ_FF = 0.1;
+  ArduSubController<double> ff(c);
+  ASSERT_EQ(ff.step(V6::Zero(), V6::Zero(), eta_d, V6::Zero(), V6::Zero(), tau), Status::ok);
+  EXPECT_NEAR(ff.axis_inputs()(throttle), -0.4802, 1e-12);
 }
 
 TEST(ArduSubController, AtRestOnTargetGivesNoWrench) {

@@ -244,7 +244,7 @@ class ArduSubController
                                          c.PSC_VELZ_IMAX, Scalar(0), c.PSC_VELZ_FLTE, c.PSC_VELZ_FLTD};
       const Scalar accel_target = s.vel_z.update(gv, climb_target, climb, h, s.limits.vertical) -
                                   Scalar(100) * eta_d_ddot(2);
-      const ardusub::PidGains<Scalar> ga{c.PSC_ACCZ_P, c.PSC_ACCZ_I, c.PSC_ACCZ_D, Scalar(0),
+      const ardusub::PidGains<Scalar> ga{c.PSC_ACCZ_P, c.PSC_ACCZ_I, c.PSC_ACCZ_D, c.PSC_ACCZ_FF,
                                          c.PSC_ACCZ_IMAX, c.PSC_ACCZ_FLTT, c.PSC_ACCZ_FLTE, c.PSC_ACCZ_FLTD};
       const Scalar thr = s.accel_z.update(ga, accel_target, accel_up, h, s.limits.vertical);
       in(ardusub::throttle) = clamp(Scalar(0.002) * thr, Scalar(1));

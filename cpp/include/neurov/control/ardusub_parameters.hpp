@@ -56,7 +56,7 @@ struct ArduSubConfig {
   // Vertical position -> velocity -> acceleration (AC_PosControl).
   Scalar PSC_POSZ_P;
   Scalar PSC_VELZ_P, PSC_VELZ_I, PSC_VELZ_D, PSC_VELZ_IMAX, PSC_VELZ_FLTE, PSC_VELZ_FLTD;
-  Scalar PSC_ACCZ_P, PSC_ACCZ_I, PSC_ACCZ_D, PSC_ACCZ_IMAX, PSC_ACCZ_FLTT, PSC_ACCZ_FLTE,
+  Scalar PSC_ACCZ_P, PSC_ACCZ_I, PSC_ACCZ_D, PSC_ACCZ_FF, PSC_ACCZ_IMAX, PSC_ACCZ_FLTT, PSC_ACCZ_FLTE,
       PSC_ACCZ_FLTD;
   Scalar PILOT_SPEED_UP, PILOT_SPEED_DN, PILOT_ACCEL_Z;
   // Horizontal position -> velocity (AC_PosControl), into forward/lateral.
@@ -154,6 +154,7 @@ constexpr auto ardusub_parameter_table() noexcept {
       P{"PSC_ACCZ_P", &C::PSC_ACCZ_P, 0.5, 0.2, 1.5, none, "Vertical acceleration P: throttle (x1000) per cm/s/s of acceleration error."},
       P{"PSC_ACCZ_I", &C::PSC_ACCZ_I, 0.1, 0, 3, none, "Vertical acceleration I."},
       P{"PSC_ACCZ_D", &C::PSC_ACCZ_D, 0, 0, 0.4, none, "Vertical acceleration D."},
+      P{"PSC_ACCZ_FF", &C::PSC_ACCZ_FF, 0, 0, 0.5, none, "Vertical acceleration feed-forward: throttle (x1000) per cm/s/s of acceleration target."},
       P{"PSC_ACCZ_IMAX", &C::PSC_ACCZ_IMAX, 800, 0, 1000, "d%", "Largest vertical acceleration I term (throttle x1000)."},
       P{"PSC_ACCZ_FLTT", &C::PSC_ACCZ_FLTT, 0, 0, 100, hz, "Vertical acceleration target filter (0: off)."},
       P{"PSC_ACCZ_FLTE", &C::PSC_ACCZ_FLTE, 20, 0, 100, hz, "Vertical acceleration error filter (0: off)."},
