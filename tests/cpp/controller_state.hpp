@@ -71,7 +71,7 @@ Bytes state_of(const neurov::PIDController<S>& c) {
 template <typename S>
 Bytes state_of(const neurov::ArduSubController<S>& c) {
   Bytes b;
-  const auto& s = c.state();
+  const auto& s = c.internals();
   b.add(s.attitude_target).add(s.target_rate).add(s.rate_target).add(s.inputs).add(s.outputs)
       .add(s.pwm).value(s.climb_rate).value(s.started);
   for (const auto* p : {&s.rate[0], &s.rate[1], &s.rate[2], &s.vel_z, &s.accel_z, &s.vel_xy[0], &s.vel_xy[1]})
@@ -80,7 +80,7 @@ Bytes state_of(const neurov::ArduSubController<S>& c) {
 }
 template <typename S>
 bool state_finite(const neurov::ArduSubController<S>& c) {
-  return c.state().attitude_target.allFinite() && c.state().pwm.allFinite() &&
+  return c.internals().attitude_target.allFinite() && c.internals().pwm.allFinite() &&
          c.tracking().s.allFinite();
 }
 /// Sliding mode and computed torque: the model's output of the last step.

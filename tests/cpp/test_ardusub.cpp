@@ -159,6 +159,29 @@ TEST(ArduSubController, AtRestOnTargetGivesNoWrench) {
   EXPECT_EQ(tau, z);
 }
 
+TEST(ArduSubController, ARestoredSnapshotStepsAsTheOriginal) {
+  ArduSubConfig<double> c;
+  c.FRAME_CONFIG = 2;
+  c.mode = 2;
+  c.dt = 0.2;
+  ArduSubController<double> a(c), b(c);
+  V6 eta, nu, eta_d, tau_a, tau_b;
+  eta << 0.3, -0.2, 1.1, 0.05, -0.02, 0.4;
+  nu << 0.1, 0.0, -0.05, 0.01, 0.02, -0.03;
+  eta_d << 1.0, 0.5, 2.0, 0.0, 0.0, 0.2;
+  for (int k = 0; k < 3; ++k) ASSERT_EQ(a.step(eta, nu, eta_d, V6::Zero(), V6::Zero(), tau_a), Status::ok);
+  ASSERT_TRUE(b.restore(a.tracking(), a.last_status(), a.state()));
+  EXPECT_EQ(b.state(), a.state());
+  eta(0) += 0.1;
+  ASSERT_EQ(a.step(eta, nu, eta_d, V6::Zero(), V6::Zero(), tau_a), Status::ok);
+  ASSERT_EQ(b.step(eta, nu, eta_d, V6::Zero(), V6::Zero(), tau_b), Status::ok);
+  EXPECT_EQ(tau_a, tau_b);
+  auto bad = a.state();
+  bad(0) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(b.restore(a.tracking(), a.last_status(), bad));
+  EXPECT_EQ(b.state(), a.state());
+}
+
 TEST(ArduSubController, BadConfigurationsAreNamed) {
   ArduSubConfig<double> c;
   c.ATC_RAT_RLL_P = -0.1;

@@ -132,7 +132,7 @@ S memory(const NNAdaptiveController<S, N>& c) {
 /// and acceleration, horizontal velocity).
 template <typename S>
 S memory(const ArduSubController<S>& c) {
-  const auto& s = c.state();
+  const auto& s = c.internals();
   S sum = s.vel_z.integrator * s.vel_z.integrator + s.accel_z.integrator * s.accel_z.integrator;
   for (int i = 0; i < 3; ++i) sum += s.rate[i].integrator * s.rate[i].integrator;
   for (int i = 0; i < 2; ++i) sum += s.vel_xy[i].integrator * s.vel_xy[i].integrator;

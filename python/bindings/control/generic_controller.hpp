@@ -15,6 +15,7 @@
 #include <string>
 #include <tuple>
 #include <type_traits>
+#include <utility>
 
 #include "controller_bindings.hpp"
 #include "fields.hpp"
@@ -96,16 +97,19 @@ void bind_generic_controller(py::module_& m) {
       fields_of<Config>());
   def_common<Controller>(cls);
   if constexpr (has_vector_state<Controller>::value) {
+    // The state vector: (6,) for most, longer for a controller with more memory.
+    constexpr int n = std::decay_t<decltype(std::declval<const Controller&>().state())>::RowsAtCompileTime;
+    using StateD = Eigen::Matrix<double, n, 1>;
     def_controller_snapshot<Controller>(
         cls, controller_what<Controller>(),
-        [](const Controller& c, py::dict& d) { d[Controller::kStateName] = Vector6<double>(c.state()); },
+        [](const Controller& c, py::dict& d) { d[Controller::kStateName] = StateD(c.state().template cast<double>()); },
         [](Controller& c, const py::dict& d, const TrackingError<double>& e, Status s) {
           return c.restore(e, s,
-                           py_args::vector<6>(snapshot_field(d, Controller::kStateName),
+                           py_args::vector<n>(snapshot_field(d, Controller::kStateName),
                                               Controller::kStateName));
         });
     cls.def_property_readonly(
-        Controller::kStateName, [](const Controller& c) { return Vector6<double>(c.state()); },
+        Controller::kStateName, [](const Controller& c) { return StateD(c.state().template cast<double>()); },
         Controller::kStateDoc);
   } else {
     def_controller_snapshot<Controller>(

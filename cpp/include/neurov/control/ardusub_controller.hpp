@@ -46,7 +46,9 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <type_traits>
 
 #include "neurov/control/ardusub_motors.hpp"
 #include "neurov/control/ardusub_parameters.hpp"
@@ -138,8 +140,64 @@ class ArduSubController
   /// The mixer's inputs of the last iteration: roll, pitch, yaw, throttle,
   /// forward, lateral, each -1..1.
   const Vec6& axis_inputs() const noexcept { return state_.inputs; }
-  /// The whole state, for tests and snapshots.
-  const ArduSubState<Scalar>& state() const noexcept { return state_; }
+  /// The whole state, by part.
+  const ArduSubState<Scalar>& internals() const noexcept { return state_; }
+
+  /// Numbers in the flat state of snapshots: attitude target, its rate, the
+  /// rate target (3 each), 7 PIDs x (target, error, derivative, integrator,
+  /// started), inputs (6), outputs, PWMs (8 each), the two saturation flags,
+  /// the climb rate and started.
+  static constexpr int kStateSize = 9 + 7 * 5 + 6 + 16 + 4;
+  using StateVector = Eigen::Matrix<Scalar, kStateSize, 1>;
+  static constexpr const char* kStateName = "memory";
+  static constexpr const char* kStateDoc =
+      "Everything the controller remembers between steps, flat (ArduSubController.kStateSize).";
+
+  /// The state as one vector (snapshots, the sampled-loop bridge).
+  StateVector state() const noexcept {
+    StateVector v;
+    int k = 0;
+    const auto put = [&](Scalar x) { v(k++) = x; };
+    for (int i = 0; i < 3; ++i) put(state_.attitude_target(i));
+    for (int i = 0; i < 3; ++i) put(state_.target_rate(i));
+    for (int i = 0; i < 3; ++i) put(state_.rate_target(i));
+    for (const auto* p : pids(state_)) {
+      put(p->target); put(p->error); put(p->derivative); put(p->integrator); put(p->started ? 1 : 0);
+    }
+    for (int i = 0; i < 6; ++i) put(state_.inputs(i));
+    for (int i = 0; i < kArduSubMaxMotors; ++i) put(state_.outputs(i));
+    for (int i = 0; i < kArduSubMaxMotors; ++i) put(state_.pwm(i));
+    put(state_.limits.vertical ? 1 : 0);
+    put(state_.limits.horizontal ? 1 : 0);
+    put(state_.climb_rate);
+    put(state_.started ? 1 : 0);
+    return v;
+  }
+
+  /// A snapshot put back (ControllerBase::restore with the flat state);
+  /// false, and nothing changed, for a non-finite one.
+  bool restore(const TrackingError<Scalar>& e, Status st, const StateVector& v) noexcept {
+    if (!this->restorable(e, st) || !v.allFinite()) return false;
+    ArduSubState<Scalar> s;
+    int k = 0;
+    const auto get = [&]() { return v(k++); };
+    for (int i = 0; i < 3; ++i) s.attitude_target(i) = get();
+    for (int i = 0; i < 3; ++i) s.target_rate(i) = get();
+    for (int i = 0; i < 3; ++i) s.rate_target(i) = get();
+    for (auto* p : pids(s)) {
+      p->target = get(); p->error = get(); p->derivative = get(); p->integrator = get();
+      p->started = get() >= Scalar(0.5);
+    }
+    for (int i = 0; i < 6; ++i) s.inputs(i) = get();
+    for (int i = 0; i < kArduSubMaxMotors; ++i) s.outputs(i) = get();
+    for (int i = 0; i < kArduSubMaxMotors; ++i) s.pwm(i) = get();
+    s.limits.vertical = get() >= Scalar(0.5);
+    s.limits.horizontal = get() >= Scalar(0.5);
+    s.climb_rate = get();
+    s.started = get() >= Scalar(0.5);
+    state_ = s;
+    return Base::restore(e, st);
+  }
   /// The frame's wrench per newton of each motor (6 x 8).
   const Eigen::Matrix<Scalar, 6, kArduSubMaxMotors>& wrench_matrix() const noexcept { return wrench_; }
   /// How far the integrators have moved, for logs.
@@ -152,6 +210,12 @@ class ArduSubController
   }
 
  private:
+  template <typename State>
+  static auto pids(State& s) noexcept {
+    using P = std::conditional_t<std::is_const_v<State>, const ardusub::RatePid<Scalar>*, ardusub::RatePid<Scalar>*>;
+    return std::array<P, 7>{&s.rate[0], &s.rate[1], &s.rate[2], &s.vel_z, &s.accel_z, &s.vel_xy[0], &s.vel_xy[1]};
+  }
+
   static Scalar wrap_pi(Scalar a) noexcept {
     const Scalar two_pi = Scalar(2) * Scalar(3.14159265358979323846);
     a = std::fmod(a + Scalar(3.14159265358979323846), two_pi);
