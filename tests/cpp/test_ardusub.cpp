@@ -182,6 +182,28 @@ TEST(ArduSubController, ARestoredSnapshotStepsAsTheOriginal) {
   EXPECT_EQ(b.state(), a.state());
 }
 
+TEST(ArduSubController, AnOverflowIsRefusedAndLeavesTheStateAsItWas) {
+  ArduSubConfig<double> c;
+  c.FRAME_CONFIG = 2;
+  c.mode = 2;
+  ArduSubController<double> ctl(c);
+  V6 tau;
+  ASSERT_EQ(ctl.step(V6::Zero(), V6::Zero(), V6::Zero(), V6::Zero(), V6::Zero(), tau), Status::ok);
+  const auto before = ctl.state();
+  V6 far = V6::Zero();
+  far(0) = 1e306;  // x100 in centimetres overflows
+  far(1) = 1e306;
+  const Status st = ctl.step(V6::Zero(), V6::Zero(), far, V6::Zero(), V6::Zero(), tau);
+  if (st == Status::ok) {
+    EXPECT_TRUE(tau.allFinite());
+    EXPECT_TRUE(ctl.state().allFinite());
+  } else {
+    EXPECT_EQ(st, Status::non_finite_output);
+    EXPECT_EQ(tau, V6::Zero());
+    EXPECT_EQ(ctl.state(), before);
+  }
+}
+
 TEST(ArduSubController, BadConfigurationsAreNamed) {
   ArduSubConfig<double> c;
   c.ATC_RAT_RLL_P = -0.1;

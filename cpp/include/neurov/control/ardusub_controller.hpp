@@ -125,8 +125,9 @@ class ArduSubController
     s.climb_rate = climb;
     s.started = true;
     const Vec6 tau_new = sum / Scalar(n);
-    if (!(tau_new.allFinite() && s.attitude_target.allFinite() && s.target_rate.allFinite()))
-      return this->refuse(Status::non_finite_output, tau);
+    // Every number remembered must be finite too: a NaN can reach a PWM
+    // clamp, which would pass a finite thrust on and keep the NaN inside.
+    if (!(tau_new.allFinite() && pack(s).allFinite())) return this->refuse(Status::non_finite_output, tau);
     state_ = s;
     return this->accept(e, tau_new, tau);
   }
@@ -154,25 +155,7 @@ class ArduSubController
       "Everything the controller remembers between steps, flat (ArduSubController.kStateSize).";
 
   /// The state as one vector (snapshots, the sampled-loop bridge).
-  StateVector state() const noexcept {
-    StateVector v;
-    int k = 0;
-    const auto put = [&](Scalar x) { v(k++) = x; };
-    for (int i = 0; i < 3; ++i) put(state_.attitude_target(i));
-    for (int i = 0; i < 3; ++i) put(state_.target_rate(i));
-    for (int i = 0; i < 3; ++i) put(state_.rate_target(i));
-    for (const auto* p : pids(state_)) {
-      put(p->target); put(p->error); put(p->derivative); put(p->integrator); put(p->started ? 1 : 0);
-    }
-    for (int i = 0; i < 6; ++i) put(state_.inputs(i));
-    for (int i = 0; i < kArduSubMaxMotors; ++i) put(state_.outputs(i));
-    for (int i = 0; i < kArduSubMaxMotors; ++i) put(state_.pwm(i));
-    put(state_.limits.vertical ? 1 : 0);
-    put(state_.limits.horizontal ? 1 : 0);
-    put(state_.climb_rate);
-    put(state_.started ? 1 : 0);
-    return v;
-  }
+  StateVector state() const noexcept { return pack(state_); }
 
   /// A snapshot put back (ControllerBase::restore with the flat state);
   /// false, and nothing changed, for a non-finite one.
@@ -210,6 +193,26 @@ class ArduSubController
   }
 
  private:
+  static StateVector pack(const ArduSubState<Scalar>& s) noexcept {
+    StateVector v;
+    int k = 0;
+    const auto put = [&](Scalar x) { v(k++) = x; };
+    for (int i = 0; i < 3; ++i) put(s.attitude_target(i));
+    for (int i = 0; i < 3; ++i) put(s.target_rate(i));
+    for (int i = 0; i < 3; ++i) put(s.rate_target(i));
+    for (const auto* p : pids(s)) {
+      put(p->target); put(p->error); put(p->derivative); put(p->integrator); put(p->started ? 1 : 0);
+    }
+    for (int i = 0; i < 6; ++i) put(s.inputs(i));
+    for (int i = 0; i < kArduSubMaxMotors; ++i) put(s.outputs(i));
+    for (int i = 0; i < kArduSubMaxMotors; ++i) put(s.pwm(i));
+    put(s.limits.vertical ? 1 : 0);
+    put(s.limits.horizontal ? 1 : 0);
+    put(s.climb_rate);
+    put(s.started ? 1 : 0);
+    return v;
+  }
+
   template <typename State>
   static auto pids(State& s) noexcept {
     using P = std::conditional_t<std::is_const_v<State>, const ardusub::RatePid<Scalar>*, ardusub::RatePid<Scalar>*>;
