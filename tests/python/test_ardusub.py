@@ -117,3 +117,19 @@ def test_stock_parameters_hold_the_shipped_bluerov2_scenarios(tmp_path, name, mo
     m = r.metrics()
     assert not r.diverged
     assert m["rmse_position_m"] < 1.0, m["rmse_position_m"]
+
+
+def test_a_pickled_controller_steps_as_the_original():
+    import pickle
+
+    cfg = _core.ArduSubConfig()
+    cfg.FRAME_CONFIG, cfg.mode, cfg.dt = 2.0, 2.0, 0.2
+    a = _core.ArduSubController(cfg)
+    eta, nu, eta_d = np.array([0.3, -0.2, 1.1, 0.05, -0.02, 0.4]), np.full(6, 0.01), np.array([1, 0.5, 2, 0, 0, 0.2])
+    for _ in range(3):
+        a.step(eta, nu, eta_d, np.zeros(6), np.zeros(6))
+    b = pickle.loads(pickle.dumps(a))
+    assert a.memory.shape == (70,) and np.any(a.memory != 0)
+    np.testing.assert_array_equal(a.memory, b.memory)
+    np.testing.assert_array_equal(a.step(eta + 0.1, nu, eta_d, np.zeros(6), np.zeros(6)),
+                                  b.step(eta + 0.1, nu, eta_d, np.zeros(6), np.zeros(6)))
