@@ -43,7 +43,7 @@ extensions = [
 
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
 root_doc = "index"
-exclude_patterns = ["_build", "_templates", "Doxyfile"]
+exclude_patterns = ["_build", "_templates", "Doxyfile", "data"]  # data: the committed outputs of long runs
 templates_path = ["_templates"]
 
 # Markdown: $...$ and $$...$$ math, and anchors for headings so the pages can
