@@ -10,7 +10,7 @@ import numpy
 import numpy.typing
 import os
 import typing
-__all__: list[str] = ['BUILT_IN_CONTROLLERS', 'BatchSimulator', 'Command', 'ComputedTorqueConfig', 'ComputedTorqueController', 'CurrentModel', 'CurrentStep', 'DepthConfig', 'DvlConfig', 'EstimatorConfig', 'EstimatorType', 'GaussMarkovCurrentConfig', 'ImuConfig', 'LANE_NOT_STEPPED', 'LinearAdaptiveConfig', 'LinearAdaptiveController', 'MAX_CENTRES', 'MAX_SUBSTEPS', 'MAX_WAVE_COMPONENTS', 'MIN_LANES_PER_THREAD', 'NNAdaptiveConfig', 'NNAdaptiveController', 'NeurovError', 'Observation', 'PDConfig', 'PDController', 'PIDConfig', 'PIDController', 'PayloadEvent', 'RESULT_SERIES', 'RbfNetwork', 'ReferenceModel', 'RefusedStepPolicy', 'RobustModification', 'Saturation', 'SensorFault', 'SensorFaultKind', 'SensorsConfig', 'SimulationConfig', 'Simulator', 'SinusoidalDisturbance', 'SlidingModeConfig', 'SlidingModeController', 'Status', 'SuperTwistingConfig', 'SuperTwistingController', 'THETA_NAMES', 'TRACKING_OBSERVATION_SIZE', 'TetherConfig', 'ThrusterConfig', 'ThrusterCurveConfig', 'ThrusterFailure', 'TrackingTask', 'TrackingTaskConfig', 'UsblConfig', 'ValidationError', 'Vehicle', 'WINDOW_SUMS', 'WaveConfig', 'WaveSpectrum', 'allocate_thrust', 'bluerov2_heavy_layout', 'buoyancy_in_water', 'is_near_singularity', 'jacobian', 'jacobian_dot', 'jacobian_inverse', 'plant_derivative', 'plant_jacobians', 'regressor', 'regressor_parameters', 'rk4_segments', 'rk4_step', 'rotation', 'run_batch', 'run_closed_loop', 'run_closed_loop_chunks', 'singularity_threshold', 'to_body', 'tracking_error']
+__all__: list[str] = ['ARDUSUB_PARAMETERS', 'ArduSubConfig', 'ArduSubController', 'BUILT_IN_CONTROLLERS', 'BatchSimulator', 'Command', 'ComputedTorqueConfig', 'ComputedTorqueController', 'CurrentModel', 'CurrentStep', 'DepthConfig', 'DvlConfig', 'EstimatorConfig', 'EstimatorType', 'GaussMarkovCurrentConfig', 'ImuConfig', 'LANE_NOT_STEPPED', 'LinearAdaptiveConfig', 'LinearAdaptiveController', 'MAX_CENTRES', 'MAX_SUBSTEPS', 'MAX_WAVE_COMPONENTS', 'MIN_LANES_PER_THREAD', 'NNAdaptiveConfig', 'NNAdaptiveController', 'NeurovError', 'Observation', 'PDConfig', 'PDController', 'PIDConfig', 'PIDController', 'PayloadEvent', 'RESULT_SERIES', 'RbfNetwork', 'ReferenceModel', 'RefusedStepPolicy', 'RobustModification', 'Saturation', 'SensorFault', 'SensorFaultKind', 'SensorsConfig', 'SimulationConfig', 'Simulator', 'SinusoidalDisturbance', 'SlidingModeConfig', 'SlidingModeController', 'Status', 'SuperTwistingConfig', 'SuperTwistingController', 'THETA_NAMES', 'TRACKING_OBSERVATION_SIZE', 'TetherConfig', 'ThrusterConfig', 'ThrusterCurveConfig', 'ThrusterFailure', 'TrackingTask', 'TrackingTaskConfig', 'UsblConfig', 'ValidationError', 'Vehicle', 'WINDOW_SUMS', 'WaveConfig', 'WaveSpectrum', 'allocate_thrust', 'bluerov2_heavy_layout', 'buoyancy_in_water', 'is_near_singularity', 'jacobian', 'jacobian_dot', 'jacobian_inverse', 'plant_derivative', 'plant_jacobians', 'regressor', 'regressor_parameters', 'rk4_segments', 'rk4_step', 'rotation', 'run_batch', 'run_closed_loop', 'run_closed_loop_chunks', 'singularity_threshold', 'to_body', 'tracking_error']
 class _SimulationResult(typing.TypedDict):
     """What run_closed_loop, Simulator.result and Simulator.drain return: one row per
     control step t_k = k dt, one array per entry of RESULT_SERIES (in its order),
@@ -1066,6 +1066,644 @@ class SuperTwistingConfig:
     @theta.setter
     def theta(self, arg1: numpy.typing.ArrayLike) -> None:
         ...
+class ArduSubConfig:
+    """
+    Configuration of ArduSubController.
+    """
+    def __copy__(self) -> ArduSubConfig:
+        ...
+    def __deepcopy__(self, memo: dict) -> ArduSubConfig:
+        ...
+    def __getstate__(self) -> dict:
+        ...
+    def __init__(self, **kwargs) -> None:
+        """
+        Every field is a keyword argument: ATC_ANG_RLL_P, ATC_ANG_PIT_P, ATC_ANG_YAW_P, ATC_ACCEL_R_MAX, ATC_ACCEL_P_MAX, ATC_ACCEL_Y_MAX, ATC_INPUT_TC, ATC_RATE_FF_ENAB, ANGLE_MAX, ATC_RAT_RLL_P, ATC_RAT_RLL_I, ATC_RAT_RLL_D, ATC_RAT_RLL_FF, ATC_RAT_RLL_IMAX, ATC_RAT_RLL_FLTT, ATC_RAT_RLL_FLTE, ATC_RAT_RLL_FLTD, ATC_RAT_PIT_P, ATC_RAT_PIT_I, ATC_RAT_PIT_D, ATC_RAT_PIT_FF, ATC_RAT_PIT_IMAX, ATC_RAT_PIT_FLTT, ATC_RAT_PIT_FLTE, ATC_RAT_PIT_FLTD, ATC_RAT_YAW_P, ATC_RAT_YAW_I, ATC_RAT_YAW_D, ATC_RAT_YAW_FF, ATC_RAT_YAW_IMAX, ATC_RAT_YAW_FLTT, ATC_RAT_YAW_FLTE, ATC_RAT_YAW_FLTD, PSC_POSZ_P, PSC_VELZ_P, PSC_VELZ_I, PSC_VELZ_D, PSC_VELZ_IMAX, PSC_VELZ_FLTE, PSC_VELZ_FLTD, PSC_ACCZ_P, PSC_ACCZ_I, PSC_ACCZ_D, PSC_ACCZ_FF, PSC_ACCZ_IMAX, PSC_ACCZ_FLTT, PSC_ACCZ_FLTE, PSC_ACCZ_FLTD, PILOT_SPEED_UP, PILOT_SPEED_DN, PILOT_ACCEL_Z, PSC_POSXY_P, PSC_VELXY_P, PSC_VELXY_I, PSC_VELXY_D, PSC_VELXY_IMAX, PSC_VELXY_FLTE, PSC_VELXY_FLTD, WPNAV_SPEED, WPNAV_ACCEL, FRAME_CONFIG, MOT_PWM_MIN, MOT_PWM_MAX, MOT_1_DIRECTION, MOT_2_DIRECTION, MOT_3_DIRECTION, MOT_4_DIRECTION, MOT_5_DIRECTION, MOT_6_DIRECTION, MOT_7_DIRECTION, MOT_8_DIRECTION, SCHED_LOOP_RATE, mode, curve_pwm, curve_thrust, curve_rows, dt.
+        """
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, arg0: dict) -> None:
+        ...
+    def validate(self) -> None:
+        """
+        Runs the C++ validator: neurov.ValidationError (a ValueError carrying field, index, value and expected) naming the first bad field and what it must be, None when the configuration is valid.
+        """
+    @property
+    def ANGLE_MAX(self) -> float:
+        """
+        Largest roll and pitch target (and lean angle of position hold).
+        """
+    @ANGLE_MAX.setter
+    def ANGLE_MAX(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def ATC_ACCEL_P_MAX(self) -> float:
+        """
+        Largest pitch acceleration of the shaped target and the angle controller (0: none).
+        """
+    @ATC_ACCEL_P_MAX.setter
+    def ATC_ACCEL_P_MAX(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def ATC_ACCEL_R_MAX(self) -> float:
+        """
+        Largest roll acceleration of the shaped target and the angle controller (0: none).
+        """
+    @ATC_ACCEL_R_MAX.setter
+    def ATC_ACCEL_R_MAX(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def ATC_ACCEL_Y_MAX(self) -> float:
+        """
+        Largest yaw acceleration of the shaped target and the angle controller (0: none).
+        """
+    @ATC_ACCEL_Y_MAX.setter
+    def ATC_ACCEL_Y_MAX(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def ATC_ANG_PIT_P(self) -> float:
+        """
+        Pitch angle P: pitch rate asked per pitch angle error.
+        """
+    @ATC_ANG_PIT_P.setter
+    def ATC_ANG_PIT_P(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def ATC_ANG_RLL_P(self) -> float:
+        """
+        Roll angle P: roll rate asked per roll angle error.
+        """
+    @ATC_ANG_RLL_P.setter
+    def ATC_ANG_RLL_P(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def ATC_ANG_YAW_P(self) -> float:
+        """
+        Yaw angle P: yaw rate asked per yaw angle error.
+        """
+    @ATC_ANG_YAW_P.setter
+    def ATC_ANG_YAW_P(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def ATC_INPUT_TC(self) -> float:
+        """
+        Attitude input time constant: the shaped target approaches the commanded angle with this time constant.
+        """
+    @ATC_INPUT_TC.setter
+    def ATC_INPUT_TC(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def ATC_RATE_FF_ENAB(self) -> float:
+        """
+        1: input shaping and the target's rate fed forward; 0: the target jumps to the command.
+        """
+    @ATC_RATE_FF_ENAB.setter
+    def ATC_RATE_FF_ENAB(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def ATC_RAT_PIT_D(self) -> float:
+        """
+        Pitch rate D.
+        """
+    @ATC_RAT_PIT_D.setter
+    def ATC_RAT_PIT_D(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def ATC_RAT_PIT_FF(self) -> float:
+        """
+        Pitch rate feed-forward.
+        """
+    @ATC_RAT_PIT_FF.setter
+    def ATC_RAT_PIT_FF(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def ATC_RAT_PIT_FLTD(self) -> float:
+        """
+        Pitch derivative filter (0: off).
+        """
+    @ATC_RAT_PIT_FLTD.setter
+    def ATC_RAT_PIT_FLTD(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def ATC_RAT_PIT_FLTE(self) -> float:
+        """
+        Pitch error filter (0: off).
+        """
+    @ATC_RAT_PIT_FLTE.setter
+    def ATC_RAT_PIT_FLTE(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def ATC_RAT_PIT_FLTT(self) -> float:
+        """
+        Pitch target filter (0: off).
+        """
+    @ATC_RAT_PIT_FLTT.setter
+    def ATC_RAT_PIT_FLTT(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def ATC_RAT_PIT_I(self) -> float:
+        """
+        Pitch rate I.
+        """
+    @ATC_RAT_PIT_I.setter
+    def ATC_RAT_PIT_I(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def ATC_RAT_PIT_IMAX(self) -> float:
+        """
+        Largest pitch I term.
+        """
+    @ATC_RAT_PIT_IMAX.setter
+    def ATC_RAT_PIT_IMAX(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def ATC_RAT_PIT_P(self) -> float:
+        """
+        Pitch rate P: pitch output per rad/s of rate error.
+        """
+    @ATC_RAT_PIT_P.setter
+    def ATC_RAT_PIT_P(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def ATC_RAT_RLL_D(self) -> float:
+        """
+        Roll rate D.
+        """
+    @ATC_RAT_RLL_D.setter
+    def ATC_RAT_RLL_D(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def ATC_RAT_RLL_FF(self) -> float:
+        """
+        Roll rate feed-forward: output per rad/s of target rate.
+        """
+    @ATC_RAT_RLL_FF.setter
+    def ATC_RAT_RLL_FF(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def ATC_RAT_RLL_FLTD(self) -> float:
+        """
+        Roll derivative filter (0: off).
+        """
+    @ATC_RAT_RLL_FLTD.setter
+    def ATC_RAT_RLL_FLTD(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def ATC_RAT_RLL_FLTE(self) -> float:
+        """
+        Roll error filter (0: off).
+        """
+    @ATC_RAT_RLL_FLTE.setter
+    def ATC_RAT_RLL_FLTE(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def ATC_RAT_RLL_FLTT(self) -> float:
+        """
+        Roll target filter (0: off).
+        """
+    @ATC_RAT_RLL_FLTT.setter
+    def ATC_RAT_RLL_FLTT(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def ATC_RAT_RLL_I(self) -> float:
+        """
+        Roll rate I.
+        """
+    @ATC_RAT_RLL_I.setter
+    def ATC_RAT_RLL_I(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def ATC_RAT_RLL_IMAX(self) -> float:
+        """
+        Largest roll I term.
+        """
+    @ATC_RAT_RLL_IMAX.setter
+    def ATC_RAT_RLL_IMAX(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def ATC_RAT_RLL_P(self) -> float:
+        """
+        Roll rate P: roll output per rad/s of rate error.
+        """
+    @ATC_RAT_RLL_P.setter
+    def ATC_RAT_RLL_P(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def ATC_RAT_YAW_D(self) -> float:
+        """
+        Yaw rate D.
+        """
+    @ATC_RAT_YAW_D.setter
+    def ATC_RAT_YAW_D(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def ATC_RAT_YAW_FF(self) -> float:
+        """
+        Yaw rate feed-forward.
+        """
+    @ATC_RAT_YAW_FF.setter
+    def ATC_RAT_YAW_FF(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def ATC_RAT_YAW_FLTD(self) -> float:
+        """
+        Yaw derivative filter (0: off).
+        """
+    @ATC_RAT_YAW_FLTD.setter
+    def ATC_RAT_YAW_FLTD(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def ATC_RAT_YAW_FLTE(self) -> float:
+        """
+        Yaw error filter (0: off).
+        """
+    @ATC_RAT_YAW_FLTE.setter
+    def ATC_RAT_YAW_FLTE(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def ATC_RAT_YAW_FLTT(self) -> float:
+        """
+        Yaw target filter (0: off).
+        """
+    @ATC_RAT_YAW_FLTT.setter
+    def ATC_RAT_YAW_FLTT(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def ATC_RAT_YAW_I(self) -> float:
+        """
+        Yaw rate I.
+        """
+    @ATC_RAT_YAW_I.setter
+    def ATC_RAT_YAW_I(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def ATC_RAT_YAW_IMAX(self) -> float:
+        """
+        Largest yaw I term.
+        """
+    @ATC_RAT_YAW_IMAX.setter
+    def ATC_RAT_YAW_IMAX(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def ATC_RAT_YAW_P(self) -> float:
+        """
+        Yaw rate P: yaw output per rad/s of rate error.
+        """
+    @ATC_RAT_YAW_P.setter
+    def ATC_RAT_YAW_P(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def FRAME_CONFIG(self) -> float:
+        """
+        Frame: 1 vectored (BlueROV2, 6 motors), 2 vectored 6DOF (BlueROV2 Heavy, 8 motors); others not modelled.
+        """
+    @FRAME_CONFIG.setter
+    def FRAME_CONFIG(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def MOT_1_DIRECTION(self) -> float:
+        """
+        Motor 1 normal (1) or reversed (-1).
+        """
+    @MOT_1_DIRECTION.setter
+    def MOT_1_DIRECTION(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def MOT_2_DIRECTION(self) -> float:
+        """
+        Motor 2 normal (1) or reversed (-1).
+        """
+    @MOT_2_DIRECTION.setter
+    def MOT_2_DIRECTION(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def MOT_3_DIRECTION(self) -> float:
+        """
+        Motor 3 normal (1) or reversed (-1).
+        """
+    @MOT_3_DIRECTION.setter
+    def MOT_3_DIRECTION(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def MOT_4_DIRECTION(self) -> float:
+        """
+        Motor 4 normal (1) or reversed (-1).
+        """
+    @MOT_4_DIRECTION.setter
+    def MOT_4_DIRECTION(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def MOT_5_DIRECTION(self) -> float:
+        """
+        Motor 5 normal (1) or reversed (-1).
+        """
+    @MOT_5_DIRECTION.setter
+    def MOT_5_DIRECTION(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def MOT_6_DIRECTION(self) -> float:
+        """
+        Motor 6 normal (1) or reversed (-1).
+        """
+    @MOT_6_DIRECTION.setter
+    def MOT_6_DIRECTION(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def MOT_7_DIRECTION(self) -> float:
+        """
+        Motor 7 normal (1) or reversed (-1).
+        """
+    @MOT_7_DIRECTION.setter
+    def MOT_7_DIRECTION(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def MOT_8_DIRECTION(self) -> float:
+        """
+        Motor 8 normal (1) or reversed (-1).
+        """
+    @MOT_8_DIRECTION.setter
+    def MOT_8_DIRECTION(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def MOT_PWM_MAX(self) -> float:
+        """
+        Highest PWM ever sent to a motor.
+        """
+    @MOT_PWM_MAX.setter
+    def MOT_PWM_MAX(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def MOT_PWM_MIN(self) -> float:
+        """
+        Lowest PWM ever sent to a motor.
+        """
+    @MOT_PWM_MIN.setter
+    def MOT_PWM_MIN(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def PILOT_ACCEL_Z(self) -> float:
+        """
+        Vertical acceleration limit of the depth controller's square-root stage.
+        """
+    @PILOT_ACCEL_Z.setter
+    def PILOT_ACCEL_Z(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def PILOT_SPEED_DN(self) -> float:
+        """
+        Largest descent rate the depth controller asks (0: PILOT_SPEED_UP).
+        """
+    @PILOT_SPEED_DN.setter
+    def PILOT_SPEED_DN(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def PILOT_SPEED_UP(self) -> float:
+        """
+        Largest climb rate the depth controller asks.
+        """
+    @PILOT_SPEED_UP.setter
+    def PILOT_SPEED_UP(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def PSC_ACCZ_D(self) -> float:
+        """
+        Vertical acceleration D.
+        """
+    @PSC_ACCZ_D.setter
+    def PSC_ACCZ_D(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def PSC_ACCZ_FF(self) -> float:
+        """
+        Vertical acceleration feed-forward: throttle (x1000) per cm/s/s of acceleration target.
+        """
+    @PSC_ACCZ_FF.setter
+    def PSC_ACCZ_FF(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def PSC_ACCZ_FLTD(self) -> float:
+        """
+        Vertical acceleration derivative filter (0: off).
+        """
+    @PSC_ACCZ_FLTD.setter
+    def PSC_ACCZ_FLTD(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def PSC_ACCZ_FLTE(self) -> float:
+        """
+        Vertical acceleration error filter (0: off).
+        """
+    @PSC_ACCZ_FLTE.setter
+    def PSC_ACCZ_FLTE(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def PSC_ACCZ_FLTT(self) -> float:
+        """
+        Vertical acceleration target filter (0: off).
+        """
+    @PSC_ACCZ_FLTT.setter
+    def PSC_ACCZ_FLTT(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def PSC_ACCZ_I(self) -> float:
+        """
+        Vertical acceleration I.
+        """
+    @PSC_ACCZ_I.setter
+    def PSC_ACCZ_I(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def PSC_ACCZ_IMAX(self) -> float:
+        """
+        Largest vertical acceleration I term (throttle x1000).
+        """
+    @PSC_ACCZ_IMAX.setter
+    def PSC_ACCZ_IMAX(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def PSC_ACCZ_P(self) -> float:
+        """
+        Vertical acceleration P: throttle (x1000) per cm/s/s of acceleration error.
+        """
+    @PSC_ACCZ_P.setter
+    def PSC_ACCZ_P(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def PSC_POSXY_P(self) -> float:
+        """
+        Horizontal position P: speed asked per position error.
+        """
+    @PSC_POSXY_P.setter
+    def PSC_POSXY_P(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def PSC_POSZ_P(self) -> float:
+        """
+        Vertical position P: climb rate asked per depth error.
+        """
+    @PSC_POSZ_P.setter
+    def PSC_POSZ_P(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def PSC_VELXY_D(self) -> float:
+        """
+        Horizontal velocity D.
+        """
+    @PSC_VELXY_D.setter
+    def PSC_VELXY_D(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def PSC_VELXY_FLTD(self) -> float:
+        """
+        Horizontal velocity derivative filter (0: off).
+        """
+    @PSC_VELXY_FLTD.setter
+    def PSC_VELXY_FLTD(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def PSC_VELXY_FLTE(self) -> float:
+        """
+        Horizontal velocity error filter (0: off).
+        """
+    @PSC_VELXY_FLTE.setter
+    def PSC_VELXY_FLTE(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def PSC_VELXY_I(self) -> float:
+        """
+        Horizontal velocity I.
+        """
+    @PSC_VELXY_I.setter
+    def PSC_VELXY_I(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def PSC_VELXY_IMAX(self) -> float:
+        """
+        Largest horizontal velocity I term.
+        """
+    @PSC_VELXY_IMAX.setter
+    def PSC_VELXY_IMAX(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def PSC_VELXY_P(self) -> float:
+        """
+        Horizontal velocity P: acceleration asked per speed error.
+        """
+    @PSC_VELXY_P.setter
+    def PSC_VELXY_P(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def PSC_VELZ_D(self) -> float:
+        """
+        Vertical velocity D.
+        """
+    @PSC_VELZ_D.setter
+    def PSC_VELZ_D(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def PSC_VELZ_FLTD(self) -> float:
+        """
+        Vertical velocity derivative filter (0: off).
+        """
+    @PSC_VELZ_FLTD.setter
+    def PSC_VELZ_FLTD(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def PSC_VELZ_FLTE(self) -> float:
+        """
+        Vertical velocity error filter (0: off).
+        """
+    @PSC_VELZ_FLTE.setter
+    def PSC_VELZ_FLTE(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def PSC_VELZ_I(self) -> float:
+        """
+        Vertical velocity I.
+        """
+    @PSC_VELZ_I.setter
+    def PSC_VELZ_I(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def PSC_VELZ_IMAX(self) -> float:
+        """
+        Largest vertical velocity I term.
+        """
+    @PSC_VELZ_IMAX.setter
+    def PSC_VELZ_IMAX(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def PSC_VELZ_P(self) -> float:
+        """
+        Vertical velocity P: acceleration asked per climb rate error.
+        """
+    @PSC_VELZ_P.setter
+    def PSC_VELZ_P(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def SCHED_LOOP_RATE(self) -> float:
+        """
+        Main loop rate: the controllers' own period is 1 / SCHED_LOOP_RATE.
+        """
+    @SCHED_LOOP_RATE.setter
+    def SCHED_LOOP_RATE(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def WPNAV_ACCEL(self) -> float:
+        """
+        Horizontal acceleration limit of the position controller's square-root stage.
+        """
+    @WPNAV_ACCEL.setter
+    def WPNAV_ACCEL(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def WPNAV_SPEED(self) -> float:
+        """
+        Largest horizontal speed the position controller asks.
+        """
+    @WPNAV_SPEED.setter
+    def WPNAV_SPEED(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def curve_pwm(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[16, 1]"]:
+        """
+        PWM [us] of the ESC's thrust table, increasing (16,).
+        """
+    @curve_pwm.setter
+    def curve_pwm(self, arg1: numpy.typing.ArrayLike) -> None:
+        ...
+    @property
+    def curve_rows(self) -> float:
+        """
+        Rows of the thrust table used, 2..16.
+        """
+    @curve_rows.setter
+    def curve_rows(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def curve_thrust(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[16, 1]"]:
+        """
+        Thrust [N] at each PWM of curve_pwm (16,).
+        """
+    @curve_thrust.setter
+    def curve_thrust(self, arg1: numpy.typing.ArrayLike) -> None:
+        ...
+    @property
+    def dt(self) -> float:
+        """
+        Period of the calling loop [s]: round(dt SCHED_LOOP_RATE) iterations of ArduSub's loop per step.
+        """
+    @dt.setter
+    def dt(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def mode(self) -> float:
+        """
+        0 stabilize, 1 depth_hold, 2 position_hold.
+        """
+    @mode.setter
+    def mode(self, arg1: typing.SupportsFloat) -> None:
+        ...
 class NNAdaptiveController:
     """
     Direct adaptive RBF-network controller (eq. 35, 37): tau = W g(x) - J^T K_d s with x = [nu_r_dot; nu_r; nu; eta] (24 inputs), then W <- W - dt (J^-1 s) g(x)^T Gamma_w. tau uses the weights from before the update.
@@ -1492,6 +2130,74 @@ class SuperTwistingController:
     def integral(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
         """
         The integral term v (6,), in units of s per second.
+        """
+    @property
+    def s(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
+        """
+        Filtered tracking error s of the last step, shape (6,).
+        """
+    @property
+    def tracking(self) -> dict[str, numpy.typing.NDArray[numpy.float64]]:
+        """
+        Tracking error and virtual reference of the last step: a dict of (6,) arrays eta_tilde, eta_tilde_dot, s, eta_r_dot, eta_r_ddot, nu_r, nu_r_dot.
+        """
+class ArduSubController:
+    """
+    ArduSub's stabilize / depth-hold / position-hold control by its parameters' names: attitude (input shaping, square-root angle P, rate PIDs), vertical position-velocity-acceleration cascade, horizontal position-velocity loops into forward and lateral thrust, the frame's motor mixing and PWM; tau is the wrench of those PWMs through the ESC's thrust table. Runs round(dt * SCHED_LOOP_RATE) iterations per step.
+    """
+    title: typing.ClassVar[str] = 'ArduSub'
+    type_name: typing.ClassVar[str] = 'ardusub'
+    Config = ArduSubConfig
+    def __copy__(self) -> ArduSubController:
+        ...
+    def __deepcopy__(self, memo: dict) -> ArduSubController:
+        ...
+    def __getstate__(self) -> dict:
+        ...
+    @typing.overload
+    def __init__(self, config: ArduSubConfig) -> None:
+        """
+        Builds the controller from its configuration object; ValueError names a bad field.
+        """
+    @typing.overload
+    def __init__(self, curve_pwm: numpy.typing.ArrayLike, curve_thrust: numpy.typing.ArrayLike, ATC_ANG_RLL_P: typing.SupportsFloat = 6.0, ATC_ANG_PIT_P: typing.SupportsFloat = 6.0, ATC_ANG_YAW_P: typing.SupportsFloat = 6.0, ATC_ACCEL_R_MAX: typing.SupportsFloat = 110000.0, ATC_ACCEL_P_MAX: typing.SupportsFloat = 110000.0, ATC_ACCEL_Y_MAX: typing.SupportsFloat = 110000.0, ATC_INPUT_TC: typing.SupportsFloat = 0.15, ATC_RATE_FF_ENAB: typing.SupportsFloat = 1.0, ANGLE_MAX: typing.SupportsFloat = 3000.0, ATC_RAT_RLL_P: typing.SupportsFloat = 0.135, ATC_RAT_RLL_I: typing.SupportsFloat = 0.09, ATC_RAT_RLL_D: typing.SupportsFloat = 0.0036, ATC_RAT_RLL_FF: typing.SupportsFloat = 0.0, ATC_RAT_RLL_IMAX: typing.SupportsFloat = 0.444, ATC_RAT_RLL_FLTT: typing.SupportsFloat = 30.0, ATC_RAT_RLL_FLTE: typing.SupportsFloat = 0.0, ATC_RAT_RLL_FLTD: typing.SupportsFloat = 30.0, ATC_RAT_PIT_P: typing.SupportsFloat = 0.135, ATC_RAT_PIT_I: typing.SupportsFloat = 0.09, ATC_RAT_PIT_D: typing.SupportsFloat = 0.0036, ATC_RAT_PIT_FF: typing.SupportsFloat = 0.0, ATC_RAT_PIT_IMAX: typing.SupportsFloat = 0.444, ATC_RAT_PIT_FLTT: typing.SupportsFloat = 30.0, ATC_RAT_PIT_FLTE: typing.SupportsFloat = 0.0, ATC_RAT_PIT_FLTD: typing.SupportsFloat = 30.0, ATC_RAT_YAW_P: typing.SupportsFloat = 0.18, ATC_RAT_YAW_I: typing.SupportsFloat = 0.018, ATC_RAT_YAW_D: typing.SupportsFloat = 0.0, ATC_RAT_YAW_FF: typing.SupportsFloat = 0.0, ATC_RAT_YAW_IMAX: typing.SupportsFloat = 0.222, ATC_RAT_YAW_FLTT: typing.SupportsFloat = 5.0, ATC_RAT_YAW_FLTE: typing.SupportsFloat = 0.0, ATC_RAT_YAW_FLTD: typing.SupportsFloat = 5.0, PSC_POSZ_P: typing.SupportsFloat = 3.0, PSC_VELZ_P: typing.SupportsFloat = 8.0, PSC_VELZ_I: typing.SupportsFloat = 0.0, PSC_VELZ_D: typing.SupportsFloat = 0.0, PSC_VELZ_IMAX: typing.SupportsFloat = 1000.0, PSC_VELZ_FLTE: typing.SupportsFloat = 5.0, PSC_VELZ_FLTD: typing.SupportsFloat = 5.0, PSC_ACCZ_P: typing.SupportsFloat = 0.5, PSC_ACCZ_I: typing.SupportsFloat = 0.1, PSC_ACCZ_D: typing.SupportsFloat = 0.0, PSC_ACCZ_FF: typing.SupportsFloat = 0.0, PSC_ACCZ_IMAX: typing.SupportsFloat = 800.0, PSC_ACCZ_FLTT: typing.SupportsFloat = 0.0, PSC_ACCZ_FLTE: typing.SupportsFloat = 20.0, PSC_ACCZ_FLTD: typing.SupportsFloat = 0.0, PILOT_SPEED_UP: typing.SupportsFloat = 50.0, PILOT_SPEED_DN: typing.SupportsFloat = 50.0, PILOT_ACCEL_Z: typing.SupportsFloat = 100.0, PSC_POSXY_P: typing.SupportsFloat = 1.0, PSC_VELXY_P: typing.SupportsFloat = 2.0, PSC_VELXY_I: typing.SupportsFloat = 1.0, PSC_VELXY_D: typing.SupportsFloat = 0.5, PSC_VELXY_IMAX: typing.SupportsFloat = 1000.0, PSC_VELXY_FLTE: typing.SupportsFloat = 5.0, PSC_VELXY_FLTD: typing.SupportsFloat = 5.0, WPNAV_SPEED: typing.SupportsFloat = 500.0, WPNAV_ACCEL: typing.SupportsFloat = 100.0, FRAME_CONFIG: typing.SupportsFloat = 1.0, MOT_PWM_MIN: typing.SupportsFloat = 1100.0, MOT_PWM_MAX: typing.SupportsFloat = 1900.0, MOT_1_DIRECTION: typing.SupportsFloat = 1.0, MOT_2_DIRECTION: typing.SupportsFloat = 1.0, MOT_3_DIRECTION: typing.SupportsFloat = 1.0, MOT_4_DIRECTION: typing.SupportsFloat = 1.0, MOT_5_DIRECTION: typing.SupportsFloat = 1.0, MOT_6_DIRECTION: typing.SupportsFloat = 1.0, MOT_7_DIRECTION: typing.SupportsFloat = 1.0, MOT_8_DIRECTION: typing.SupportsFloat = 1.0, SCHED_LOOP_RATE: typing.SupportsFloat = 400.0, mode: typing.SupportsFloat = 1.0, curve_rows: typing.SupportsFloat = 3.0, dt: typing.SupportsFloat = 0.0025) -> None:
+        """
+        The configuration's fields by name (see ArduSubConfig); ValueError names a bad one.
+        """
+    def __setstate__(self, arg0: dict) -> None:
+        ...
+    def reset(self) -> None:
+        """
+        Back to the initial state and a zero history.
+        """
+    def step(self, eta: numpy.typing.ArrayLike, nu: numpy.typing.ArrayLike, eta_d: numpy.typing.ArrayLike, eta_d_dot: numpy.typing.ArrayLike, eta_d_ddot: numpy.typing.ArrayLike) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
+        """
+        One control step from the measured pose eta (6,) and body velocity nu (6,) and the desired eta_d, eta_d_dot, eta_d_ddot (6,) in the earth frame; returns tau (6,), the body forces and moments. A NaN/Inf input, or the pitch singularity, raises ValueError and leaves the controller exactly as it was.
+        """
+    @property
+    def axis_inputs(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
+        """
+        The mixer's inputs at the last iteration: roll, pitch, yaw, throttle, forward, lateral (each -1..1), shape (6,).
+        """
+    @property
+    def config(self) -> ArduSubConfig:
+        """
+        A copy of the configuration the controller was built from.
+        """
+    @property
+    def memory(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[70, 1]"]:
+        """
+        Everything the controller remembers between steps, flat (ArduSubController.kStateSize).
+        """
+    @property
+    def motor_outputs(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        Motor outputs -1..1 before MOT_n_DIRECTION at the last iteration, shape (motors,).
+        """
+    @property
+    def pwm(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        PWM [us] of each motor at the last iteration, shape (motors,).
         """
     @property
     def s(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
@@ -3310,7 +4016,7 @@ def rotation(phi: typing.SupportsFloat, theta: typing.SupportsFloat, psi: typing
     """
     Rotation matrix R = Rz(psi) Ry(theta) Rx(phi) (ZYX Euler angles, body to NED), shape (3, 3).
     """
-def run_batch(vehicles: collections.abc.Iterable[Vehicle], controllers: collections.abc.Iterable[NNAdaptiveController | LinearAdaptiveController | PDController | PIDController | SlidingModeController | ComputedTorqueController | SuperTwistingController], configs: collections.abc.Iterable[SimulationConfig], threads: typing.SupportsInt | typing.SupportsIndex = 0, metrics_only: bool = False, after: typing.SupportsFloat | numpy.typing.ArrayLike | None = None) -> list:
+def run_batch(vehicles: collections.abc.Iterable[Vehicle], controllers: collections.abc.Iterable[NNAdaptiveController | LinearAdaptiveController | PDController | PIDController | SlidingModeController | ComputedTorqueController | SuperTwistingController | ArduSubController], configs: collections.abc.Iterable[SimulationConfig], threads: typing.SupportsInt | typing.SupportsIndex = 0, metrics_only: bool = False, after: typing.SupportsFloat | numpy.typing.ArrayLike | None = None) -> list:
     """
     Runs K closed loops in C++, lane i vehicles[i] under controllers[i] (any built-in controllers, types mixed, each copied as given: the objects passed are not changed) with configs[i], over `threads` threads (0: one per hardware thread), the GIL released. Returns one dict per run, in order: run_closed_loop's, or with metrics_only no rows but the metric sums (keys after, before and window (each WINDOW_SUMS), final_adaptive_norm, max_adaptive_norm, diverged, first_refused), the window being t >= `after` (a float or one per run). A refused lane raises ValidationError naming the lane and the field before any run.
     """
@@ -3350,6 +4056,11 @@ def run_closed_loop(vehicle: Vehicle, controller: SuperTwistingController, confi
     Runs a closed loop in C++ with the configuration `config` (a SimulationConfig) and returns a dict of arrays (rows at t_k = k dt), one per entry of RESULT_SERIES (t, eta, nu, eta_d, eta_d_dot, tau_demanded, tau_applied, disturbance, s, eta_estimate, nu_estimate, thrusts, theta, adaptive_norm, controller_status, plant_status, faults, current, wave_velocity, wave_elevation, payload_mass), and diverged (bool). The controller is used as given and left in its final state. A bad configuration raises ValueError naming the field. neurov.simulate(scenario) is the friendly front end.
     """
 @typing.overload
+def run_closed_loop(vehicle: Vehicle, controller: ArduSubController, config: SimulationConfig) -> _SimulationResult:
+    """
+    Runs a closed loop in C++ with the configuration `config` (a SimulationConfig) and returns a dict of arrays (rows at t_k = k dt), one per entry of RESULT_SERIES (t, eta, nu, eta_d, eta_d_dot, tau_demanded, tau_applied, disturbance, s, eta_estimate, nu_estimate, thrusts, theta, adaptive_norm, controller_status, plant_status, faults, current, wave_velocity, wave_elevation, payload_mass), and diverged (bool). The controller is used as given and left in its final state. A bad configuration raises ValueError naming the field. neurov.simulate(scenario) is the friendly front end.
+    """
+@typing.overload
 def run_closed_loop_chunks(vehicle: Vehicle, controller: NNAdaptiveController, config: SimulationConfig, chunk_rows: typing.SupportsInt | typing.SupportsIndex, on_rows: collections.abc.Callable[[_SimulationResult], None]) -> None:
     """
     The run of run_closed_loop with its rows handed over in chunks: on_rows(dict) is called with each chunk of at most chunk_rows rows, in time order (the dict of run_closed_loop; the last chunk's 'diverged' says how the run ended), so a run of any length holds one chunk in memory. A bad configuration or chunk_rows < 1 raises ValueError before any step; an exception raised by on_rows ends the run and propagates.
@@ -3384,6 +4095,11 @@ def run_closed_loop_chunks(vehicle: Vehicle, controller: SuperTwistingController
     """
     The run of run_closed_loop with its rows handed over in chunks: on_rows(dict) is called with each chunk of at most chunk_rows rows, in time order (the dict of run_closed_loop; the last chunk's 'diverged' says how the run ended), so a run of any length holds one chunk in memory. A bad configuration or chunk_rows < 1 raises ValueError before any step; an exception raised by on_rows ends the run and propagates.
     """
+@typing.overload
+def run_closed_loop_chunks(vehicle: Vehicle, controller: ArduSubController, config: SimulationConfig, chunk_rows: typing.SupportsInt | typing.SupportsIndex, on_rows: collections.abc.Callable[[_SimulationResult], None]) -> None:
+    """
+    The run of run_closed_loop with its rows handed over in chunks: on_rows(dict) is called with each chunk of at most chunk_rows rows, in time order (the dict of run_closed_loop; the last chunk's 'diverged' says how the run ended), so a run of any length holds one chunk in memory. A bad configuration or chunk_rows < 1 raises ValueError before any step; an exception raised by on_rows ends the run and propagates.
+    """
 def singularity_threshold() -> float:
     """
     |cos(theta)| below which the Euler-angle transform counts as singular (sqrt of machine epsilon).
@@ -3396,7 +4112,8 @@ def tracking_error(eta: numpy.typing.ArrayLike, nu: numpy.typing.ArrayLike, eta_
     """
     Tracking error and virtual reference (eq. 11, 14-16) with the diagonal Lambda (6,): a dict of (6,) arrays eta_tilde, eta_tilde_dot, s, eta_r_dot, eta_r_ddot, nu_r, nu_r_dot.
     """
-BUILT_IN_CONTROLLERS: dict = {'nn': NNAdaptiveController, 'linear': LinearAdaptiveController, 'pd': PDController, 'pid': PIDController, 'smc': SlidingModeController, 'computed_torque': ComputedTorqueController, 'super_twisting': SuperTwistingController}
+ARDUSUB_PARAMETERS: list = [('ATC_ANG_RLL_P', 6.0, 0.0, 12.0, '1/s', 'Roll angle P: roll rate asked per roll angle error.'), ('ATC_ANG_PIT_P', 6.0, 0.0, 12.0, '1/s', 'Pitch angle P: pitch rate asked per pitch angle error.'), ('ATC_ANG_YAW_P', 6.0, 0.0, 12.0, '1/s', 'Yaw angle P: yaw rate asked per yaw angle error.'), ('ATC_ACCEL_R_MAX', 110000.0, 0.0, 180000.0, 'cdeg/s/s', 'Largest roll acceleration of the shaped target and the angle controller (0: none).'), ('ATC_ACCEL_P_MAX', 110000.0, 0.0, 180000.0, 'cdeg/s/s', 'Largest pitch acceleration of the shaped target and the angle controller (0: none).'), ('ATC_ACCEL_Y_MAX', 110000.0, 0.0, 180000.0, 'cdeg/s/s', 'Largest yaw acceleration of the shaped target and the angle controller (0: none).'), ('ATC_INPUT_TC', 0.15, 0.0, 1.0, 's', 'Attitude input time constant: the shaped target approaches the commanded angle with this time constant.'), ('ATC_RATE_FF_ENAB', 1.0, 0.0, 1.0, '', "1: input shaping and the target's rate fed forward; 0: the target jumps to the command."), ('ANGLE_MAX', 3000.0, 1000.0, 8000.0, 'cdeg', 'Largest roll and pitch target (and lean angle of position hold).'), ('ATC_RAT_RLL_P', 0.135, 0.0, 0.3, '', 'Roll rate P: roll output per rad/s of rate error.'), ('ATC_RAT_RLL_I', 0.09, 0.0, 0.5, '', 'Roll rate I.'), ('ATC_RAT_RLL_D', 0.0036, 0.0, 0.05, '', 'Roll rate D.'), ('ATC_RAT_RLL_FF', 0.0, 0.0, 0.5, '', 'Roll rate feed-forward: output per rad/s of target rate.'), ('ATC_RAT_RLL_IMAX', 0.444, 0.0, 1.0, '', 'Largest roll I term.'), ('ATC_RAT_RLL_FLTT', 30.0, 1.0, 100.0, 'Hz', 'Roll target filter (0: off).'), ('ATC_RAT_RLL_FLTE', 0.0, 0.0, 100.0, 'Hz', 'Roll error filter (0: off).'), ('ATC_RAT_RLL_FLTD', 30.0, 0.0, 100.0, 'Hz', 'Roll derivative filter (0: off).'), ('ATC_RAT_PIT_P', 0.135, 0.0, 0.3, '', 'Pitch rate P: pitch output per rad/s of rate error.'), ('ATC_RAT_PIT_I', 0.09, 0.0, 0.5, '', 'Pitch rate I.'), ('ATC_RAT_PIT_D', 0.0036, 0.0, 0.05, '', 'Pitch rate D.'), ('ATC_RAT_PIT_FF', 0.0, 0.0, 0.5, '', 'Pitch rate feed-forward.'), ('ATC_RAT_PIT_IMAX', 0.444, 0.0, 1.0, '', 'Largest pitch I term.'), ('ATC_RAT_PIT_FLTT', 30.0, 1.0, 100.0, 'Hz', 'Pitch target filter (0: off).'), ('ATC_RAT_PIT_FLTE', 0.0, 0.0, 100.0, 'Hz', 'Pitch error filter (0: off).'), ('ATC_RAT_PIT_FLTD', 30.0, 0.0, 100.0, 'Hz', 'Pitch derivative filter (0: off).'), ('ATC_RAT_YAW_P', 0.18, 0.0, 1.0, '', 'Yaw rate P: yaw output per rad/s of rate error.'), ('ATC_RAT_YAW_I', 0.018, 0.0, 0.5, '', 'Yaw rate I.'), ('ATC_RAT_YAW_D', 0.0, 0.0, 0.02, '', 'Yaw rate D.'), ('ATC_RAT_YAW_FF', 0.0, 0.0, 0.5, '', 'Yaw rate feed-forward.'), ('ATC_RAT_YAW_IMAX', 0.222, 0.0, 1.0, '', 'Largest yaw I term.'), ('ATC_RAT_YAW_FLTT', 5.0, 1.0, 50.0, 'Hz', 'Yaw target filter (0: off).'), ('ATC_RAT_YAW_FLTE', 0.0, 0.0, 20.0, 'Hz', 'Yaw error filter (0: off).'), ('ATC_RAT_YAW_FLTD', 5.0, 0.0, 50.0, 'Hz', 'Yaw derivative filter (0: off).'), ('PSC_POSZ_P', 3.0, 1.0, 3.0, '1/s', 'Vertical position P: climb rate asked per depth error.'), ('PSC_VELZ_P', 8.0, 1.0, 8.0, '1/s', 'Vertical velocity P: acceleration asked per climb rate error.'), ('PSC_VELZ_I', 0.0, 0.0, 10.0, '1/s/s', 'Vertical velocity I.'), ('PSC_VELZ_D', 0.0, 0.0, 1.0, '', 'Vertical velocity D.'), ('PSC_VELZ_IMAX', 1000.0, 1.0, 1000.0, 'cm/s/s', 'Largest vertical velocity I term.'), ('PSC_VELZ_FLTE', 5.0, 0.0, 100.0, 'Hz', 'Vertical velocity error filter (0: off).'), ('PSC_VELZ_FLTD', 5.0, 0.0, 100.0, 'Hz', 'Vertical velocity derivative filter (0: off).'), ('PSC_ACCZ_P', 0.5, 0.2, 1.5, '', 'Vertical acceleration P: throttle (x1000) per cm/s/s of acceleration error.'), ('PSC_ACCZ_I', 0.1, 0.0, 3.0, '', 'Vertical acceleration I.'), ('PSC_ACCZ_D', 0.0, 0.0, 0.4, '', 'Vertical acceleration D.'), ('PSC_ACCZ_FF', 0.0, 0.0, 0.5, '', 'Vertical acceleration feed-forward: throttle (x1000) per cm/s/s of acceleration target.'), ('PSC_ACCZ_IMAX', 800.0, 0.0, 1000.0, 'd%', 'Largest vertical acceleration I term (throttle x1000).'), ('PSC_ACCZ_FLTT', 0.0, 0.0, 100.0, 'Hz', 'Vertical acceleration target filter (0: off).'), ('PSC_ACCZ_FLTE', 20.0, 0.0, 100.0, 'Hz', 'Vertical acceleration error filter (0: off).'), ('PSC_ACCZ_FLTD', 0.0, 0.0, 100.0, 'Hz', 'Vertical acceleration derivative filter (0: off).'), ('PILOT_SPEED_UP', 50.0, 20.0, 500.0, 'cm/s', 'Largest climb rate the depth controller asks.'), ('PILOT_SPEED_DN', 50.0, 20.0, 500.0, 'cm/s', 'Largest descent rate the depth controller asks (0: PILOT_SPEED_UP).'), ('PILOT_ACCEL_Z', 100.0, 50.0, 500.0, 'cm/s/s', "Vertical acceleration limit of the depth controller's square-root stage."), ('PSC_POSXY_P', 1.0, 0.5, 2.0, '1/s', 'Horizontal position P: speed asked per position error.'), ('PSC_VELXY_P', 2.0, 0.1, 6.0, '1/s', 'Horizontal velocity P: acceleration asked per speed error.'), ('PSC_VELXY_I', 1.0, 0.02, 1.0, '1/s/s', 'Horizontal velocity I.'), ('PSC_VELXY_D', 0.5, 0.0, 1.0, '', 'Horizontal velocity D.'), ('PSC_VELXY_IMAX', 1000.0, 0.0, 4500.0, 'cm/s/s', 'Largest horizontal velocity I term.'), ('PSC_VELXY_FLTE', 5.0, 0.0, 100.0, 'Hz', 'Horizontal velocity error filter (0: off).'), ('PSC_VELXY_FLTD', 5.0, 0.0, 100.0, 'Hz', 'Horizontal velocity derivative filter (0: off).'), ('WPNAV_SPEED', 500.0, 20.0, 2000.0, 'cm/s', 'Largest horizontal speed the position controller asks.'), ('WPNAV_ACCEL', 100.0, 50.0, 500.0, 'cm/s/s', "Horizontal acceleration limit of the position controller's square-root stage."), ('FRAME_CONFIG', 1.0, 0.0, 7.0, '', 'Frame: 1 vectored (BlueROV2, 6 motors), 2 vectored 6DOF (BlueROV2 Heavy, 8 motors); others not modelled.'), ('MOT_PWM_MIN', 1100.0, 0.0, 2000.0, 'PWM', 'Lowest PWM ever sent to a motor.'), ('MOT_PWM_MAX', 1900.0, 0.0, 2000.0, 'PWM', 'Highest PWM ever sent to a motor.'), ('MOT_1_DIRECTION', 1.0, -1.0, 1.0, '', 'Motor 1 normal (1) or reversed (-1).'), ('MOT_2_DIRECTION', 1.0, -1.0, 1.0, '', 'Motor 2 normal (1) or reversed (-1).'), ('MOT_3_DIRECTION', 1.0, -1.0, 1.0, '', 'Motor 3 normal (1) or reversed (-1).'), ('MOT_4_DIRECTION', 1.0, -1.0, 1.0, '', 'Motor 4 normal (1) or reversed (-1).'), ('MOT_5_DIRECTION', 1.0, -1.0, 1.0, '', 'Motor 5 normal (1) or reversed (-1).'), ('MOT_6_DIRECTION', 1.0, -1.0, 1.0, '', 'Motor 6 normal (1) or reversed (-1).'), ('MOT_7_DIRECTION', 1.0, -1.0, 1.0, '', 'Motor 7 normal (1) or reversed (-1).'), ('MOT_8_DIRECTION', 1.0, -1.0, 1.0, '', 'Motor 8 normal (1) or reversed (-1).'), ('SCHED_LOOP_RATE', 400.0, 50.0, 400.0, 'Hz', "Main loop rate: the controllers' own period is 1 / SCHED_LOOP_RATE.")]
+BUILT_IN_CONTROLLERS: dict = {'nn': NNAdaptiveController, 'linear': LinearAdaptiveController, 'pd': PDController, 'pid': PIDController, 'smc': SlidingModeController, 'computed_torque': ComputedTorqueController, 'super_twisting': SuperTwistingController, 'ardusub': ArduSubController}
 LANE_NOT_STEPPED: int = 255
 MAX_CENTRES: int = 65536
 MAX_SUBSTEPS: int = 10000

@@ -2,6 +2,8 @@
 """Stub-only (nothing imports it at runtime): the built-in controllers of
 neurov._core (its BUILT_IN_CONTROLLERS) and their configurations."""
 
+from neurov._core import ArduSubConfig as ArduSubConfig
+from neurov._core import ArduSubController as ArduSubController
 from neurov._core import ComputedTorqueConfig as ComputedTorqueConfig
 from neurov._core import ComputedTorqueController as ComputedTorqueController
 from neurov._core import LinearAdaptiveConfig as LinearAdaptiveConfig

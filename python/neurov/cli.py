@@ -178,6 +178,17 @@ def _parser() -> argparse.ArgumentParser:
         "Markdown table; it runs nothing.")
     table.add_argument("folders", nargs="+", metavar="DIR", help="tuning folder(s) (neurov tune --out)")
     table.add_argument("--table", required=True, choices=["budget", "fronts", "equal-effort", "spread"])
+
+    params = sub.add_parser(
+        "params",
+        help="write the parameters of an ArduPilot log (.tlog, .bin) or parameter file as a .param file",
+        description="Reads every parameter of a telemetry log (PARAM_VALUE), a DataFlash log (PARM) or a "
+        "parameter file (QGroundControl or MAVProxy format) and writes them as a QGroundControl .param "
+        "file; an [controller] type = \"ardusub\" scenario reads it with params = \"FILE\".",
+    )
+    params.add_argument("log", metavar="LOG", help="a .tlog, .bin, .param, .params or .parm file")
+    params.add_argument("--out", default=None, metavar="FILE.param",
+                        help="output file (default: LOG with the suffix .param)")
     return p
 
 
@@ -266,6 +277,10 @@ def main(argv: Sequence[str] | None = None) -> int:
                               plots=not args.no_plots, quiet=args.quiet, only=args.only, seed=args.seed)
             if tuned.unusable:
                 return EXIT_DIVERGED
+        elif args.command == "params":
+            from neurov.laws.ardusub_params import write_log_parameters
+
+            print(write_log_parameters(args.log, args.out))
     except KeyboardInterrupt as e:
         # A study says what it saved and that rerunning resumes; one line, no traceback.
         print(f"neurov: {str(e) or 'interrupted'}", file=sys.stderr)

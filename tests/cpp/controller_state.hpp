@@ -67,6 +67,22 @@ Bytes state_of(const neurov::PIDController<S>& c) {
   b.add(c.integral());
   return add_tracking(b, c.tracking());
 }
+/// ArduSub: every integrator and filter, the shaped target, the motors.
+template <typename S>
+Bytes state_of(const neurov::ArduSubController<S>& c) {
+  Bytes b;
+  const auto& s = c.internals();
+  b.add(s.attitude_target).add(s.target_rate).add(s.rate_target).add(s.inputs).add(s.outputs)
+      .add(s.pwm).value(s.climb_rate).value(s.started);
+  for (const auto* p : {&s.rate[0], &s.rate[1], &s.rate[2], &s.vel_z, &s.accel_z, &s.vel_xy[0], &s.vel_xy[1]})
+    b.value(p->target).value(p->error).value(p->derivative).value(p->integrator).value(p->started);
+  return add_tracking(b, c.tracking());
+}
+template <typename S>
+bool state_finite(const neurov::ArduSubController<S>& c) {
+  return c.internals().attitude_target.allFinite() && c.internals().pwm.allFinite() &&
+         c.tracking().s.allFinite();
+}
 /// Sliding mode and computed torque: the model's output of the last step.
 template <typename Ctl>
 auto state_of(const Ctl& c) -> decltype(c.model_output(), Bytes()) {

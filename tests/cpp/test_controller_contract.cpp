@@ -128,6 +128,16 @@ template <typename S, int N>
 S memory(const NNAdaptiveController<S, N>& c) {
   return c.weights().norm();
 }
+/// ArduSub's memory: its PID integrators (attitude rates, vertical velocity
+/// and acceleration, horizontal velocity).
+template <typename S>
+S memory(const ArduSubController<S>& c) {
+  const auto& s = c.internals();
+  S sum = s.vel_z.integrator * s.vel_z.integrator + s.accel_z.integrator * s.accel_z.integrator;
+  for (int i = 0; i < 3; ++i) sum += s.rate[i].integrator * s.rate[i].integrator;
+  for (int i = 0; i < 2; ++i) sum += s.vel_xy[i].integrator * s.vel_xy[i].integrator;
+  return std::sqrt(sum);
+}
 template <typename Ctl, typename = void>
 struct has_state_name : std::false_type {};
 template <typename Ctl>

@@ -249,6 +249,13 @@ void for_each_controller(F&& check) {
     SCOPED_TRACE("computed torque");
     check(computed_torque<S>(), 21u);
   }
+  {
+    SCOPED_TRACE("ArduSub, position hold, BlueROV2 Heavy");
+    ArduSubConfig<S> c;
+    c.FRAME_CONFIG = S(2);
+    c.mode = S(2);
+    check(ArduSubController<S>(c), 22u);
+  }
 }
 
 TYPED_TEST(ReliabilityTest, ControllerStepHostileValueInEveryEntry) {
@@ -276,6 +283,7 @@ TYPED_TEST(ReliabilityTest, UnconfiguredControllersRefuseEveryStep) {
   check_one_step(PIDController<S>{}, in, "PID");
   check_one_step(SlidingModeController<S>{}, in, "SMC");
   check_one_step(ComputedTorqueController<S>{}, in, "computed torque");
+  check_one_step(ArduSubController<S>{}, in, "ArduSub");
   NNAdaptiveController<S> c;
   Vector6<S> tau;
   EXPECT_EQ(step(c, in, tau), Status::invalid_argument);

@@ -9,6 +9,7 @@
 
 #include "bindings.hpp"
 #include "controller_bindings.hpp"
+#include "ardusub_bindings.hpp"
 #include "generic_controller.hpp"
 #include "neurov/control/built_in_controllers.hpp"
 #include "neurov/control/computed_torque_controller.hpp"

@@ -15,6 +15,7 @@
 #include <string>
 #include <tuple>
 #include <type_traits>
+#include <utility>
 
 #include "controller_bindings.hpp"
 #include "fields.hpp"
@@ -75,6 +76,30 @@ auto keyword_arg(const FieldSpec<Config, D>& spec) {
     return config_arg(spec.name, spec.member);
 }
 
+/// `spec` as a one-element tuple when Keep, else an empty one.
+template <bool Keep, typename Spec>
+auto keep_if(const Spec& spec) {
+  if constexpr (Keep)
+    return std::make_tuple(spec);
+  else
+    return std::tuple<>();
+}
+
+/// The fields in the order of the keyword constructor: the required ones
+/// (vectors) first, then the numbers with their defaults, each group in the
+/// struct's order (a signature with a required argument after a defaulted one
+/// is not Python).
+template <typename Config>
+auto constructor_fields() {
+  return std::apply(
+      [](const auto&... s) {
+        return std::tuple_cat(
+            keep_if<!std::is_same_v<typename std::decay_t<decltype(s)>::Type, double>>(s)...,
+            keep_if<std::is_same_v<typename std::decay_t<decltype(s)>::Type, double>>(s)...);
+      },
+      fields_of<Config>());
+}
+
 template <typename Controller, typename = void>
 struct has_vector_state : std::false_type {};
 template <typename Controller>
@@ -93,19 +118,22 @@ void bind_generic_controller(py::module_& m) {
         def_constructors(cls, controller_what<Controller>(), ctor_doc.c_str(),
                          keyword_arg(spec)...);
       },
-      fields_of<Config>());
+      constructor_fields<Config>());
   def_common<Controller>(cls);
   if constexpr (has_vector_state<Controller>::value) {
+    // The state vector: (6,) for most, longer for a controller with more memory.
+    constexpr int n = std::decay_t<decltype(std::declval<const Controller&>().state())>::RowsAtCompileTime;
+    using StateD = Eigen::Matrix<double, n, 1>;
     def_controller_snapshot<Controller>(
         cls, controller_what<Controller>(),
-        [](const Controller& c, py::dict& d) { d[Controller::kStateName] = Vector6<double>(c.state()); },
+        [](const Controller& c, py::dict& d) { d[Controller::kStateName] = StateD(c.state().template cast<double>()); },
         [](Controller& c, const py::dict& d, const TrackingError<double>& e, Status s) {
           return c.restore(e, s,
-                           py_args::vector<6>(snapshot_field(d, Controller::kStateName),
+                           py_args::vector<n>(snapshot_field(d, Controller::kStateName),
                                               Controller::kStateName));
         });
     cls.def_property_readonly(
-        Controller::kStateName, [](const Controller& c) { return Vector6<double>(c.state()); },
+        Controller::kStateName, [](const Controller& c) { return StateD(c.state().template cast<double>()); },
         Controller::kStateDoc);
   } else {
     def_controller_snapshot<Controller>(

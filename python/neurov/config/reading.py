@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import copy
 import math
+import warnings
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -27,6 +28,7 @@ from neurov.errors import RecordedPathError
 from neurov.schema import SchemaError, convert, field_names
 from neurov.config.vehicle_file import VehicleFileError
 from neurov.config.toml_table import TableReader, tables, validated
+from neurov.laws import ardusub_params as ardusub
 from neurov.laws.registry import REGISTRY
 
 __all__ = ["load_scenario", "read_controller", "read_scenario", "scenario_from_mapping"]
@@ -63,6 +65,8 @@ def read_controller(r: TableReader) -> ControllerSpec:
     if kind.name == "linear":
         spec.theta0 = r.string("theta0", spec.theta0, choices=("zero", "true", "scaled"))
         spec.theta0_scale = r.number("theta0_scale", spec.theta0_scale)
+    if kind.name == "ardusub":
+        _ardusub_options(r, spec, kind.fields())
     r.finish()
     inverse = {v: k for k, v in kind.keys.items()}
     checked = spec.config
@@ -78,6 +82,26 @@ def read_controller(r: TableReader) -> ControllerSpec:
     if kind.name == "nn" and not spec.width > 0:
         raise r.error("width", f"expected a number > 0, got {spec.width}")
     return spec
+
+
+def _ardusub_options(r: TableReader, spec: ControllerSpec, fields: list[str]) -> None:
+    """ArduSub's ``mode`` and ``params`` (a .param, .tlog or .bin beside the
+    scenario file): the file's values under the table's own keys."""
+    spec.config.mode = float(ardusub.MODES[r.string("mode", "depth_hold", choices=tuple(ardusub.MODES))])
+    given = {k for k in fields if k in r.table}
+    for key in sorted(given & set(ardusub.PARAMETERS)):
+        note = ardusub.out_of_range(key, float(getattr(spec.config, key)))
+        if note:
+            warnings.warn(f"{r.origin}: controller.{note}", ardusub.ArduSubRangeWarning, stacklevel=3)
+    spec.params = r.string("params", "")
+    if spec.params:
+        file = Path(spec.params)
+        if not file.is_absolute() and r.origin != "<scenario>":
+            file = Path(r.origin).parent / file  # beside the scenario file, as a vehicle file is
+        try:
+            ardusub.apply_parameters(spec.config, ardusub.read_parameters(file), str(file), skip=given)
+        except ardusub.ArduSubParameterError as e:
+            raise r.error("params", str(e)) from None
 
 
 def _centres(c: TableReader) -> dict[str, Any]:

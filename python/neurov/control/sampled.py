@@ -54,6 +54,7 @@ _MEMORY: dict[str, tuple[str, ...]] = {
     "PDController": (),
     "SlidingModeController": (),
     "ComputedTorqueController": (),
+    "ArduSubController": ("memory",),
 }
 _REFERENCE_MEMORY = ("eta_d", "nu_d", "desired_eta_d", "desired_eta_d_dot", "desired_eta_d_ddot",
                      "pitch_limited")

@@ -183,6 +183,29 @@ def _build_from_config(cls: type) -> Callable[[ControllerSpec, Scenario], Any]:
     return build
 
 
+def _build_ardusub(spec: ControllerSpec, scenario: Scenario) -> Any:
+    """ArduSub for the scenario's control period, with the ESC thrust table
+    of the vehicle's thruster curve (16 PWMs over its range, at its supply
+    voltage); the frame must have the vehicle's number of thrusters."""
+    fill: dict[str, Any] = {"dt": scenario.dt}
+    thrusters = scenario.vehicle_data().thrusters
+    if thrusters is not None:
+        frame = int(spec.config.FRAME_CONFIG)
+        motors = 8 if frame == 2 else 6
+        have = int(np.asarray(thrusters["matrix"]).shape[1])
+        if have != motors:
+            raise ValueError(f"controller.FRAME_CONFIG = {frame} ({motors} motors) does not fit the vehicle's "
+                             f"{have} thrusters: set FRAME_CONFIG = {2 if have == 8 else 1} "
+                             "(2: vectored 6DOF, BlueROV2 Heavy; 1: vectored, BlueROV2)")
+        curves = thrusters.get("curves")
+        if curves:
+            c = curves[0]
+            pwm = np.linspace(float(c.table[0, 0]), float(c.table[-1, 0]), 16)
+            thrust = np.array([c.static_thrust(p, thrusters["supply_voltage"]) for p in pwm])
+            fill.update(curve_pwm=pwm, curve_thrust=thrust, curve_rows=16.0)
+    return _core.ArduSubController(_configured(spec, **fill))
+
+
 #: The config fields a builder fills from the scenario, by name: the
 #: control period, and the nominal model as theta or as a Vehicle.
 _FROM_SCENARIO: dict[str, Callable[[Scenario], Any]] = {
@@ -197,6 +220,8 @@ _FROM_SCENARIO: dict[str, Callable[[Scenario], Any]] = {
 _PYTHON_LEVEL: dict[str, dict[str, Any]] = {
     "nn": {"build": _build_nn, "managed": ("dt",),
            "options": {"width": 30.0, "centres": {"method": "sobol", "n": 64}, "inputs": "si"}},
+    "ardusub": {"build": _build_ardusub, "managed": ("dt", "mode", "curve_pwm", "curve_thrust", "curve_rows"),
+                "options": {"params": ""}},
     "linear": {"build": _build_linear, "managed": ("dt", "theta0"),
                "options": {"theta0": "zero", "theta0_scale": 1.0}},
 }

@@ -19,6 +19,7 @@ from neurov.study.spec import Study, StudyError, metric_names
 from neurov.tuning.space import apply_values, vehicle_tables
 from neurov.tuning.spec import AGGREGATES, BUDGETS, PRUNERS, SAMPLERS, SearchParameter, TuneError, TuneSettings, Tuning
 from neurov.config.toml_table import TableReader
+from neurov.laws import ardusub_params as ardusub
 from neurov.laws.registry import REGISTRY
 
 __all__ = ["TUNING_DIR", "load_tuning", "tuning_from_mapping", "tuning_path", "verdict_study", "trial_study"]
@@ -202,6 +203,11 @@ def _search_parameter(key: str, spec: Any, r: TableReader, ctype: str | None,
         if log and low <= 0:
             raise pr.error(kind, f"a log range must lie above zero, got [{low:g}, {high:g}]")
         out["low"], out["high"] = low, high
+        if ctype == "ardusub" and kind == "range" and name in ardusub.PARAMETERS:
+            doc = ardusub.PARAMETERS[name]
+            if low < doc.min or high > doc.max:
+                raise pr.error("range", f"[{low:g}, {high:g}] leaves ArduSub's documented range of {name}, "
+                               f"[{doc.min:g}, {doc.max:g}]{' ' + doc.unit if doc.unit else ''}")
         if kind == "scale":
             if integer:
                 raise pr.error("int", "a scale is a real factor; use a range for an integer")

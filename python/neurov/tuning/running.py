@@ -23,6 +23,7 @@ from neurov.tuning.closing import closing_message
 from neurov.tuning.equal_effort import hand_set_points, read_fronts, write_equal_effort
 from neurov.tuning.outputs import (best_tables, discard_stale_verdict, draw_tuning_figures, unusable,
                                    write_best_toml, write_trials)
+from neurov.tuning.param_file import write_best_params
 from neurov.tuning.reading import load_tuning, verdict_study
 from neurov.tuning.search import STORAGE_NAME, TuneInterrupted, counted_trials, open_storage, optuna_study, run_trials
 from neurov.tuning.signals import stopping
@@ -51,6 +52,8 @@ class TuneOutcome:
     equal_effort: pd.DataFrame | None = None
     """Two objectives: the verdict among the controllers read at equal effort (equal_effort.csv)."""
     equal_effort_words: str = ""
+    param_files: list[tuple[Path, bool]] = field(default_factory=list)
+    """(path, feasible) of each ArduSub parameter file written beside best.toml."""
 
 
 def tune(tuning: Tuning | str | Path, out_dir: str | Path, *, workers: int | None = None,
@@ -114,6 +117,8 @@ def _tune(tuning: Tuning, out: Path, storage: Any, mine: list[str], workers: int
         best_path = write_best_toml(tuning, studies, out / "best.toml")
         best = best_tables(tuning, studies)
     bad = unusable(studies)
+    # ArduSub's parameter files, of the single objective's best trials.
+    param_files = [] if s.two_objectives else write_best_params(tuning, studies, out)
     figures = draw_tuning_figures(tuning, studies, out) if plots else []
     (out / "tuning.json").write_text(json.dumps({
         "name": tuning.name, "source": tuning.source, "settings": asdict(tuning.settings),
@@ -130,7 +135,7 @@ def _tune(tuning: Tuning, out: Path, storage: Any, mine: list[str], workers: int
             equal, words = write_equal_effort(tuning, fronts, judged, outcome.table, out)
     return TuneOutcome(out_dir=out, ran=ran, seconds=seconds, best=best, trials_path=trials_path,
                        best_path=best_path, figures=figures, verdict=outcome, unusable=bad, equal_effort=equal,
-                       equal_effort_words=words)
+                       equal_effort_words=words, param_files=param_files)
 
 
 def main_tune(path: str, out_dir: str | None, workers: int | None, scheduler: str | None, *,
@@ -150,6 +155,9 @@ def main_tune(path: str, out_dir: str | None, workers: int | None, scheduler: st
     for r in pd.read_csv(outcome.out_dir / "budget.csv").itertuples():
         print(f"  {r.controller}: {r.trials_started} trials started, {r.trials_pruned} pruned, "
               f"{r.trials_completed} completed, {r.runs_finished} runs finished")
+    for path, feasible in outcome.param_files:
+        note = "" if feasible else " (no trial was feasible: the least bad values)"
+        print(f"ArduSub parameters: {path}{note}")
     for controller, why in outcome.unusable.items():
         print(f"neurov: warning: {controller} is not tuned: {why}; {outcome.best_path} holds its least bad "
               "gains, not usable ones", file=sys.stderr)

@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <utility>
 
+#include "neurov/control/ardusub_controller.hpp"
 #include "neurov/control/computed_torque_controller.hpp"
 #include "neurov/control/linear_adaptive_controller.hpp"
 #include "neurov/control/nn_controller.hpp"
@@ -29,7 +30,8 @@ template <typename Scalar>
 using BuiltInControllers =
     TypeList<NNAdaptiveController<Scalar>, LinearAdaptiveController<Scalar>, PDController<Scalar>,
              PIDController<Scalar>, SlidingModeController<Scalar>,
-             ComputedTorqueController<Scalar>, SuperTwistingController<Scalar>>;
+             ComputedTorqueController<Scalar>, SuperTwistingController<Scalar>,
+             ArduSubController<Scalar>>;
 
 /// A type carried as a value, for for_each_type's function.
 template <typename T>

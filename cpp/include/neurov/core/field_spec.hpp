@@ -27,3 +27,24 @@ constexpr FieldSpec<Config, D> field_spec(const char* name, D Owner::*member,
 }
 
 }  // namespace neurov
+
+namespace neurov {
+
+/// One number of a parameter set described once with everything a user
+/// reads about it: its name (the firmware's own, e.g. ArduSub's
+/// "ATC_RAT_RLL_P"), the member, its default, the documented range
+/// [min, max], its unit and its meaning. The struct's defaults, the bindings,
+/// the readers' range warnings and the docs table all come from one list.
+template <typename Config, typename D>
+struct ParamSpec {
+  using Type = D;
+  const char* name;
+  D Config::*member;
+  double default_value;
+  double min;
+  double max;
+  const char* unit;
+  const char* doc;
+};
+
+}  // namespace neurov
