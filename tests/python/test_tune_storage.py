@@ -11,13 +11,13 @@ import os
 import shutil
 import sqlite3
 import subprocess
-from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 
 pytest.importorskip("optuna")
 
+from small_disk import tmpfs  # noqa: E402
 from tune_files import write_tiny  # noqa: E402
 
 from neurov import cli  # noqa: E402
@@ -90,22 +90,6 @@ def test_out_naming_a_file_is_named_as_such(tmp_path: Path, capsys: pytest.Captu
     assert (tmp_path / "afile").read_text() == "mine"
 
 
-@contextlib.contextmanager
-def tmpfs(where: Path, size: str) -> Iterator[Path]:
-    """A tmpfs of `size` mounted at `where` (skips the test where it may not be)."""
-    if os.geteuid() != 0:
-        pytest.skip("mounting a tmpfs needs root (CI runs as root)")
-    where.mkdir()
-    r = subprocess.run(["mount", "-t", "tmpfs", "-o", f"size={size}", "tmpfs", str(where)],
-                       capture_output=True, text=True)
-    if r.returncode:
-        pytest.skip(f"mount -t tmpfs is not permitted here: {r.stderr.strip()}")
-    try:
-        yield where
-    finally:
-        subprocess.run(["umount", "-l", str(where)], check=False)
-
-
 def read_only(path: Path) -> None:
     """`path` (a folder or a file) made read-only, for root too: bound onto itself read-only."""
     for args in (["mount", "--bind", str(path), str(path)], ["mount", "-o", "remount,ro,bind", str(path)]):
@@ -117,7 +101,7 @@ def read_only(path: Path) -> None:
 @pytest.mark.parametrize("what", ["folder", "storage"])
 def test_a_read_only_folder_or_storage_is_named(tmp_path: Path, what: str, capsys: pytest.CaptureFixture[str]) -> None:
     path = write_tiny(tmp_path, trials=3)
-    with tmpfs(tmp_path / "disk", "8m") as disk:
+    with tmpfs(tmp_path / "disk", 8192) as disk:
         out = disk / "out"
         assert tune_cli(path, out, capsys) == (0, "")
         before = complete_trials(out / "tuning.db")
@@ -150,7 +134,7 @@ def fill(disk: Path, leave: int = 0) -> Path:
 def test_a_full_disk_is_named_and_the_finished_trials_are_kept(tmp_path: Path,
                                                                capsys: pytest.CaptureFixture[str]) -> None:
     path = write_tiny(tmp_path, trials=4)
-    with tmpfs(tmp_path / "disk", "4m") as disk:
+    with tmpfs(tmp_path / "disk", 4096) as disk:
         out = disk / "out"
         assert tune_cli(path, out, capsys) == (0, "")
         first = complete_trials(out / "tuning.db")
