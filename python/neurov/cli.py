@@ -110,14 +110,17 @@ def _parser() -> argparse.ArgumentParser:
         help="print a study folder's tables as Markdown (runs nothing)",
         description="Prints a table of a study folder (written by 'neurov study', or a tuning's verdict "
         "folder) as Markdown: medians (controllers by mean rank against the scenarios), overall (mean "
-        "rank, first places, failure rate), verdict (the verdict in words), league (league.md) or timing (runs and time, from timing.json). It "
+        "rank, first places, failure rate), verdict (the verdict in words), league (league.md), timing (runs and time, from timing.json) or versus (one controller against others on the same plants). It "
         "refuses a folder whose runs are of another version of the study. The docs' tables are "
         "printed so (docs/studies.md).",
     )
     report.add_argument("folder", metavar="DIR", help="the study folder (study.json and runs.csv[.gz]), or a "
                         "tuning's folder (its verdict's tables)")
-    report.add_argument("--table", choices=("medians", "overall", "verdict", "league", "timing"), default="league",
-                        help="which table (default: league)")
+    report.add_argument("--table", choices=("medians", "overall", "verdict", "league", "timing", "versus"),
+                        default="league", help="which table (default: league)")
+    report.add_argument("--versus", default=None, metavar="A,B[,C...]",
+                        help="with --table versus: the controller, then those it is compared with")
+    report.set_defaults(usage_of=report)
     report.add_argument("--study", default=None, metavar="STUDY.toml",
                         help="the study file (default: the shipped study of study.json's name, else its source)")
 
@@ -248,7 +251,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             folder, study = args.folder, args.study
             if study is None and is_tuning_folder(folder):
                 folder, study = verdict_of_folder(folder)  # a tuning's folder: its verdict's tables
-            main_report(folder, args.table, study)
+            versus = args.versus.split(",") if args.versus else None
+            if (args.table == "versus") != (versus is not None):
+                args.usage_of.error("--versus A,B[,...] goes with --table versus, and only with it")
+            main_report(folder, args.table, study, versus)
         elif args.command == "view":
             if args.frames is not None and args.frames < 2:
                 args.usage_of.error("--frames must be >= 2")

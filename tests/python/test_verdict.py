@@ -99,6 +99,16 @@ def test_report_prints_the_folder_tables_and_refuses_another_study_version(tmp_p
     assert "RMS position error [m], one run each" in table and "| mean rank |" in table
     assert cli.main(["report", str(out), "--table", "league"]) == 0
     assert capsys.readouterr().out == (out / "league.md").read_text()
+    # One controller against another, per scenario: "k of n, median ratio" in the ranking metric and the next.
+    study = load_study(small)
+    first, second = study.controllers[:2]
+    assert cli.main(["report", str(out), "--table", "versus", "--versus", f"{first},{second}"]) == 0
+    rows = [r for r in capsys.readouterr().out.splitlines() if r.startswith("| ") and " of 1, " in r]
+    assert len(rows) == len(study.scenarios) and rows[0].count(" of 1, ") == 1 + len(study.also_show[:1])
+    assert cli.main(["report", str(out), "--table", "versus", "--versus", f"{first},nobody"]) == 1
+    assert "'nobody' is not a controller of study 'small'" in capsys.readouterr().err
+    with pytest.raises(SystemExit):
+        cli.main(["report", str(out), "--table", "versus"])
     # The study file changed since (another seed): the folder's runs are not of it.
     meta = json.loads((out / "study.json").read_text())
     small.write_text(small.read_text().replace("seed = 7", "seed = 8"))

@@ -8,8 +8,10 @@ Tables: ``medians`` (controllers by mean rank against the scenarios: each
 cell the median of the ranking metric, with the 5th-95th percentile when
 there is more than one plant, and the failure rate), ``overall`` (mean rank,
 first places, mean failure rate), ``verdict`` (the verdict in words),
-``league`` (the whole league.md) and ``timing`` (how many runs, how long, on
-what, from timing.json).
+``league`` (the whole league.md), ``timing`` (how many runs, how long, on
+what, from timing.json) and ``versus`` (one controller against others on the
+same plants, in the ranking metric and the first metric the study also
+shows).
 """
 
 from __future__ import annotations
@@ -25,13 +27,13 @@ from neurov.results.metrics import metric_label
 from neurov.study.reading import load_study, shipped_studies
 from neurov.study.report import league_markdown
 from neurov.study.spec import Study, StudyError, identity_differences
-from neurov.study.tables import Summary, read_table, summarise
+from neurov.study.tables import Summary, head_to_head, read_table, summarise
 from neurov.study.verdict import vehicle_verdicts, verdict_lines
 from neurov.units import label_for_people
 
 __all__ = ["TABLES", "main_report", "medians_table", "overall_table", "read_study_folder"]
 
-TABLES = ("medians", "overall", "verdict", "league", "timing")
+TABLES = ("medians", "overall", "verdict", "league", "timing", "versus")
 
 
 def _runs_file(folder: Path) -> Path:
@@ -124,12 +126,45 @@ def overall_table(study: Study, runs: pd.DataFrame) -> str:
     return "\n".join(lines) + "\n"
 
 
-def report(folder: str | Path, table: str = "league", study: str | Path | Study | None = None) -> str:
+def versus_table(study: Study, runs: pd.DataFrame, controllers: list[str]) -> str:
+    """The first of `controllers` against each of the others, per scenario,
+    on the same plants and noise: for the ranking metric and the first metric
+    the study also shows, the samples in which the first is lower ("k of n")
+    and the median of first / other (a failed run counts as infinitely bad)."""
+    if len(controllers) < 2:
+        raise ValueError(f"--versus: expected a controller and at least one to compare it with, got {controllers}")
+    unknown = [c for c in controllers if c not in study.controllers]
+    if unknown:
+        raise ValueError(f"--versus: {unknown[0]!r} is not a controller of study {study.name!r} "
+                         f"(it has: {', '.join(study.controllers)})")
+    a, others = controllers[0], controllers[1:]
+    metrics = [study.ranking_metric, *study.also_show[:1]]
+    names = [label_for_people(metric_label(m))[0] for m in metrics]
+    lines = [f"{study.label(a)} against the others on the same plants: samples in which it has the lower "
+             f"value, median of {study.label(a)} / other", "",
+             "| scenario | " + " | ".join(f"vs. {study.label(b)}: {n}" for b in others for n in names) + " |",
+             "|---|" + "---|" * (len(others) * len(metrics))]
+    cells = {(b, m): {h["scenario"]: h for h in head_to_head(study, runs, a, b, m)} for b in others for m in metrics}
+    for sc in study.scenarios:
+        row = []
+        for b in others:
+            for m in metrics:
+                h = cells[(b, m)].get(sc.name)
+                row.append("" if h is None else f"{h['a_wins']} of {h['n']}, {h['median_ratio']:.2f}")
+        lines.append(f"| {sc.name} | " + " | ".join(row) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def report(folder: str | Path, table: str = "league", study: str | Path | Study | None = None,
+           versus: list[str] | None = None) -> str:
     """The Markdown `table` (one of :data:`TABLES`) of a study folder (the
-    study given, or found as :func:`read_study_folder` finds it)."""
+    study given, or found as :func:`read_study_folder` finds it); `versus`,
+    for the table ``versus``: the controller, then those it is compared with."""
     if table not in TABLES:
         raise ValueError(f"argument 'table' must be one of {list(TABLES)}, got {table!r}")
     s, runs = read_study_folder(folder, study)
+    if table == "versus":
+        return versus_table(s, runs, list(versus or []))
     if table == "medians":
         return medians_table(s, runs)
     if table == "overall":
@@ -159,6 +194,7 @@ def timing_sentence(study: Study, runs: pd.DataFrame, folder: Path) -> str:
     return text + ".\n"
 
 
-def main_report(folder: str, table: str, study: str | Path | Study | None = None) -> None:
+def main_report(folder: str, table: str, study: str | Path | Study | None = None,
+                versus: list[str] | None = None) -> None:
     """What ``neurov report`` does for a study folder: print the table."""
-    print(report(folder, table, study), end="")
+    print(report(folder, table, study, versus), end="")
