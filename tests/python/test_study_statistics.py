@@ -114,8 +114,10 @@ def test_one_plant_per_scenario_says_n_a(tmp_path: Path) -> None:
         assert set(table[col]) == {"n/a"}
     assert list(table["rank"][:3]) == [1, 2, 3]  # by the median
     md = league_markdown(s, _rows(s, {"nn": [1.0], "linear": [2.0], "pd": [3.0]}))
-    # One plant: no interval, no test; the ratio and the count are plain facts.
-    assert "| 2 | linear adaptive | 2 | 2 - 2 | 100 % | 0 | 0 | 2 | n/a | 2 | 0 of 1 | n/a |" in md
+    # One plant: no spread, interval or test, only the run's value, whether it
+    # failed and plain ratios (to the best, to the reference).
+    assert "| 2 | linear adaptive | 2 | yes | 0 | 0 | 2 | 2 |" in md
+    assert "5th-95th" not in md and "95 % CI" not in md and "Wilcoxon" not in md
 
 
 def test_a_reference_that_is_not_a_controller_is_refused(tmp_path: Path) -> None:

@@ -47,12 +47,16 @@ def league_markdown(study: Study, runs: Rows) -> str:
     ]
     ref = study.reference_controller()
     ref_label = study.label(ref)
-    lines += [f"Statistics per scenario: the median's distribution-free 95 % interval (order statistics); against "
-              f"{ref_label} on the same plants, the median of the paired ratios with its interval, the plants "
-              f"where the controller is better and the Wilcoxon signed-rank p-value, Holm-corrected over the "
-              f"table's comparisons. Controllers share a rank while the paired ratio's interval against the first "
-              f"of the rank above contains 1 (with fewer than 6 plants: ranked by the median). \"n/a\": one "
-              f"plant, or too few for a 95 % interval.", ""]
+    if study.samples == 1:
+        lines += [f"One plant per scenario: each row is one run (no spread, interval or test to give); ranked by "
+                  f"its `{metric}`, with its ratio to {ref_label}'s on the same plant.", ""]
+    else:
+        lines += [f"Statistics per scenario: the median's distribution-free 95 % interval (order statistics); "
+                  f"against {ref_label} on the same plants, the median of the paired ratios with its interval, the "
+                  f"plants where the controller is better and the Wilcoxon signed-rank p-value, Holm-corrected "
+                  f"over the table's comparisons. Controllers share a rank while the paired ratio's interval "
+                  f"against the first of the rank above contains 1 (with fewer than 6 plants: ranked by the "
+                  f"median). \"n/a\": too few plants for a 95 % interval.", ""]
     if study.perturbations:
         lines += ["Perturbed per sample: " + ", ".join(_describe_perturbation(p) for p in study.perturbations) + ".", ""]
     for s in study.scenarios:
@@ -60,8 +64,12 @@ def league_markdown(study: Study, runs: Rows) -> str:
         if not group:
             continue
         best = group[0].median
+        lines += [f"## {s.name}", "", f"{s.description}", ""]
+        if study.samples == 1:
+            lines += _one_run_rows(study, group, ref, best)
+            continue
         extra_head = "".join(f" median {k} |" for k in study.also_show)
-        lines += [f"## {s.name}", "", f"{s.description}", "",
+        lines += [
                   f"| rank | controller | median {metric} | 5th-95th percentile | failure rate | errors | "
                   f"diverged | median / best |" + extra_head + f" 95 % CI of the median | paired ratio to {ref_label} "
                   f"[95 % CI] | better than {ref_label} | p (Wilcoxon, Holm) |",
@@ -87,25 +95,43 @@ def league_markdown(study: Study, runs: Rows) -> str:
             lines.append(f"| {study.label(c)} | {np.mean(ranks[c]):.2f} | {ranks[c].count(1)} | "
                          f"{100 * float(np.mean(fails[c])):.0f} % |")
         lines.append("")
+    spread_head = " 5th-95th percentile of the ratio |" if study.samples > 1 else ""
     for a, b in study.head_to_head:
         la, lb = study.label(a), study.label(b)
         others = study.also_show
         lines += [f"## {la} against {lb}", "",
                   f"Same plants and noise per sample. \"better\": samples where {la} has the lower value; "
                   f"ratio: {la} / {lb} (a failed run counts as infinitely bad).", "",
-                  f"| scenario | better in `{metric}` | median ratio | 5th-95th percentile of the ratio |"
+                  f"| scenario | better in `{metric}` | median ratio |" + spread_head
                   + "".join(f" better in `{k}` | median ratio |" for k in others),
-                  "|---|---|---|---|" + "---|---|" * len(others)]
+                  "|---|---|---|" + "---|" * bool(spread_head) + "---|---|" * len(others)]
         main = head_to_head(study, rows, a, b)
         extra = {k: {h["scenario"]: h for h in head_to_head(study, rows, a, b, k)} for k in others}
         for h in main:
             cells = "".join(f" {extra[k][h['scenario']]['a_wins']} of {h['n']} | "
                             f"{_num(extra[k][h['scenario']]['median_ratio'], 3)} |" for k in others)
-            lines.append(f"| {h['scenario']} | {h['a_wins']} of {h['n']} | {_num(h['median_ratio'], 3)} | "
-                         f"{_num(h['p5_ratio'], 3)} - {_num(h['p95_ratio'], 3)} |" + cells)
+            spread = f" {_num(h['p5_ratio'], 3)} - {_num(h['p95_ratio'], 3)} |" if spread_head else ""
+            lines.append(f"| {h['scenario']} | {h['a_wins']} of {h['n']} | {_num(h['median_ratio'], 3)} |"
+                         + spread + cells)
         lines.append("")
     lines += _errors_section(rows)
     return "\n".join(lines).rstrip() + "\n"
+
+
+def _one_run_rows(study: Study, group: list[Summary], reference: str, best: float) -> list[str]:
+    """A scenario's table when each controller ran once: the run's value,
+    whether it failed, and plain ratios (to the best, to the reference)."""
+    metric, ref_label = study.ranking_metric, study.label(reference)
+    lines = [f"| rank | controller | {metric} | failed | errors | diverged | / best |"
+             + "".join(f" {k} |" for k in study.also_show) + f" / {ref_label} |",
+             "|---|---|---|---|---|---|---|" + "---|" * len(study.also_show) + "---|"]
+    for g in group:
+        ratio = g.median / best if best > 0 and math.isfinite(best) else float("nan")
+        to_ref = "(reference)" if g.controller == reference else _na(g.ratio, 3) if g.pairs else "n/a"
+        lines.append(f"| {g.rank} | {g.label} | {_num(g.median)} | {'yes' if g.failure_rate > 0 else 'no'} | "
+                     f"{g.errors} | {g.diverged} | {_num(ratio, 3)} |"
+                     + "".join(f" {_num(g.also[k])} |" for k in study.also_show) + f" {to_ref} |")
+    return lines + [""]
 
 
 def _na(x: float, digits: int = 4) -> str:
