@@ -133,3 +133,29 @@ def test_a_pickled_controller_steps_as_the_original():
     np.testing.assert_array_equal(a.memory, b.memory)
     np.testing.assert_array_equal(a.step(eta + 0.1, nu, eta_d, np.zeros(6), np.zeros(6)),
                                   b.step(eta + 0.1, nu, eta_d, np.zeros(6), np.zeros(6)))
+
+
+def test_neurov_params_writes_a_logs_parameters_as_a_param_file(tmp_path, capsys):
+    from neurov.cli import main
+
+    (tmp_path / "vehicle.parm").write_text("ATC_RAT_RLL_P 0.2   # tuned\nSYSID_THISMAV 1\nSYSID_THISMAV 2\n")
+    assert main(["params", str(tmp_path / "vehicle.parm"), "--out", str(tmp_path / "v.param")]) == 0
+    assert capsys.readouterr().out.strip() == str(tmp_path / "v.param")
+    assert ap.read_parameters(tmp_path / "v.param") == {"ATC_RAT_RLL_P": 0.2, "SYSID_THISMAV": 2.0}
+    (tmp_path / "bad.tlog").write_bytes(b"\x00\x01not a log")
+    assert main(["params", str(tmp_path / "bad.tlog")]) == 1
+    assert "bad.tlog" in capsys.readouterr().err
+
+
+def test_a_telemetry_logs_param_values_are_read(tmp_path):
+    # A .tlog as MAVProxy and QGroundControl write one: each MAVLink message
+    # after its 8-byte big-endian microsecond time stamp (written here with
+    # pymavlink; no public ArduSub log was found to ship).
+    mavutil = pytest.importorskip("pymavlink.mavutil")
+    mav = mavutil.mavlink.MAVLink(None, srcSystem=1, srcComponent=1)
+    out = bytearray()
+    for i, (name, value) in enumerate([("FRAME_CONFIG", 2.0), ("ATC_RAT_RLL_P", 0.135), ("ATC_RAT_RLL_P", 0.15)]):
+        msg = mavutil.mavlink.MAVLink_param_value_message(name.encode(), value, 9, 3, i)
+        out += (1_700_000_000_000_000 + i).to_bytes(8, "big") + msg.pack(mav)
+    (tmp_path / "dive.tlog").write_bytes(bytes(out))
+    assert ap.read_parameters(tmp_path / "dive.tlog") == {"FRAME_CONFIG": 2.0, "ATC_RAT_RLL_P": pytest.approx(0.15)}

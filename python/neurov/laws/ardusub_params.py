@@ -121,9 +121,10 @@ def _read_log(path: Path, message: str) -> dict[str, float]:
     except ImportError:
         raise ArduSubParameterError(f"{path}: reading a log's parameters needs pymavlink "
                                     "(pip install 'neurov[identify]')") from None
+    conn = None
+    params: dict[str, float] = {}
     try:
         conn = mavutil.mavlink_connection(str(path), dialect="ardupilotmega")
-        params: dict[str, float] = {}
         while True:
             msg = conn.recv_match(type=message)
             if msg is None:
@@ -136,6 +137,9 @@ def _read_log(path: Path, message: str) -> dict[str, float]:
     except Exception as e:  # pymavlink's own errors for a file that is not a log
         raise ArduSubParameterError(f"{path}: not a readable {'telemetry' if message == 'PARAM_VALUE' else 'DataFlash'} "
                                     f"log ({type(e).__name__}: {e})") from None
+    finally:
+        if conn is not None:
+            conn.close()
     if not params:
         raise ArduSubParameterError(f"{path}: the log holds no {message} messages (no parameters)")
     return params

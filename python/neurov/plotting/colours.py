@@ -27,7 +27,7 @@ PALETTE = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e
 #: with its own palette entry so that "NN adaptive" has one colour in every study.
 _KNOWN = {"pd": 0, "pid": 1, "smc": 2, "linear": 3, "linear_nominal": 4, "computed_torque": 5,
           "nn": 6, "nn_sigma": 7, "nn_emod": 8, "nn_projection": 9, "nn_dead_zone": 10,
-          "super_twisting": 11}
+          "super_twisting": 11, "ardusub": 12}
 
 
 def controller_colours(names: Sequence[str]) -> dict[str, str]:
