@@ -14,7 +14,7 @@ from pathlib import Path
 
 import pytest
 
-REPO = Path(__file__).resolve().parents[2]
+import neurov
 
 
 def _limited(code: str, extra_mib: int, tmp_path: Path) -> subprocess.CompletedProcess[str]:
@@ -27,7 +27,9 @@ def _limited(code: str, extra_mib: int, tmp_path: Path) -> subprocess.CompletedP
         mapped = int(open("/proc/self/statm").read().split()[0]) * os.sysconf("SC_PAGE_SIZE")
         resource.setrlimit(resource.RLIMIT_AS, (mapped + {extra_mib} * 2**20, resource.RLIM_INFINITY))
     """) + textwrap.dedent(code))
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(REPO / "python"), os.environ.get("PYTHONPATH", "")]),
+    # The neurov this test imports (installed, or a source tree on PYTHONPATH), not the clone's sources.
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(Path(neurov.__file__).parents[1]),
+                                                        os.environ.get("PYTHONPATH", "")]),
            "OPENBLAS_NUM_THREADS": "1"}
     return subprocess.run([sys.executable, str(script)], capture_output=True, text=True, env=env, timeout=300,
                           check=False)

@@ -114,15 +114,20 @@ def test_qemu_dies_with_a_stopped_neurov_pil(cache: Path, how: signal.Signals) -
     parent = subprocess.Popen([sys.executable, "-m", "neurov", "pil", "bluerov2_depth_step"],
                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     qemu = None
-    for _ in range(600):
-        qemu = next((p for p in Path("/proc").glob("[0-9]*") if _parent_of(p) == parent.pid
-                     and "qemu" in _name_of(p)), None)
-        if qemu is not None:
-            break
-        time.sleep(0.1)
-    assert qemu is not None, "neurov pil did not start QEMU"
-    parent.send_signal(how)
-    assert parent.wait() == (143 if how == signal.SIGTERM else -signal.SIGKILL)
+    try:
+        for _ in range(600):
+            qemu = next((p for p in Path("/proc").glob("[0-9]*") if _parent_of(p) == parent.pid
+                         and "qemu" in _name_of(p)), None)
+            if qemu is not None or parent.poll() is not None:
+                break
+            time.sleep(0.1)
+        assert qemu is not None, f"neurov pil did not start QEMU (exit {parent.poll()})"
+        parent.send_signal(how)
+        assert parent.wait() == (143 if how == signal.SIGTERM else -signal.SIGKILL)
+    finally:  # a failed test leaves no neurov pil behind
+        if parent.poll() is None:
+            parent.kill()
+            parent.wait()
     for _ in range(100):
         if not qemu.exists() or _state_of(qemu) == "Z":
             break
