@@ -159,3 +159,16 @@ def test_a_telemetry_logs_param_values_are_read(tmp_path):
         out += (1_700_000_000_000_000 + i).to_bytes(8, "big") + msg.pack(mav)
     (tmp_path / "dive.tlog").write_bytes(bytes(out))
     assert ap.read_parameters(tmp_path / "dive.tlog") == {"FRAME_CONFIG": 2.0, "ATC_RAT_RLL_P": pytest.approx(0.15)}
+
+
+def test_the_stock_parameters_are_those_of_the_real_bluerov2_heavy_log():
+    """The shipped stock file's values are the real BlueROV2 Heavy's, as its
+    telemetry log carries them (tests/data/logs/ardusub_log_tools, MIT; the
+    log stores float32, hence the tolerance)."""
+    log = Path(__file__).parents[1] / "data" / "logs" / "ardusub_log_tools" / "bluerov2_heavy_excerpt.tlog"
+    stock = ap.read_parameters(Path(neurov.__file__).parent / "vehicles" / "bluerov2_heavy_stock.param")
+    real = ap.read_parameters(log)
+    assert len(real) == 887 and len(stock) >= 10
+    for name, value in stock.items():
+        assert real[name] == pytest.approx(value, rel=1e-6), name
+
