@@ -151,7 +151,7 @@ def test_league_table_ranks_by_the_median(study_file: Path) -> None:
     md = league_markdown(s, rows)
     assert "| 1 | NN adaptive | 1 |" in md
     s.also_show = ["rmse_yaw_rad"]
-    assert "| median rmse_yaw_rad |" in league_markdown(s, rows)
+    assert "| median RMS yaw error [deg] |" in league_markdown(s, rows)  # for people: degrees (neurov.units)
     assert "## NN adaptive against linear adaptive" in md
     assert "| short_nerov | 2 of 4 |" in md  # nn < linear in samples 1 and 2 only
 

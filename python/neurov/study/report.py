@@ -9,9 +9,11 @@ import math
 import numpy as np
 import pandas as pd
 
+from neurov.results.metrics import metric_label
 from neurov.study.spec import NORMAL_TRUNCATION, Perturbation, Study
 from neurov.study.tables import Rows, Summary, as_frame, head_to_head, summarise
 from neurov.study.verdict import vehicle_verdicts, verdict_markdown
+from neurov.units import label_for_people
 
 __all__ = ["league_markdown"]
 
@@ -68,7 +70,7 @@ def league_markdown(study: Study, runs: Rows) -> str:
         if study.samples == 1:
             lines += _one_run_rows(study, group, ref, best)
             continue
-        extra_head = "".join(f" median {k} |" for k in study.also_show)
+        extra_head = "".join(f" median {_shown(k)[0]} |" for k in study.also_show)
         lines += [
                   f"| rank | controller | median {metric} | 5th-95th percentile | failure rate | errors | "
                   f"diverged | median / best |" + extra_head + f" 95 % CI of the median | paired ratio to {ref_label} "
@@ -76,7 +78,7 @@ def league_markdown(study: Study, runs: Rows) -> str:
                   "|---|---|---|---|---|---|---|---|" + "---|" * len(study.also_show) + "---|---|---|---|"]
         for g in group:
             ratio = g.median / best if best > 0 and math.isfinite(best) else float("nan")
-            extra = "".join(f" {_num(g.also[k])} |" for k in study.also_show)
+            extra = "".join(f" {_num(g.also[k] * _shown(k)[1])} |" for k in study.also_show)
             lines.append(f"| {g.rank} | {g.label} | {_num(g.median)} | {_num(g.p5)} - {_num(g.p95)} | "
                          f"{100 * g.failure_rate:.0f} % | {g.errors} | {g.diverged} | {_num(ratio, 3)} |" + extra
                          + _statistics_cells(g, ref))
@@ -123,15 +125,21 @@ def _one_run_rows(study: Study, group: list[Summary], reference: str, best: floa
     whether it failed, and plain ratios (to the best, to the reference)."""
     metric, ref_label = study.ranking_metric, study.label(reference)
     lines = [f"| rank | controller | {metric} | failed | errors | diverged | / best |"
-             + "".join(f" {k} |" for k in study.also_show) + f" / {ref_label} |",
+             + "".join(f" {_shown(k)[0]} |" for k in study.also_show) + f" / {ref_label} |",
              "|---|---|---|---|---|---|---|" + "---|" * len(study.also_show) + "---|"]
     for g in group:
         ratio = g.median / best if best > 0 and math.isfinite(best) else float("nan")
         to_ref = "(reference)" if g.controller == reference else _na(g.ratio, 3) if g.pairs else "n/a"
         lines.append(f"| {g.rank} | {g.label} | {_num(g.median)} | {'yes' if g.failure_rate > 0 else 'no'} | "
                      f"{g.errors} | {g.diverged} | {_num(ratio, 3)} |"
-                     + "".join(f" {_num(g.also[k])} |" for k in study.also_show) + f" {to_ref} |")
+                     + "".join(f" {_num(g.also[k] * _shown(k)[1])} |" for k in study.also_show) + f" {to_ref} |")
     return lines + [""]
+
+
+def _shown(metric: str) -> tuple[str, float]:
+    """A metric shown beside the ranking, as people read it (neurov.units:
+    angles in degrees): its label and the factor on its values."""
+    return label_for_people(metric_label(metric))
 
 
 def _na(x: float, digits: int = 4) -> str:
