@@ -116,7 +116,7 @@ def test_one_plant_per_scenario_says_n_a(tmp_path: Path) -> None:
     md = league_markdown(s, _rows(s, {"nn": [1.0], "linear": [2.0], "pd": [3.0]}))
     # One plant: no spread, interval or test, only the run's value, whether it
     # failed and plain ratios (to the best, to the reference).
-    assert "| 2 | linear adaptive | 2 | yes | 0 | 0 | 2 | 2 |" in md
+    assert "| 2 | linear adaptive | 2 | 100 % | 0 | 0 | 2 | 2 |" in md
     assert "5th-95th" not in md and "95 % CI" not in md and "Wilcoxon" not in md
 
 

@@ -122,15 +122,16 @@ def league_markdown(study: Study, runs: Rows) -> str:
 
 def _one_run_rows(study: Study, group: list[Summary], reference: str, best: float) -> list[str]:
     """A scenario's table when each controller ran once: the run's value,
-    whether it failed, and plain ratios (to the best, to the reference)."""
+    whether it failed (0 or 100 %), and plain ratios (to the best, to the
+    reference)."""
     metric, ref_label = study.ranking_metric, study.label(reference)
-    lines = [f"| rank | controller | {metric} | failed | errors | diverged | / best |"
+    lines = [f"| rank | controller | {metric} | failure rate | errors | diverged | / best |"
              + "".join(f" {_shown(k)[0]} |" for k in study.also_show) + f" / {ref_label} |",
              "|---|---|---|---|---|---|---|" + "---|" * len(study.also_show) + "---|"]
     for g in group:
         ratio = g.median / best if best > 0 and math.isfinite(best) else float("nan")
         to_ref = "(reference)" if g.controller == reference else _na(g.ratio, 3) if g.pairs else "n/a"
-        lines.append(f"| {g.rank} | {g.label} | {_num(g.median)} | {'yes' if g.failure_rate > 0 else 'no'} | "
+        lines.append(f"| {g.rank} | {g.label} | {_num(g.median)} | {100 * g.failure_rate:.0f} % | "
                      f"{g.errors} | {g.diverged} | {_num(ratio, 3)} |"
                      + "".join(f" {_num(g.also[k] * _shown(k)[1])} |" for k in study.also_show) + f" {to_ref} |")
     return lines + [""]
