@@ -28,8 +28,9 @@ Array = NDArray[np.float64]
 #: Faults the host can inject into a step's frame: a NaN in x, x out of
 #: range, a flipped byte (the CRC catches it), no frame at all.
 FAULT_KINDS = ("nan", "range", "garble", "drop")
-#: The board's range check: |x|, |y|, |z| [m], |roll|, |pitch| [rad],
-#: |u|, |v|, |w| [m/s], |p|, |q|, |r| [rad/s].
+#: The board's range check, the largest magnitude of: the position x, y, z
+#: [m]; roll and pitch [rad]; the linear velocity u, v, w [m/s]; the
+#: angular velocity p, q, r [rad/s].
 LIMITS = (1000.0, 1.5, 10.0, 10.0)
 _MODIFICATIONS = {"none": 0, "sigma": 1, "e_modification": 2, "projection": 3}
 _SATURATIONS = {"scale": 0, "clip": 1}
