@@ -156,6 +156,9 @@ def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Pat
                         + ", ".join(f"{g:.3f}" for g in st.gain[:3])
                         + (", (p, q, r) " + ", ".join(f"{g:.3f}" for g in st.gain[3:])
                            if len(st.gain) > 3 else ""))
+    if st.dead:
+        lag_note.append(f"output error: {', '.join(st.dead)} never move in the logs (a dead signal): "
+                        "left out of its residual, the simulated motion compared on the others")
     if st.rejected:
         lag_note.append(f"output error: {st.rejected} trial step(s) overflowed in the simulation and were "
                         "rejected (the solver went on from the last good point)")
@@ -206,6 +209,7 @@ class _Stages:
     gain: Array | None = None
     rejected: int = 0
     fallback: str = ""
+    dead: tuple[str, ...] = ()
 
 
 def _fit_stages(logs: list[Log], template: dict[str, Any], theta0: Array, free_idx: list[int],
@@ -225,7 +229,8 @@ def _fit_stages(logs: list[Log], template: dict[str, Any], theta0: Array, free_i
                               substeps=substeps, block_s=block_s, estimator=estimator, rates=rates)
     except (ValueError, IdentificationError) as e:  # LinAlgError is a ValueError
         return _Stages(rows, lin, theta1, lin.blocks, np.zeros(24), float("nan"), fallback=str(e))
-    return _Stages(rows, lin, oe.theta, oe.blocks, oe.at, oe.rms, gain=oe.gain, rejected=oe.rejected)
+    return _Stages(rows, lin, oe.theta, oe.blocks, oe.at, oe.rms, gain=oe.gain, rejected=oe.rejected,
+                   dead=oe.dead)
 
 
 def _name(path: str | Path) -> str:
