@@ -128,6 +128,25 @@ def test_dead_rates_are_named_and_their_parameters_left_at_the_template() -> Non
     assert fit.theta[15] == fit.theta_template[15]
 
 
+@pytest.mark.parametrize("estimator", ["auto", True])
+def test_dead_rates_are_left_out_of_the_output_error(estimator: object) -> None:
+    """The student AUV's pool runs (rates never filled in, ~1e-7 rad/s): the
+    output error scaled each velocity by its RMS, so the dead rates' residual
+    (~1e7 per rad/s) outweighed everything and the fit walked to -X_udot ~ 1e5
+    (truth 30), or its step was singular (the rates' filter gains untold). A
+    velocity that never moves is now left out of the residual, and said."""
+    t, eta, nu, tau = _rows(excitation_run("nerov", 30.0))
+    nu = nu.copy()
+    nu[:, 3:] = 1e-7 * np.sin(np.arange(len(t)))[:, None]
+    fit = neurov.identify(make_log("pool", t, eta, nu, tau), preset_path("nerov"), replicates=20,
+                          estimator=estimator)
+    assert fit.stages == "equation error, then output error"
+    assert any(w.startswith("output error: p, q, r never move in the logs") for w in fit.warnings)
+    names = [neurov._core.THETA_NAMES[i] for i in fit.fitted]  # the rotational DOF's left at the template
+    assert names == ["-X_udot", "-Y_vdot", "-Z_wdot", "X_u", "Y_v", "Z_w", "X_u|u|", "Y_v|v|", "Z_w|w|"]
+    np.testing.assert_allclose(fit.theta[fit.fitted], fit.theta_template[fit.fitted], rtol=0.1)
+
+
 def test_a_time_column_in_milliseconds_labelled_seconds_is_flagged() -> None:
     t, eta, nu, tau = _rows(excitation_run("nerov", 30.0))
     report = analyse_logs([make_log("ms.csv", t * 1000, eta, nu, tau)], free_indices(None))

@@ -9,6 +9,7 @@
    module's parent packages is not an edge, and a package's own
    ``__init__`` importing its descendants is not one either (a package
    gathers its children); anything else is. A cycle is reported as a path.
+   (``cycles(..., typing=True)`` follows them too: test_identify_layout.py.)
 2. No private name (``_x``, dunders aside) imported across modules, nor read
    as an attribute of an imported neurov module; the compiled modules
    ``neurov._core`` and ``neurov._bench`` are the exception.
@@ -100,18 +101,18 @@ def _is_type_checking(test: ast.expr) -> bool:
         isinstance(test, ast.Attribute) and test.attr == "TYPE_CHECKING")
 
 
-def _import_nodes(node: ast.AST, local: bool = False):
+def _import_nodes(node: ast.AST, local: bool = False, typing: bool = False):
     """(node, in a function) for every import statement that runs, outside
-    ``if TYPE_CHECKING:`` blocks."""
+    ``if TYPE_CHECKING:`` blocks (inside them too with `typing`)."""
     for child in ast.iter_child_nodes(node):
-        if isinstance(child, ast.If) and _is_type_checking(child.test):
+        if isinstance(child, ast.If) and _is_type_checking(child.test) and not typing:
             for other in child.orelse:
                 yield from _import_nodes(ast.Module(body=[other], type_ignores=[]), local)
             continue
         if isinstance(child, (ast.Import, ast.ImportFrom)):
             yield child, local
         inner = local or isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda))
-        yield from _import_nodes(child, inner)
+        yield from _import_nodes(child, inner, typing)
 
 
 def _absolute(module: Module, node: ast.ImportFrom) -> str:
@@ -124,11 +125,12 @@ def _absolute(module: Module, node: ast.ImportFrom) -> str:
     return ".".join(base + ([node.module] if node.module else []))
 
 
-def imports(found: dict[str, Module]) -> list[Import]:
-    """The edges between neurov's modules (see the module's docstring)."""
+def imports(found: dict[str, Module], typing: bool = False) -> list[Import]:
+    """The edges between neurov's modules (see the module's docstring);
+    with `typing`, the imports of ``if TYPE_CHECKING:`` blocks too."""
     edges = []
     for module in found.values():
-        for node, local in _import_nodes(module.tree):
+        for node, local in _import_nodes(module.tree, typing=typing):
             if isinstance(node, ast.Import):
                 targets = [(alias.name, []) for alias in node.names]
             else:
@@ -144,10 +146,10 @@ def imports(found: dict[str, Module]) -> list[Import]:
     return edges
 
 
-def graph(found: dict[str, Module]) -> dict[str, set[str]]:
+def graph(found: dict[str, Module], typing: bool = False) -> dict[str, set[str]]:
     """Module -> the neurov modules it imports (a package's own children left out)."""
     out: dict[str, set[str]] = {name: set() for name in found}
-    for edge in imports(found):
+    for edge in imports(found, typing):
         if edge.target not in found or edge.target == edge.source:
             continue
         if found[edge.source].is_package and edge.target.startswith(edge.source + "."):
@@ -156,10 +158,11 @@ def graph(found: dict[str, Module]) -> dict[str, set[str]]:
     return out
 
 
-def cycles(found: dict[str, Module]) -> list[list[str]]:
+def cycles(found: dict[str, Module], typing: bool = False) -> list[list[str]]:
     """One cycle (as a path, its first module repeated at its end) per
-    strongly connected group of modules (Tarjan's algorithm)."""
-    edges = graph(found)
+    strongly connected group of modules (Tarjan's algorithm); with `typing`,
+    through the imports of ``if TYPE_CHECKING:`` blocks too."""
+    edges = graph(found, typing)
     index: dict[str, int] = {}
     low: dict[str, int] = {}
     stack: list[str] = []

@@ -12,12 +12,12 @@ import importlib
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from neurov.identification.fit import Identification
+    from neurov.identification.outcome import Identification
 
 __all__ = ["Identification", "IdentificationError", "Log", "LogError", "NothingToFit", "identify",
            "make_log", "read_log", "read_log_parameters", "report_only", "report_text"]
 
-_WHERE = {"Identification": "fit", "IdentificationError": "errors", "LogError": "errors",
+_WHERE = {"Identification": "outcome", "IdentificationError": "errors", "LogError": "errors",
           "Log": "log", "make_log": "log", "read_log": "readers", "report_text": "report",
           "NothingToFit": "fit", "report_only": "fit", "read_log_parameters": "ardusub_params"}
 

@@ -3,7 +3,7 @@ vehicle file with the uncertainty of each parameter out."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -14,15 +14,16 @@ from neurov import _core
 from neurov.identification.equation_error import equation_rows, fit_linear
 from neurov.identification.blocks import small_sample_scale
 from neurov.identification.errors import IdentificationError
-from neurov.identification.heldout import HeldOut, held_out
+from neurov.identification.heldout import held_out
 from neurov.identification.estimator_model import staircase
 from neurov.identification.lag import profile_lag
 from neurov.identification.log import Log, advance_linear_velocity
 from neurov.identification.output_error import bounds, fit_output_error
-from neurov.identification.parameters import free_indices, template_theta, vehicle_parameters
+from neurov.identification.parameters import free_indices, template_theta
 from neurov.identification.readers import read_log
-from neurov.config.vehicle_file import VehicleFile, read_vehicle_file
+from neurov.config.vehicle_file import read_vehicle_file
 from neurov.files import read_toml
+from neurov.identification.outcome import Identification
 from neurov.identification.report import header_lines
 from neurov.identification.guards import MIN_BLOCKS, WIDE, fit_warnings, inseparable, verdict_warnings
 from neurov.identification.heldout import free_run, nrmse_fit
@@ -41,41 +42,6 @@ class NothingToFit(IdentificationError):
     def __init__(self, message: str, log_report: LogReport) -> None:
         super().__init__(message)
         self.log_report = log_report
-
-
-@dataclass
-class Identification:
-    """What :func:`identify` found. theta is the full (24,) vector (the
-    template's values where not fitted); interval is (24, 2) (NaN where not
-    fitted); reasons says why a free parameter was left at the template's value."""
-
-    template: VehicleFile
-    logs: list[Log]
-    theta_template: Array
-    theta: Array
-    theta_stage1: Array
-    fitted: list[int]
-    reasons: dict[int, str]
-    interval: Array
-    condition: float
-    stages: str
-    heldout: list[HeldOut] = field(default_factory=list)
-    warnings: list[str] = field(default_factory=list)
-    out: Path | None = None
-    log_report: LogReport | None = None
-
-    def parameters(self) -> dict[str, Any]:
-        """The fitted vehicle's :class:`neurov.Vehicle` keyword arguments."""
-        p = vehicle_parameters(self.template.parameters, self.theta)
-        if self.template.displaced_volume is not None and 22 not in self.fitted:
-            # W - B was not fitted: keep the template's volume, so that the
-            # vehicle floats in each scenario's water as the template does.
-            p.pop("buoyancy")
-            p["displaced_volume"] = self.template.displaced_volume
-        return p
-
-    def vehicle(self) -> Any:
-        return _core.Vehicle(**vehicle_parameters(self.template.parameters, self.theta))
 
 
 @one_blas_thread
@@ -190,6 +156,9 @@ def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Pat
                         + ", ".join(f"{g:.3f}" for g in st.gain[:3])
                         + (", (p, q, r) " + ", ".join(f"{g:.3f}" for g in st.gain[3:])
                            if len(st.gain) > 3 else ""))
+    if st.dead:
+        lag_note.append(f"output error: {', '.join(st.dead)} never move in the logs (a dead signal): "
+                        "left out of its residual, the simulated motion compared on the others")
     if st.rejected:
         lag_note.append(f"output error: {st.rejected} trial step(s) overflowed in the simulation and were "
                         "rejected (the solver went on from the last good point)")
@@ -240,6 +209,7 @@ class _Stages:
     gain: Array | None = None
     rejected: int = 0
     fallback: str = ""
+    dead: tuple[str, ...] = ()
 
 
 def _fit_stages(logs: list[Log], template: dict[str, Any], theta0: Array, free_idx: list[int],
@@ -259,7 +229,8 @@ def _fit_stages(logs: list[Log], template: dict[str, Any], theta0: Array, free_i
                               substeps=substeps, block_s=block_s, estimator=estimator, rates=rates)
     except (ValueError, IdentificationError) as e:  # LinAlgError is a ValueError
         return _Stages(rows, lin, theta1, lin.blocks, np.zeros(24), float("nan"), fallback=str(e))
-    return _Stages(rows, lin, oe.theta, oe.blocks, oe.at, oe.rms, gain=oe.gain, rejected=oe.rejected)
+    return _Stages(rows, lin, oe.theta, oe.blocks, oe.at, oe.rms, gain=oe.gain, rejected=oe.rejected,
+                   dead=oe.dead)
 
 
 def _name(path: str | Path) -> str:

@@ -27,6 +27,7 @@ from neurov.identification.errors import IdentificationError
 from neurov.identification.estimator_model import ANGULAR, LINEAR, held_moves, refresh_rows, through_updates
 from neurov.identification.log import Log
 from neurov.identification.parameters import vehicle_parameters
+from neurov.identification.survey import STILL
 
 __all__ = ["Segment", "SegmentInputs", "ShootingFit", "bounds", "fit_output_error", "simulate_segments"]
 
@@ -134,6 +135,7 @@ class ShootingFit:
     rms: float = 0.0  #: RMS of the scaled residual at the solution (comparable across logs)
     rejected: int = 0  #: trial points whose simulation overflowed (given a large residual: rejected)
     gain: Array | None = None  #: the estimator's fitted update gains (u, v, w, p, q, r), with `estimator`
+    dead: tuple[str, ...] = ()  #: the body velocities that never move in the logs: left out of the residual
 
 
 def _profiled_blocks(jac: Any, fun: Array, p: int, segs: list[Segment], seg_blocks: Any,
@@ -185,8 +187,15 @@ def fit_output_error(logs: list[Log], template: dict[str, Any], theta0: Array, f
         raise IdentificationError("no interval to fit the output error on")
     measured = np.concatenate([s.log.nu[s.start:s.start + 1 + s.steps] for s in segs])
     rms = np.sqrt(np.mean(measured**2, axis=0))
+    # A velocity that never moves (the log report's rule: a dead signal, as
+    # rates never filled in) measures nothing: left out of the residual.
+    # Scaled by its own RMS (~1e-7) it would outweigh any real misfit and even
+    # OVERFLOW, and the solver would walk into overflowing points.
+    moving = np.ptp(measured, axis=0) > np.asarray(STILL[6:12])
+    weight = np.where(moving, 1.0 / np.where(rms > 0, rms, 1.0), 0.0)
     scale = np.where(rms > 0, rms, 1.0)
     p = len(fitted)
+    rates = rates and bool(moving[3:].all())  # a dead rate cannot tell its filter's gain
     extra = (6 if rates else 3) if estimator else 0
 
     def seg_rows(axes: slice) -> tuple[NDArray[np.bool_], Array]:
@@ -230,7 +239,7 @@ def fit_output_error(logs: list[Log], template: dict[str, Any], theta0: Array, f
             if rates:
                 pred[:, ANGULAR] = through_updates(pred[:, ANGULAR], lengths, fresh_rot, x[p + 3:p + 6],
                                                    seg_e0[:, ANGULAR], moves_rot)
-        return ((pred - measured) / scale).reshape(-1)
+        return ((pred - measured) * weight).reshape(-1)
 
     lo_t, hi_t = bounds(fitted, template)
     x0_t = np.clip(theta0[fitted], lo_t, hi_t)
@@ -258,14 +267,14 @@ def fit_output_error(logs: list[Log], template: dict[str, Any], theta0: Array, f
     # One Gauss-Newton step per resampled set of blocks from the solution
     # (the bootstrap); with every block once it finishes the fit where the
     # bounded solver stopped short of a bound.
-    blocks = _profiled_blocks(sol.jac, np.asarray(sol.fun), p + extra, segs, seg_blocks, keep=p)
+    fun = np.asarray(sol.fun)
+    if np.all(fun == OVERFLOW):
+        raise IdentificationError("every simulation from the solver's points overflowed")
+    blocks = _profiled_blocks(sol.jac, fun, p + extra, segs, seg_blocks, keep=p)
     theta = theta0.copy()
     theta[fitted] = np.clip(sol.x[:p] + blocks.solve(), lo_t, hi_t)
     at = theta0.copy()
     at[fitted] = sol.x[:p]
-    fun = np.asarray(sol.fun)
-    if np.all(fun == OVERFLOW):
-        raise IdentificationError("every simulation from the solver's points overflowed")
     return ShootingFit(theta, at, blocks, float(sol.cost), int(sol.nfev),
                        float(np.sqrt(np.mean(fun**2))), gain=sol.x[p:p + extra].copy() if extra else None,
-                       rejected=rejected[0])
+                       rejected=rejected[0], dead=tuple(n for n, m in zip("uvwpqr", moving) if not m))

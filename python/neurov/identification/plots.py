@@ -14,7 +14,7 @@ import numpy as np
 from neurov import _core
 
 if TYPE_CHECKING:
-    from neurov.identification.fit import Identification
+    from neurov.identification.outcome import Identification
 
 __all__ = ["plot_identification"]
 

@@ -3,16 +3,12 @@ and written as the fitted file's header."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 import numpy as np
 
 from neurov import _core
+from neurov.identification.outcome import Identification
 from neurov.identification.survey import report_lines
 from neurov.identification.parameters import UNITS
-
-if TYPE_CHECKING:
-    from neurov.identification.fit import Identification
 
 __all__ = ["header_lines", "report_text"]
 
