@@ -26,6 +26,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -40,6 +41,8 @@ MANUAL = 19
 # roll, pitch, yaw, throttle, forward, lateral.
 _RCMAP = [("RCMAP_ROLL", 2), ("RCMAP_PITCH", 1), ("RCMAP_YAW", 4), ("RCMAP_THROTTLE", 3),
           ("RCMAP_FORWARD", 5), ("RCMAP_LATERAL", 6)]
+# (time [s], channel PWMs [us]) of one message.
+_Row = tuple[float, list[float]]
 # A pair of an input and an output message further apart than this is not one loop's.
 _PAIR_S = 0.005
 
@@ -84,9 +87,9 @@ def manual_samples(path: str | Path, params_log: str | Path | None = None) -> tu
         raise ArduSubParameterError(f"{source}: the log holds no parameters (MOT_n_DIRECTION, FRAME_CONFIG)")
     dataflash = path.suffix.lower() in (".bin", ".log")
     chans = _channels(params)
-    rows_in: list[tuple[float, list[float]]] = []
-    rows_out: list[tuple[float, list[float]]] = []
-    modes: set[int] = set()
+    rows_in: list[_Row] = []
+    rows_out: list[_Row] = []
+    modes: set[int | None] = set()
     with quiet():
         conn = mavutil.mavlink_connection(str(path), dialect="ardupilotmega")
         try:
@@ -109,10 +112,10 @@ def manual_samples(path: str | Path, params_log: str | Path | None = None) -> tu
         pwm.append(rows_out[j][1])
     if not t:
         raise ArduSubParameterError(f"{path}: no armed sample with both the pilot's inputs and the PWMs")
-    return np.array(t), np.array(inputs), np.array(pwm), frozenset(modes), params
+    return np.array(t), np.array(inputs), np.array(pwm), frozenset(m for m in modes if m is not None), params
 
 
-def _read_telemetry(conn, rows_in, rows_out, modes) -> None:
+def _read_telemetry(conn: Any, rows_in: list[_Row], rows_out: list[_Row], modes: set[int | None]) -> None:
     armed, mode = False, None
     while True:
         m = conn.recv_match(type=["HEARTBEAT", "RC_CHANNELS", "SERVO_OUTPUT_RAW"])
@@ -132,7 +135,7 @@ def _read_telemetry(conn, rows_in, rows_out, modes) -> None:
             rows_out.append((m.time_usec / 1e6, [float(getattr(m, f"servo{k}_raw")) for k in range(1, 9)]))
 
 
-def _read_dataflash(conn, rows_in, rows_out, modes) -> None:
+def _read_dataflash(conn: Any, rows_in: list[_Row], rows_out: list[_Row], modes: set[int | None]) -> None:
     messages = []
     while True:
         m = conn.recv_match(type=["MODE", "ARM", "RCIN", "RCOU"])
