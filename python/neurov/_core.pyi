@@ -2166,6 +2166,10 @@ class ArduSubController:
         """
     def __setstate__(self, arg0: dict) -> None:
         ...
+    def mix(self, inputs: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[6, 1]"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        The motor stage alone, as ArduSub's manual mode drives it: the PWM [us] of each motor, shape (motors,), for the mixer's inputs roll, pitch, yaw, throttle, forward, lateral (each held within -1..1) through the frame's factors, MOT_n_DIRECTION and MOT_PWM_MIN/MAX. Changes nothing.
+        """
     def reset(self) -> None:
         """
         Back to the initial state and a zero history.

@@ -147,6 +147,29 @@ TEST(ArduSubController, DepthHoldFirstIterationByHand) {
   EXPECT_NEAR(ff.axis_inputs()(throttle), -0.4802, 1e-12);
 }
 
+TEST(ArduSubController, TheMotorStageAloneIsTheLoopsOwn) {
+  // mix_pwm (the replay of a log's inputs) gives the PWMs a step's mixer
+  // inputs gave, with a reversed motor; and changes nothing.
+  ArduSubConfig<double> c;
+  c.FRAME_CONFIG = 2;
+  c.mode = 2;
+  c.dt = 0.0025;
+  c.MOT_3_DIRECTION = -1;
+  ArduSubController<double> ctl(c);
+  V6 eta, nu, eta_d, tau;
+  eta << 0.3, -0.2, 1.1, 0.05, -0.02, 0.4;
+  nu << 0.1, 0.0, -0.05, 0.01, 0.02, -0.03;
+  eta_d << 1.0, 0.5, 2.0, 0.0, 0.0, 0.2;
+  ASSERT_EQ(ctl.step(eta, nu, eta_d, V6::Zero(), V6::Zero(), tau), Status::ok);
+  const auto state = ctl.state();
+  const auto pwm = ctl.mix_pwm(ctl.axis_inputs());
+  for (int i = 0; i < 8; ++i) EXPECT_DOUBLE_EQ(pwm(i), ctl.pwm()(i)) << i;
+  EXPECT_EQ(ctl.state(), state);
+  V6 forward = V6::Zero();
+  forward(ardusub::forward) = 2.0;  // held at 1
+  EXPECT_DOUBLE_EQ(ctl.mix_pwm(forward)(2), 1500 - 400);
+}
+
 TEST(ArduSubController, AtRestOnTargetGivesNoWrench) {
   ArduSubConfig<float> c;
   c.FRAME_CONFIG = 2;

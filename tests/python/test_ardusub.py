@@ -172,3 +172,19 @@ def test_the_stock_parameters_are_those_of_the_real_bluerov2_heavy_log():
     for name, value in stock.items():
         assert real[name] == pytest.approx(value, rel=1e-6), name
 
+
+
+def test_identification_reads_a_logs_parameters_with_the_controllers_reader(tmp_path):
+    """One reader of a log's parameters (laws.ardusub_params): identification's
+    gives the same values and turns its error into identification's LogError."""
+    pytest.importorskip("pymavlink")
+    from neurov.identification.ardusub_params import read_log_parameters
+    from neurov.identification.errors import LogError
+
+    data = Path(__file__).parents[1] / "data" / "logs" / "ardusub_log_tools"
+    for log in (data / "bluerov2_heavy_excerpt.tlog", data / "bluerov2_vectored.BIN"):
+        assert read_log_parameters(log) == ap.read_log_parameters(log) == ap.read_parameters(log)
+    with pytest.raises(LogError, match=r"missing\.bin: no such file"):
+        read_log_parameters(tmp_path / "missing.bin")
+    with pytest.raises(ap.ArduSubParameterError, match=r"missing\.tlog: no such file"):
+        ap.read_log_parameters(tmp_path / "missing.tlog")

@@ -98,3 +98,38 @@ def out_trials(tmp_path: Path) -> list:
     from neurov.tuning.search import open_storage, optuna_study
 
     return optuna_study(load_tuning(tmp_path / "tuning.toml"), "ardusub", open_storage(tmp_path / "out")).trials
+
+
+def test_a_two_objective_tuning_writes_the_trial_read_at_the_stated_effort(tmp_path):
+    """With objective = [error, effort] best.param holds the trial best.toml
+    holds, the one picks.csv names at the stated effort, and says so; a front
+    that does not reach the effort is said in capitals."""
+    import pandas as pd
+
+    from neurov.tuning.equal_effort import Fronts, equal_effort_picks
+    from neurov.tuning.param_file import write_best_params
+    from neurov.tuning.search import open_storage, optuna_study
+
+    path = write(tmp_path)
+    path.write_text(path.read_text().replace('objective = "rmse_position_m"',
+                                             'objective = ["rmse_position_m", "mean_abs_tau"]\n'
+                                             'effort_at = { bluerov2_heavy = 1000.0 }'))
+    tuning = load_tuning(path)
+    out = tune(tuning, tmp_path / "out", workers=1, verdict=False, plots=False, progress=False)
+    picks = pd.read_csv(tmp_path / "out" / "picks.csv")
+    trial = int(picks.loc[picks["controller"] == "ardusub", "trial"].iloc[0])
+    text = (tmp_path / "out" / "best.param").read_text()
+    assert out.param_files == [(tmp_path / "out" / "best.param", True)]
+    assert "two objectives, the mean of rmse_position_m and of mean_abs_tau" in text
+    assert "Read at equal effort (the stated effort; picks.csv)" in text
+    assert f"On bluerov2_heavy: trial {trial}, " in text and "at the level 1000 (within it)." in text
+    study = optuna_study(tuning, "ardusub", open_storage(tmp_path / "out"))
+    chosen = next(t for t in study.trials if t.number == trial)
+    assert ap.read_parameters(tmp_path / "out" / "best.param") == pytest.approx(chosen.params, rel=1e-8)
+    assert chosen.params == pytest.approx({k: out.best["ardusub"][k] for k in chosen.params}, rel=1e-12)
+    # Read below every trial's effort: the one over it least, said so.
+    levels = {"bluerov2_heavy": 1e-9}
+    tables, low = equal_effort_picks(tuning, {"ardusub": study}, levels)
+    (tmp_path / "low").mkdir()
+    write_best_params(tuning, {"ardusub": study}, tmp_path / "low", Fronts(levels, "the stated effort", tables, low, {}))
+    assert "(OVER IT: the front does not reach that effort)." in (tmp_path / "low" / "best.param").read_text()

@@ -20,11 +20,9 @@ from neurov.tuning.tables import markdown_table
 # (for example a controller that cannot fly that league's vehicles); docs/tuning.md.
 _ARDUSUB_FRAMES = ("ArduSub mixes its motors for the BlueROV2 frames only and NEROV flies none of them; "
                    "ardusub_league tunes it on the BlueROV2 Heavy")
-_ARDUSUB_LEAGUE = "ardusub_league sets ArduSub against the paper's NN and PID; tuned_league tunes this one"
 LEFT_OUT: dict[str, dict[str, str]] = {
     "tuned_league": {"ardusub": _ARDUSUB_FRAMES},
     "tuned_realism": {"ardusub": _ARDUSUB_FRAMES},
-    "ardusub_league": {c: _ARDUSUB_LEAGUE for c in ("linear", "pd", "smc", "computed_torque", "super_twisting")},
 }
 
 

@@ -28,6 +28,16 @@ inline void bind_controller(py::module_& m, TypeTag<ArduSubController<double>>) 
       "axis_inputs", [](const C& c) { return Vector6<double>(c.axis_inputs()); },
       "The mixer's inputs at the last iteration: roll, pitch, yaw, throttle, forward, lateral "
       "(each -1..1), shape (6,).");
+  k.def(
+      "mix",
+      [](const C& c, const Vector6<double>& inputs) {
+        return Eigen::VectorXd(c.mix_pwm(inputs).head(c.motors()));
+      },
+      py::arg("inputs"),
+      "The motor stage alone, as ArduSub's manual mode drives it: the PWM [us] of each motor, shape "
+      "(motors,), for the mixer's inputs roll, pitch, yaw, throttle, forward, lateral (each held "
+      "within -1..1) through the frame's factors, MOT_n_DIRECTION and MOT_PWM_MIN/MAX. Changes "
+      "nothing.");
   py::list table;
   std::apply(
       [&table](const auto&... p) {

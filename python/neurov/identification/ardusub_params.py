@@ -12,9 +12,6 @@ ArduPilot parameter list)."""
 
 from __future__ import annotations
 
-import io
-from collections.abc import Iterator
-from contextlib import contextmanager, redirect_stderr, redirect_stdout
 from pathlib import Path
 from typing import Any
 
@@ -22,6 +19,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from neurov.identification.errors import LogError
+from neurov.laws import ardusub_params as laws_params
+from neurov.laws.ardusub_params import ArduSubParameterError, quiet
 
 __all__ = ["FRAMES", "frame_thrusters", "motor_directions", "quiet", "read_log_parameters"]
 
@@ -38,41 +37,13 @@ def read_log_parameters(path: str | Path) -> dict[str, float]:
     ``.tlog``'s PARAM_VALUE messages (the ground station's parameter
     download) or a DataFlash ``.bin``'s PARM messages; the last value of a
     name wins (a parameter set during the dive). Empty when the log holds
-    none. LogError naming `path` when it is missing or unreadable."""
-    from pymavlink import mavutil
-
+    none. LogError naming `path` when it is missing or unreadable. The
+    reader is the ArduSub controller's (``neurov.laws.ardusub_params``)."""
     path = Path(path)
-    if not path.is_file():
-        raise LogError(f"{path}: no such file")
-    dataflash = path.suffix.lower() == ".bin"
-    kind, name_field, value_field = ("PARM", "Name", "Value") if dataflash else (
-        "PARAM_VALUE", "param_id", "param_value")
-    out: dict[str, float] = {}
     try:
-        with quiet():
-            conn = mavutil.mavlink_connection(str(path), dialect="ardupilotmega")
-            try:
-                while True:
-                    m = conn.recv_match(type=kind)
-                    if m is None:
-                        break
-                    name = getattr(m, name_field)
-                    name = name.decode(errors="replace") if isinstance(name, bytes) else str(name)
-                    out[name.rstrip("\x00")] = float(getattr(m, value_field))
-            finally:
-                conn.close()
-    except Exception as e:  # pymavlink's own errors for a file it cannot read
-        raise LogError(f"{path}: not a readable {'DataFlash' if dataflash else 'telemetry'} log: "
-                       f"{type(e).__name__}: {e}") from None
-    return out
-
-
-@contextmanager
-def quiet() -> Iterator[None]:
-    """pymavlink's readers print their diagnostics (a DataFlash log's "bad
-    header" per byte of garbage, on stderr): kept off neurov's output."""
-    with redirect_stdout(io.StringIO()), redirect_stderr(io.StringIO()):
-        yield
+        return laws_params.read_log_parameters(path, dataflash=path.suffix.lower() == ".bin")
+    except ArduSubParameterError as e:
+        raise LogError(str(e)) from None
 
 
 def frame_thrusters(params: dict[str, float]) -> tuple[str, int] | None:

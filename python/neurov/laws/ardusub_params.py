@@ -20,10 +20,12 @@ controller does not model (a log carries some 900) is left out.
 
 from __future__ import annotations
 
+import io
 import math
 import re
 import warnings
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
+from contextlib import contextmanager, redirect_stderr, redirect_stdout
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -32,7 +34,8 @@ from neurov import _core
 from neurov.errors import NeurovError
 
 __all__ = ["MODES", "PARAMETERS", "ArduSubParameterError", "ArduSubRangeWarning", "Parameter",
-           "apply_parameters", "format_param_file", "out_of_range", "read_parameters", "write_log_parameters"]
+           "apply_parameters", "format_param_file", "out_of_range", "quiet", "read_log_parameters", "read_parameters",
+           "write_log_parameters"]
 
 
 class ArduSubParameterError(NeurovError):
@@ -76,7 +79,11 @@ def read_parameters(path: str | Path) -> dict[str, float]:
     if suffix in _TEXT_SUFFIXES:
         return _read_text(path)
     if suffix in (".tlog", ".bin", ".log"):
-        return _read_log(path, "PARAM_VALUE" if suffix == ".tlog" else "PARM")
+        params = read_log_parameters(path)
+        if not params:
+            message = "PARAM_VALUE" if suffix == ".tlog" else "PARM"
+            raise ArduSubParameterError(f"{path}: the log holds no {message} messages (no parameters)")
+        return params
     raise ArduSubParameterError(f"{path}: expected a .param/.params/.parm/.txt parameter file, a .tlog "
                                 f"or a DataFlash .bin, got a {suffix or 'suffix-less'} file")
 
@@ -114,35 +121,58 @@ def _read_text(path: Path) -> dict[str, float]:
     return params
 
 
-def _read_log(path: Path, message: str) -> dict[str, float]:
+def read_log_parameters(path: str | Path, dataflash: bool | None = None) -> dict[str, float]:
+    """The vehicle parameters an ArduSub log holds, name -> value: a
+    telemetry log's PARAM_VALUE messages (the ground station's parameter
+    download) or a DataFlash log's PARM messages, through pymavlink; the last
+    value of a name wins (a parameter set during the dive). `dataflash`
+    says which kind the log is (None: by its suffix, ``.bin``/``.log``
+    DataFlash, ``.tlog`` telemetry). Empty when the log holds none.
+    ArduSubParameterError naming `path` when it is missing or unreadable, or
+    pymavlink is not installed."""
+    path = Path(path)
+    if not path.is_file():
+        raise ArduSubParameterError(f"{path}: no such file")
+    if dataflash is None:
+        suffix = path.suffix.lower()
+        if suffix not in (".tlog", ".bin", ".log"):
+            raise ArduSubParameterError(f"{path}: expected a .tlog or a DataFlash .bin/.log, got a "
+                                        f"{suffix or 'suffix-less'} file")
+        dataflash = suffix != ".tlog"
     # Deferred: pymavlink is an optional dependency (the identify extra).
     try:
         from pymavlink import mavutil
     except ImportError:
         raise ArduSubParameterError(f"{path}: reading a log's parameters needs pymavlink "
                                     "(pip install 'neurov[identify]')") from None
-    conn = None
+    kind, name_field, value_field = ("PARM", "Name", "Value") if dataflash else (
+        "PARAM_VALUE", "param_id", "param_value")
     params: dict[str, float] = {}
     try:
-        conn = mavutil.mavlink_connection(str(path), dialect="ardupilotmega")
-        while True:
-            msg = conn.recv_match(type=message)
-            if msg is None:
-                break
-            if message == "PARAM_VALUE":
-                name = msg.param_id.decode() if isinstance(msg.param_id, bytes) else str(msg.param_id)
-                params[name.rstrip("\x00")] = float(msg.param_value)
-            else:
-                params[str(msg.Name)] = float(msg.Value)
+        with quiet():
+            conn = mavutil.mavlink_connection(str(path), dialect="ardupilotmega")
+            try:
+                while True:
+                    msg = conn.recv_match(type=kind)
+                    if msg is None:
+                        break
+                    name = getattr(msg, name_field)
+                    name = name.decode(errors="replace") if isinstance(name, bytes) else str(name)
+                    params[name.rstrip("\x00")] = float(getattr(msg, value_field))
+            finally:
+                conn.close()
     except Exception as e:  # pymavlink's own errors for a file that is not a log
-        raise ArduSubParameterError(f"{path}: not a readable {'telemetry' if message == 'PARAM_VALUE' else 'DataFlash'} "
+        raise ArduSubParameterError(f"{path}: not a readable {'DataFlash' if dataflash else 'telemetry'} "
                                     f"log ({type(e).__name__}: {e})") from None
-    finally:
-        if conn is not None:
-            conn.close()
-    if not params:
-        raise ArduSubParameterError(f"{path}: the log holds no {message} messages (no parameters)")
     return params
+
+
+@contextmanager
+def quiet() -> Iterator[None]:
+    """pymavlink's readers print their diagnostics (a DataFlash log's "bad
+    header" per byte of garbage, on stderr): kept off neurov's output."""
+    with redirect_stdout(io.StringIO()), redirect_stderr(io.StringIO()):
+        yield
 
 
 def out_of_range(name: str, value: float) -> str | None:

@@ -117,8 +117,8 @@ def _tune(tuning: Tuning, out: Path, storage: Any, mine: list[str], workers: int
         best_path = write_best_toml(tuning, studies, out / "best.toml")
         best = best_tables(tuning, studies)
     bad = unusable(studies)
-    # ArduSub's parameter files, of the single objective's best trials.
-    param_files = [] if s.two_objectives else write_best_params(tuning, studies, out)
+    # ArduSub's parameter files: of the best trials, or of those read at equal effort.
+    param_files = write_best_params(tuning, studies, out, fronts)
     figures = draw_tuning_figures(tuning, studies, out) if plots else []
     (out / "tuning.json").write_text(json.dumps({
         "name": tuning.name, "source": tuning.source, "settings": asdict(tuning.settings),

@@ -143,6 +143,17 @@ class ArduSubController
   const Vec6& axis_inputs() const noexcept { return state_.inputs; }
   /// The whole state, by part.
   const ArduSubState<Scalar>& internals() const noexcept { return state_; }
+  /// The motor stage alone, as ArduSub's manual mode drives it: the PWMs
+  /// the frame's mixing, MOT_n_DIRECTION and the PWM range give the six
+  /// inputs (roll, pitch, yaw, throttle, forward, lateral, each held within
+  /// -1..1). Changes nothing (a replay of a log's inputs against its PWMs).
+  Motors mix_pwm(const Vec6& inputs) const noexcept {
+    Vec6 in;
+    for (int i = 0; i < 6; ++i) in(i) = clamp(inputs(i), Scalar(1));
+    Motors outputs;
+    ardusub::mix(factors_, motors_, in, outputs);
+    return motor_pwms(outputs);
+  }
 
   /// Numbers in the flat state of snapshots: attitude target, its rate, the
   /// rate target (3 each), 7 PIDs x (target, error, derivative, integrator,
@@ -320,14 +331,20 @@ class ArduSubController
     // Motors, PWM, and the wrench of the PWMs.
     s.inputs = in;
     s.limits = ardusub::mix(factors_, motors_, in, s.outputs);
+    s.pwm = motor_pwms(s.outputs);
     ardusub::MotorVector<Scalar> thrust = ardusub::MotorVector<Scalar>::Zero();
-    s.pwm.setConstant(Scalar(1500));
-    for (int i = 0; i < motors_; ++i) {
-      const Scalar dir = c.direction(i);
-      s.pwm(i) = ardusub::motor_pwm(s.outputs(i), dir, c.MOT_PWM_MIN, c.MOT_PWM_MAX);
-      thrust(i) = dir * ardusub::table_thrust(c, s.pwm(i));
-    }
+    for (int i = 0; i < motors_; ++i) thrust(i) = c.direction(i) * ardusub::table_thrust(c, s.pwm(i));
     return wrench_ * thrust;
+  }
+
+  /// Each motor's PWM from its output -1..1: MOT_n_DIRECTION, the PWM range
+  /// (motors past the frame's 1500).
+  Motors motor_pwms(const Motors& outputs) const noexcept {
+    const auto& c = this->config_;
+    Motors pwm = Motors::Constant(Scalar(1500));
+    for (int i = 0; i < motors_; ++i)
+      pwm(i) = ardusub::motor_pwm(outputs(i), c.direction(i), c.MOT_PWM_MIN, c.MOT_PWM_MAX);
+    return pwm;
   }
 
   ArduSubState<Scalar> state_{};
