@@ -24,8 +24,8 @@
    parallel, not a near-synonym, and is allowed.
 4. No import runs up the layers of :data:`LAYERS` (docs/architecture.md's
    table, in the same order): a module imports only modules of its own
-   layer or of the layers before it, function-local imports included and
-   ``if TYPE_CHECKING:`` blocks excluded. What a bridge lends to a layer
+   layer or of the layers before it, function-local imports included, and
+   ``if TYPE_CHECKING:`` blocks too (checked apart). What a bridge lends to a layer
    beneath it goes through ``neurov.hooks`` (registered by
    ``neurov.bridges``, on top).
 5. ``import neurov`` stays cheap: test_import_cost.py.
@@ -156,12 +156,13 @@ def layer_of(name: str) -> int:
     return best
 
 
-def imports_up(found: dict[str, Module]) -> list[str]:
+def imports_up(found: dict[str, Module], typed: bool = False) -> list[str]:
     """Every import of a module of a later layer (rule 4), as
-    ``source:line imports target (layer -> layer)``."""
+    ``source:line imports target (layer -> layer)``; with `typed`, those of
+    ``if TYPE_CHECKING:`` blocks instead."""
     bad = []
-    for edge in imports(found):
-        if edge.target not in found:
+    for edge in imports(found, typed):
+        if edge.target not in found or edge.typed != typed:
             continue
         a, b = layer_of(edge.source), layer_of(edge.target)
         if b > a:
@@ -207,6 +208,12 @@ def test_no_import_runs_up_the_layers() -> None:
     assert not imports_up(FOUND), "\n".join(imports_up(FOUND))
 
 
+def test_no_type_only_import_runs_up_the_layers() -> None:
+    """A type a lower layer needs from a higher one is a protocol of its own
+    (``laws.registry.ScenarioLike``), not the higher layer's class."""
+    assert not imports_up(FOUND, typed=True), "\n".join(imports_up(FOUND, typed=True))
+
+
 def test_no_two_module_names_differ_only_by_a_suffix() -> None:
     assert not near_synonyms(FOUND), near_synonyms(FOUND)
 
@@ -235,6 +242,7 @@ def test_the_rules_see_what_they_forbid(tmp_path: Path) -> None:
     # simulator closes none (simulator imports nothing of neurov's).
     assert type_cycles(planted) == [["neurov.results.table", "neurov.running.plant", "neurov.results.table"]]
     assert difflib_users(planted) == ["neurov.running.plant"]
+    assert imports_up(planted, typed=True) == ["neurov.running.plant:3 imports neurov.simulator (running -> on top)"]
     assert private_imports(planted) == ["neurov.running.simulation:4 imports _build from neurov.running.plant"]
     assert near_synonyms(planted) == [("neurov.running.simulation", "neurov.simulator")]
     assert {(e.source, e.target) for e in local_imports(planted)} == {
@@ -272,3 +280,6 @@ if __name__ == "__main__":  # the counts quoted in docs/architecture.md
     for line in imports_up(found):
         print("up: " + line)
     print(f"imports running up the layers: {len(imports_up(found))}")
+    for line in imports_up(found, typed=True):
+        print("up (TYPE_CHECKING): " + line)
+    print(f"TYPE_CHECKING imports running up the layers: {len(imports_up(found, typed=True))}")
