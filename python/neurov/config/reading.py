@@ -6,6 +6,60 @@ core's config struct; the rules (a gain >= 0, increasing times, a thruster
 index in range) are the C++ validators', whose messages come back naming
 the file and the TOML key: ``square.toml: controller.kd[3] = -1: expected
 >= 0 and finite``.
+
+A scenario file (all tables but ``[command]`` and ``[controller]`` optional)::
+
+    name = "square"
+    duration = 200.0        # s
+    dt = 0.2                # control period, s (the paper: 5 Hz)
+    substeps = 10           # RK4 plant steps per control period, 1..10000 (neurov.MAX_SUBSTEPS)
+    seed = 0                # measurement noise
+    refused_step_policy = "zero"  # or "hold": the force while the controller refuses a step
+
+    [vehicle]
+    preset = "nerov"        # or: file = "my_vehicle.toml" (relative to this file)
+    thrusters = true        # use the vehicle file's [thrusters] table
+
+    [initial]
+    eta = [0, 0, 0, 0, 0, 0]
+    nu = [0, 0, 0, 0, 0, 0]
+
+    [reference]             # reference model, eq. 12-13
+    lambda_d = 1.0          # a number for every DOF, or 6 numbers
+    omega = 0.25
+
+    [command]
+    type = "square"         # waypoints | square | lawnmower | circle | helix
+    side = 10.0             # the generator's arguments (neurov.config.trajectories)
+
+    [controller]
+    type = "nn"             # nn | linear | pd | pid | smc | computed_torque
+    lambda = 0.5
+    kd = [200, 200, 200, 50, 50, 50]
+
+    [controller.centres]    # the NN's centres: sobol | latin_hypercube | grid | path
+    n = 64                  # at most 65536 (neurov.MAX_CENTRES; a grid's too)
+
+    [[disturbances]]
+    dof = "yaw"             # surge sway heave roll pitch yaw, or 0..5
+    amplitude = 50.0        # N or N m
+    frequency = 0.05        # Hz
+
+    [current]
+    velocity = [0.5, 0, 0]  # NED, m/s
+
+    [noise]
+    eta = [0.05, 0.05, 0.05, 0.005, 0.005, 0.01]
+    nu = 0.01
+
+    [[sensor_faults]]       # freeze | dropout | noise_burst over [start, end)
+    kind = "dropout"
+    start = 100.0
+    end = 102.0
+
+    [[current_steps]]       # the mean current from `time` on
+    time = 150.0
+    velocity = [0.0, 0.5, 0.0]
 """
 
 from __future__ import annotations
@@ -22,11 +76,11 @@ import numpy as np
 from neurov import _core, hooks
 from neurov.config import sea, trajectories
 from neurov.files import read_toml
-from neurov.config.scenario import CommandSpec, ControllerSpec, Scenario, ScenarioError
+from neurov.config.scenario import CommandSpec, ControllerSpec, Scenario, ScenarioError, vehicle_path
 from neurov.config.realism import REALISM_KEYS, read_realism
 from neurov.errors import RecordedPathError
 from neurov.schema import SchemaError, convert, field_names
-from neurov.config.vehicle_file import VehicleFileError
+from neurov.config.vehicle_file import VehicleFileError, read_vehicle_file
 from neurov.config.toml_table import TableReader, tables, validated
 from neurov.laws import ardusub_params as ardusub
 from neurov.laws.registry import REGISTRY
@@ -183,9 +237,9 @@ _LISTS = ("disturbances", "thruster_failures", "sensor_faults", "current_steps")
 def scenario_from_mapping(data: Mapping[str, Any], origin: str = "<scenario>") -> Scenario:
     """Builds a scenario from a parsed TOML table; errors name `origin`."""
     r = TableReader(data, "", origin)
-    s = Scenario(source=origin if origin != "<scenario>" else "")
-    c = s.simulation
-    d = s.__dict__
+    # The scenario's parts, read first: the Scenario is made of them at the end (its config built once).
+    c = _core.SimulationConfig()
+    d: dict[str, Any] = {"source": origin if origin != "<scenario>" else ""}
     d["name"] = r.string("name", Path(origin).stem if origin != "<scenario>" else "scenario")
     d["description"] = r.string("description", "")
     c.duration = r.number("duration", c.duration)
@@ -214,7 +268,7 @@ def scenario_from_mapping(data: Mapping[str, Any], origin: str = "<scenario>") -
         d["vehicle_parameters"] = dict(over)
     v.finish()
     try:
-        vehicle = s.vehicle_data()
+        d["vehicle_file"] = vehicle = read_vehicle_file(vehicle_path(d["vehicle"], d["source"]))
     except (VehicleFileError, ValueError) as e:
         raise ScenarioError(f"{origin}: vehicle: {e}") from None
     if c.use_thrusters and vehicle.thrusters is None:
@@ -276,11 +330,12 @@ def scenario_from_mapping(data: Mapping[str, Any], origin: str = "<scenario>") -
     read_realism(r, c)
     r.finish()
     try:
-        s._sync()
+        s = Scenario(simulation=c, **d)
     except ValueError as e:
         raise ScenarioError(f"{origin}: {e}") from None
     sea.check_payload(s, origin)
-    validated(c, origin, {**_SIMULATION_KEYS, **REALISM_KEYS}, _LISTS)
+    # Checked once, naming the TOML keys: a run of the scenario as read checks it no more.
+    s.run_config(check=lambda config: validated(config, origin, {**_SIMULATION_KEYS, **REALISM_KEYS}, _LISTS))
     return s
 
 

@@ -1,67 +1,14 @@
 """Scenarios: everything one closed-loop run needs, as a dataclass or a TOML file.
 
-A scenario file (all tables but ``[command]`` and ``[controller]`` optional)::
-
-    name = "square"
-    duration = 200.0        # s
-    dt = 0.2                # control period, s (the paper: 5 Hz)
-    substeps = 10           # RK4 plant steps per control period, 1..10000 (neurov.MAX_SUBSTEPS)
-    seed = 0                # measurement noise
-    refused_step_policy = "zero"  # or "hold": the force while the controller refuses a step
-
-    [vehicle]
-    preset = "nerov"        # or: file = "my_vehicle.toml" (relative to this file)
-    thrusters = true        # use the vehicle file's [thrusters] table
-
-    [initial]
-    eta = [0, 0, 0, 0, 0, 0]
-    nu = [0, 0, 0, 0, 0, 0]
-
-    [reference]             # reference model, eq. 12-13
-    lambda_d = 1.0          # a number for every DOF, or 6 numbers
-    omega = 0.25
-
-    [command]
-    type = "square"         # waypoints | square | lawnmower | circle | helix
-    side = 10.0             # the generator's arguments (neurov.config.trajectories)
-
-    [controller]
-    type = "nn"             # nn | linear | pd | pid | smc | computed_torque
-    lambda = 0.5
-    kd = [200, 200, 200, 50, 50, 50]
-
-    [controller.centres]    # the NN's centres: sobol | latin_hypercube | grid | path
-    n = 64                  # at most 65536 (neurov.MAX_CENTRES; a grid's too)
-
-    [[disturbances]]
-    dof = "yaw"             # surge sway heave roll pitch yaw, or 0..5
-    amplitude = 50.0        # N or N m
-    frequency = 0.05        # Hz
-
-    [current]
-    velocity = [0.5, 0, 0]  # NED, m/s
-
-    [noise]
-    eta = [0.05, 0.05, 0.05, 0.005, 0.005, 0.01]
-    nu = 0.01
-
-    [[sensor_faults]]       # freeze | dropout | noise_burst over [start, end)
-    kind = "dropout"
-    start = 100.0
-    end = 102.0
-
-    [[current_steps]]       # the mean current from `time` on
-    time = 150.0
-    velocity = [0.0, 0.5, 0.0]
-
-Every error names the file and the field (``controller.kd``) and says what was
-expected. The file is read by :mod:`neurov.config.reading`; this module holds
-what a scenario is.
+A scenario file (TOML) and its keys are described by :mod:`neurov.config.reading`,
+which reads it; this module holds what a scenario is.
 """
 
 from __future__ import annotations
 
 import copy
+import pickle
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -88,6 +35,7 @@ __all__ = [
     "ThrusterFailure",
     "scenario_path",
     "shipped_scenarios",
+    "vehicle_path",
 ]
 
 # The core's own structs: a scenario holds them as they are.
@@ -242,7 +190,7 @@ class Scenario:
                  controller: ControllerSpec | None = None, source: str = "",
                  simulation: Any = None, saturation: Any = None,
                  thruster_time_constant: float | None = None,
-                 vehicle_file: VehicleFile | None = None, **settings: Any) -> None:
+                 vehicle_file: VehicleFile | None = None, _built: Any = None, **settings: Any) -> None:
         d = self.__dict__
         d["name"], d["description"], d["source"] = name, description, source
         d["vehicle"], d["vehicle_parameters"] = vehicle, vehicle_parameters
@@ -251,14 +199,15 @@ class Scenario:
         d["controller"] = controller if controller is not None else ControllerSpec()
         d["thruster_time_constant"] = thruster_time_constant
         """Thruster lag [s]; None takes the vehicle file's."""
-        d["simulation"] = copy.copy(simulation) if simulation is not None else _core.SimulationConfig()
+        d["simulation"] = sim = copy.copy(simulation) if simulation is not None else _core.SimulationConfig()
         for key, value in settings.items():
             if key not in SIMULATION_FIELDS:
                 raise TypeError(f"Scenario() got an unexpected keyword argument {key!r}")
-            setattr(self.simulation, SIMULATION_FIELDS[key], _enum(key, value))
+            setattr(sim, SIMULATION_FIELDS[key], _enum(key, value))
         if saturation is not None:
-            self.simulation.thrusters.saturation = _enum("saturation", saturation)
-        self._sync()
+            sim.thrusters.saturation = _enum("saturation", saturation)
+        d["_built"] = _built  # what `simulation` was built from (replace's copy: see run_config)
+        self.run_config(check=False)
 
     # --- the config's fields as attributes -----------------------------------
     def __getattr__(self, name: str) -> Any:
@@ -268,12 +217,13 @@ class Scenario:
         raise AttributeError(f"'Scenario' object has no attribute {name!r}")
 
     def __setattr__(self, name: str, value: Any) -> None:
+        self.__dict__["_checked"] = False
         if name in SIMULATION_FIELDS:
-            setattr(self.simulation, SIMULATION_FIELDS[name], _enum(name, value))
+            setattr(self.__dict__["simulation"], SIMULATION_FIELDS[name], _enum(name, value))
             if name == "use_thrusters":
                 self._sync()
         elif name == "saturation":
-            self.simulation.thrusters.saturation = _enum(name, value)
+            self.__dict__["simulation"].thrusters.saturation = _enum(name, value)
         elif name in self.__dict__:
             self.__dict__[name] = value
             if name in ("command", "vehicle", "thruster_time_constant", "source"):
@@ -282,18 +232,61 @@ class Scenario:
             raise AttributeError(f"'Scenario' object has no attribute {name!r}")
 
     @property
+    def simulation(self) -> Any:
+        """The core's ``SimulationConfig`` of the run, to read or change (once
+        handed out, it is checked again before the next run)."""
+        self.__dict__["_checked"] = False
+        return self.__dict__["simulation"]
+
+    @property
     def saturation(self) -> Any:
         """How the thrusters saturate (Saturation.scale keeps the direction)."""
-        return self.simulation.thrusters.saturation
+        return self.__dict__["simulation"].thrusters.saturation
+
+    def run_config(self, check: Callable[[Any], None] | bool = True) -> Any:
+        """The core's config of the run, the one the scenario holds: built again
+        (:meth:`_sync`) only if what it is built from (the command spec, the
+        vehicle file, the thruster settings) changed since it was built, and
+        checked by `check` (True: the C++ validator; a ValueError names the
+        field) unless it was checked since it was built, changed through the
+        scenario or handed out as :attr:`simulation`."""
+        d = self.__dict__
+        built, (key, held) = d.get("_built"), self._inputs()
+        if built is None or built[0] != key or built[1] is not held:
+            self._sync()
+        if check and not d.get("_checked"):
+            if check is True:
+                d["simulation"].validate()
+            else:
+                check(d["simulation"])
+            d["_checked"] = True
+        return d["simulation"]
+
+    def _inputs(self) -> tuple[tuple[Any, ...], Any]:
+        """What :meth:`_sync` builds the config from: a key to compare with
+        ``==`` and the vehicle file held (compared by identity)."""
+        d, c = self.__dict__, self.command
+        sim = d["simulation"]
+        try:  # the command spec whole, arrays and all (a spec changed in place is seen)
+            command: Any = pickle.dumps((c.type, c.interpolation, c.args, c.times, c.poses))
+        except Exception:  # noqa: BLE001 - an argument pickle cannot take: the command is built every time
+            command = object()
+        if not sim.use_thrusters:
+            return (command, False), None
+        return (command, True, self.vehicle_path(), d["thruster_time_constant"], sim.water_density,
+                sim.thrusters.saturation), d["vehicle_file"]
 
     def _sync(self) -> None:
         """The config's command from the command spec and its thrusters from
         the vehicle file, so that the config is the whole run."""
-        sim = self.simulation
+        d = self.__dict__
+        sim = d["simulation"]
+        d["_built"], d["_checked"] = None, False
         try:
             sim.command = self.command.config()
+            whole = True
         except (TypeError, ValueError):
-            pass  # a bad command is named when the scenario is validated or run
+            whole = False  # a bad command is named when the scenario is validated or run
         if sim.use_thrusters:
             t = self.vehicle_data().thrusters
             if t is None:
@@ -311,6 +304,8 @@ class Scenario:
                 matrix=t["matrix"], max_thrust=t["max_thrust"], min_thrust=t["min_thrust"],
                 saturation=sim.thrusters.saturation, time_constant=tc, curves=curves,
                 supply_voltage=t["supply_voltage"])
+        if whole:
+            d["_built"] = self._inputs()
 
     def describe(self) -> dict[str, Any]:
         """Everything that decides a run, as plain data (for hashing)."""
@@ -318,7 +313,7 @@ class Scenario:
 
         command = {k: (v.tolist() if isinstance(v, np.ndarray) else v)
                    for k, v in dataclasses.asdict(self.command).items()}
-        simulation = as_dict(self.simulation)
+        simulation = as_dict(self.__dict__["simulation"])
         # A run without a tether describes itself as before tethers existed:
         # its studies keep their fingerprints, and so their folders.
         if simulation.get("tether", 0) is None:
@@ -332,7 +327,8 @@ class Scenario:
         kept = {k: self.__dict__[k] for k in ("name", "description", "vehicle", "vehicle_parameters",
                                               "command", "controller", "source", "thruster_time_constant",
                                               "vehicle_file")}
-        return Scenario(**{**kept, "simulation": self.simulation, **changes})
+        built = None if "simulation" in changes else self.__dict__.get("_built")
+        return Scenario(**{**kept, "simulation": self.__dict__["simulation"], "_built": built, **changes})
 
     def with_controller(self, controller: ControllerSpec) -> Scenario:
         return self.replace(controller=controller)
@@ -349,18 +345,26 @@ class Scenario:
     def vehicle_data(self) -> VehicleFile:
         """The vehicle file, read and checked once: the copy the scenario holds
         while it still names the same file, else the file read now (and held)."""
-        path = self.vehicle_path()
+        path, d = self.vehicle_path(), self.__dict__
         if self.vehicle_file is None or self.vehicle_file.path != path:
-            self.__dict__["vehicle_file"] = read_vehicle_file(path)
-        return self.vehicle_file.in_water(self.simulation.water_density)
+            d["vehicle_file"] = read_vehicle_file(path)
+        density = d["simulation"].water_density
+        held = d.get("_in_water")
+        if held is None or held[0] is not self.vehicle_file or held[1] != density:
+            d["_in_water"] = held = (self.vehicle_file, density, self.vehicle_file.in_water(density))
+        return held[2]
 
     def vehicle_path(self) -> Path:
-        p = Path(self.vehicle)
-        if p.suffix == ".toml":
-            if not p.is_absolute() and self.source:
-                p = Path(self.source).parent / p
-            return p
-        return preset_path(self.vehicle)
+        return vehicle_path(self.vehicle, self.source)
+
+
+def vehicle_path(vehicle: str, source: str = "") -> Path:
+    """The vehicle file a scenario names: a preset's, or a ``.toml`` path
+    (relative to the scenario file `source`, if any)."""
+    p = Path(vehicle)
+    if p.suffix == ".toml":
+        return Path(source).parent / p if not p.is_absolute() and source else p
+    return preset_path(vehicle)
 
 
 SCENARIO_DIR = PACKAGE_DIR / "scenarios"

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
@@ -24,13 +24,35 @@ from neurov.laws import centres as centre_placement
 from neurov.laws.path_centres import along_path
 from neurov.schema import field_names
 
-if TYPE_CHECKING:
-    from neurov.config.scenario import ControllerSpec, Scenario
 
 __all__ = ["ControllerType", "REGISTRY", "build_controller", "default_centre_box", "input_normalisation", "make_centres",
            "register"]
 
 Array = NDArray[np.float64]
+
+
+class SpecLike(Protocol):
+    """What a builder reads of a controller spec (the configuration layer's
+    :class:`neurov.config.scenario.ControllerSpec`, above this one): its
+    ``type``, ``label``, ``options`` and bound ``config``, and the options
+    and config fields by name (``spec.width``, ``spec.kd``)."""
+
+    type: str
+    label: str
+    options: dict[str, Any]
+    config: Any
+
+    def __getattr__(self, name: str) -> Any: ...
+
+
+class ScenarioLike(Protocol):
+    """What a builder reads of a scenario (:class:`neurov.config.scenario.Scenario`,
+    above this one): its vehicle file (``vehicle_data()``), and its
+    ``name``, ``command``, ``simulation`` and config fields (``dt``, ``eta0``) by name."""
+
+    def vehicle_data(self) -> Any: ...
+
+    def __getattr__(self, name: str) -> Any: ...
 
 
 @dataclass(frozen=True)
@@ -47,7 +69,7 @@ class ControllerType:
     name: str
     title: str
     config: type
-    build: Callable[[ControllerSpec, Scenario], Any]
+    build: Callable[[SpecLike, ScenarioLike], Any]
     managed: tuple[str, ...] = ()
     options: Mapping[str, Any] = field(default_factory=dict)
     keys: Mapping[str, str] = field(default_factory=dict)
@@ -67,7 +89,7 @@ def register(kind: ControllerType) -> ControllerType:
     return kind
 
 
-def build_controller(spec: ControllerSpec, scenario: Scenario) -> Any:
+def build_controller(spec: SpecLike, scenario: ScenarioLike) -> Any:
     """A fresh controller from its spec, for the scenario's control period and
     nominal vehicle (the vehicle file without the scenario's parameter
     overrides: a controller is designed for the vehicle as documented, not
@@ -79,7 +101,7 @@ def build_controller(spec: ControllerSpec, scenario: Scenario) -> Any:
     return kind.build(spec, scenario)
 
 
-def default_centre_box(scenario: Scenario) -> tuple[Array, Array]:
+def default_centre_box(scenario: ScenarioLike) -> tuple[Array, Array]:
     """The box the NN centres fill when the scenario gives none: the commanded
     poses' bounding box padded by 2 m and 0.5 rad for eta; +-1 m/s and
     +-0.5 rad/s for the velocities nu and nu_r; +-0.5 m/s^2 and +-0.5 rad/s^2
@@ -104,7 +126,7 @@ def default_centre_box(scenario: Scenario) -> tuple[Array, Array]:
     return low, high
 
 
-def make_centres(spec: ControllerSpec, low: Array, high: Array, scenario: Scenario | None = None) -> Array:
+def make_centres(spec: SpecLike, low: Array, high: Array, scenario: ScenarioLike | None = None) -> Array:
     """The (N, 24) centres a controller spec asks for; `low`/`high` is the box
     used when the spec gives none; `scenario` the run's, for centres along
     its commanded path (``method = "path"``)."""
@@ -131,7 +153,7 @@ def make_centres(spec: ControllerSpec, low: Array, high: Array, scenario: Scenar
     return fn(int(c.get("n", 64)), lo, hi, seed=int(c.get("seed", 0)))
 
 
-def _configured(spec: ControllerSpec, **managed: Any) -> Any:
+def _configured(spec: SpecLike, **managed: Any) -> Any:
     """A copy of the spec's config with the managed fields set."""
     import copy
 
@@ -141,11 +163,11 @@ def _configured(spec: ControllerSpec, **managed: Any) -> Any:
     return config
 
 
-def _nominal(scenario: Scenario) -> Any:
+def _nominal(scenario: ScenarioLike) -> Any:
     return scenario.vehicle_data().vehicle()
 
 
-def input_normalisation(scenario: Scenario) -> tuple[Array, Array]:
+def input_normalisation(scenario: ScenarioLike) -> tuple[Array, Array]:
     """The NN's input offset and scale with ``inputs = "normalised"``:
     x_hat = (x - offset) * scale maps the scenario's centre box
     (:func:`default_centre_box`) onto [-1, 1]^24, so that one width suits
@@ -154,7 +176,7 @@ def input_normalisation(scenario: Scenario) -> tuple[Array, Array]:
     return (low + high) / 2.0, 2.0 / (high - low)
 
 
-def _build_nn(spec: ControllerSpec, scenario: Scenario) -> Any:
+def _build_nn(spec: SpecLike, scenario: ScenarioLike) -> Any:
     centres = make_centres(spec, *default_centre_box(scenario), scenario)
     if spec.options.get("inputs") == "normalised":
         network = _core.RbfNetwork(centres, spec.width, *input_normalisation(scenario))
@@ -163,7 +185,7 @@ def _build_nn(spec: ControllerSpec, scenario: Scenario) -> Any:
     return _core.NNAdaptiveController(network, _configured(spec, dt=scenario.dt))
 
 
-def _build_linear(spec: ControllerSpec, scenario: Scenario) -> Any:
+def _build_linear(spec: SpecLike, scenario: ScenarioLike) -> Any:
     theta0 = np.zeros(len(_core.THETA_NAMES))
     if spec.theta0 in ("true", "scaled"):
         theta0 = _core.regressor_parameters(_nominal(scenario))
@@ -172,18 +194,18 @@ def _build_linear(spec: ControllerSpec, scenario: Scenario) -> Any:
     return _core.LinearAdaptiveController(_configured(spec, dt=scenario.dt, theta0=theta0))
 
 
-def _build_from_config(cls: type) -> Callable[[ControllerSpec, Scenario], Any]:
+def _build_from_config(cls: type) -> Callable[[SpecLike, ScenarioLike], Any]:
     """The builder of a controller whose managed fields are only those the
     scenario always fills (:data:`_FROM_SCENARIO`)."""
 
-    def build(spec: ControllerSpec, scenario: Scenario) -> Any:
+    def build(spec: SpecLike, scenario: ScenarioLike) -> Any:
         fill = {name: value(scenario) for name, value in _FROM_SCENARIO.items() if hasattr(spec.config, name)}
         return cls(_configured(spec, **fill))
 
     return build
 
 
-def _build_ardusub(spec: ControllerSpec, scenario: Scenario) -> Any:
+def _build_ardusub(spec: SpecLike, scenario: ScenarioLike) -> Any:
     """ArduSub for the scenario's control period, with the ESC thrust table
     of the vehicle's thruster curve (16 PWMs over its range, at its supply
     voltage); the frame must have the vehicle's number of thrusters."""
@@ -208,7 +230,7 @@ def _build_ardusub(spec: ControllerSpec, scenario: Scenario) -> Any:
 
 #: The config fields a builder fills from the scenario, by name: the
 #: control period, and the nominal model as theta or as a Vehicle.
-_FROM_SCENARIO: dict[str, Callable[[Scenario], Any]] = {
+_FROM_SCENARIO: dict[str, Callable[[ScenarioLike], Any]] = {
     "dt": lambda scenario: scenario.dt,
     "theta": lambda scenario: _core.regressor_parameters(_nominal(scenario)),
     "vehicle": _nominal,

@@ -20,7 +20,7 @@ from matplotlib.ticker import LogFormatter, NullLocator
 
 if TYPE_CHECKING:
     from neurov.config.scenario import Scenario
-    from neurov.study import Study
+    from neurov.study.spec import Study
 
 from neurov.plotting.colours import OTHERS_GREY, controller_colours
 from neurov.plotting.labels import metric_label

@@ -170,8 +170,7 @@ def run_scenario_file(path: str | Path, out_dir: str | Path | None = None,
     scenario = load_scenario(source)
     folder = RunFolder(out_dir, OUTPUT_NAMES) if out_dir is not None else None
     with stopping(folder):
-        run = stream_run(scenario, folder.path if folder is not None else None, quiet=False,
-                         file_format=file_format)
+        run = stream_run(scenario, folder, quiet=False, file_format=file_format)
         result = run.drawn
         metrics: dict[str, Any] = {"scenario": scenario.name, "controller": result.controller, **run.metrics,
                                    "first_refusal": result.first_refusal}

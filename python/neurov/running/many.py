@@ -119,23 +119,23 @@ def failed_result(scenario: Scenario, label: str, error: BaseException) -> Resul
                   extra={"error": {"type": type(error).__name__, "message": str(error)}}, **empty)
 
 
-def _check(planned: list[Run], resolver: _Resolver) -> dict[int, tuple[Any, str]]:
+def _check(planned: list[Run], resolver: _Resolver) -> dict[int, tuple[Any, str, _core.Vehicle]]:
     """Everything a run can be refused for, before any run: its controller
     built, its vehicle and its checked configuration. The first refusal is
-    raised naming the run's 0-based index. The controllers of the first
-    :data:`BATCH_RUNS` runs are kept for their run (the others are built
-    again when their batch comes: a built controller takes tens of kB, and
-    a batch holds only its own)."""
-    kept: dict[int, tuple[Any, str]] = {}
+    raised naming the run's 0-based index. The controllers and vehicles of
+    the first :data:`BATCH_RUNS` runs are kept for their run (the others are
+    built again when their batch comes: a built controller takes tens of kB,
+    and a batch holds only its own)."""
+    kept: dict[int, tuple[Any, str, _core.Vehicle]] = {}
     for i, (scenario, controller) in enumerate(planned):
         try:
-            built = resolver.build(scenario, controller)
-            build_vehicle(scenario)
+            ctrl, name = resolver.build(scenario, controller)
+            plant = build_vehicle(scenario)
             simulation_config(scenario)
         except (TypeError, ValueError) as e:
             raise run_error(e, i, f"scenario {scenario.name!r}") from e
         if i < BATCH_RUNS:
-            kept[i] = built
+            kept[i] = ctrl, name, plant
     return kept
 
 
@@ -173,9 +173,10 @@ def simulate_many(runs: Scenario | Iterable[Scenario | tuple[Scenario, Any]],
     resolver = _Resolver()
     kept = _check(planned, resolver)
     out: list[Any] = [None] * len(planned)
-    batch: list[tuple[int, Scenario, Any, str]] = []
-    # A batched policy's runs, by policy object: id -> (policy, label, [(index, scenario)]).
-    policies: dict[int, tuple[Any, str, list[tuple[int, Scenario]]]] = {}
+    # A lane: (index, scenario, controller, label, vehicle or None: built when its batch runs).
+    batch: list[tuple[int, Scenario, Any, str, Any]] = []
+    # A batched policy's runs, by policy object: id -> (policy, label, [(index, scenario, vehicle or None)]).
+    policies: dict[int, tuple[Any, str, list[tuple[int, Scenario, Any]]]] = {}
 
     def window_start(scenario: Scenario) -> float:
         return metrics_start(scenario.duration) if after is None else float(after)
@@ -188,16 +189,16 @@ def simulate_many(runs: Scenario | Iterable[Scenario | tuple[Scenario, Any]],
         if "error" in result.extra:
             out[i]["error"] = result.extra["error"]
 
-    def run_lanes(lanes: list[tuple[int, Scenario, Any, str]]) -> None:
-        vehicles = [build_vehicle(sc) for _, sc, _, _ in lanes]
-        configs = [simulation_config(sc) for _, sc, _, _ in lanes]
-        controllers = [c for _, _, c, _ in lanes]
-        starts = [window_start(sc) for _, sc, _, _ in lanes]
+    def run_lanes(lanes: list[tuple[int, Scenario, Any, str, Any]]) -> None:
+        vehicles = [build_vehicle(sc) if v is None else v for _, sc, _, _, v in lanes]
+        configs = [simulation_config(sc) for _, sc, _, _, _ in lanes]
+        controllers = [c for _, _, c, _, _ in lanes]
+        starts = [window_start(sc) for _, sc, _, _, _ in lanes]
         start = time.perf_counter()
         raws = _core.run_batch(vehicles, controllers, configs, threads=threads, metrics_only=metrics_only,
                                after=np.array(starts) if metrics_only else None)
         wall = (time.perf_counter() - start) / len(lanes)
-        for (i, sc, _, name), raw in zip(lanes, raws):
+        for (i, sc, _, name, _), raw in zip(lanes, raws):
             if metrics_only:
                 out[i] = MetricsWindow.from_sums(raw, sc.duration, sc.dt).value()
             else:
@@ -218,12 +219,12 @@ def simulate_many(runs: Scenario | Iterable[Scenario | tuple[Scenario, Any]],
         bar.update(len(batch))
         batch.clear()
 
-    def run_policy(policy: Any, name: str, runs_of: list[tuple[int, Scenario]]) -> None:
-        scenarios = [sc for _, sc in runs_of]
-        vehicles = [build_vehicle(sc) for sc in scenarios]
+    def run_policy(policy: Any, name: str, runs_of: list[tuple[int, Scenario, Any]]) -> None:
+        scenarios = [sc for _, sc, _ in runs_of]
+        vehicles = [build_vehicle(sc) if v is None else v for _, sc, v in runs_of]
         lanes = _core.BatchSimulator(vehicles, [simulation_config(sc) for sc in scenarios])
         results = run_batched_policy(lanes, policy, scenarios, vehicles=vehicles, label=name)
-        for (i, sc), result in zip(runs_of, results):
+        for (i, sc, _), result in zip(runs_of, results):
             finish(i, sc, result)
 
     def flush_policy(key: int) -> None:
@@ -240,19 +241,19 @@ def simulate_many(runs: Scenario | Iterable[Scenario | tuple[Scenario, Any]],
 
     with progress_bar(len(planned), "runs", quiet=not progress) as bar:
         for i, (scenario, controller) in enumerate(planned):
-            ctrl, name = kept.pop(i) if i in kept else resolver.build(scenario, controller)
+            ctrl, name, plant = kept.pop(i) if i in kept else (*resolver.build(scenario, controller), None)
             if is_built_in(ctrl):
-                batch.append((i, scenario, ctrl, name))
+                batch.append((i, scenario, ctrl, name, plant))
                 if len(batch) >= BATCH_RUNS:
                     flush()
                 continue
             if is_batched(ctrl):
-                policies.setdefault(id(ctrl), (ctrl, name, []))[2].append((i, scenario))
+                policies.setdefault(id(ctrl), (ctrl, name, []))[2].append((i, scenario, plant))
                 if len(policies[id(ctrl)][2]) >= BATCH_RUNS:
                     flush_policy(id(ctrl))
                 continue
             try:
-                result = simulate(scenario, ctrl)
+                result = simulate(scenario, ctrl, vehicle=plant)
             except Exception as e:  # noqa: BLE001 - a run that fails is a failed result among the others
                 result = failed_result(scenario, name, e)
             finish(i, scenario, result)

@@ -17,7 +17,6 @@ def build_vehicle(scenario: Scenario) -> _core.Vehicle:
 
 def simulation_config(scenario: Scenario) -> _core.SimulationConfig:
     """The core's config of the run: the one the scenario holds, checked by
-    the C++ validator (a ValueError names the field)."""
-    scenario._sync()
-    scenario.simulation.validate()
-    return scenario.simulation
+    the C++ validator (a ValueError names the field) unless it was checked
+    since it last changed (:meth:`Scenario.run_config`)."""
+    return scenario.run_config()

@@ -24,7 +24,7 @@ from neurov.laws.registry import build_controller
 from neurov import hooks
 from neurov.progress import progress_bar
 from neurov.running.closed_loop import run_loop
-from neurov.running.folder import check_output_dir, write_metrics, writing
+from neurov.running.folder import RunFolder, check_output_dir, write_metrics, writing
 from neurov.running.plant import build_vehicle, simulation_config
 
 __all__ = ["CHUNK_ROWS", "FILE_FORMATS", "StreamedRun", "stream_run"]
@@ -137,7 +137,7 @@ class _Sinks:
         return metrics
 
 
-def stream_run(scenario: Scenario, out_dir: str | Path | None = None, *, quiet: bool = True,
+def stream_run(scenario: Scenario, out_dir: str | Path | RunFolder | None = None, *, quiet: bool = True,
                chunk_rows: int = CHUNK_ROWS, file_format: str = "csv") -> StreamedRun:
     """Runs `scenario` with its controller, streaming the rows (see the
     module): with `out_dir` (created if missing; an existing file or a
@@ -149,12 +149,14 @@ def stream_run(scenario: Scenario, out_dir: str | Path | None = None, *, quiet: 
     of the rows on a terminal. A run that diverges ends with the chunk where
     it did; an exception (e.g. Ctrl-C, a full disk) keeps the CSV rows
     written so far and a metrics.json of those rows, ``"partial": true``
-    (result.npz is not written)."""
+    (result.npz is not written). `out_dir` may be a :class:`RunFolder`
+    (``neurov run --out``), checked when it was made: the files go to its
+    staging folder."""
     if not isinstance(chunk_rows, int) or chunk_rows < 1:
         raise ValueError(f"argument 'chunk_rows' must be an int >= 1, got {chunk_rows!r}")
     if file_format not in FILE_FORMATS:
         raise ValueError(f"argument 'file_format' must be one of {FILE_FORMATS}, got {file_format!r}")
-    out = check_output_dir(out_dir) if out_dir is not None else None
+    out = out_dir.path if isinstance(out_dir, RunFolder) else None if out_dir is None else check_output_dir(out_dir)
     config = simulation_config(scenario)
     rows = round(scenario.duration / scenario.dt) + 1
     thrusters = config.thrusters.matrix.shape[1] if config.use_thrusters else 0

@@ -13,8 +13,6 @@ from typing import Any
 
 import numpy as np
 
-from neurov import _core
-
 from neurov.laws.protocol import describe_failures, is_batched, own_failures
 from neurov.errors import ControllerError, RefusedStepsWarning
 from neurov.results.metrics import METRICS, flat_metrics, metric_names
@@ -23,8 +21,6 @@ from neurov.study.sampling import sample_plant
 from neurov.study.spec import Study, vehicle_key
 from neurov.laws.registry import build_controller, default_centre_box, make_centres
 from neurov.running.many import simulate_many
-from neurov.running.plant import build_vehicle, simulation_config
-from neurov.running.policy_loop import run_batched_policy
 from neurov.running.simulation import simulate
 from neurov.study.basis_rank import BasisRecorder, basis_columns
 
@@ -248,14 +244,13 @@ def _simulate_policies(study: Study, keys: list[RunKey], plants: Mapping[tuple[i
             if not study.cache[kind]:
                 made[group[0]] = (policy, time.process_time() - cpu_start)
                 continue
-            drawn = [plants[(scenario, k.sample)][0] for k in group]
-            vehicles = [build_vehicle(p) for p in drawn]
-            lanes = _core.BatchSimulator(vehicles, [simulation_config(p) for p in drawn])
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", RefusedStepsWarning)
-                results = run_batched_policy(lanes, policy, drawn, vehicles=vehicles, label=label)
+                # simulate_many, the one place that chooses how runs go, steps them as one batch.
+                results = simulate_many([(plants[(scenario, k.sample)][0], policy) for k in group], threads=1)
         except Exception:  # noqa: BLE001 - run alone, each run's error is its own record
             continue
         cpu = (time.process_time() - cpu_start) / len(group)
-        out.update({k: (r, cpu) for k, r in zip(group, results)})
+        # A run that failed even alone is left to run_one, which records its own error.
+        out.update({k: (r, cpu) for k, r in zip(group, results) if "error" not in r.extra})
     return out, made

@@ -1,18 +1,46 @@
-"""What ``neurov tune`` prints last: every file it wrote, then the verdict in
-words of the tuned controllers on the held-out plants
+"""What a tuning leaves (:class:`TuneOutcome`, which :func:`neurov.tune`
+returns) and what ``neurov tune`` prints last: every file it wrote, then the
+verdict in words of the tuned controllers on the held-out plants
 (:mod:`neurov.study.verdict`)."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
-from neurov.study.running import written_message
+from neurov.study.running import StudyOutcome, written_message
 from neurov.study.verdict import vehicle_verdicts, verdict_text
 
 if TYPE_CHECKING:
-    from neurov.tuning.running import TuneOutcome
+    import pandas as pd
 
-__all__ = ["closing_message"]
+__all__ = ["TuneOutcome", "closing_message"]
+
+
+@dataclass
+class TuneOutcome:
+    """What :func:`neurov.tune` returns: the folder, the trials run, the tuned
+    gains and the files written, and the verdict study's outcome."""
+
+    out_dir: Path
+    ran: int
+    """Trials this call ran (the others were in the storage, or run by other processes)."""
+    seconds: float
+    best: dict[str, dict[str, Any]]
+    """Controller key -> its tuned table (as in best.toml)."""
+    trials_path: Path
+    best_path: Path
+    figures: list[Path]
+    verdict: StudyOutcome | None
+    unusable: dict[str, str] = field(default_factory=dict)
+    """Controller key -> why its best trial is no tuning at all (no trial
+    feasible, every run failed): best.toml holds its least bad gains."""
+    equal_effort: pd.DataFrame | None = None
+    """Two objectives: the verdict among the controllers read at equal effort (equal_effort.csv)."""
+    equal_effort_words: str = ""
+    param_files: list[tuple[Path, bool]] = field(default_factory=list)
+    """(path, feasible) of each ArduSub parameter file written beside best.toml."""
 
 
 def closing_message(outcome: TuneOutcome, test_samples: int) -> str:

@@ -9,17 +9,17 @@ import os
 import signal
 import sys
 import time
-from dataclasses import asdict, dataclass, field, replace
+from dataclasses import asdict, replace
 from pathlib import Path
 from typing import Any
 
 import pandas as pd
 
 from neurov.progress import progress_bar
-from neurov.study.running import StudyInterrupted, StudyOutcome, run_study
+from neurov.study.running import StudyInterrupted, run_study
 from neurov.study.tables import write_table
 from neurov.tuning.budget import budget_table, unit_words
-from neurov.tuning.closing import closing_message
+from neurov.tuning.closing import TuneOutcome, closing_message
 from neurov.tuning.equal_effort import hand_set_points, read_fronts, write_equal_effort
 from neurov.tuning.outputs import (best_tables, discard_stale_verdict, draw_tuning_figures, unusable,
                                    write_best_toml, write_trials)
@@ -32,28 +32,6 @@ from neurov.tuning.spec import Tuning
 from neurov.tuning.trial_runs import TrialRunner
 
 __all__ = ["TuneOutcome", "main_tune", "tune"]
-
-
-@dataclass
-class TuneOutcome:
-    out_dir: Path
-    ran: int
-    """Trials this call ran (the others were in the storage, or run by other processes)."""
-    seconds: float
-    best: dict[str, dict[str, Any]]
-    """Controller key -> its tuned table (as in best.toml)."""
-    trials_path: Path
-    best_path: Path
-    figures: list[Path]
-    verdict: StudyOutcome | None
-    unusable: dict[str, str] = field(default_factory=dict)
-    """Controller key -> why its best trial is no tuning at all (no trial
-    feasible, every run failed): best.toml holds its least bad gains."""
-    equal_effort: pd.DataFrame | None = None
-    """Two objectives: the verdict among the controllers read at equal effort (equal_effort.csv)."""
-    equal_effort_words: str = ""
-    param_files: list[tuple[Path, bool]] = field(default_factory=list)
-    """(path, feasible) of each ArduSub parameter file written beside best.toml."""
 
 
 def tune(tuning: Tuning | str | Path, out_dir: str | Path, *, workers: int | None = None,
