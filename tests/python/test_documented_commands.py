@@ -64,6 +64,7 @@ NOT_RUN_HERE = {
                              "docs/studies.md, rerun by NEUROV_MEASURE=1 pytest -m slow tests/python/test_doc_numbers.py",
     "bench/basis_rank_path.py": "a generated block of docs/tuning.md (test_doc_numbers.py)",
     "tools/realism_tables.py": "generated blocks of docs/studies.md (test_doc_numbers.py)",
+    "tools/fault_table.py": "a generated block of docs/reliability.md (test_doc_numbers.py)",
     "tools/realism_parts.py": "minutes (2560 realistic runs): wrote docs/data/realism_parts/, which the generated "
                               "blocks of docs/studies.md read (test_doc_numbers.py)",
 }
