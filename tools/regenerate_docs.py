@@ -17,8 +17,9 @@ one): the fence is kept and the text between its lines is the output.
     python tools/regenerate_docs.py docs/studies.md --only "neurov report"
 
 ``neurov`` and ``python`` in a command run with this interpreter (so the
-neurov it imports is the one under test); the command is split as a shell
-would split it, but no shell runs it. Commands must be quick and
+neurov it imports is the one under test), with ``NEUROV_KERNEL=generic`` (an
+NN run's last digits do not depend on the CPU then); the command is split as
+a shell would split it, but no shell runs it. Commands must be quick and
 deterministic: a long run keeps its outputs under ``docs/data/NAME/`` (with a
 README.md naming the command that wrote them) and its block's command reads
 them. ``tests/python/test_doc_numbers.py`` runs the check in the test suite.
@@ -65,6 +66,10 @@ STAMP = re.compile(r"^\*Measured on (?P<date>\d{4}-\d{2}-\d{2}) on (?P<machine>.
 FENCE = re.compile(r"(?P<open>```[a-z]*\n)(?P<text>.*?)(?P<close>```\n)", re.DOTALL)
 #: The pages searched for blocks (relative to the top folder).
 PAGES = ("README.md", "docs/*.md", "bench/README.md", "docs/data/*/README.md")
+#: The RBF loops' kernel path every block's command runs on: the last digits
+#: of an NN run depend on it (docs/studies.md, "Reproducibility"), and the
+#: generic path is the same on every x86-64 CPU, so a page's numbers are too.
+KERNEL = "generic"
 #: Longest a block's command may take [s].
 TIMEOUT_S = 300
 #: Longest a measured block's command may take [s].
@@ -138,7 +143,7 @@ def argv(command: str) -> list[str]:
 def output(command: str, timeout: float = TIMEOUT_S) -> str:
     """The command's standard output, run from the top folder; raises
     RuntimeError with its standard error when it fails."""
-    env = dict(os.environ, PYTHONHASHSEED="0", COLUMNS="200")
+    env = dict(os.environ, PYTHONHASHSEED="0", COLUMNS="200", NEUROV_KERNEL=KERNEL)
     done = subprocess.run(argv(command), cwd=ROOT, capture_output=True, text=True, timeout=timeout, env=env)
     if done.returncode != 0:
         raise RuntimeError(f"`{command}` exited with {done.returncode}:\n{done.stderr.strip()}")
