@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
@@ -38,8 +39,13 @@ VERSUS = (("nn", "linear"), ("nn", "linear_nominal"), ("nn", "pid"), ("smc", "nn
           ("super_twisting", "smc"), ("super_twisting", "pid"))
 
 
+@lru_cache(maxsize=1)
+def _study():  # type: ignore[no-untyped-def]
+    return load_study("realism")
+
+
 def _runs(folders: list[Path]) -> pd.DataFrame:
-    study = load_study("realism")
+    study = _study()
     frames = []
     for folder in folders:
         name = "runs.csv" if (folder / "runs.csv").is_file() else "runs.csv.gz"
@@ -53,11 +59,11 @@ def _runs(folders: list[Path]) -> pd.DataFrame:
 
 
 def _label(c: str) -> str:
-    return load_study("realism").label(c)
+    return _study().label(c)
 
 
 def _controllers(runs: pd.DataFrame) -> list[str]:
-    return [c for c in load_study("realism").controllers if c in set(runs["controller"])]
+    return [c for c in _study().controllers if c in set(runs["controller"])]
 
 
 def _num(x: float) -> str:
