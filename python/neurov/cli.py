@@ -110,13 +110,14 @@ def _parser() -> argparse.ArgumentParser:
         help="print a study folder's tables as Markdown (runs nothing)",
         description="Prints a table of a study folder (written by 'neurov study', or a tuning's verdict "
         "folder) as Markdown: medians (controllers by mean rank against the scenarios), overall (mean "
-        "rank, first places, failure rate), verdict (the verdict in words), league (league.md), timing (runs and time, from timing.json) or versus (one controller against others on the same plants). It "
+        "rank, first places, failure rate), verdict (the verdict in words), league (league.md), timing (runs and time, from timing.json), versus (one controller against others on the same plants) "
+        "or failed (the failed runs per scenario and controller, and how far they ran away). It "
         "refuses a folder whose runs are of another version of the study. The docs' tables are "
         "printed so (docs/studies.md).",
     )
     report.add_argument("folder", metavar="DIR", help="the study folder (study.json and runs.csv[.gz]), or a "
                         "tuning's folder (its verdict's tables)")
-    report.add_argument("--table", choices=("medians", "overall", "verdict", "league", "timing", "versus"),
+    report.add_argument("--table", choices=("medians", "overall", "verdict", "league", "timing", "versus", "failed"),
                         default="league", help="which table (default: league)")
     report.add_argument("--versus", default=None, metavar="A,B[,C...]",
                         help="with --table versus: the controller, then those it is compared with")

@@ -16,7 +16,7 @@ from study_files import STUDY, write_study
 
 from neurov import cli
 from neurov.study import StudyError, load_study
-from neurov.study.markdown import read_study_folder
+from neurov.study.markdown import failed_table, read_study_folder
 from neurov.study.report import league_markdown
 from neurov.study.verdict import vehicle_verdicts, verdict_lines, verdict_text
 
@@ -72,6 +72,24 @@ def test_one_plant_says_so_and_league_md_opens_with_the_verdict(tmp_path: Path) 
     assert "too few paired runs for a 95 % interval" in md
 
 
+def test_the_failed_runs_table_counts_them_and_says_how_far_they_ran(twelve) -> None:  # type: ignore[no-untyped-def]
+    import pandas as pd
+
+    values = {"nn": [0.1] * 12, "linear": [0.1] * 9 + [0.6, 0.8, 2.0], "pd": [0.1] * 11 + [float("inf")]}
+    rows = pd.DataFrame(_rows(twelve, values, {"nn": 1.0, "linear": 1.0, "pd": 1.0}))
+    rows.loc[(rows["controller"] == "pd") & (rows["sample"] == 11), "diverged"] = 1.0
+    lines = failed_table(twelve, rows).splitlines()
+    assert lines[0].startswith("failed runs of 12 per scenario and controller; RMS position error [m]")
+    body = [line for line in lines if line.startswith("| ") and not line.startswith("| scenario")]
+    first = twelve.scenarios[0].name
+    assert f"| {first} | {twelve.label('linear')} | 3 of 12 | 0 | 0.8 | 2 |" in body  # over the bound of 0.5
+    assert f"| {first} | {twelve.label('pd')} | 1 of 12 | 1 | - | - |" in body        # diverged: no value
+    assert not any(twelve.label("nn") in line for line in body)
+    assert len(body) == 2 * len(twelve.scenarios)
+    calm = pd.DataFrame(_rows(twelve, {"nn": [0.1] * 12}, {"nn": 1.0}))
+    assert failed_table(twelve, calm).splitlines()[-1] == "| (none) | | | | | |"
+
+
 def test_cli_study_lists_what_it_wrote_then_the_verdict_and_says_each_step_when_piped(
         tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     small = write_study(tmp_path, STUDY.replace("samples = 4", "samples = 1"), "one.toml")
@@ -105,6 +123,8 @@ def test_report_prints_the_folder_tables_and_refuses_another_study_version(tmp_p
     assert cli.main(["report", str(out), "--table", "versus", "--versus", f"{first},{second}"]) == 0
     rows = [r for r in capsys.readouterr().out.splitlines() if r.startswith("| ") and " of 1, " in r]
     assert len(rows) == len(study.scenarios) and rows[0].count(" of 1, ") == 1 + len(study.also_show[:1])
+    assert cli.main(["report", str(out), "--table", "failed"]) == 0
+    assert capsys.readouterr().out.startswith("failed runs of 1 per scenario and controller")
     assert cli.main(["report", str(out), "--table", "versus", "--versus", f"{first},nobody"]) == 1
     assert "'nobody' is not a controller of study 'small'" in capsys.readouterr().err
     with pytest.raises(SystemExit):

@@ -9,9 +9,10 @@ cell the median of the ranking metric, with the 5th-95th percentile when
 there is more than one plant, and the failure rate), ``overall`` (mean rank,
 first places, mean failure rate), ``verdict`` (the verdict in words),
 ``league`` (the whole league.md), ``timing`` (how many runs, how long, on
-what, from timing.json) and ``versus`` (one controller against others on the
+what, from timing.json), ``versus`` (one controller against others on the
 same plants, in the ranking metric and the first metric the study also
-shows).
+shows) and ``failed`` (the failed runs per scenario and controller, and how
+far they ran away).
 """
 
 from __future__ import annotations
@@ -27,13 +28,13 @@ from neurov.results.metrics import metric_label
 from neurov.study.reading import load_study, shipped_studies
 from neurov.study.report import league_markdown
 from neurov.study.spec import Study, StudyError, identity_differences
-from neurov.study.tables import Summary, head_to_head, read_table, summarise
+from neurov.study.tables import Summary, failed_runs, head_to_head, read_table, summarise
 from neurov.study.verdict import vehicle_verdicts, verdict_lines
 from neurov.units import label_for_people
 
 __all__ = ["TABLES", "main_report", "medians_table", "overall_table", "read_study_folder"]
 
-TABLES = ("medians", "overall", "verdict", "league", "timing", "versus")
+TABLES = ("medians", "overall", "verdict", "league", "timing", "versus", "failed")
 
 
 def _runs_file(folder: Path) -> Path:
@@ -155,6 +156,31 @@ def versus_table(study: Study, runs: pd.DataFrame, controllers: list[str]) -> st
     return "\n".join(lines) + "\n"
 
 
+def failed_table(study: Study, runs: pd.DataFrame) -> str:
+    """Per scenario and controller with a failed run: how many of its runs
+    failed, how many of those diverged (stopped, no finite value), and the
+    ranking metric over the failed runs that finished (median, largest)."""
+    bad = runs[failed_runs(runs, study.failure).to_numpy()]
+    label, factor = label_for_people(metric_label(study.ranking_metric))
+    lines = [f"failed runs of {study.samples} per scenario and controller; {label} over the failed runs "
+             "that did not diverge (median, largest)", "",
+             "| scenario | controller | failed | diverged | median | largest |", "|---|---|---|---|---|---|"]
+    for sc in study.scenarios:
+        for c in study.controllers:
+            these = bad[(bad["scenario"] == sc.name) & (bad["controller"] == c)]
+            if these.empty:
+                continue
+            diverged = these["diverged"].astype(float) != 0.0 if "diverged" in these else pd.Series(False, these.index)
+            values = these[study.ranking_metric].astype(float)[~diverged] * factor
+            values = values[np.isfinite(values)]
+            median, largest = (f"{values.median():.3g}", f"{values.max():.3g}") if len(values) else ("-", "-")
+            lines.append(f"| {sc.name} | {study.label(c)} | {len(these)} of {study.samples} | {int(diverged.sum())} | "
+                         f"{median} | {largest} |")
+    if len(lines) == 4:
+        lines.append("| (none) | | | | | |")
+    return "\n".join(lines) + "\n"
+
+
 def report(folder: str | Path, table: str = "league", study: str | Path | Study | None = None,
            versus: list[str] | None = None) -> str:
     """The Markdown `table` (one of :data:`TABLES`) of a study folder (the
@@ -173,6 +199,8 @@ def report(folder: str | Path, table: str = "league", study: str | Path | Study 
         return "\n".join(verdict_lines(vehicle_verdicts(s, runs))) + "\n"
     if table == "timing":
         return timing_sentence(s, runs, Path(folder))
+    if table == "failed":
+        return failed_table(s, runs)
     return league_markdown(s, runs)
 
 
