@@ -2,7 +2,7 @@
 their sources and licences) and on synthetic logs built to reproduce each
 failure real logs showed: a tlog read with no mapping and its weak
 excitation named, a DataFlash log of another frame refused by name, array
-topics mapped, two files with their own clocks joined and irregular
+topics mapped, PWM in integer arrays read, two files with their own clocks joined and irregular
 sampling resampled, dead rates named, a time column in milliseconds
 labelled seconds, a template of the wrong structure, an overflowing output
 error, inseparable parameters named, and no traceback anywhere."""
