@@ -271,6 +271,25 @@ def test_an_overflowing_output_error_step_is_rejected_and_counted(monkeypatch) -
     assert any("equation-error estimate is written" in w for w in fit.warnings)
 
 
+def test_a_singular_output_error_step_names_what_it_cannot_separate(monkeypatch) -> None:
+    """The thesis BlueROV's yaw run (built into a CSV by hand) stopped the
+    output error with numpy's bare "Singular matrix" from its last step."""
+    from neurov.identification import output_error
+
+    real = output_error._profiled_blocks
+
+    def tied(*args, **kwargs):  # the first two fitted parameters made inseparable
+        b = real(*args, **kwargs)
+        b.gram[:, 1, :], b.gram[:, :, 1] = b.gram[:, 0, :], b.gram[:, :, 0]
+        return b
+
+    monkeypatch.setattr(output_error, "_profiled_blocks", tied)
+    fit = neurov.identify(log_from_result(excitation_run("nerov", 20.0)), preset_path("nerov"), replicates=20)
+    assert fit.stages.startswith("equation error (the output-error stage failed: its normal equations are "
+                                 "singular at the solution: the data cannot separate (")
+    assert re.search(r"\(\+1\.00 -X_udot -1\.00 -Y_vdot\)|\(-1\.00 -X_udot \+1\.00 -Y_vdot\)", fit.stages)
+
+
 def test_inseparable_parameters_are_named_as_combinations() -> None:
     a = np.array([[1.0, 2.0, 0.0], [2.0, 4.0, 0.0], [0.0, 0.0, 3.0]])  # columns 0 and 1 move together
     text = inseparable(a, [0, 6, 10])
