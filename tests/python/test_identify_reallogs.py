@@ -2,7 +2,7 @@
 their sources and licences) and on synthetic logs built to reproduce each
 failure real logs showed: a tlog read with no mapping and its weak
 excitation named, a DataFlash log of another frame refused by name, array
-topics mapped, two files with their own clocks joined and irregular
+topics mapped, PWM in integer arrays read, two files with their own clocks joined and irregular
 sampling resampled, dead rates named, a time column in milliseconds
 labelled seconds, a template of the wrong structure, an overflowing output
 error, inseparable parameters named, and no traceback anywhere."""
@@ -271,6 +271,25 @@ def test_an_overflowing_output_error_step_is_rejected_and_counted(monkeypatch) -
     assert any("equation-error estimate is written" in w for w in fit.warnings)
 
 
+def test_a_singular_output_error_step_names_what_it_cannot_separate(monkeypatch) -> None:
+    """The thesis BlueROV's yaw run (built into a CSV by hand) stopped the
+    output error with numpy's bare "Singular matrix" from its last step."""
+    from neurov.identification import output_error
+
+    real = output_error._profiled_blocks
+
+    def tied(*args, **kwargs):  # the first two fitted parameters made inseparable
+        b = real(*args, **kwargs)
+        b.gram[:, 1, :], b.gram[:, :, 1] = b.gram[:, 0, :], b.gram[:, :, 0]
+        return b
+
+    monkeypatch.setattr(output_error, "_profiled_blocks", tied)
+    fit = neurov.identify(log_from_result(excitation_run("nerov", 20.0)), preset_path("nerov"), replicates=20)
+    assert fit.stages.startswith("equation error (the output-error stage failed: its normal equations are "
+                                 "singular at the solution: the data cannot separate (")
+    assert re.search(r"\(\+1\.00 -X_udot -1\.00 -Y_vdot\)|\(-1\.00 -X_udot \+1\.00 -Y_vdot\)", fit.stages)
+
+
 def test_inseparable_parameters_are_named_as_combinations() -> None:
     a = np.array([[1.0, 2.0, 0.0], [2.0, 4.0, 0.0], [0.0, 0.0, 3.0]])  # columns 0 and 1 move together
     text = inseparable(a, [0, 6, 10])
@@ -332,3 +351,38 @@ def test_a_dataflash_log_s_disarmed_rows_are_cut(tmp_path: Path) -> None:
     assert late.problems and "armed on only 16.8 % of the log (101 of 601 rows" in late.problems[0]
     with pytest.raises(neurov.identification.LogError, match=r"never\.bin \(ARM\): the vehicle was never armed"):
         read_log(with_arm("never.bin", [(0.0, 0)]), None, thrusters)
+
+
+def test_integer_pwm_arrays_are_thruster_commands_and_a_missing_velocity_is_named_first(tmp_path: Path) -> None:
+    """The thesis BlueROV's bags publish PWM as UInt16MultiArray: read as
+    the tlog's PWM (the same thruster curves); a log with no linear velocity
+    says so before any thruster mismatch."""
+    from rosbags.rosbag1 import Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    from neurov.identification.tlog_log import pwm_force
+
+    r = excitation_run("bluerov2", 5.0)
+    thrusters = _heavy_thrusters()
+    pwm = np.random.default_rng(3).integers(1100, 1901, size=(len(r.t), 8))
+    store = get_typestore(Stores.ROS1_NOETIC)
+    T = store.types
+    f64, u16 = "std_msgs/msg/Float64MultiArray", "std_msgs/msg/UInt16MultiArray"
+    layout = T["std_msgs/msg/MultiArrayLayout"](dim=[], data_offset=0)
+    with Writer(tmp_path / "pwm.bag") as w:
+        c_state = w.add_connection("/state", f64, typestore=store)
+        c_pwm = w.add_connection("/thrusters", u16, typestore=store)
+        for k, t in enumerate(r.t):
+            ns = 10**9 + int(round(t * 1e9))
+            state = np.r_[r.eta_estimate[k], r.nu_estimate[k]]
+            w.write(c_state, ns, store.serialize_ros1(T[f64](layout=layout, data=state), f64))
+            w.write(c_pwm, ns, store.serialize_ros1(T[u16](layout=layout, data=pwm[k].astype(np.uint16)), u16))
+    head = 'format = "rosbag"\nthruster_command = "pwm"\n[topics]\nthrusters = "/thrusters"\n[[arrays]]\ntopic = "/state"\n'
+    (tmp_path / "all.toml").write_text(head + "elements = { " + ", ".join(
+        f"{n} = {k}" for k, n in enumerate(("x", "y", "z", "roll", "pitch", "yaw", "u", "v", "w", "p", "q", "r"))) + " }\n")
+    log = read_log(tmp_path / "pwm.bag", tmp_path / "all.toml", thrusters)
+    np.testing.assert_allclose(log.tau, pwm_force(pwm.astype(float), thrusters)[: len(log.t)], atol=1e-12)
+    (tmp_path / "rot.toml").write_text(head + "elements = { roll = 3, pitch = 4, yaw = 5, p = 9, q = 10, r = 11, z = 2 }\n")
+    six = dict(thrusters, matrix=thrusters["matrix"][:, :6], curves=thrusters["curves"][:6])
+    with pytest.raises(neurov.identification.LogError, match=r"no topic gives x, y, u, v, w \(.*rot\.toml"):
+        read_log(tmp_path / "pwm.bag", tmp_path / "rot.toml", six)

@@ -24,6 +24,7 @@ from scipy.sparse import lil_matrix
 from neurov import _core
 from neurov.identification.blocks import Blocks, block_ids
 from neurov.identification.errors import IdentificationError
+from neurov.identification.guards import inseparable
 from neurov.identification.estimator_model import ANGULAR, LINEAR, held_moves, refresh_rows, through_updates
 from neurov.identification.log import Log
 from neurov.identification.parameters import vehicle_parameters
@@ -271,8 +272,13 @@ def fit_output_error(logs: list[Log], template: dict[str, Any], theta0: Array, f
     if np.all(fun == OVERFLOW):
         raise IdentificationError("every simulation from the solver's points overflowed")
     blocks = _profiled_blocks(sol.jac, fun, p + extra, segs, seg_blocks, keep=p)
+    try:
+        step = blocks.solve()
+    except np.linalg.LinAlgError:  # named, as numpy's bare "Singular matrix" says nothing
+        raise IdentificationError("its normal equations are singular at the solution: "
+                                  + inseparable(blocks.gram.sum(axis=0)[:p, :p], fitted)) from None
     theta = theta0.copy()
-    theta[fitted] = np.clip(sol.x[:p] + blocks.solve(), lo_t, hi_t)
+    theta[fitted] = np.clip(sol.x[:p] + step, lo_t, hi_t)
     at = theta0.copy()
     at[fitted] = sol.x[:p]
     return ShootingFit(theta, at, blocks, float(sol.cost), int(sol.nfev),

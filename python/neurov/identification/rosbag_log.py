@@ -11,9 +11,9 @@ the topics the mapping file names:
   the mapping's ``water_density`` (required with it) and ``surface_pressure``
   (default 101325 Pa), g = 9.80665 m/s^2;
 - the force, one of: ``wrench`` (``geometry_msgs/msg/WrenchStamped``, the
-  body wrench) or ``thrusters`` (``std_msgs/msg/Float64MultiArray``, one
-  command per thruster, stamped by the bag's receive time as it has no
-  header): ``thruster_command = "N"`` (thrusts, through the template's
+  body wrench) or ``thrusters`` (``std_msgs/msg/Float64MultiArray``, or an
+  integer array such as ``UInt16MultiArray`` for PWM; one command per
+  thruster, stamped by the bag's receive time as it has no header): ``thruster_command = "N"`` (thrusts, through the template's
   configuration matrix) or ``"pwm"`` (through its thruster curves, as a
   tlog's PWM).
 
@@ -54,9 +54,13 @@ from neurov.recording.bag_topics import stamp_ns, topic_messages
 __all__ = ["read_rosbag", "euler_from_quaternion", "stamp_ns", "topic_messages"]
 
 Array = NDArray[np.float64]
+# PWM in microseconds is often published as integers (a PCA9685 driver's
+# UInt16MultiArray): accepted for thruster commands, not for [[arrays]].
+INTEGER_ARRAY_TYPES = tuple(f"std_msgs/msg/{k}MultiArray" for k in
+                            ("UInt16", "Int16", "UInt32", "Int32", "UInt64", "Int64"))
 _TOPICS: dict[str, str | tuple[str, ...]] = {"odometry": "nav_msgs/msg/Odometry", "wrench": "geometry_msgs/msg/WrenchStamped",
            "imu": "sensor_msgs/msg/Imu", "pressure": "sensor_msgs/msg/FluidPressure",
-           "thrusters": ARRAY_TYPES}
+           "thrusters": ARRAY_TYPES + INTEGER_ARRAY_TYPES}
 G = 9.80665  # m/s^2, standard gravity (as pressure sensors' depth uses)
 SURFACE_PRESSURE = 101325.0  # Pa, the standard atmosphere
 
@@ -181,6 +185,18 @@ def read_rosbag(path: str | Path, mapping: Mapping, thrusters: dict[str, Any] | 
         depth = held("pressure", np.array([[(m.fluid_pressure - p0) / (density * G)]
                                            for m in msgs["pressure"]]))[:, 0]
         pos[:, 2] = -depth if mapping.world_frame == "enu" else depth
+    eta = np.hstack([pos, angles])
+    for topic, ns, values in arrays:
+        got = hold(t, (ns - t_ns[0]) * 1e-9, values, mapping.max_age, f"{path}: {topic}")
+        for col in np.flatnonzero(np.any(np.isfinite(values), axis=0)):
+            (eta if col < 6 else twist)[:, col % 6] = got[:, col]
+    # What the log lacks is said before the force is read (a thruster
+    # mismatch is the lesser problem of a log with no velocity).
+    names = ("x", "y", "z", "roll", "pitch", "yaw", "u", "v", "w", "p", "q", "r")
+    empty = [n for k, n in enumerate(names) if np.all(np.isnan(eta[:, k] if k < 6 else twist[:, k - 6]))]
+    if empty:
+        raise LogError(f"{path}: no topic gives {', '.join(empty)} ({mapping.where}: an odometry topic, "
+                       "or [[arrays]] elements for them)")
     if "wrench" in msgs:
         w = np.array([[m.wrench.force.x, m.wrench.force.y, m.wrench.force.z,
                        m.wrench.torque.x, m.wrench.torque.y, m.wrench.torque.z] for m in msgs["wrench"]])
@@ -196,15 +212,5 @@ def read_rosbag(path: str | Path, mapping: Mapping, thrusters: dict[str, Any] | 
         tau = _thrust(mapping, commands, thrusters, where)
         if mapping.body_frame == "flu":
             tau = tau * np.array([1, -1, -1, 1, -1, -1.0])
-    eta = np.hstack([pos, angles])
-    for topic, ns, values in arrays:
-        got = hold(t, (ns - t_ns[0]) * 1e-9, values, mapping.max_age, f"{path}: {topic}")
-        for col in np.flatnonzero(np.any(np.isfinite(values), axis=0)):
-            (eta if col < 6 else twist)[:, col % 6] = got[:, col]
-    names = ("x", "y", "z", "roll", "pitch", "yaw", "u", "v", "w", "p", "q", "r")
-    empty = [n for k, n in enumerate(names) if np.all(np.isnan(eta[:, k] if k < 6 else twist[:, k - 6]))]
-    if empty:
-        raise LogError(f"{path}: no topic gives {', '.join(empty)} ({mapping.where}: an odometry topic, "
-                       "or [[arrays]] elements for them)")
     eta, nu, tau = to_neurov_frames(eta, twist, tau, mapping.body_frame, mapping.world_frame)
     return make_log(str(path), t, eta, nu, tau)
