@@ -4,10 +4,6 @@
 
 #include <pybind11/pybind11.h>
 
-namespace neurov {
-class WorkerPool;
-}
-
 namespace neurov::bindings {
 
 // core/
@@ -31,9 +27,6 @@ void bind_result_series(pybind11::module_& m);
 void bind_simulator(pybind11::module_& m);
 void bind_closed_loop(pybind11::module_& m);
 void bind_batch(pybind11::module_& m);
-/// The threads every batch step of the process shares (batch.cpp), for a
-/// step on `threads` threads; nullptr for one, which starts none.
-WorkerPool* batch_pool(unsigned threads);
 void bind_tracking_task(pybind11::module_& m);
 
 }  // namespace neurov::bindings

@@ -13,6 +13,7 @@
 #include <initializer_list>
 #include <limits>
 #include <string>
+#include <type_traits>
 
 #include "neurov/core/status.hpp"
 #include "neurov/core/validation.hpp"
@@ -28,6 +29,12 @@ inline std::string num(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.9g", v);
   return buf;
+}
+
+/// A Python object's type name ("list", "NoneType"): what every refusal of
+/// the bindings says it got.
+inline std::string type_name(const py::handle& obj) {
+  return py::str(py::type::handle_of(obj).attr("__name__"));
 }
 
 inline std::string shape_string(const py::array& a) {
@@ -60,7 +67,7 @@ inline py::array_t<double, py::array::c_style> real_array(const py::handle& obj,
   }
   if (!arr) {
     throw py::type_error(std::string("argument '") + name + "' must be a float array of shape " +
-                         expected + ", got " + std::string(py::str(py::type::handle_of(obj))));
+                         expected + ", got " + type_name(obj));
   }
   const char kind = arr.dtype().kind();
   if (kind != 'f' && kind != 'i' && kind != 'u') {
@@ -70,6 +77,41 @@ inline py::array_t<double, py::array::c_style> real_array(const py::handle& obj,
   return py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(arr);
 }
 
+/// Why numpy_array refuses an argument: its type or dtype (a TypeError to
+/// most callers) or its shape or values (a ValueError).
+enum class Refusal { type, value };
+
+/// The one reader of a numpy array argument (a list is refused): obj as a
+/// C-contiguous array of T, converted if need be, whose shape is `shape`
+/// (-1: any size on that axis). T = double takes any real dtype, bool dtype
+/// bool, std::int64_t any integer dtype, std::uint64_t one with no element
+/// < 0. A refusal calls refuse(why, got), which raises; `got` says what was
+/// given ("list", "dtype complex128", "shape (2, 5)", "element 1 = -1").
+template <typename T, typename Refuse>
+py::array_t<T, py::array::c_style> numpy_array(const py::handle& obj, std::initializer_list<py::ssize_t> shape,
+                                               Refuse&& refuse) {
+  if (!py::isinstance<py::array>(obj)) refuse(Refusal::type, type_name(obj));
+  const auto a = py::reinterpret_borrow<py::array>(obj);
+  const char kind = a.dtype().kind();
+  bool dtype_ok = kind == 'i' || kind == 'u';
+  if constexpr (std::is_same_v<T, double>) dtype_ok = dtype_ok || kind == 'f';
+  if constexpr (std::is_same_v<T, bool>) dtype_ok = kind == 'b';
+  if (!dtype_ok) refuse(Refusal::type, "dtype " + std::string(py::str(a.dtype())));
+  bool shape_ok = a.ndim() == static_cast<py::ssize_t>(shape.size());
+  py::ssize_t axis = 0;
+  for (const py::ssize_t n : shape) shape_ok = shape_ok && (n < 0 || a.shape(axis++) == n);
+  if (!shape_ok) refuse(Refusal::value, "shape " + shape_string(a));
+  if constexpr (std::is_same_v<T, std::uint64_t>) {
+    if (kind == 'i') {
+      const auto s = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(a);
+      for (py::ssize_t i = 0; i < s.size(); ++i)
+        if (s.data()[i] < 0)
+          refuse(Refusal::value, "element " + std::to_string(i) + " = " + std::to_string(s.data()[i]) + " (< 0)");
+    }
+  }
+  return py::array_t<T, py::array::c_style | py::array::forcecast>::ensure(a);
+}
+
 /// obj as an integer of type D; TypeError for a non-integer (a bool too),
 /// ValueError giving D's range for one outside it (pybind11's own cast would
 /// say "Unable to cast ... to C++ type '?'").
@@ -77,7 +119,7 @@ template <typename D>
 D integer(const py::handle& obj, const std::string& name) {
   if (py::isinstance<py::bool_>(obj) || !py::hasattr(obj, "__index__"))
     throw py::type_error(name + " must be an int, got " +
-                         std::string(py::str(py::type::handle_of(obj).attr("__name__"))));
+                         type_name(obj));
   const py::int_ i(py::reinterpret_borrow<py::object>(obj));
   const py::int_ low(std::numeric_limits<D>::min()), high(std::numeric_limits<D>::max());
   if (i < low || i > high)
@@ -96,14 +138,14 @@ inline void require_finite(const double* data, py::ssize_t n, const char* name) 
 }
 
 /// obj as a C-contiguous float64 array of shape (rows, cols), or (rows,)
-/// for cols < 0; rows < 0 takes any number of rows. `finite` refuses NaN
+/// for cols < 0; rows < 0 takes any number of rows (any length). `finite` refuses NaN
 /// and Inf. The errors name `name` and the shape expected.
 inline py::array_t<double, py::array::c_style> real_rows(const py::handle& obj, const char* name, py::ssize_t rows,
                                                          py::ssize_t cols, bool finite = true) {
   const std::string expected = shape_string(rows, cols);
   auto a = real_array(obj, name, expected);
-  const bool ok = cols < 0 ? a.ndim() == 1 && a.shape(0) == rows
-                           : a.ndim() == 2 && (rows < 0 || a.shape(0) == rows) && a.shape(1) == cols;
+  const bool ok = a.ndim() == (cols < 0 ? 1 : 2) && (rows < 0 || a.shape(0) == rows) &&
+                  (cols < 0 || a.shape(1) == cols);
   if (!ok)
     throw py::value_error(std::string("argument '") + name + "' must have shape " + expected + ", got " +
                           shape_string(a));
@@ -114,13 +156,7 @@ inline py::array_t<double, py::array::c_style> real_rows(const py::handle& obj, 
 /// A vector of fixed length N.
 template <int N>
 Eigen::Matrix<double, N, 1> vector(const py::handle& obj, const char* name) {
-  const std::string expected = shape_string(N, -1);
-  auto a = real_array(obj, name, expected);
-  if (a.ndim() != 1 || a.shape(0) != N)
-    throw py::value_error(std::string("argument '") + name + "' must have shape " + expected +
-                          ", got " + shape_string(a));
-  require_finite(a.data(), N, name);
-  return Eigen::Map<const Eigen::Matrix<double, N, 1>>(a.data());
+  return Eigen::Map<const Eigen::Matrix<double, N, 1>>(real_rows(obj, name, N, -1).data());
 }
 
 /// A vector of length N, or zero for None (an optional argument).
@@ -147,13 +183,7 @@ inline PlantArgs plant_args(const py::handle& eta, const py::handle& nu, const p
 /// A matrix of fixed size R x C.
 template <int R, int C>
 Eigen::Matrix<double, R, C> matrix(const py::handle& obj, const char* name) {
-  const std::string expected = shape_string(R, C);
-  auto a = real_array(obj, name, expected);
-  if (a.ndim() != 2 || a.shape(0) != R || a.shape(1) != C)
-    throw py::value_error(std::string("argument '") + name + "' must have shape " + expected +
-                          ", got " + shape_string(a));
-  require_finite(a.data(), R * C, name);
-  return Eigen::Map<const Eigen::Matrix<double, R, C, Eigen::RowMajor>>(a.data());
+  return Eigen::Map<const Eigen::Matrix<double, R, C, Eigen::RowMajor>>(real_rows(obj, name, R, C).data());
 }
 
 /// A square N x N matrix, or a length-N vector taken as its diagonal.
@@ -188,12 +218,7 @@ inline Eigen::MatrixXd dynamic_matrix(const py::handle& obj, const char* name, p
 
 /// A dynamic vector; n < 0 means any length.
 inline Eigen::VectorXd dynamic_vector(const py::handle& obj, const char* name, py::ssize_t n) {
-  const std::string expected = shape_string(n, -1);
-  auto a = real_array(obj, name, expected);
-  if (a.ndim() != 1 || (n >= 0 && a.shape(0) != n))
-    throw py::value_error(std::string("argument '") + name + "' must have shape " + expected +
-                          ", got " + shape_string(a));
-  require_finite(a.data(), a.size(), name);
+  const auto a = real_rows(obj, name, n, -1);
   return Eigen::Map<const Eigen::VectorXd>(a.data(), a.shape(0));
 }
 
@@ -209,7 +234,7 @@ inline double scalar(const py::handle& obj, const char* name) {
       !(py::isinstance<py::float_>(obj) || py::isinstance<py::int_>(obj) ||
         py::hasattr(obj, "__float__"))) {
     throw py::type_error(std::string("argument '") + name + "' must be a real number, got " +
-                         std::string(py::str(py::type::handle_of(obj))));
+                         type_name(obj));
   }
   const double v = obj.cast<double>();
   if (!std::isfinite(v))
@@ -225,7 +250,7 @@ inline std::string choice(const py::handle& obj, const char* name,
   for (const char* c : choices) allowed += (allowed.empty() ? "'" : ", '") + std::string(c) + "'";
   if (!py::isinstance<py::str>(obj))
     throw py::type_error(std::string("argument '") + name + "' must be a str, one of " + allowed +
-                         "; got " + std::string(py::str(py::type::handle_of(obj))));
+                         "; got " + type_name(obj));
   const auto s = obj.cast<std::string>();
   for (const char* c : choices)
     if (s == c) return s;

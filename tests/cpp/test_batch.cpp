@@ -281,4 +281,36 @@ TEST(Batch, ARefusedLaneIsNamedAndNothingRuns) {
   EXPECT_EQ(b.lane(1).config().seed, 2u);  // lane 1 untouched
 }
 
+TEST(Batch, AReadoutStacksEachLanesStateInItsRow) {
+  const Vehicle<double> nerov(nerov_parameters<double>());
+  std::vector<Vehicle<double>> vehicles(3, nerov);
+  std::vector<SimulationConfig<double>> configs = {lane_config(1), lane_config(2), lane_config(3)};
+  BatchSimulator<double> b;
+  ASSERT_TRUE(BatchSimulator<double>::create(vehicles, configs, b).ok());
+  std::vector<double> tau(18, 5.0);
+  std::vector<std::uint8_t> statuses(3);
+  const bool mask[3] = {true, false, true};
+  b.step(tau.data(), mask, statuses.data());
+  std::vector<double> t(3), eta(18), nu_true(18);
+  bool done[3];
+  std::int64_t steps[3], left[3];
+  LaneReadout<double> r;
+  r.t = t.data();
+  r.eta = eta.data();
+  r.nu_true = nu_true.data();
+  r.done = done;
+  r.steps = steps;
+  r.steps_left = left;
+  r.read(b);
+  for (std::size_t i = 0; i < 3; ++i) {
+    const Simulator<double>& s = b.lane(i);
+    EXPECT_EQ(t[i], s.observation().t);
+    EXPECT_TRUE((Eigen::Map<const Vector6<double>>(eta.data() + 6 * i).array() == s.observation().eta.array()).all());
+    EXPECT_TRUE((Eigen::Map<const Vector6<double>>(nu_true.data() + 6 * i).array() == s.nu().array()).all());
+    EXPECT_EQ(done[i], s.done());
+    EXPECT_EQ(steps[i], mask[i] ? 1 : 0);
+    EXPECT_EQ(left[i], s.planned_steps() - steps[i]);
+  }
+}
+
 }  // namespace

@@ -131,4 +131,14 @@ TYPED_TEST(BlueRov2HeavyTest, BadLayoutsAreNamedErrors) {
   EXPECT_EQ(e.index, 6);
 }
 
+TYPED_TEST(BlueRov2HeavyTest, ALayoutOfAnySizeGivesTheSameMatrix) {
+  using S = TypeParam;
+  const auto g = bluerov2_heavy_layout<S>();
+  Eigen::Matrix<S, 6, 8> fixed;
+  ASSERT_TRUE(allocation_matrix(g, fixed).ok());
+  Eigen::Matrix<S, 6, Eigen::Dynamic> dynamic(6, 8);
+  ASSERT_TRUE(allocation_matrix(g.data(), g.size(), dynamic).ok());
+  EXPECT_TRUE((dynamic.array() == fixed.array()).all());
+}
+
 }  // namespace

@@ -332,4 +332,39 @@ TYPED_TEST(IntegratorTest, VehicleDriftsWithAnEarthFrameCurrent) {
   EXPECT_TRUE(all_near(nu.template tail<3>(), Vector3<S>::Zero(), tol));
 }
 
+TYPED_TEST(IntegratorTest, SegmentsAreRk4StepsInTurnAndAFailureIsPlaced) {
+  using S = TypeParam;
+  const Vehicle<S> v = make_vehicle(nerov_parameters<S>());
+  // Two segments of 2 and 1 intervals, each interval in 2 substeps, a current on every interval.
+  const Vector6<S> eta0 = initial_pose<S>(), nu0 = initial_velocity<S>();
+  std::vector<S> eta0s(12), nu0s(12), tau(18), current(9, S(0.1)), out(5 * 6);
+  for (int i = 0; i < 12; ++i) {
+    eta0s[i] = eta0(i % 6) + S(i / 6);
+    nu0s[i] = nu0(i % 6);
+  }
+  for (int i = 0; i < 18; ++i) tau[i] = S(i % 7) - S(3);
+  const std::vector<S> dt = {S(0.1), S(0.2), S(0.1)};
+  const std::int64_t steps[2] = {2, 1};
+  ASSERT_EQ(rk4_segments(v, 2, eta0s.data(), nu0s.data(), steps, tau.data(), dt.data(), current.data(), 2,
+                         out.data()).status,
+            Status::ok);
+  std::size_t k = 0, row = 0;
+  for (int i = 0; i < 2; ++i) {
+    Vector6<S> eta = Eigen::Map<const Vector6<S>>(eta0s.data() + 6 * i), nu = Eigen::Map<const Vector6<S>>(nu0s.data() + 6 * i);
+    EXPECT_TRUE(same_bits(Vector6<S>(Eigen::Map<const Vector6<S>>(out.data() + 6 * row++)), nu));
+    for (std::int64_t j = 0; j < steps[i]; ++j, ++k) {
+      const Vector6<S> f = Eigen::Map<const Vector6<S>>(tau.data() + 6 * k);
+      const Vector3<S> c = Eigen::Map<const Vector3<S>>(current.data() + 3 * k);
+      for (int s = 0; s < 2; ++s) ASSERT_EQ(rk4_step(v, eta, nu, f, dt[k] / S(2), c), Status::ok);
+      EXPECT_TRUE(same_bits(Vector6<S>(Eigen::Map<const Vector6<S>>(out.data() + 6 * row++)), nu)) << i << "," << j;
+    }
+  }
+  const std::vector<S> bad_dt = {S(0.1), S(-1), S(0.1)};
+  const SegmentFailure f = rk4_segments(v, 2, eta0s.data(), nu0s.data(), steps, tau.data(), bad_dt.data(),
+                                        static_cast<const S*>(nullptr), 1, out.data());
+  EXPECT_EQ(f.status, Status::invalid_argument);
+  EXPECT_EQ(f.segment, 0u);
+  EXPECT_EQ(f.step, 1);
+}
+
 }  // namespace

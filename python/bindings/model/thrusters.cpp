@@ -5,12 +5,14 @@
 
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "bindings.hpp"
 #include "fields.hpp"
 #include "numpy_args.hpp"
 #include "neurov/model/bluerov2_heavy.hpp"
 #include "neurov/model/thruster_curve.hpp"
+#include "neurov/model/thruster_geometry.hpp"
 #include "neurov/model/thrusters.hpp"
 
 namespace neurov::bindings {
@@ -130,6 +132,24 @@ void bind_thrusters(py::module_& m) {
       "The BlueROV2 Heavy's thruster layout of the C++ core (model/bluerov2_heavy.hpp): "
       "(positions (8, 3) [m], unit thrust directions (8, 3), names), body axes x forward, "
       "y starboard, z down.");
+
+  m.def(
+      "allocation_matrix",
+      [](const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>& positions,
+         const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>& directions) {
+        if (directions.rows() != positions.rows())
+          throw py::value_error("argument 'directions' must have " + std::to_string(positions.rows()) +
+                                " rows (one per position), got " + std::to_string(directions.rows()));
+        std::vector<ThrusterGeometry<double>> layout(static_cast<std::size_t>(positions.rows()));
+        for (std::size_t i = 0; i < layout.size(); ++i)
+          layout[i] = {positions.row(Eigen::Index(i)).transpose(), directions.row(Eigen::Index(i)).transpose()};
+        Eigen::Matrix<double, 6, Eigen::Dynamic> b(6, positions.rows());
+        py_args::raise_if_invalid(allocation_matrix(layout.data(), layout.size(), b), "allocation_matrix");
+        return b;
+      },
+      py::arg("positions"), py::arg("directions"),
+      "The allocation matrix B (6, n) of n thrusters at positions (n, 3) [m] pushing along unit "
+      "directions (n, 3), body axes: column i is [d_i; r_i x d_i] (model/thruster_geometry.hpp).");
 
   m.def(
       "allocate_thrust",

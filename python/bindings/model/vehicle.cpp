@@ -72,13 +72,8 @@ void raise_status(Status s, const char* what) {
   }
 }
 
-/// S open-loop runs of one vehicle, each over its own stretch of a log (the
-/// output error's shooting segments, a held-out free run): segment i starts
-/// from (eta0[i], nu0[i]) and takes steps[i] intervals, interval k (counted
-/// over all segments in order) with tau[k] and current[k] held over dt[k],
-/// in `substeps` rk4_step calls of dt[k] / substeps each. Returns the body
-/// velocities at every segment's rows 0..steps[i], stacked. The same
-/// rk4_step the simulator takes: no second copy of the dynamics.
+/// The arguments of neurov::rk4_segments (model/integrator.hpp) checked, and
+/// its velocities as a (sum(steps) + S, 6) array.
 py::array_t<double> rk4_segments(const Vehicle<double>& v, const py::handle& eta0_in, const py::handle& nu0_in,
                                  const py::handle& steps_in, const py::handle& tau_in, const py::handle& dt_in,
                                  const py::handle& current_in, const py::handle& substeps_in) {
@@ -110,41 +105,16 @@ py::array_t<double> rk4_segments(const Vehicle<double>& v, const py::handle& eta
                             py_args::num(kMaxStep) + " s; element " + std::to_string(k) + " is " +
                             py_args::num(dt.data()[k]));
   py::array_t<double> out(std::vector<py::ssize_t>{intervals + segments, 6});
-  double* o = out.mutable_data();
-  const auto put = [&o](const Vec6& x) {
-    Eigen::Map<Vec6>{o} = x;
-    o += 6;
-  };
-  Status failed = Status::ok;
-  py::ssize_t failed_segment = -1, failed_step = -1;
+  SegmentFailure failed;
   {
     py::gil_scoped_release release;
-    py::ssize_t k = 0;
-    for (py::ssize_t i = 0; i < segments && failed == Status::ok; ++i) {
-      Vec6 eta = Eigen::Map<const Vec6>(eta0.data() + 6 * i);
-      Vec6 nu = Eigen::Map<const Vec6>(nu0.data() + 6 * i);
-      put(nu);
-      for (std::int64_t j = 0; j < steps.data()[i]; ++j, ++k) {
-        const Eigen::Map<const Vec6> f(tau.data() + 6 * k);
-        const Vec3 c = current.size() ? Vec3(Eigen::Map<const Vec3>(current.data() + 3 * k)) : Vec3::Zero();
-        const double h = dt.data()[k] / substeps;
-        for (int s = 0; s < substeps && failed == Status::ok; ++s) {
-          const Status st = rk4_step(v, eta, nu, f, h, c);
-          if (st != Status::ok) {
-            failed = st;
-            failed_segment = i;
-            failed_step = static_cast<py::ssize_t>(j);
-          }
-        }
-        if (failed != Status::ok) break;
-        put(nu);
-      }
-    }
+    failed = rk4_segments(v, static_cast<std::size_t>(segments), eta0.data(), nu0.data(), steps.data(), tau.data(),
+                          dt.data(), current.size() ? current.data() : nullptr, substeps, out.mutable_data());
   }
-  if (failed != Status::ok)
-    raise_status(failed, (std::string(where) + ": segment " + std::to_string(failed_segment) + ", step " +
-                          std::to_string(failed_step))
-                             .c_str());
+  if (failed.status != Status::ok)
+    raise_status(failed.status, (std::string(where) + ": segment " + std::to_string(failed.segment) + ", step " +
+                                 std::to_string(failed.step))
+                                    .c_str());
   return out;
 }
 

@@ -1,7 +1,9 @@
 // neurov/sim/batch.hpp in Python: K runs stepped in lockstep from Python with
 // one call per step for all lanes (BatchSimulator), and K built-in closed
 // loops run to the end over threads (run_batch). The GIL is released while
-// C++ steps; no Python runs per lane.
+// C++ steps; no Python runs per lane. Also the metric sums of a run
+// (sim/window_sums.hpp's RunSums), which a Python Result's rows go through.
+#include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -41,15 +43,11 @@ using Controller = AnyBuiltInController<double>;
   throw py::error_already_set();
 }
 
-std::string type_name(const py::handle& obj) {
-  return py::str(py::type::handle_of(obj).attr("__name__"));
-}
-
 /// A list (any sequence, not a str) of objects of the bound type T, copied.
 template <typename T>
 std::vector<T> items(const py::handle& seq, const char* where, const char* name, const char* what) {
   if (!py::isinstance<py::sequence>(seq) || py::isinstance<py::str>(seq))
-    bad_argument(where, name, std::string("a list of ") + what, type_name(seq));
+    bad_argument(where, name, std::string("a list of ") + what, py_args::type_name(seq));
   const py::sequence s = py::reinterpret_borrow<py::sequence>(seq);
   std::vector<T> out;
   out.reserve(s.size());
@@ -57,45 +55,22 @@ std::vector<T> items(const py::handle& seq, const char* where, const char* name,
     const py::object item = s[i];
     if (!py::isinstance<T>(item))
       bad_argument(where, std::string(name) + "[" + std::to_string(i) + "]", std::string("a ") + what,
-                   type_name(item));
+                   py_args::type_name(item));
     out.push_back(item.cast<const T&>());
   }
   return out;
 }
 
-/// An array of `dtype_kind`s ('f': real numbers, 'b': bools, 'u': unsigned
-/// integers, non-negative ones of any integer dtype too) of shape `shape`,
-/// C-contiguous in dtype T (converted if need be).
+/// A numpy array of `dtype` (real numbers, bools, integers >= 0) of `shape`
+/// (py_args::numpy_array), refused with a ValidationError naming it.
 template <typename T>
-py::array_t<T, py::array::c_style> checked_array(const py::handle& obj, const char* where,
-                                                  const char* name, std::vector<py::ssize_t> shape,
-                                                  const char* expected_dtype) {
-  std::string expected = std::string("a numpy array of ") + expected_dtype + " of shape (";
-  for (std::size_t i = 0; i < shape.size(); ++i)
-    expected += (i ? ", " : "") + std::to_string(shape[i]);
-  expected += shape.size() == 1 ? ",)" : ")";
-  if (!py::isinstance<py::array>(obj)) bad_argument(where, name, expected, type_name(obj));
-  const py::array a = py::reinterpret_borrow<py::array>(obj);
-  const char kind = a.dtype().kind();
-  bool ok_dtype = false;
-  if constexpr (std::is_same_v<T, double>) ok_dtype = kind == 'f' || kind == 'i' || kind == 'u';
-  if constexpr (std::is_same_v<T, bool>) ok_dtype = kind == 'b';
-  if constexpr (std::is_same_v<T, std::uint64_t>) ok_dtype = kind == 'i' || kind == 'u';
-  if (!ok_dtype)
-    bad_argument(where, name, expected, "dtype " + std::string(py::str(a.dtype())));
-  bool ok_shape = a.ndim() == static_cast<py::ssize_t>(shape.size());
-  for (std::size_t i = 0; ok_shape && i < shape.size(); ++i) ok_shape = a.shape(i) == shape[i];
-  if (!ok_shape) bad_argument(where, name, expected, "shape " + py_args::shape_string(a));
-  if constexpr (std::is_same_v<T, std::uint64_t>) {
-    if (kind == 'i') {
-      const auto signed_ = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(a);
-      for (py::ssize_t i = 0; i < signed_.size(); ++i)
-        if (signed_.data()[i] < 0)
-          bad_argument(where, name, expected + " (seeds >= 0)",
-                       "element " + std::to_string(i) + " = " + std::to_string(signed_.data()[i]));
-    }
-  }
-  return py::array_t<T, py::array::c_style | py::array::forcecast>::ensure(a);
+py::array_t<T, py::array::c_style> checked_array(const py::handle& obj, const char* where, const char* name,
+                                                  std::initializer_list<py::ssize_t> shape, const char* dtype) {
+  const auto dims = shape.begin();
+  const std::string expected = std::string("a numpy array of ") + dtype + " of shape " +
+                               py_args::shape_string(dims[0], shape.size() == 1 ? -1 : dims[1]);
+  return py_args::numpy_array<T>(
+      obj, shape, [&](py_args::Refusal, const std::string& got) { bad_argument(where, name, expected, got); });
 }
 
 /// The lanes' mask: None (every lane) or a (K,) bool array.
@@ -112,37 +87,36 @@ std::size_t lane_index(const Batch& b, const py::handle& i, const char* where) {
   return static_cast<std::size_t>(k);
 }
 
-/// A (K,) or (K, 6) array filled from each lane.
-template <typename T, typename F>
-py::array_t<T> per_lane(const Batch& b, int width, F&& f) {
+using Readout = LaneReadout<double>;
+
+/// A (K,) array, or (K, width), that `field` of `r` points at.
+template <typename T>
+py::array_t<T> stacked(const Batch& b, Readout& r, T* Readout::*field, py::ssize_t width = 1) {
   const auto k = static_cast<py::ssize_t>(b.size());
-  py::array_t<T> out(width == 1 ? std::vector<py::ssize_t>{k} : std::vector<py::ssize_t>{k, py::ssize_t(width)});
-  T* data = out.mutable_data();
-  for (std::size_t i = 0; i < b.size(); ++i) f(b.lane(i), data + i * static_cast<std::size_t>(width));
+  py::array_t<T> out(width == 1 ? std::vector<py::ssize_t>{k} : std::vector<py::ssize_t>{k, width});
+  r.*field = out.mutable_data();
   return out;
 }
 
-py::array_t<double> rows6(const Batch& b, const Vector6<double>& (*get)(const Simulator<double>&)) {
-  return per_lane<double>(b, 6, [get](const Simulator<double>& s, double* row) {
-    Eigen::Map<Vector6<double>> out(row);
-    out = get(s);
-  });
+/// One field of every lane.
+template <typename T>
+py::array_t<T> lane_values(const Batch& b, T* Readout::*field, py::ssize_t width = 1) {
+  Readout r;
+  auto out = stacked(b, r, field, width);
+  r.read(b);
+  return out;
 }
 
 py::dict observation(const Batch& b) {
+  Readout r;
   py::dict d;
-  d["t"] = per_lane<double>(b, 1, [](const Simulator<double>& s, double* x) { *x = s.observation().t; });
-  d["eta"] = rows6(b, [](const Simulator<double>& s) -> const Vector6<double>& { return s.observation().eta; });
-  d["nu"] = rows6(b, [](const Simulator<double>& s) -> const Vector6<double>& { return s.observation().nu; });
-  d["eta_d"] = rows6(
-      b, [](const Simulator<double>& s) -> const Vector6<double>& { return s.observation().desired.eta_d; });
-  d["eta_d_dot"] = rows6(b, [](const Simulator<double>& s) -> const Vector6<double>& {
-    return s.observation().desired.eta_d_dot;
-  });
-  d["eta_d_ddot"] = rows6(b, [](const Simulator<double>& s) -> const Vector6<double>& {
-    return s.observation().desired.eta_d_ddot;
-  });
-  d["faults"] = per_lane<std::uint8_t>(b, 1, [](const Simulator<double>& s, std::uint8_t* x) { *x = s.faults(); });
+  d["t"] = stacked(b, r, &Readout::t);
+  for (const auto& [name, field] : {std::pair{"eta", &Readout::eta}, std::pair{"nu", &Readout::nu},
+                                    std::pair{"eta_d", &Readout::eta_d}, std::pair{"eta_d_dot", &Readout::eta_d_dot},
+                                    std::pair{"eta_d_ddot", &Readout::eta_d_ddot}})
+    d[name] = stacked(b, r, field, 6);
+  d["faults"] = stacked(b, r, &Readout::faults);
+  r.read(b);
   return d;
 }
 
@@ -188,13 +162,13 @@ py::array_t<std::uint8_t> step(Batch& b, const typed::ArrayLike& tau_in,
     parameters = p.data();
     parameters_obj = std::move(p);
   } else if (!parameters_in.is_none()) {
-    bad_argument(where, "parameters", "None (the batch logs no parameters)", type_name(parameters_in));
+    bad_argument(where, "parameters", "None (the batch logs no parameters)", py_args::type_name(parameters_in));
   }
   py::array_t<std::uint8_t> statuses(std::vector<py::ssize_t>{k});
   std::uint8_t* out = statuses.mutable_data();
   {
     py::gil_scoped_release release;
-    step_threaded(b, threads, tau.data(), mask, out, parameters, batch_pool(threads));
+    step_threaded(b, threads, tau.data(), mask, out, parameters, shared_pool(threads));
   }
   return statuses;
 }
@@ -215,7 +189,7 @@ void reset(Batch& b, const typed::ArrayLike& seeds_in, const typed::OptionalArra
 std::vector<Controller> controllers_of(const py::handle& seq) {
   const char* where = "run_batch";
   if (!py::isinstance<py::sequence>(seq) || py::isinstance<py::str>(seq))
-    bad_argument(where, "controllers", "a list of built-in controllers", type_name(seq));
+    bad_argument(where, "controllers", "a list of built-in controllers", py_args::type_name(seq));
   const py::sequence s = py::reinterpret_borrow<py::sequence>(seq);
   std::vector<Controller> out;
   out.reserve(s.size());
@@ -233,7 +207,7 @@ std::vector<Controller> controllers_of(const py::handle& seq) {
       bad_argument(where, "controllers[" + std::to_string(i) + "]",
                    "a built-in controller (neurov.BUILT_IN_CONTROLLERS; a Python controller runs "
                    "through neurov.simulate_many)",
-                   type_name(item));
+                   py_args::type_name(item));
   }
   return out;
 }
@@ -270,8 +244,8 @@ py::dict window_sums_dict(const WindowSums& w) {
   return d;
 }
 
-py::dict run_sums_dict(const RunSums& s) {
-  py::dict d;
+typed::AnyDict run_sums_dict(const RunSums& s) {
+  typed::AnyDict d;
   d["after"] = s.after;
   d["before"] = window_sums_dict(s.before);
   d["window"] = window_sums_dict(s.window);
@@ -322,17 +296,40 @@ py::list run(const typed::IterableOf<Vehicle<double>>& vehicles_in,
 
 }  // namespace
 
-WorkerPool* batch_pool(unsigned threads) {
-  if (threads == 1) return nullptr;
-  // Built at the first step on more than one thread, joined at exit.
-  static WorkerPool pool;
-  return &pool;
-}
-
 void bind_batch(py::module_& m) {
   py::list sums;
   for (const WindowSumSpec& s : kWindowSums) sums.append(py::make_tuple(s.name, s.width, s.description));
   m.attr("WINDOW_SUMS") = py::tuple(sums);
+  using Rows6 = Eigen::Ref<const Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor>>;
+  using Column = Eigen::Ref<const Eigen::VectorXd>;
+  py::class_<RunSums>(m, "RunSums",
+                      "A run's metric sums (WINDOW_SUMS before and from `after` on, and what the metrics "
+                      "read over every row), added row by row as run_batch's metrics_only adds them.")
+      .def(py::init([](double after) {
+             RunSums s;
+             s.after = after;
+             return s;
+           }),
+           py::arg("after"))
+      .def(
+          "add",
+          [](RunSums& s, const Column& t, const Rows6& eta, const Rows6& eta_d, const Rows6& tau_demanded,
+             const Eigen::Ref<const Eigen::Matrix<std::uint8_t, Eigen::Dynamic, 1>>& controller_status,
+             const Column& adaptive_norm, bool diverged) {
+            const std::pair<const char*, Eigen::Index> lengths[] = {
+                {"eta", eta.rows()}, {"eta_d", eta_d.rows()}, {"tau_demanded", tau_demanded.rows()},
+                {"controller_status", controller_status.rows()}, {"adaptive_norm", adaptive_norm.rows()}};
+            for (const auto& [name, rows] : lengths)
+              if (rows != t.rows())
+                throw py::value_error(std::string("RunSums.add: argument '") + name + "' must have " +
+                                      std::to_string(t.rows()) + " rows (one per t), got " + std::to_string(rows));
+            s.add_rows(t, eta, eta_d, tau_demanded, controller_status, adaptive_norm, t.rows(), diverged);
+          },
+          py::arg("t"), py::arg("eta"), py::arg("eta_d"), py::arg("tau_demanded"), py::arg("controller_status"),
+          py::arg("adaptive_norm"), py::arg("diverged"),
+          "Adds a run's next rows (t (n,), eta, eta_d, tau_demanded (n, 6), controller_status (n,), "
+          "adaptive_norm (n,)), in time order, and whether the run diverged.")
+      .def("as_dict", &run_sums_dict, "The sums as run_batch's metrics_only gives them.");
   m.attr("LANE_NOT_STEPPED") = py::int_(kLaneNotStepped);
   m.attr("MIN_LANES_PER_THREAD") = py::int_(kMinLanesPerThread);
 
@@ -359,9 +356,7 @@ void bind_batch(py::module_& m) {
       .def_property_readonly(
           "state",
           [](const Batch& b) {
-            return py::make_tuple(
-                rows6(b, [](const Simulator<double>& s) -> const Vector6<double>& { return s.eta(); }),
-                rows6(b, [](const Simulator<double>& s) -> const Vector6<double>& { return s.nu(); }));
+            return py::make_tuple(lane_values(b, &Readout::eta_true, 6), lane_values(b, &Readout::nu_true, 6));
           },
           "The true (eta, nu), each (K, 6).")
       .def("step", &step, py::arg("tau"), py::arg("mask") = py::none(), py::arg("parameters") = py::none(),
@@ -374,28 +369,13 @@ void bind_batch(py::module_& m) {
            "split over that many threads (0: one per hardware thread; at least MIN_LANES_PER_THREAD lanes a "
            "thread, so "
            "fewer threads for a small batch); the results are the same.")
-      .def_property_readonly("done",
-                             [](const Batch& b) {
-                               return per_lane<bool>(b, 1, [](const Simulator<double>& s, bool* x) { *x = s.done(); });
-                             },
+      .def_property_readonly("done", [](const Batch& b) { return lane_values(b, &Readout::done); },
                              "(K,) bool: the lane's run is over (every row, or diverged).")
-      .def_property_readonly("diverged",
-                             [](const Batch& b) {
-                               return per_lane<bool>(b, 1,
-                                                     [](const Simulator<double>& s, bool* x) { *x = s.diverged(); });
-                             },
+      .def_property_readonly("diverged", [](const Batch& b) { return lane_values(b, &Readout::diverged); },
                              "(K,) bool: the lane's plant diverged (its last row is where).")
-      .def_property_readonly("steps",
-                             [](const Batch& b) {
-                               return per_lane<std::int64_t>(
-                                   b, 1, [](const Simulator<double>& s, std::int64_t* x) { *x = s.steps(); });
-                             },
+      .def_property_readonly("steps", [](const Batch& b) { return lane_values(b, &Readout::steps); },
                              "(K,) int64: rows logged so far per lane.")
-      .def_property_readonly("planned_steps",
-                             [](const Batch& b) {
-                               return per_lane<std::int64_t>(
-                                   b, 1, [](const Simulator<double>& s, std::int64_t* x) { *x = s.planned_steps(); });
-                             },
+      .def_property_readonly("planned_steps", [](const Batch& b) { return lane_values(b, &Readout::planned_steps); },
                              "(K,) int64: rows of a whole run per lane.")
       .def("reset", &reset, py::arg("seeds"), py::arg("mask") = py::none(),
            "Lanes whose mask is True (None: every lane) back to t = 0 with noise from seeds[i] "

@@ -24,11 +24,7 @@ using Obs = Observation<double>;
 
 /// A vector of length 6 that may hold NaN (a refused step's force or s).
 Vector6<double> any_vector6(const py::handle& v, const char* name) {
-  auto a = py_args::real_array(v, name, "(6,)");
-  if (a.ndim() != 1 || a.shape(0) != 6)
-    throw py::value_error(std::string("argument '") + name + "' must have shape (6,), got " +
-                          py_args::shape_string(a));
-  return Eigen::Map<const Vector6<double>>(a.data());
+  return Eigen::Map<const Vector6<double>>(py_args::real_rows(v, name, 6, -1, false).data());
 }
 
 Status step(Sim& sim, const typed::ArrayLike& tau_in, Status status, const typed::OptionalArrayLike& s_in,

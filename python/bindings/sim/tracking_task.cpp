@@ -47,20 +47,13 @@ using StepTuple = py::typing::Tuple<Obs, Real, Flag, Flag, typed::AnyDict, Flag,
 /// A (k,) array of bools (dtype bool) or of integers (dtype int/uint), C-contiguous.
 template <typename T>
 py::array_t<T, py::array::c_style> flags_of(const py::handle& obj, const char* name, py::ssize_t k) {
-  const std::string what = std::is_same_v<T, bool> ? "bool" : "int";
-  const std::string expected = "a " + what + " array of shape (" + std::to_string(k) + ",)";
-  if (!py::isinstance<py::array>(obj))
-    throw py::type_error(std::string("argument '") + name + "' must be " + expected + ", got " +
-                         std::string(py::str(py::type::handle_of(obj).attr("__name__"))));
-  const auto a = py::reinterpret_borrow<py::array>(obj);
-  const char kind = a.dtype().kind();
-  if (std::is_same_v<T, bool> ? kind != 'b' : kind != 'i' && kind != 'u')
-    throw py::type_error(std::string("argument '") + name + "' must be " + expected + ", got dtype " +
-                         std::string(py::str(a.dtype())));
-  if (a.ndim() != 1 || a.shape(0) != k)
-    throw py::value_error(std::string("argument '") + name + "' must be " + expected + ", got shape " +
-                          py_args::shape_string(a));
-  return py::array_t<T, py::array::c_style | py::array::forcecast>::ensure(a);
+  return py_args::numpy_array<T>(obj, {k}, [&](py_args::Refusal why, const std::string& got) {
+    const std::string message = std::string("argument '") + name + "' must be a " +
+                                (std::is_same_v<T, bool> ? "bool" : "int") + " array of shape (" +
+                                std::to_string(k) + ",), got " + got;
+    if (why == py_args::Refusal::type) throw py::type_error(message);
+    throw py::value_error(message);
+  });
 }
 
 /// The actions (k rows; k < 0: one action of shape (n,)) checked and clipped
@@ -96,41 +89,34 @@ class LaneRows {
     for (F64* a : {&eta_, &nu_, &eta_d_, &eta_true_, &nu_true_})
       *a = single ? F64(py::ssize_t(6)) : F64({rows, py::ssize_t(6)});
     // The arrays' storage, taken while the GIL is held: read() runs without it.
-    eta_p_ = eta_.mutable_data();
-    nu_p_ = nu_.mutable_data();
-    eta_d_p_ = eta_d_.mutable_data();
-    eta_true_p_ = eta_true_.mutable_data();
-    nu_true_p_ = nu_true_.mutable_data();
+    out_.t = t_.data();
+    out_.eta = eta_.mutable_data();
+    out_.nu = nu_.mutable_data();
+    out_.eta_d = eta_d_.mutable_data();
+    out_.eta_d_dot = eta_d_dot_.data();
+    out_.eta_d_ddot = eta_d_ddot_.data();
+    out_.eta_true = eta_true_.mutable_data();
+    out_.nu_true = nu_true_.mutable_data();
+    out_.diverged = diverged_.get();
+    out_.done = done_.get();
+    out_.steps_left = steps_left_.data();
   }
 
   /// Lane i of a run (no Python: callable without the GIL).
-  void read(std::size_t i, const Sim& s) noexcept {
-    const Observation<double>& o = s.observation();
-    t_[i] = o.t;
-    put(eta_p_, i, o.eta);
-    put(nu_p_, i, o.nu);
-    put(eta_d_p_, i, o.desired.eta_d);
-    Eigen::Map<Vec6>(eta_d_dot_.data() + 6 * i) = o.desired.eta_d_dot;
-    Eigen::Map<Vec6>(eta_d_ddot_.data() + 6 * i) = o.desired.eta_d_ddot;
-    put(eta_true_p_, i, s.eta());
-    put(nu_true_p_, i, s.nu());
-    diverged_[i] = s.diverged();
-    done_[i] = s.done();
-    steps_left_[i] = static_cast<std::int64_t>(s.planned_steps() - s.steps());
-  }
+  void read(std::size_t i, const Sim& s) noexcept { out_.read(i, s); }
 
   Rows rows(const double* actions) noexcept {
     Rows r;
-    r.eta = eta_p_;
-    r.nu = nu_p_;
-    r.eta_d = eta_d_p_;
-    r.eta_d_dot = eta_d_dot_.data();
-    r.eta_d_ddot = eta_d_ddot_.data();
-    r.eta_true = eta_true_p_;
+    r.eta = out_.eta;
+    r.nu = out_.nu;
+    r.eta_d = out_.eta_d;
+    r.eta_d_dot = out_.eta_d_dot;
+    r.eta_d_ddot = out_.eta_d_ddot;
+    r.eta_true = out_.eta_true;
     r.actions = actions;
-    r.diverged = diverged_.get();
-    r.done = done_.get();
-    r.steps_left = steps_left_.data();
+    r.diverged = out_.diverged;
+    r.done = out_.done;
+    r.steps_left = out_.steps_left;
     return r;
   }
 
@@ -148,15 +134,13 @@ class LaneRows {
   bool diverged(std::size_t i) const noexcept { return diverged_[i]; }
 
  private:
-  static void put(double* a, std::size_t i, const Vec6& v) noexcept { Eigen::Map<Vec6>(a + 6 * i) = v; }
-
   std::size_t k_;
   bool single_;
   std::vector<double> t_, eta_d_dot_, eta_d_ddot_;
   std::vector<std::int64_t> steps_left_;
   std::unique_ptr<bool[]> diverged_, done_;
   F64 eta_, nu_, eta_d_, eta_true_, nu_true_;
-  double *eta_p_ = nullptr, *nu_p_ = nullptr, *eta_d_p_ = nullptr, *eta_true_p_ = nullptr, *nu_true_p_ = nullptr;
+  LaneReadout<double> out_;  ///< where read() writes: the storage above
 };
 
 /// The outputs of K rows' scores.
@@ -223,7 +207,7 @@ StepTuple<F32, F64, Bools> step_batch(const Task& task, Batch& batch, const type
     py::gil_scoped_release release;
     // Each thread's share of the lanes through the whole step: the rows are
     // independent, so the split changes nothing.
-    split_lanes(k, threads, batch_pool(threads), [&](std::size_t b, std::size_t e) noexcept {
+    split_lanes(k, threads, shared_pool(threads), [&](std::size_t b, std::size_t e) noexcept {
       const auto n = static_cast<std::size_t>(task.action_size());
       tracking_forces(task, e - b, a.data() + n * b, tau.data() + 6 * b);
       // A batch made with a log window (the vector env's, of one row) is read from its

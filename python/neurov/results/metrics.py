@@ -20,6 +20,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from neurov import _core
+
 if TYPE_CHECKING:
     from neurov.results.timeseries import Result
 
@@ -50,42 +52,28 @@ def _finite_or_inf(x: Any) -> float:
 
 
 class WindowSums:
-    """Sums and extremes of the tracking error and the force over some rows."""
+    """Sums and extremes of the tracking error and the force over some rows:
+    the members of ``cpp/include/neurov/sim/window_sums.hpp`` (its table is
+    :data:`neurov._core.WINDOW_SUMS`), which sums them. Empty by default."""
 
-    def __init__(self) -> None:
-        self.rows = 0
-        self.t_first = math.nan
-        self.t_last = math.nan
-        self.e2 = np.zeros(6)           # sum of e_i^2
-        self.abs_e = np.zeros(6)        # sum of |e_i|
-        self.max_abs_e = np.full(6, -np.inf)
-        self.pos2 = 0.0                 # sum of |e_xyz|^2
-        self.max_pos = -math.inf
-        self.abs_tau = 0.0              # sum of |tau_i| over every DOF
-        self.abs_tau_dof = np.zeros(6)
-        self.max_abs_tau_dof = np.full(6, -np.inf)
-        self.tau_norm = 0.0             # sum of ||tau||
-        self.refused = 0
+    rows: int
+    t_first: float
+    t_last: float
+    e2: np.ndarray  #: sum of e_i^2 per DOF
+    abs_e: np.ndarray  #: sum of |e_i| per DOF
+    max_abs_e: np.ndarray
+    pos2: float  #: sum of |e_xyz|^2
+    max_pos: float
+    abs_tau: float  #: sum of |tau_i| over every DOF
+    abs_tau_dof: np.ndarray
+    max_abs_tau_dof: np.ndarray
+    tau_norm: float  #: sum of ||tau||
+    refused: int
 
-    def add(self, t: np.ndarray, e: np.ndarray, tau: np.ndarray, status: np.ndarray) -> None:
-        if not len(t):
-            return
-        if not self.rows:
-            self.t_first = float(t[0])
-        self.t_last = float(t[-1])
-        self.rows += len(t)
-        pos = np.linalg.norm(e[:, :3], axis=1)
-        abs_e, abs_tau = np.abs(e), np.abs(tau)
-        self.e2 += np.array([np.sum(e[:, i] ** 2) for i in range(6)])
-        self.abs_e += np.array([np.sum(abs_e[:, i]) for i in range(6)])
-        self.max_abs_e = np.maximum(self.max_abs_e, np.max(abs_e, axis=0))
-        self.pos2 += float(np.sum(pos**2))
-        self.max_pos = float(np.maximum(self.max_pos, np.max(pos)))  # NaN stays NaN
-        self.abs_tau += float(np.sum(abs_tau))
-        self.abs_tau_dof += np.sum(abs_tau, axis=0)
-        self.max_abs_tau_dof = np.maximum(self.max_abs_tau_dof, np.max(abs_tau, axis=0))
-        self.tau_norm += float(np.sum(np.linalg.norm(tau, axis=1)))
-        self.refused += int(np.count_nonzero(status))
+    def __init__(self, sums: dict[str, Any] | None = None) -> None:
+        """The sums of a dict of :meth:`neurov._core.RunSums.as_dict` (its
+        ``"before"`` or ``"window"``); None: no row yet."""
+        vars(self).update(_core.RunSums(0.0).as_dict()["window"] if sums is None else sums)
 
 
 class MetricsWindow:
@@ -100,31 +88,16 @@ class MetricsWindow:
             raise ValueError(f"argument 'after' must be a finite time [s], got {after}")
         self.after = float(after)
         self.dt = dt
-        self._window, self._before = WindowSums(), WindowSums()
-        self._final_norm = math.nan
-        self._max_norm = -math.inf
-        self._diverged = False
-        #: (t, status) of the first refused controller step, None while there is none.
-        self.first_refused: tuple[float, int] | None = None
+        self._sums = _core.RunSums(self.after)
+        self._given: dict[str, Any] | None = None  # sums C++ accumulated as a run ran (from_sums)
 
     def add(self, rows: Result) -> None:
-        """The next rows of the run (a Result of consecutive rows)."""
-        if not len(rows.t):
-            self._diverged = self._diverged or rows.diverged
-            return
-        # t is increasing, so the window is a slice (views, no copies).
-        if self.first_refused is None:
-            bad = np.flatnonzero(rows.controller_status)
-            if len(bad):
-                self.first_refused = (float(rows.t[bad[0]]), int(rows.controller_status[bad[0]]))
-        first = int(np.searchsorted(rows.t, self.after, side="left"))
-        with np.errstate(over="ignore", invalid="ignore"):
-            for part, sums in ((slice(None, first), self._before), (slice(first, None), self._window)):
-                sums.add(rows.t[part], rows.eta[part] - rows.eta_d[part], rows.tau_demanded[part],
-                         rows.controller_status[part])
-            self._final_norm = float(rows.adaptive_norm[-1])
-            self._max_norm = float(np.maximum(self._max_norm, np.max(rows.adaptive_norm)))
-        self._diverged = self._diverged or rows.diverged
+        """The next rows of the run (a Result of consecutive rows), summed by
+        the C++ that sums a run in C++ (:class:`neurov._core.RunSums`)."""
+        if self._given is not None:
+            raise ValueError("a MetricsWindow made from_sums takes no rows")
+        self._sums.add(rows.t, rows.eta, rows.eta_d, rows.tau_demanded, rows.controller_status,
+                       rows.adaptive_norm, bool(rows.diverged))
 
     @classmethod
     def from_sums(cls, sums: dict[str, Any], duration: float, dt: float) -> MetricsWindow:
@@ -132,30 +105,34 @@ class MetricsWindow:
         ``_core.run_batch(..., metrics_only=True)``): the same metrics as
         :meth:`add` of its rows would give."""
         window = cls(duration, dt, sums["after"])
-        for part, name in ((window._before, "before"), (window._window, "window")):
-            for key, value in sums[name].items():
-                setattr(part, key, np.array(value) if isinstance(value, np.ndarray) else value)
-        window._final_norm = float(sums["final_adaptive_norm"])
-        window._max_norm = float(sums["max_adaptive_norm"])
-        window._diverged = bool(sums["diverged"])
-        window.first_refused = sums["first_refused"]
+        window._given = sums
         return window
+
+    def _raw(self) -> dict[str, Any]:
+        return self._given if self._given is not None else self._sums.as_dict()
+
+    @property
+    def first_refused(self) -> tuple[float, int] | None:
+        """(t, status) of the first refused controller step, None while there is none."""
+        first = self._raw()["first_refused"]
+        return None if first is None else (float(first[0]), int(first[1]))
 
     @property
     def rows(self) -> int:
         """Rows added so far, in the window and before it."""
-        return self._window.rows + self._before.rows
+        raw = self._raw()
+        return int(raw["window"]["rows"] + raw["before"]["rows"])
 
     @property
     def t_last(self) -> float | None:
         """The time of the last row added (None before any)."""
-        return self._t_last()
+        return self._t_last(self._raw())
 
-    def _t_last(self) -> float | None:
-        """The time of the last row added (None before any)."""
-        for sums in (self._window, self._before):
-            if sums.rows:
-                return sums.t_last
+    @staticmethod
+    def _t_last(raw: dict[str, Any]) -> float | None:
+        for part in ("window", "before"):
+            if raw[part]["rows"]:
+                return float(raw[part]["t_last"])
         return None
 
     def window(self) -> Window:
@@ -163,15 +140,17 @@ class MetricsWindow:
         diverged run with no row in the window is judged over every row (a
         run that failed before its first row over none: its metrics nan);
         otherwise an empty window raises ValueError naming 'after'."""
-        w = self._window
+        raw = self._raw()
+        w, before = WindowSums(raw["window"]), WindowSums(raw["before"])
         if not w.rows:
-            last = self._before.t_last if self._before.rows else 0
-            if not self._diverged:
+            last = before.t_last if before.rows else 0
+            if not raw["diverged"]:
                 raise ValueError(f"argument 'after' = {self.after} leaves no samples (run ends at {last})")
-            w = self._before
-        return Window(sums=w, dt=self.dt, refused_steps=self._window.refused + self._before.refused,
-                      final_adaptive_norm=self._final_norm, max_adaptive_norm=self._max_norm,
-                      diverged=self._diverged, t_last=self._t_last())
+            w = before
+        return Window(sums=w, dt=self.dt, refused_steps=int(raw["window"]["refused"] + before.refused),
+                      final_adaptive_norm=float(raw["final_adaptive_norm"]),
+                      max_adaptive_norm=float(raw["max_adaptive_norm"]), diverged=bool(raw["diverged"]),
+                      t_last=self._t_last(raw))
 
     def value(self) -> dict[str, Any]:
         """The metrics of the rows added (see :meth:`Result.metrics`), nested

@@ -4,6 +4,8 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
+#include <cstdint>
 
 #include "neurov/core/config.hpp"
 #include "neurov/core/rk4.hpp"
@@ -54,6 +56,47 @@ NEUROV_ALWAYS_INLINE Status rk4_step(const Vehicle<Scalar>& vehicle, Vector6<Sca
   eta = eta_next;
   nu = nu_next;
   return flag;
+}
+
+/// Where rk4_segments stopped: the status of the step that failed, its
+/// segment and its interval within the segment (status ok: none failed).
+struct SegmentFailure {
+  Status status = Status::ok;
+  std::size_t segment = 0;
+  std::int64_t step = 0;
+};
+
+/// S open-loop runs of `vehicle` (a model fit's shooting segments): segment i
+/// starts from eta0[i], nu0[i] (rows of 6) and takes steps[i] intervals;
+/// interval k, counted over the segments in order, holds tau[k] (6) and
+/// current[k] (3, NED; current null: still water) over dt[k], in `substeps`
+/// rk4_step calls of dt[k] / substeps each. Writes nu at every segment's rows
+/// 0..steps[i] to `out` (sum(steps) + S rows of 6) and stops at the first
+/// step that is not ok, which it returns.
+template <typename Scalar>
+SegmentFailure rk4_segments(const Vehicle<Scalar>& vehicle, std::size_t segments, const Scalar* eta0,
+                            const Scalar* nu0, const std::int64_t* steps, const Scalar* tau, const Scalar* dt,
+                            const Scalar* current, int substeps, Scalar* out) noexcept {
+  using V6 = Vector6<Scalar>;
+  using V3 = Vector3<Scalar>;
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < segments; ++i) {
+    V6 eta = Eigen::Map<const V6>(eta0 + 6 * i), nu = Eigen::Map<const V6>(nu0 + 6 * i);
+    Eigen::Map<V6>{out} = nu;
+    out += 6;
+    for (std::int64_t j = 0; j < steps[i]; ++j, ++k) {
+      const V6 f = Eigen::Map<const V6>(tau + 6 * k);
+      const V3 c = current ? V3(Eigen::Map<const V3>(current + 3 * k)) : V3::Zero();
+      const Scalar h = dt[k] / static_cast<Scalar>(substeps);
+      for (int s = 0; s < substeps; ++s) {
+        const Status st = rk4_step(vehicle, eta, nu, f, h, c);
+        if (st != Status::ok) return {st, i, j};
+      }
+      Eigen::Map<V6>{out} = nu;
+      out += 6;
+    }
+  }
+  return {};
 }
 
 }  // namespace neurov

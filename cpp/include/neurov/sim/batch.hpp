@@ -302,6 +302,47 @@ class BatchSimulator {
 /// the time of one, 128 1.03 x, 256 0.71 x (bench/README.md).
 inline constexpr std::size_t kMinLanesPerThread = 128;
 
+/// Where K runs' state is stacked, row i from lane i: rows of 6 (the
+/// measured eta and nu and the desired state of the observation, the true
+/// eta and nu of the plant), or one value (t, faults, the flags, the steps).
+/// A null pointer is left out. What the bindings hand numpy's storage to
+/// (BatchSimulator.observation and state, TrackingTask.step_batch's info).
+template <typename Scalar>
+struct LaneReadout {
+  Scalar *t = nullptr, *eta = nullptr, *nu = nullptr, *eta_d = nullptr, *eta_d_dot = nullptr,
+         *eta_d_ddot = nullptr, *eta_true = nullptr, *nu_true = nullptr;
+  std::uint8_t* faults = nullptr;
+  bool *diverged = nullptr, *done = nullptr;
+  std::int64_t *steps = nullptr, *planned_steps = nullptr, *steps_left = nullptr;
+
+  /// Row i from a run.
+  void read(std::size_t i, const Simulator<Scalar>& s) const noexcept {
+    const Observation<Scalar>& o = s.observation();
+    const auto put = [i](Scalar* rows, const Vector6<Scalar>& v) noexcept {
+      if (rows) Eigen::Map<Vector6<Scalar>>{rows + 6 * i} = v;
+    };
+    put(eta, o.eta);
+    put(nu, o.nu);
+    put(eta_d, o.desired.eta_d);
+    put(eta_d_dot, o.desired.eta_d_dot);
+    put(eta_d_ddot, o.desired.eta_d_ddot);
+    put(eta_true, s.eta());
+    put(nu_true, s.nu());
+    if (t) t[i] = o.t;
+    if (faults) faults[i] = s.faults();
+    if (diverged) diverged[i] = s.diverged();
+    if (done) done[i] = s.done();
+    if (steps) steps[i] = static_cast<std::int64_t>(s.steps());
+    if (planned_steps) planned_steps[i] = static_cast<std::int64_t>(s.planned_steps());
+    if (steps_left) steps_left[i] = static_cast<std::int64_t>(s.planned_steps() - s.steps());
+  }
+
+  /// Every lane of a batch.
+  void read(const BatchSimulator<Scalar>& batch) const noexcept {
+    for (std::size_t i = 0; i < batch.size(); ++i) read(i, batch.lane(i));
+  }
+};
+
 /// share(begin, end) on contiguous shares of the k lanes [0, k) over
 /// `threads` threads (0: one per hardware thread), never fewer than
 /// `min_lanes` lanes a thread (one thread below that; a period of a lane is

@@ -4,8 +4,9 @@
 // NEUROV_WINDOW_SUMS is the one list of the sums: it declares the members of
 // WindowSums and the table kWindowSums that the bindings export as
 // neurov._core.WINDOW_SUMS; neurov.metrics.WindowSums has exactly these
-// fields (a test checks it) and computes every metric from them, whether it
-// summed them from a Result's rows (numpy) or got them from here.
+// fields (a test checks it) and computes every metric from them: the sums
+// are made here alone, for a C++ run (run_batch's metrics_only) and for a
+// Python Result's rows alike (RunSums::add_rows, bound as neurov._core.RunSums).
 #pragma once
 
 #include <Eigen/Core>
@@ -127,23 +128,34 @@ struct RunSums {
   /// Adds the first `rows` rows of `r`, in time order after those added before.
   template <typename Scalar>
   void add(const SimulationResult<Scalar>& r, Eigen::Index rows) noexcept {
+    add_rows(r.t, r.eta, r.eta_d, r.tau_demanded, r.controller_status, r.adaptive_norm, rows, r.diverged);
+  }
+
+  /// Adds `rows` rows given as columns (row k: t(k), eta.row(k), eta_d.row(k),
+  /// tau.row(k), status(k), adaptive_norm(k)), in time order after those added
+  /// before, of a run that has diverged or not: a SimulationResult's series,
+  /// or a Python Result's arrays (neurov.metrics.MetricsWindow).
+  template <typename T, typename Eta, typename EtaD, typename Tau, typename Status, typename Norm>
+  void add_rows(const T& t_in, const Eta& eta, const EtaD& eta_d, const Tau& tau_in, const Status& status_in,
+                const Norm& adaptive_norm, Eigen::Index rows, bool run_diverged) noexcept {
+    using Scalar = typename Eta::Scalar;
     for (Eigen::Index k = 0; k < rows; ++k) {
-      const double t = static_cast<double>(r.t(k));
-      const std::uint8_t status = r.controller_status(k);
+      const double t = static_cast<double>(t_in(k));
+      const auto status = static_cast<std::uint8_t>(status_in(k));
       if (status != 0 && first_refused_status == 0) {
         first_refused_t = t;
         first_refused_status = status;
       }
-      const Vector6<Scalar> e = (r.eta.row(k) - r.eta_d.row(k)).transpose();
-      const Vector6<Scalar> tau = r.tau_demanded.row(k).transpose();
+      const Vector6<Scalar> e = (eta.row(k) - eta_d.row(k)).transpose();
+      const Vector6<Scalar> tau = tau_in.row(k).transpose();
       (t >= after ? window : before).add(t, e, tau, status);
-      const double norm = static_cast<double>(r.adaptive_norm(k));
+      const double norm = static_cast<double>(adaptive_norm(k));
       final_adaptive_norm = norm;
       max_adaptive_norm = (std::isnan(max_adaptive_norm) || std::isnan(norm))
                               ? WindowSums::kNaN
                               : std::max(max_adaptive_norm, norm);
     }
-    diverged = diverged || r.diverged;
+    diverged = diverged || run_diverged;
   }
 };
 

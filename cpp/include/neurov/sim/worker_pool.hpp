@@ -139,4 +139,14 @@ class WorkerPool {
   std::unique_ptr<Shared> s_;
 };
 
+/// The pool every threaded batch step of the process shares (the bindings'
+/// BatchSimulator.step and TrackingTask.step_batch), for a step on `threads`
+/// threads: nullptr for one, which starts none; else one pool, built at its
+/// first use with a thread per hardware thread and joined at exit.
+inline WorkerPool* shared_pool(unsigned threads) {
+  if (threads == 1) return nullptr;
+  static WorkerPool pool;
+  return &pool;
+}
+
 }  // namespace neurov
