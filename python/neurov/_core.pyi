@@ -10,7 +10,7 @@ import numpy
 import numpy.typing
 import os
 import typing
-__all__: list[str] = ['ARDUSUB_PARAMETERS', 'ArduSubConfig', 'ArduSubController', 'BUILT_IN_CONTROLLERS', 'BatchSimulator', 'Command', 'ComputedTorqueConfig', 'ComputedTorqueController', 'CurrentModel', 'CurrentStep', 'DISTURBANCE_TABLES', 'DepthConfig', 'DvlConfig', 'EstimatorConfig', 'EstimatorType', 'GaussMarkovCurrentConfig', 'ImuConfig', 'LANE_NOT_STEPPED', 'LinearAdaptiveConfig', 'LinearAdaptiveController', 'MAX_CENTRES', 'MAX_SUBSTEPS', 'MAX_WAVE_COMPONENTS', 'MIN_LANES_PER_THREAD', 'NNAdaptiveConfig', 'NNAdaptiveController', 'NeurovError', 'Observation', 'PDConfig', 'PDController', 'PIDConfig', 'PIDController', 'PayloadEvent', 'RESULT_SERIES', 'RbfNetwork', 'ReferenceModel', 'RefusedStepPolicy', 'RobustModification', 'Saturation', 'SensorFault', 'SensorFaultKind', 'SensorsConfig', 'SimulationConfig', 'Simulator', 'SinusoidalDisturbance', 'SlidingModeConfig', 'SlidingModeController', 'Status', 'SuperTwistingConfig', 'SuperTwistingController', 'THETA_NAMES', 'TRACKING_OBSERVATION_SIZE', 'TetherConfig', 'ThrusterConfig', 'ThrusterCurveConfig', 'ThrusterFailure', 'TrackingTask', 'TrackingTaskConfig', 'UsblConfig', 'ValidationError', 'Vehicle', 'WINDOW_SUMS', 'WaveConfig', 'WaveSpectrum', 'allocate_thrust', 'bluerov2_heavy_layout', 'buoyancy_in_water', 'is_near_singularity', 'jacobian', 'jacobian_dot', 'jacobian_inverse', 'plant_derivative', 'plant_jacobians', 'regressor', 'regressor_parameters', 'rk4_segments', 'rk4_step', 'rotation', 'run_batch', 'run_closed_loop', 'run_closed_loop_chunks', 'singularity_threshold', 'to_body', 'tracking_error']
+__all__: list[str] = ['ARDUSUB_PARAMETERS', 'ArduSubConfig', 'ArduSubController', 'BUILT_IN_CONTROLLERS', 'BatchSimulator', 'Command', 'ComputedTorqueConfig', 'ComputedTorqueController', 'CurrentModel', 'CurrentStep', 'DISTURBANCE_TABLES', 'DepthConfig', 'DvlConfig', 'EstimatorConfig', 'EstimatorType', 'GaussMarkovCurrentConfig', 'ImuConfig', 'LANE_NOT_STEPPED', 'LinearAdaptiveConfig', 'LinearAdaptiveController', 'MAX_CENTRES', 'MAX_SUBSTEPS', 'MAX_WAVE_COMPONENTS', 'MIN_LANES_PER_THREAD', 'NNAdaptiveConfig', 'NNAdaptiveController', 'NeurovError', 'Observation', 'PDConfig', 'PDController', 'PIDConfig', 'PIDController', 'PayloadEvent', 'RESULT_SERIES', 'RbfNetwork', 'ReferenceModel', 'RefusedStepPolicy', 'RobustModification', 'Saturation', 'SensorFault', 'SensorFaultKind', 'SensorsConfig', 'SimulationConfig', 'Simulator', 'SinusoidalDisturbance', 'SlidingModeConfig', 'SlidingModeController', 'Status', 'SteadyForceConfig', 'SuperTwistingConfig', 'SuperTwistingController', 'THETA_NAMES', 'TRACKING_OBSERVATION_SIZE', 'TetherConfig', 'ThrusterConfig', 'ThrusterCurveConfig', 'ThrusterFailure', 'TrackingTask', 'TrackingTaskConfig', 'UsblConfig', 'ValidationError', 'Vehicle', 'WINDOW_SUMS', 'WaveConfig', 'WaveSpectrum', 'allocate_thrust', 'bluerov2_heavy_layout', 'buoyancy_in_water', 'is_near_singularity', 'jacobian', 'jacobian_dot', 'jacobian_inverse', 'plant_derivative', 'plant_jacobians', 'regressor', 'regressor_parameters', 'rk4_segments', 'rk4_step', 'rotation', 'run_batch', 'run_closed_loop', 'run_closed_loop_chunks', 'singularity_threshold', 'to_body', 'tracking_error']
 class _SimulationResult(typing.TypedDict):
     """What run_closed_loop, Simulator.result and Simulator.drain return: one row per
     control step t_k = k dt, one array per entry of RESULT_SERIES (in its order),
@@ -2712,6 +2712,49 @@ class TetherConfig:
     @length.setter
     def length(self, arg1: typing.SupportsFloat) -> None:
         ...
+class SteadyForceConfig:
+    """
+    A steady force fixed in the earth frame (a wind's pull on a surface float, a surface drift, a towing load) acting at a body point from `start` on.
+    """
+    FIELDS: typing.ClassVar[tuple]
+    def __copy__(self) -> SteadyForceConfig:
+        ...
+    def __deepcopy__(self, memo: dict) -> SteadyForceConfig:
+        ...
+    def __getstate__(self) -> dict:
+        ...
+    def __init__(self, **kwargs) -> None:
+        """
+        Every field is a keyword argument: force, point, start.
+        """
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, arg0: dict) -> None:
+        ...
+    @property
+    def force(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        """
+        The force, NED (3,) [N], finite.
+        """
+    @force.setter
+    def force(self, arg1: numpy.typing.ArrayLike) -> None:
+        ...
+    @property
+    def point(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        """
+        Where it acts, body axes (3,) [m], finite.
+        """
+    @point.setter
+    def point(self, arg1: numpy.typing.ArrayLike) -> None:
+        ...
+    @property
+    def start(self) -> float:
+        """
+        From when it acts [s], >= 0.
+        """
+    @start.setter
+    def start(self, arg1: typing.SupportsFloat) -> None:
+        ...
 class EstimatorType:
     """
     What the controller is given from the sensors.
@@ -3365,7 +3408,7 @@ class SimulationConfig:
         ...
     def __init__(self, **kwargs) -> None:
         """
-        Every field is a keyword argument: dt, substeps, duration, eta0, nu0, command, lambda_d, omega, disturbances, current, current_amplitude, current_period, noise_eta, noise_nu, seed, use_thrusters, thrusters, thruster_failures, sensor_faults, current_steps, refused_step_policy, current_model, gauss_markov_current, waves, payload, control_delay, water_density, sensors, estimator, tether.
+        Every field is a keyword argument: dt, substeps, duration, eta0, nu0, command, lambda_d, omega, disturbances, current, current_amplitude, current_period, noise_eta, noise_nu, seed, use_thrusters, thrusters, thruster_failures, sensor_faults, current_steps, refused_step_policy, current_model, gauss_markov_current, waves, payload, control_delay, water_density, sensors, estimator, tether, steady_force.
         """
     def __repr__(self) -> str:
         ...
@@ -3558,6 +3601,14 @@ class SimulationConfig:
         """
     @sensors.setter
     def sensors(self, arg1: SensorsConfig) -> None:
+        ...
+    @property
+    def steady_force(self) -> SteadyForceConfig | None:
+        """
+        A SteadyForceConfig, or None: no steady force.
+        """
+    @steady_force.setter
+    def steady_force(self, arg1: SteadyForceConfig | None) -> None:
         ...
     @property
     def substeps(self) -> int:
@@ -4138,7 +4189,7 @@ def tracking_error(eta: numpy.typing.ArrayLike, nu: numpy.typing.ArrayLike, eta_
     """
 ARDUSUB_PARAMETERS: list = [('ATC_ANG_RLL_P', 6.0, 0.0, 12.0, '1/s', 'Roll angle P: roll rate asked per roll angle error.'), ('ATC_ANG_PIT_P', 6.0, 0.0, 12.0, '1/s', 'Pitch angle P: pitch rate asked per pitch angle error.'), ('ATC_ANG_YAW_P', 6.0, 0.0, 12.0, '1/s', 'Yaw angle P: yaw rate asked per yaw angle error.'), ('ATC_ACCEL_R_MAX', 110000.0, 0.0, 180000.0, 'cdeg/s/s', 'Largest roll acceleration of the shaped target and the angle controller (0: none).'), ('ATC_ACCEL_P_MAX', 110000.0, 0.0, 180000.0, 'cdeg/s/s', 'Largest pitch acceleration of the shaped target and the angle controller (0: none).'), ('ATC_ACCEL_Y_MAX', 110000.0, 0.0, 180000.0, 'cdeg/s/s', 'Largest yaw acceleration of the shaped target and the angle controller (0: none).'), ('ATC_INPUT_TC', 0.15, 0.0, 1.0, 's', 'Attitude input time constant: the shaped target approaches the commanded angle with this time constant.'), ('ATC_RATE_FF_ENAB', 1.0, 0.0, 1.0, '', "1: input shaping and the target's rate fed forward; 0: the target jumps to the command."), ('ANGLE_MAX', 3000.0, 1000.0, 8000.0, 'cdeg', 'Largest roll and pitch target (and lean angle of position hold).'), ('ATC_RAT_RLL_P', 0.135, 0.0, 0.3, '', 'Roll rate P: roll output per rad/s of rate error.'), ('ATC_RAT_RLL_I', 0.09, 0.0, 0.5, '', 'Roll rate I.'), ('ATC_RAT_RLL_D', 0.0036, 0.0, 0.05, '', 'Roll rate D.'), ('ATC_RAT_RLL_FF', 0.0, 0.0, 0.5, '', 'Roll rate feed-forward: output per rad/s of target rate.'), ('ATC_RAT_RLL_IMAX', 0.444, 0.0, 1.0, '', 'Largest roll I term.'), ('ATC_RAT_RLL_FLTT', 30.0, 1.0, 100.0, 'Hz', 'Roll target filter (0: off).'), ('ATC_RAT_RLL_FLTE', 0.0, 0.0, 100.0, 'Hz', 'Roll error filter (0: off).'), ('ATC_RAT_RLL_FLTD', 30.0, 0.0, 100.0, 'Hz', 'Roll derivative filter (0: off).'), ('ATC_RAT_PIT_P', 0.135, 0.0, 0.3, '', 'Pitch rate P: pitch output per rad/s of rate error.'), ('ATC_RAT_PIT_I', 0.09, 0.0, 0.5, '', 'Pitch rate I.'), ('ATC_RAT_PIT_D', 0.0036, 0.0, 0.05, '', 'Pitch rate D.'), ('ATC_RAT_PIT_FF', 0.0, 0.0, 0.5, '', 'Pitch rate feed-forward.'), ('ATC_RAT_PIT_IMAX', 0.444, 0.0, 1.0, '', 'Largest pitch I term.'), ('ATC_RAT_PIT_FLTT', 30.0, 1.0, 100.0, 'Hz', 'Pitch target filter (0: off).'), ('ATC_RAT_PIT_FLTE', 0.0, 0.0, 100.0, 'Hz', 'Pitch error filter (0: off).'), ('ATC_RAT_PIT_FLTD', 30.0, 0.0, 100.0, 'Hz', 'Pitch derivative filter (0: off).'), ('ATC_RAT_YAW_P', 0.18, 0.0, 1.0, '', 'Yaw rate P: yaw output per rad/s of rate error.'), ('ATC_RAT_YAW_I', 0.018, 0.0, 0.5, '', 'Yaw rate I.'), ('ATC_RAT_YAW_D', 0.0, 0.0, 0.02, '', 'Yaw rate D.'), ('ATC_RAT_YAW_FF', 0.0, 0.0, 0.5, '', 'Yaw rate feed-forward.'), ('ATC_RAT_YAW_IMAX', 0.222, 0.0, 1.0, '', 'Largest yaw I term.'), ('ATC_RAT_YAW_FLTT', 5.0, 1.0, 50.0, 'Hz', 'Yaw target filter (0: off).'), ('ATC_RAT_YAW_FLTE', 0.0, 0.0, 20.0, 'Hz', 'Yaw error filter (0: off).'), ('ATC_RAT_YAW_FLTD', 5.0, 0.0, 50.0, 'Hz', 'Yaw derivative filter (0: off).'), ('PSC_POSZ_P', 3.0, 1.0, 3.0, '1/s', 'Vertical position P: climb rate asked per depth error.'), ('PSC_VELZ_P', 8.0, 1.0, 8.0, '1/s', 'Vertical velocity P: acceleration asked per climb rate error.'), ('PSC_VELZ_I', 0.0, 0.0, 10.0, '1/s/s', 'Vertical velocity I.'), ('PSC_VELZ_D', 0.0, 0.0, 1.0, '', 'Vertical velocity D.'), ('PSC_VELZ_IMAX', 1000.0, 1.0, 1000.0, 'cm/s/s', 'Largest vertical velocity I term.'), ('PSC_VELZ_FLTE', 5.0, 0.0, 100.0, 'Hz', 'Vertical velocity error filter (0: off).'), ('PSC_VELZ_FLTD', 5.0, 0.0, 100.0, 'Hz', 'Vertical velocity derivative filter (0: off).'), ('PSC_ACCZ_P', 0.5, 0.2, 1.5, '', 'Vertical acceleration P: throttle (x1000) per cm/s/s of acceleration error.'), ('PSC_ACCZ_I', 0.1, 0.0, 3.0, '', 'Vertical acceleration I.'), ('PSC_ACCZ_D', 0.0, 0.0, 0.4, '', 'Vertical acceleration D.'), ('PSC_ACCZ_FF', 0.0, 0.0, 0.5, '', 'Vertical acceleration feed-forward: throttle (x1000) per cm/s/s of acceleration target.'), ('PSC_ACCZ_IMAX', 800.0, 0.0, 1000.0, 'd%', 'Largest vertical acceleration I term (throttle x1000).'), ('PSC_ACCZ_FLTT', 0.0, 0.0, 100.0, 'Hz', 'Vertical acceleration target filter (0: off).'), ('PSC_ACCZ_FLTE', 20.0, 0.0, 100.0, 'Hz', 'Vertical acceleration error filter (0: off).'), ('PSC_ACCZ_FLTD', 0.0, 0.0, 100.0, 'Hz', 'Vertical acceleration derivative filter (0: off).'), ('PILOT_SPEED_UP', 50.0, 20.0, 500.0, 'cm/s', 'Largest climb rate the depth controller asks.'), ('PILOT_SPEED_DN', 50.0, 20.0, 500.0, 'cm/s', 'Largest descent rate the depth controller asks (0: PILOT_SPEED_UP).'), ('PILOT_ACCEL_Z', 100.0, 50.0, 500.0, 'cm/s/s', "Vertical acceleration limit of the depth controller's square-root stage."), ('PSC_POSXY_P', 1.0, 0.5, 2.0, '1/s', 'Horizontal position P: speed asked per position error.'), ('PSC_VELXY_P', 2.0, 0.1, 6.0, '1/s', 'Horizontal velocity P: acceleration asked per speed error.'), ('PSC_VELXY_I', 1.0, 0.02, 1.0, '1/s/s', 'Horizontal velocity I.'), ('PSC_VELXY_D', 0.5, 0.0, 1.0, '', 'Horizontal velocity D.'), ('PSC_VELXY_IMAX', 1000.0, 0.0, 4500.0, 'cm/s/s', 'Largest horizontal velocity I term.'), ('PSC_VELXY_FLTE', 5.0, 0.0, 100.0, 'Hz', 'Horizontal velocity error filter (0: off).'), ('PSC_VELXY_FLTD', 5.0, 0.0, 100.0, 'Hz', 'Horizontal velocity derivative filter (0: off).'), ('WPNAV_SPEED', 500.0, 20.0, 2000.0, 'cm/s', 'Largest horizontal speed the position controller asks.'), ('WPNAV_ACCEL', 100.0, 50.0, 500.0, 'cm/s/s', "Horizontal acceleration limit of the position controller's square-root stage."), ('FRAME_CONFIG', 1.0, 0.0, 7.0, '', 'Frame: 1 vectored (BlueROV2, 6 motors), 2 vectored 6DOF (BlueROV2 Heavy, 8 motors); others not modelled.'), ('MOT_PWM_MIN', 1100.0, 0.0, 2000.0, 'PWM', 'Lowest PWM ever sent to a motor.'), ('MOT_PWM_MAX', 1900.0, 0.0, 2000.0, 'PWM', 'Highest PWM ever sent to a motor.'), ('MOT_1_DIRECTION', 1.0, -1.0, 1.0, '', 'Motor 1 normal (1) or reversed (-1).'), ('MOT_2_DIRECTION', 1.0, -1.0, 1.0, '', 'Motor 2 normal (1) or reversed (-1).'), ('MOT_3_DIRECTION', 1.0, -1.0, 1.0, '', 'Motor 3 normal (1) or reversed (-1).'), ('MOT_4_DIRECTION', 1.0, -1.0, 1.0, '', 'Motor 4 normal (1) or reversed (-1).'), ('MOT_5_DIRECTION', 1.0, -1.0, 1.0, '', 'Motor 5 normal (1) or reversed (-1).'), ('MOT_6_DIRECTION', 1.0, -1.0, 1.0, '', 'Motor 6 normal (1) or reversed (-1).'), ('MOT_7_DIRECTION', 1.0, -1.0, 1.0, '', 'Motor 7 normal (1) or reversed (-1).'), ('MOT_8_DIRECTION', 1.0, -1.0, 1.0, '', 'Motor 8 normal (1) or reversed (-1).'), ('SCHED_LOOP_RATE', 400.0, 50.0, 400.0, 'Hz', "Main loop rate: the controllers' own period is 1 / SCHED_LOOP_RATE.")]
 BUILT_IN_CONTROLLERS: dict = {'nn': NNAdaptiveController, 'linear': LinearAdaptiveController, 'pd': PDController, 'pid': PIDController, 'smc': SlidingModeController, 'computed_torque': ComputedTorqueController, 'super_twisting': SuperTwistingController, 'ardusub': ArduSubController}
-DISTURBANCE_TABLES: tuple = (('waves', WaveConfig, False), ('payload', PayloadEvent, True), ('tether', TetherConfig, False))
+DISTURBANCE_TABLES: tuple = (('waves', WaveConfig, False), ('payload', PayloadEvent, True), ('tether', TetherConfig, False), ('steady_force', SteadyForceConfig, False))
 LANE_NOT_STEPPED: int = 255
 MAX_CENTRES: int = 65536
 MAX_SUBSTEPS: int = 10000

@@ -20,6 +20,7 @@
 #include "neurov/sim/disturbances/payload_events.hpp"
 #include "neurov/sim/disturbances/sea_waves.hpp"
 #include "neurov/sim/disturbances/sinusoids.hpp"
+#include "neurov/sim/disturbances/steady_force.hpp"
 #include "neurov/sim/disturbances/steady_current.hpp"
 #include "neurov/sim/disturbances/tether.hpp"
 #include "neurov/sim/disturbances/thruster_failures.hpp"
@@ -221,6 +222,8 @@ struct SimulationConfig {
   EstimatorConfig<Scalar> estimator;
   /// A ROV's umbilical to a surface point (parts::Tether); empty: none.
   std::optional<TetherConfig<Scalar>> tether;
+  /// A steady force fixed in the earth frame (parts::SteadyForce); empty: none.
+  std::optional<SteadyForceConfig<Scalar>> steady_force;
 };
 
 /// SimulationConfig's fields (its validator and the disturbance parts' check them).
@@ -274,7 +277,8 @@ auto config_fields(const SimulationConfig<Scalar>*) noexcept {
                     "as buoyancy_in_water(water_density, volume)"),
       field_spec<C>("sensors", &C::sensors, "The sensors (a SensorsConfig); none: ideal sensing."),
       field_spec<C>("estimator", &C::estimator, "The estimator (an EstimatorConfig)."),
-      field_spec<C>("tether", &C::tether, "A TetherConfig, or None: no tether."));
+      field_spec<C>("tether", &C::tether, "A TetherConfig, or None: no tether."),
+      field_spec<C>("steady_force", &C::steady_force, "A SteadyForceConfig, or None: no steady force."));
 }
 
 /// The disturbance parts of a run (sim/disturbances/part.hpp), each hook
@@ -284,7 +288,7 @@ template <typename Scalar>
 using DisturbanceParts =
     parts::PartList<Scalar, parts::Sinusoids, parts::SteadyCurrent, parts::GaussMarkovFlow,
                     parts::SeaWaves, parts::PayloadEvents, parts::ThrusterFailures,
-                    parts::Tether>;
+                    parts::Tether, parts::SteadyForce>;
 
 /// B = rho g V [N]: the buoyancy of `displaced_volume` [m^3] in water of
 /// `water_density` [kg/m^3] (g = standard_gravity). Both must be > 0 and
