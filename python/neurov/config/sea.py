@@ -27,7 +27,7 @@ from neurov.errors import ScenarioError
 if TYPE_CHECKING:
     from neurov.config.scenario import Scenario
 
-__all__ = ["CURRENT_MODELS", "read_current_model", "read_part", "read_payload", "read_sea", "read_tether",
+__all__ = ["CURRENT_MODELS", "fill", "read_current_model", "read_part", "read_payload", "read_sea", "read_tether",
            "read_waves", "check_payload"]
 
 CURRENT_MODELS = tuple(_core.CurrentModel.__members__)
@@ -38,7 +38,7 @@ _CONSTANT_KEYS = ("velocity", "amplitude", "period")
 _TABLES: dict[str, tuple[Any, bool]] = {key: (cls, many) for key, cls, many in _core.DISTURBANCE_TABLES}
 
 
-def _fill(r: TableReader, target: Any) -> None:
+def fill(r: TableReader, target: Any) -> None:
     """Every field of the bound struct `target` that the table gives, under
     the field's own name, converted by the kind of the field's default; an
     empty optional vector by its described length, a count within its
@@ -94,7 +94,7 @@ def read_current_model(cr: TableReader, config: Any) -> bool:
             raise cr.error(key, "is a key of model = \"constant\"; with model = \"gauss_markov\" the "
                                 "current is the Gauss-Markov process alone (speed, direction, ...)")
     gm = _core.GaussMarkovCurrentConfig()
-    _fill(cr, gm)
+    fill(cr, gm)
     probe = _probe()
     probe.current_model = config.current_model
     probe.gauss_markov_current = gm
@@ -120,7 +120,7 @@ def read_part(r: TableReader, config: Any, key: str) -> None:
         items = []
         for tr in tables(r, key):
             items.append(kind())
-            _fill(tr, items[-1])
+            fill(tr, items[-1])
             tr.finish()
         if not items:
             return
@@ -130,7 +130,7 @@ def read_part(r: TableReader, config: Any, key: str) -> None:
             return
         tr = r.table_of(key)
         value = kind()
-        _fill(tr, value)
+        fill(tr, value)
         tr.finish()
     probe = _probe()
     probe.eta0 = config.eta0
