@@ -2486,7 +2486,7 @@ class GaussMarkovCurrentConfig:
     @property
     def vertical_angle(self) -> float:
         """
-        Mean angle below the horizontal plane, positive flowing down [deg], finite.
+        Mean angle below the horizontal plane, positive flowing down, within [-90, 90] [deg].
         """
     @vertical_angle.setter
     def vertical_angle(self, arg1: typing.SupportsFloat) -> None:
@@ -2608,7 +2608,7 @@ class PayloadEvent:
     @property
     def buoyancy(self) -> float:
         """
-        Buoyancy added (negative: lost) [N], finite.
+        Buoyancy added (negative: lost; the vehicle keeps B + buoyancy >= 0) [N], finite.
         """
     @buoyancy.setter
     def buoyancy(self, arg1: typing.SupportsFloat) -> None:
@@ -2632,7 +2632,7 @@ class PayloadEvent:
     @property
     def mass(self) -> float:
         """
-        Mass added (negative: dropped); weight mass * 9.81 [kg], finite.
+        Mass added (negative: dropped; the vehicle keeps m + mass > 0); weight mass * 9.81 [kg], finite.
         """
     @mass.setter
     def mass(self, arg1: typing.SupportsFloat) -> None:
@@ -2707,7 +2707,7 @@ class TetherConfig:
     @property
     def length(self) -> float:
         """
-        0: the straight distance at t = 0, which it may not be shorter than (slack is not modelled) [m], >= 0.
+        The cable's length; 0: the straight distance at t = 0, which it may not be shorter than (slack is not modelled) [m], >= 0.
         """
     @length.setter
     def length(self, arg1: typing.SupportsFloat) -> None:

@@ -55,8 +55,9 @@ auto config_fields(const GaussMarkovCurrentConfig<Scalar>*) noexcept {
                     "Mean direction the current flows toward"),
       field_spec<C>("direction_std", &C::direction_std, "deg", Check::non_negative,
                     "Standard deviation of the direction"),
-      field_spec<C>("vertical_angle", &C::vertical_angle, "deg", Check::finite,
-                    "Mean angle below the horizontal plane, positive flowing down"),
+      field_spec<C>("vertical_angle", &C::vertical_angle, "deg", Check::none,
+                    "Mean angle below the horizontal plane, positive flowing down, within "
+                    "[-90, 90]"),
       field_spec<C>("vertical_angle_std", &C::vertical_angle_std, "deg", Check::non_negative,
                     "Standard deviation of the vertical angle"));
 }

@@ -43,10 +43,12 @@ auto config_fields(const PayloadEvent<Scalar>*) noexcept {
   using C = PayloadEvent<Scalar>;
   return std::make_tuple(
       field_spec<C>("time", &C::time, "s", Check::non_negative, "When it happens"),
-      field_spec<C>("mass", &C::mass, "kg", Check::finite, "Mass added (negative: dropped); weight mass * 9.81"),
+      field_spec<C>("mass", &C::mass, "kg", Check::finite,
+                    "Mass added (negative: dropped; the vehicle keeps m + mass > 0); weight mass * 9.81"),
       field_spec<C>("mass_position", &C::mass_position, "m", Check::none,
                     "Where the mass sits, body axes (3,); None: the centre of gravity"),
-      field_spec<C>("buoyancy", &C::buoyancy, "N", Check::finite, "Buoyancy added (negative: lost)"),
+      field_spec<C>("buoyancy", &C::buoyancy, "N", Check::finite,
+                    "Buoyancy added (negative: lost; the vehicle keeps B + buoyancy >= 0)"),
       field_spec<C>("buoyancy_position", &C::buoyancy_position, "m", Check::none,
                     "Where it acts, body axes (3,); None: the centre of buoyancy"),
       field_spec<C>("damping_scale", &C::damping_scale, "", Check::non_negative,

@@ -45,8 +45,8 @@ auto config_fields(const TetherConfig<Scalar>*) noexcept {
       field_spec<C>("anchor", &C::anchor, "m", Check::finite, "The surface end, NED (3,)"),
       field_spec<C>("attachment", &C::attachment, "m", Check::finite, "The vehicle end, body axes (3,)"),
       field_spec<C>("length", &C::length, "m", Check::non_negative,
-                    "0: the straight distance at t = 0, which it may not be shorter than (slack "
-                    "is not modelled)"));
+                    "The cable's length; 0: the straight distance at t = 0, which it may not be "
+                    "shorter than (slack is not modelled)"));
 }
 
 namespace parts {
