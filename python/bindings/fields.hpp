@@ -11,8 +11,10 @@
 //  * lists of structs: tuples of copies, assigned whole from any sequence;
 //  * nested structs: references into the parent.
 //  * anything else: a getter and a setter of its own (`field`).
-// Every struct also gets a keyword constructor that refuses unknown names, a
-// repr, copy and pickle support, and validate() runs the C++ validator.
+// Every struct also gets a keyword constructor that refuses unknown names
+// (with a did-you-mean), a repr, copy and pickle support, and validate() runs
+// the C++ validator. A struct described by config_fields
+// (neurov/core/field_spec.hpp) is bound whole by Fields<T>::described.
 #pragma once
 
 #include <pybind11/eigen.h>
@@ -29,12 +31,37 @@
 #include <utility>
 #include <vector>
 
+#include "neurov/core/field_spec.hpp"
 #include "numpy_args.hpp"
 #include "typed_args.hpp"
 
 namespace neurov::bindings {
 
 namespace py = pybind11;
+
+/// How a described field of type D that is not a number, vector, list,
+/// optional or bound struct reaches Python: a specialisation with
+/// `static void bind(Fields<T>&, const char* name, D T::*member, const char* doc)`
+/// (controller_configs.cpp: the NN's modification, the nominal vehicle).
+template <typename D>
+struct FieldForm {
+  static constexpr bool custom = false;
+};
+
+/// 1: an Eigen matrix or vector, 2: an optional, 3: a list, 0: anything else.
+template <typename X>
+struct FieldKind {
+  static constexpr int kind = std::is_base_of_v<Eigen::MatrixBase<X>, X> ? 1 : 0;
+};
+template <typename X>
+struct FieldKind<std::optional<X>> {
+  static constexpr int kind = 2;
+};
+template <typename X>
+struct FieldKind<std::vector<X>> {
+  static constexpr int kind = 3;
+  using Element = X;
+};
 
 template <typename T>
 class Fields {
@@ -46,6 +73,19 @@ class Fields {
   /// Binds T as `name` in `m`, its fields to follow.
   Fields(py::module_& m, const char* name, const char* doc)
       : Fields(py::class_<T>(m, name, doc), name) {}
+
+  /// T bound from its description (config_fields): each field by its kind,
+  /// its docstring from its meaning, unit and rule; the class's FIELDS lists
+  /// them as dicts (name, unit, rule, min, max, doc, shape) for the readers
+  /// and the docs' tables. Call validator() and finish() after.
+  static Fields described(py::module_& m, const char* name, const char* doc) {
+    Fields f(m, name, doc);
+    py::list table;
+    std::apply([&f, &table](const auto&... s) { (f.add(s, table), ...); },
+               config_fields(static_cast<const T*>(nullptr)));
+    f.cls_.attr("FIELDS") = py::tuple(table);
+    return f;
+  }
 
   /// A number, bool, enum (by value) or nested struct (a reference into this
   /// one). A value of the wrong type is a TypeError naming the field.
@@ -244,6 +284,56 @@ class Fields {
   }
 
  private:
+  /// One described field bound by its kind, and its row of FIELDS.
+  template <typename D>
+  void add(const FieldSpec<T, D>& s, py::list& table) {
+    std::string doc = s.doc;
+    const std::string rule = check_text(s.check);
+    py::object shape = py::none();
+    if (*s.unit || !rule.empty()) {
+      if (!doc.empty() && doc.back() == '.') doc.pop_back();
+      if (*s.unit) doc += std::string(" [") + s.unit + "]";
+      if (!rule.empty()) doc += ", " + rule;
+    }
+    if (doc.empty() || doc.back() != '.') doc += ".";
+    if constexpr (FieldForm<D>::custom) {
+      FieldForm<D>::bind(*this, s.name, s.member, doc.c_str());
+    } else if constexpr (FieldKind<D>::kind == 2) {
+      optional(s.name, s.member, doc.c_str());
+      using V = typename D::value_type;
+      if constexpr (std::is_base_of_v<Eigen::MatrixBase<V>, V>)
+        shape = py::make_tuple(static_cast<int>(V::RowsAtCompileTime));
+    } else if constexpr (FieldKind<D>::kind == 3) {
+      using E = typename FieldKind<D>::Element;
+      const py::handle type = py::detail::get_type_handle(typeid(E), true);
+      const std::string element = py::str(type.attr("__name__"));
+      list(s.name, s.member, element.c_str(), doc.c_str());
+    } else if constexpr (FieldKind<D>::kind == 1) {
+      if constexpr (D::RowsAtCompileTime > 0 && D::ColsAtCompileTime == 1) {
+        if (s.flags & kNumberFills)
+          vector_or_number(s.name, s.member, doc.c_str());
+        else
+          vector(s.name, s.member, doc.c_str());
+        shape = py::make_tuple(static_cast<int>(D::RowsAtCompileTime));
+      } else if constexpr (D::ColsAtCompileTime == 1) {
+        dynamic_vector(s.name, s.member, doc.c_str());
+      } else {
+        dynamic_matrix(s.name, s.member, -1, D::ColsAtCompileTime, doc.c_str());
+      }
+    } else {
+      value(s.name, s.member, doc.c_str());
+    }
+    py::dict row;
+    row["name"] = s.name;
+    row["unit"] = s.unit;
+    row["rule"] = rule;
+    row["min"] = s.min;
+    row["max"] = s.max;
+    row["doc"] = s.doc;
+    row["shape"] = shape;
+    table.append(row);
+  }
+
   template <typename M>
   Fields& dynamic(const char* name, M T::*member, int ndim, py::ssize_t rows, py::ssize_t cols,
                   const char* doc) {
@@ -356,9 +446,14 @@ class Fields {
       const auto key = py::str(item.first).cast<std::string>();
       bool known = false;
       for (const auto& n : names) known = known || n == key;
-      if (!known)
+      if (!known) {
+        py::list candidates;
+        for (const auto& n : names) candidates.append(n);
+        const py::object suggest = py::module_::import("neurov.schema").attr("did_you_mean");
         throw py::type_error(type + "() got an unexpected keyword argument '" + key +
-                             "'; the fields are " + joined(names));
+                             "'; the fields are " + joined(names) +
+                             py::str(suggest(key, candidates)).cast<std::string>());
+      }
       view.attr(item.first) = item.second;
     }
   }

@@ -10,7 +10,7 @@ import numpy
 import numpy.typing
 import os
 import typing
-__all__: list[str] = ['ARDUSUB_PARAMETERS', 'ArduSubConfig', 'ArduSubController', 'BUILT_IN_CONTROLLERS', 'BatchSimulator', 'Command', 'ComputedTorqueConfig', 'ComputedTorqueController', 'CurrentModel', 'CurrentStep', 'DepthConfig', 'DvlConfig', 'EstimatorConfig', 'EstimatorType', 'GaussMarkovCurrentConfig', 'ImuConfig', 'LANE_NOT_STEPPED', 'LinearAdaptiveConfig', 'LinearAdaptiveController', 'MAX_CENTRES', 'MAX_SUBSTEPS', 'MAX_WAVE_COMPONENTS', 'MIN_LANES_PER_THREAD', 'NNAdaptiveConfig', 'NNAdaptiveController', 'NeurovError', 'Observation', 'PDConfig', 'PDController', 'PIDConfig', 'PIDController', 'PayloadEvent', 'RESULT_SERIES', 'RbfNetwork', 'ReferenceModel', 'RefusedStepPolicy', 'RobustModification', 'RunSums', 'Saturation', 'SensorFault', 'SensorFaultKind', 'SensorsConfig', 'SimulationConfig', 'Simulator', 'SinusoidalDisturbance', 'SlidingModeConfig', 'SlidingModeController', 'Status', 'SuperTwistingConfig', 'SuperTwistingController', 'THETA_NAMES', 'TRACKING_OBSERVATION_SIZE', 'TetherConfig', 'ThrusterConfig', 'ThrusterCurveConfig', 'ThrusterFailure', 'TrackingTask', 'TrackingTaskConfig', 'UsblConfig', 'ValidationError', 'Vehicle', 'WINDOW_SUMS', 'WaveConfig', 'WaveSpectrum', 'allocate_thrust', 'allocation_matrix', 'bluerov2_heavy_layout', 'buoyancy_in_water', 'is_near_singularity', 'jacobian', 'jacobian_dot', 'jacobian_inverse', 'plant_derivative', 'plant_jacobians', 'regressor', 'regressor_parameters', 'rk4_segments', 'rk4_step', 'rotation', 'run_batch', 'run_closed_loop', 'run_closed_loop_chunks', 'singularity_threshold', 'to_body', 'tracking_error']
+__all__: list[str] = ['ARDUSUB_PARAMETERS', 'ArduSubConfig', 'ArduSubController', 'BUILT_IN_CONTROLLERS', 'BatchSimulator', 'Command', 'ComputedTorqueConfig', 'ComputedTorqueController', 'CurrentModel', 'CurrentStep', 'DISTURBANCE_TABLES', 'DepthConfig', 'DvlConfig', 'EstimatorConfig', 'EstimatorType', 'GaussMarkovCurrentConfig', 'ImuConfig', 'LANE_NOT_STEPPED', 'LinearAdaptiveConfig', 'LinearAdaptiveController', 'MAX_CENTRES', 'MAX_SUBSTEPS', 'MAX_WAVE_COMPONENTS', 'MIN_LANES_PER_THREAD', 'NNAdaptiveConfig', 'NNAdaptiveController', 'NeurovError', 'Observation', 'PDConfig', 'PDController', 'PIDConfig', 'PIDController', 'PayloadEvent', 'RESULT_SERIES', 'RbfNetwork', 'ReferenceModel', 'RefusedStepPolicy', 'RobustModification', 'Saturation', 'SensorFault', 'SensorFaultKind', 'SensorsConfig', 'SimulationConfig', 'Simulator', 'SinusoidalDisturbance', 'SlidingModeConfig', 'SlidingModeController', 'Status', 'SteadyForceConfig', 'SuperTwistingConfig', 'SuperTwistingController', 'THETA_NAMES', 'TRACKING_OBSERVATION_SIZE', 'TetherConfig', 'ThrusterConfig', 'ThrusterCurveConfig', 'ThrusterFailure', 'TrackingTask', 'TrackingTaskConfig', 'UsblConfig', 'ValidationError', 'Vehicle', 'WINDOW_SUMS', 'WaveConfig', 'WaveSpectrum', 'allocate_thrust', 'bluerov2_heavy_layout', 'buoyancy_in_water', 'is_near_singularity', 'jacobian', 'jacobian_dot', 'jacobian_inverse', 'plant_derivative', 'plant_jacobians', 'regressor', 'regressor_parameters', 'rk4_segments', 'rk4_step', 'rotation', 'run_batch', 'run_closed_loop', 'run_closed_loop_chunks', 'singularity_threshold', 'to_body', 'tracking_error']
 class _SimulationResult(typing.TypedDict):
     """What run_closed_loop, Simulator.result and Simulator.drain return: one row per
     control step t_k = k dt, one array per entry of RESULT_SERIES (in its order),
@@ -628,6 +628,7 @@ class NNAdaptiveConfig:
     """
     Configuration of NNAdaptiveController.
     """
+    FIELDS: typing.ClassVar[tuple]
     def __copy__(self) -> NNAdaptiveConfig:
         ...
     def __deepcopy__(self, memo: dict) -> NNAdaptiveConfig:
@@ -657,7 +658,7 @@ class NNAdaptiveConfig:
     @property
     def dt(self) -> float:
         """
-        Control period [s], > 0 (the paper: 0.2).
+        Control period (the paper: 0.2) [s], > 0.
         """
     @dt.setter
     def dt(self, arg1: typing.SupportsFloat) -> None:
@@ -665,7 +666,7 @@ class NNAdaptiveConfig:
     @property
     def gamma(self) -> float:
         """
-        Gamma_w = gamma I, >= 0 (the paper: 0.3).
+        Gamma_w = gamma I (the paper: 0.3), >= 0.
         """
     @gamma.setter
     def gamma(self, arg1: typing.SupportsFloat) -> None:
@@ -673,7 +674,7 @@ class NNAdaptiveConfig:
     @property
     def kappa(self) -> float:
         """
-        Gain of the e-modification (> 0 when used).
+        Gain of the e-modification (> 0 when used), >= 0.
         """
     @kappa.setter
     def kappa(self, arg1: typing.SupportsFloat) -> None:
@@ -681,7 +682,7 @@ class NNAdaptiveConfig:
     @property
     def kd(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
         """
-        K_d, diagonal (6,), >= 0 (0 leaves the network alone).
+        K_d, diagonal (6,), >= 0.
         """
     @kd.setter
     def kd(self, arg1: numpy.typing.ArrayLike) -> None:
@@ -705,7 +706,7 @@ class NNAdaptiveConfig:
     @property
     def sigma_m(self) -> float:
         """
-        Leakage of the sigma-modification (> 0 when used).
+        Leakage of the sigma-modification (> 0 when used), >= 0.
         """
     @sigma_m.setter
     def sigma_m(self, arg1: typing.SupportsFloat) -> None:
@@ -713,7 +714,7 @@ class NNAdaptiveConfig:
     @property
     def w_max(self) -> float:
         """
-        Frobenius bound of the projection (> 0 when used).
+        Frobenius bound of the projection (> 0 when used), >= 0.
         """
     @w_max.setter
     def w_max(self, arg1: typing.SupportsFloat) -> None:
@@ -722,6 +723,7 @@ class LinearAdaptiveConfig:
     """
     Configuration of LinearAdaptiveController.
     """
+    FIELDS: typing.ClassVar[tuple]
     def __copy__(self) -> LinearAdaptiveConfig:
         ...
     def __deepcopy__(self, memo: dict) -> LinearAdaptiveConfig:
@@ -751,7 +753,7 @@ class LinearAdaptiveConfig:
     @property
     def gamma(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[24, 1]"]:
         """
-        Diagonal of Gamma (24,), >= 0 (0 freezes that parameter); a number sets every entry.
+        Diagonal of Gamma (24,) (0 freezes that parameter); a number sets every entry, >= 0.
         """
     @gamma.setter
     def gamma(self, arg1: typing.SupportsFloat | numpy.typing.ArrayLike) -> None:
@@ -775,7 +777,7 @@ class LinearAdaptiveConfig:
     @property
     def theta0(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[24, 1]"]:
         """
-        theta_hat(0) (24,): zero, or a nominal guess such as regressor_parameters(vehicle).
+        theta_hat(0) (24,): zero, or a nominal guess such as regressor_parameters(vehicle), finite.
         """
     @theta0.setter
     def theta0(self, arg1: numpy.typing.ArrayLike) -> None:
@@ -784,6 +786,7 @@ class PDConfig:
     """
     Configuration of PDController.
     """
+    FIELDS: typing.ClassVar[tuple]
     def __copy__(self) -> PDConfig:
         ...
     def __deepcopy__(self, memo: dict) -> PDConfig:
@@ -822,6 +825,7 @@ class PIDConfig:
     """
     Configuration of PIDController.
     """
+    FIELDS: typing.ClassVar[tuple]
     def __copy__(self) -> PIDConfig:
         ...
     def __deepcopy__(self, memo: dict) -> PIDConfig:
@@ -851,7 +855,7 @@ class PIDConfig:
     @property
     def integral_limit(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
         """
-        Largest |K_i z| per DOF (6,), > 0 [N, N m].
+        Largest |K_i z| per DOF (6,) [N, N m], > 0.
         """
     @integral_limit.setter
     def integral_limit(self, arg1: numpy.typing.ArrayLike) -> None:
@@ -884,6 +888,7 @@ class SlidingModeConfig:
     """
     Configuration of SlidingModeController.
     """
+    FIELDS: typing.ClassVar[tuple]
     def __copy__(self) -> SlidingModeConfig:
         ...
     def __deepcopy__(self, memo: dict) -> SlidingModeConfig:
@@ -905,7 +910,7 @@ class SlidingModeConfig:
     @property
     def k(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
         """
-        Switching gain K (6,), >= 0 [N, N m].
+        Switching gain K (6,) [N, N m], >= 0.
         """
     @k.setter
     def k(self, arg1: numpy.typing.ArrayLike) -> None:
@@ -929,7 +934,7 @@ class SlidingModeConfig:
     @property
     def phi(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
         """
-        Boundary-layer width (6,), > 0, in units of s.
+        Boundary-layer width (6,) [units of s], > 0.
         """
     @phi.setter
     def phi(self, arg1: numpy.typing.ArrayLike) -> None:
@@ -937,7 +942,7 @@ class SlidingModeConfig:
     @property
     def theta(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[24, 1]"]:
         """
-        The nominal model's theta (24,), e.g. regressor_parameters(vehicle).
+        The nominal model's theta (24,), e.g. regressor_parameters(vehicle), finite.
         """
     @theta.setter
     def theta(self, arg1: numpy.typing.ArrayLike) -> None:
@@ -946,6 +951,7 @@ class ComputedTorqueConfig:
     """
     Configuration of ComputedTorqueController.
     """
+    FIELDS: typing.ClassVar[tuple]
     def __copy__(self) -> ComputedTorqueConfig:
         ...
     def __deepcopy__(self, memo: dict) -> ComputedTorqueConfig:
@@ -992,6 +998,7 @@ class SuperTwistingConfig:
     """
     Configuration of SuperTwistingController.
     """
+    FIELDS: typing.ClassVar[tuple]
     def __copy__(self) -> SuperTwistingConfig:
         ...
     def __deepcopy__(self, memo: dict) -> SuperTwistingConfig:
@@ -1070,6 +1077,7 @@ class ArduSubConfig:
     """
     Configuration of ArduSubController.
     """
+    FIELDS: typing.ClassVar[tuple]
     def __copy__(self) -> ArduSubConfig:
         ...
     def __deepcopy__(self, memo: dict) -> ArduSubConfig:
@@ -1091,7 +1099,7 @@ class ArduSubConfig:
     @property
     def ANGLE_MAX(self) -> float:
         """
-        Largest roll and pitch target (and lean angle of position hold).
+        Largest roll and pitch target (and lean angle of position hold) [cdeg], >= 0.
         """
     @ANGLE_MAX.setter
     def ANGLE_MAX(self, arg1: typing.SupportsFloat) -> None:
@@ -1099,7 +1107,7 @@ class ArduSubConfig:
     @property
     def ATC_ACCEL_P_MAX(self) -> float:
         """
-        Largest pitch acceleration of the shaped target and the angle controller (0: none).
+        Largest pitch acceleration of the shaped target and the angle controller (0: none) [cdeg/s/s], >= 0.
         """
     @ATC_ACCEL_P_MAX.setter
     def ATC_ACCEL_P_MAX(self, arg1: typing.SupportsFloat) -> None:
@@ -1107,7 +1115,7 @@ class ArduSubConfig:
     @property
     def ATC_ACCEL_R_MAX(self) -> float:
         """
-        Largest roll acceleration of the shaped target and the angle controller (0: none).
+        Largest roll acceleration of the shaped target and the angle controller (0: none) [cdeg/s/s], >= 0.
         """
     @ATC_ACCEL_R_MAX.setter
     def ATC_ACCEL_R_MAX(self, arg1: typing.SupportsFloat) -> None:
@@ -1115,7 +1123,7 @@ class ArduSubConfig:
     @property
     def ATC_ACCEL_Y_MAX(self) -> float:
         """
-        Largest yaw acceleration of the shaped target and the angle controller (0: none).
+        Largest yaw acceleration of the shaped target and the angle controller (0: none) [cdeg/s/s], >= 0.
         """
     @ATC_ACCEL_Y_MAX.setter
     def ATC_ACCEL_Y_MAX(self, arg1: typing.SupportsFloat) -> None:
@@ -1123,7 +1131,7 @@ class ArduSubConfig:
     @property
     def ATC_ANG_PIT_P(self) -> float:
         """
-        Pitch angle P: pitch rate asked per pitch angle error.
+        Pitch angle P: pitch rate asked per pitch angle error [1/s], >= 0.
         """
     @ATC_ANG_PIT_P.setter
     def ATC_ANG_PIT_P(self, arg1: typing.SupportsFloat) -> None:
@@ -1131,7 +1139,7 @@ class ArduSubConfig:
     @property
     def ATC_ANG_RLL_P(self) -> float:
         """
-        Roll angle P: roll rate asked per roll angle error.
+        Roll angle P: roll rate asked per roll angle error [1/s], >= 0.
         """
     @ATC_ANG_RLL_P.setter
     def ATC_ANG_RLL_P(self, arg1: typing.SupportsFloat) -> None:
@@ -1139,7 +1147,7 @@ class ArduSubConfig:
     @property
     def ATC_ANG_YAW_P(self) -> float:
         """
-        Yaw angle P: yaw rate asked per yaw angle error.
+        Yaw angle P: yaw rate asked per yaw angle error [1/s], >= 0.
         """
     @ATC_ANG_YAW_P.setter
     def ATC_ANG_YAW_P(self, arg1: typing.SupportsFloat) -> None:
@@ -1147,7 +1155,7 @@ class ArduSubConfig:
     @property
     def ATC_INPUT_TC(self) -> float:
         """
-        Attitude input time constant: the shaped target approaches the commanded angle with this time constant.
+        Attitude input time constant: the shaped target approaches the commanded angle with this time constant [s], >= 0.
         """
     @ATC_INPUT_TC.setter
     def ATC_INPUT_TC(self, arg1: typing.SupportsFloat) -> None:
@@ -1155,7 +1163,7 @@ class ArduSubConfig:
     @property
     def ATC_RATE_FF_ENAB(self) -> float:
         """
-        1: input shaping and the target's rate fed forward; 0: the target jumps to the command.
+        1: input shaping and the target's rate fed forward; 0: the target jumps to the command, >= 0.
         """
     @ATC_RATE_FF_ENAB.setter
     def ATC_RATE_FF_ENAB(self, arg1: typing.SupportsFloat) -> None:
@@ -1163,7 +1171,7 @@ class ArduSubConfig:
     @property
     def ATC_RAT_PIT_D(self) -> float:
         """
-        Pitch rate D.
+        Pitch rate D, >= 0.
         """
     @ATC_RAT_PIT_D.setter
     def ATC_RAT_PIT_D(self, arg1: typing.SupportsFloat) -> None:
@@ -1171,7 +1179,7 @@ class ArduSubConfig:
     @property
     def ATC_RAT_PIT_FF(self) -> float:
         """
-        Pitch rate feed-forward.
+        Pitch rate feed-forward, >= 0.
         """
     @ATC_RAT_PIT_FF.setter
     def ATC_RAT_PIT_FF(self, arg1: typing.SupportsFloat) -> None:
@@ -1179,7 +1187,7 @@ class ArduSubConfig:
     @property
     def ATC_RAT_PIT_FLTD(self) -> float:
         """
-        Pitch derivative filter (0: off).
+        Pitch derivative filter (0: off) [Hz], >= 0.
         """
     @ATC_RAT_PIT_FLTD.setter
     def ATC_RAT_PIT_FLTD(self, arg1: typing.SupportsFloat) -> None:
@@ -1187,7 +1195,7 @@ class ArduSubConfig:
     @property
     def ATC_RAT_PIT_FLTE(self) -> float:
         """
-        Pitch error filter (0: off).
+        Pitch error filter (0: off) [Hz], >= 0.
         """
     @ATC_RAT_PIT_FLTE.setter
     def ATC_RAT_PIT_FLTE(self, arg1: typing.SupportsFloat) -> None:
@@ -1195,7 +1203,7 @@ class ArduSubConfig:
     @property
     def ATC_RAT_PIT_FLTT(self) -> float:
         """
-        Pitch target filter (0: off).
+        Pitch target filter (0: off) [Hz], >= 0.
         """
     @ATC_RAT_PIT_FLTT.setter
     def ATC_RAT_PIT_FLTT(self, arg1: typing.SupportsFloat) -> None:
@@ -1203,7 +1211,7 @@ class ArduSubConfig:
     @property
     def ATC_RAT_PIT_I(self) -> float:
         """
-        Pitch rate I.
+        Pitch rate I, >= 0.
         """
     @ATC_RAT_PIT_I.setter
     def ATC_RAT_PIT_I(self, arg1: typing.SupportsFloat) -> None:
@@ -1211,7 +1219,7 @@ class ArduSubConfig:
     @property
     def ATC_RAT_PIT_IMAX(self) -> float:
         """
-        Largest pitch I term.
+        Largest pitch I term, >= 0.
         """
     @ATC_RAT_PIT_IMAX.setter
     def ATC_RAT_PIT_IMAX(self, arg1: typing.SupportsFloat) -> None:
@@ -1219,7 +1227,7 @@ class ArduSubConfig:
     @property
     def ATC_RAT_PIT_P(self) -> float:
         """
-        Pitch rate P: pitch output per rad/s of rate error.
+        Pitch rate P: pitch output per rad/s of rate error, >= 0.
         """
     @ATC_RAT_PIT_P.setter
     def ATC_RAT_PIT_P(self, arg1: typing.SupportsFloat) -> None:
@@ -1227,7 +1235,7 @@ class ArduSubConfig:
     @property
     def ATC_RAT_RLL_D(self) -> float:
         """
-        Roll rate D.
+        Roll rate D, >= 0.
         """
     @ATC_RAT_RLL_D.setter
     def ATC_RAT_RLL_D(self, arg1: typing.SupportsFloat) -> None:
@@ -1235,7 +1243,7 @@ class ArduSubConfig:
     @property
     def ATC_RAT_RLL_FF(self) -> float:
         """
-        Roll rate feed-forward: output per rad/s of target rate.
+        Roll rate feed-forward: output per rad/s of target rate, >= 0.
         """
     @ATC_RAT_RLL_FF.setter
     def ATC_RAT_RLL_FF(self, arg1: typing.SupportsFloat) -> None:
@@ -1243,7 +1251,7 @@ class ArduSubConfig:
     @property
     def ATC_RAT_RLL_FLTD(self) -> float:
         """
-        Roll derivative filter (0: off).
+        Roll derivative filter (0: off) [Hz], >= 0.
         """
     @ATC_RAT_RLL_FLTD.setter
     def ATC_RAT_RLL_FLTD(self, arg1: typing.SupportsFloat) -> None:
@@ -1251,7 +1259,7 @@ class ArduSubConfig:
     @property
     def ATC_RAT_RLL_FLTE(self) -> float:
         """
-        Roll error filter (0: off).
+        Roll error filter (0: off) [Hz], >= 0.
         """
     @ATC_RAT_RLL_FLTE.setter
     def ATC_RAT_RLL_FLTE(self, arg1: typing.SupportsFloat) -> None:
@@ -1259,7 +1267,7 @@ class ArduSubConfig:
     @property
     def ATC_RAT_RLL_FLTT(self) -> float:
         """
-        Roll target filter (0: off).
+        Roll target filter (0: off) [Hz], >= 0.
         """
     @ATC_RAT_RLL_FLTT.setter
     def ATC_RAT_RLL_FLTT(self, arg1: typing.SupportsFloat) -> None:
@@ -1267,7 +1275,7 @@ class ArduSubConfig:
     @property
     def ATC_RAT_RLL_I(self) -> float:
         """
-        Roll rate I.
+        Roll rate I, >= 0.
         """
     @ATC_RAT_RLL_I.setter
     def ATC_RAT_RLL_I(self, arg1: typing.SupportsFloat) -> None:
@@ -1275,7 +1283,7 @@ class ArduSubConfig:
     @property
     def ATC_RAT_RLL_IMAX(self) -> float:
         """
-        Largest roll I term.
+        Largest roll I term, >= 0.
         """
     @ATC_RAT_RLL_IMAX.setter
     def ATC_RAT_RLL_IMAX(self, arg1: typing.SupportsFloat) -> None:
@@ -1283,7 +1291,7 @@ class ArduSubConfig:
     @property
     def ATC_RAT_RLL_P(self) -> float:
         """
-        Roll rate P: roll output per rad/s of rate error.
+        Roll rate P: roll output per rad/s of rate error, >= 0.
         """
     @ATC_RAT_RLL_P.setter
     def ATC_RAT_RLL_P(self, arg1: typing.SupportsFloat) -> None:
@@ -1291,7 +1299,7 @@ class ArduSubConfig:
     @property
     def ATC_RAT_YAW_D(self) -> float:
         """
-        Yaw rate D.
+        Yaw rate D, >= 0.
         """
     @ATC_RAT_YAW_D.setter
     def ATC_RAT_YAW_D(self, arg1: typing.SupportsFloat) -> None:
@@ -1299,7 +1307,7 @@ class ArduSubConfig:
     @property
     def ATC_RAT_YAW_FF(self) -> float:
         """
-        Yaw rate feed-forward.
+        Yaw rate feed-forward, >= 0.
         """
     @ATC_RAT_YAW_FF.setter
     def ATC_RAT_YAW_FF(self, arg1: typing.SupportsFloat) -> None:
@@ -1307,7 +1315,7 @@ class ArduSubConfig:
     @property
     def ATC_RAT_YAW_FLTD(self) -> float:
         """
-        Yaw derivative filter (0: off).
+        Yaw derivative filter (0: off) [Hz], >= 0.
         """
     @ATC_RAT_YAW_FLTD.setter
     def ATC_RAT_YAW_FLTD(self, arg1: typing.SupportsFloat) -> None:
@@ -1315,7 +1323,7 @@ class ArduSubConfig:
     @property
     def ATC_RAT_YAW_FLTE(self) -> float:
         """
-        Yaw error filter (0: off).
+        Yaw error filter (0: off) [Hz], >= 0.
         """
     @ATC_RAT_YAW_FLTE.setter
     def ATC_RAT_YAW_FLTE(self, arg1: typing.SupportsFloat) -> None:
@@ -1323,7 +1331,7 @@ class ArduSubConfig:
     @property
     def ATC_RAT_YAW_FLTT(self) -> float:
         """
-        Yaw target filter (0: off).
+        Yaw target filter (0: off) [Hz], >= 0.
         """
     @ATC_RAT_YAW_FLTT.setter
     def ATC_RAT_YAW_FLTT(self, arg1: typing.SupportsFloat) -> None:
@@ -1331,7 +1339,7 @@ class ArduSubConfig:
     @property
     def ATC_RAT_YAW_I(self) -> float:
         """
-        Yaw rate I.
+        Yaw rate I, >= 0.
         """
     @ATC_RAT_YAW_I.setter
     def ATC_RAT_YAW_I(self, arg1: typing.SupportsFloat) -> None:
@@ -1339,7 +1347,7 @@ class ArduSubConfig:
     @property
     def ATC_RAT_YAW_IMAX(self) -> float:
         """
-        Largest yaw I term.
+        Largest yaw I term, >= 0.
         """
     @ATC_RAT_YAW_IMAX.setter
     def ATC_RAT_YAW_IMAX(self, arg1: typing.SupportsFloat) -> None:
@@ -1347,7 +1355,7 @@ class ArduSubConfig:
     @property
     def ATC_RAT_YAW_P(self) -> float:
         """
-        Yaw rate P: yaw output per rad/s of rate error.
+        Yaw rate P: yaw output per rad/s of rate error, >= 0.
         """
     @ATC_RAT_YAW_P.setter
     def ATC_RAT_YAW_P(self, arg1: typing.SupportsFloat) -> None:
@@ -1355,7 +1363,7 @@ class ArduSubConfig:
     @property
     def FRAME_CONFIG(self) -> float:
         """
-        Frame: 1 vectored (BlueROV2, 6 motors), 2 vectored 6DOF (BlueROV2 Heavy, 8 motors); others not modelled.
+        Frame: 1 vectored (BlueROV2, 6 motors), 2 vectored 6DOF (BlueROV2 Heavy, 8 motors); others not modelled, >= 0.
         """
     @FRAME_CONFIG.setter
     def FRAME_CONFIG(self, arg1: typing.SupportsFloat) -> None:
@@ -1363,7 +1371,7 @@ class ArduSubConfig:
     @property
     def MOT_1_DIRECTION(self) -> float:
         """
-        Motor 1 normal (1) or reversed (-1).
+        Motor 1 normal (1) or reversed (-1), finite.
         """
     @MOT_1_DIRECTION.setter
     def MOT_1_DIRECTION(self, arg1: typing.SupportsFloat) -> None:
@@ -1371,7 +1379,7 @@ class ArduSubConfig:
     @property
     def MOT_2_DIRECTION(self) -> float:
         """
-        Motor 2 normal (1) or reversed (-1).
+        Motor 2 normal (1) or reversed (-1), finite.
         """
     @MOT_2_DIRECTION.setter
     def MOT_2_DIRECTION(self, arg1: typing.SupportsFloat) -> None:
@@ -1379,7 +1387,7 @@ class ArduSubConfig:
     @property
     def MOT_3_DIRECTION(self) -> float:
         """
-        Motor 3 normal (1) or reversed (-1).
+        Motor 3 normal (1) or reversed (-1), finite.
         """
     @MOT_3_DIRECTION.setter
     def MOT_3_DIRECTION(self, arg1: typing.SupportsFloat) -> None:
@@ -1387,7 +1395,7 @@ class ArduSubConfig:
     @property
     def MOT_4_DIRECTION(self) -> float:
         """
-        Motor 4 normal (1) or reversed (-1).
+        Motor 4 normal (1) or reversed (-1), finite.
         """
     @MOT_4_DIRECTION.setter
     def MOT_4_DIRECTION(self, arg1: typing.SupportsFloat) -> None:
@@ -1395,7 +1403,7 @@ class ArduSubConfig:
     @property
     def MOT_5_DIRECTION(self) -> float:
         """
-        Motor 5 normal (1) or reversed (-1).
+        Motor 5 normal (1) or reversed (-1), finite.
         """
     @MOT_5_DIRECTION.setter
     def MOT_5_DIRECTION(self, arg1: typing.SupportsFloat) -> None:
@@ -1403,7 +1411,7 @@ class ArduSubConfig:
     @property
     def MOT_6_DIRECTION(self) -> float:
         """
-        Motor 6 normal (1) or reversed (-1).
+        Motor 6 normal (1) or reversed (-1), finite.
         """
     @MOT_6_DIRECTION.setter
     def MOT_6_DIRECTION(self, arg1: typing.SupportsFloat) -> None:
@@ -1411,7 +1419,7 @@ class ArduSubConfig:
     @property
     def MOT_7_DIRECTION(self) -> float:
         """
-        Motor 7 normal (1) or reversed (-1).
+        Motor 7 normal (1) or reversed (-1), finite.
         """
     @MOT_7_DIRECTION.setter
     def MOT_7_DIRECTION(self, arg1: typing.SupportsFloat) -> None:
@@ -1419,7 +1427,7 @@ class ArduSubConfig:
     @property
     def MOT_8_DIRECTION(self) -> float:
         """
-        Motor 8 normal (1) or reversed (-1).
+        Motor 8 normal (1) or reversed (-1), finite.
         """
     @MOT_8_DIRECTION.setter
     def MOT_8_DIRECTION(self, arg1: typing.SupportsFloat) -> None:
@@ -1427,7 +1435,7 @@ class ArduSubConfig:
     @property
     def MOT_PWM_MAX(self) -> float:
         """
-        Highest PWM ever sent to a motor.
+        Highest PWM ever sent to a motor [PWM], >= 0.
         """
     @MOT_PWM_MAX.setter
     def MOT_PWM_MAX(self, arg1: typing.SupportsFloat) -> None:
@@ -1435,7 +1443,7 @@ class ArduSubConfig:
     @property
     def MOT_PWM_MIN(self) -> float:
         """
-        Lowest PWM ever sent to a motor.
+        Lowest PWM ever sent to a motor [PWM], >= 0.
         """
     @MOT_PWM_MIN.setter
     def MOT_PWM_MIN(self, arg1: typing.SupportsFloat) -> None:
@@ -1443,7 +1451,7 @@ class ArduSubConfig:
     @property
     def PILOT_ACCEL_Z(self) -> float:
         """
-        Vertical acceleration limit of the depth controller's square-root stage.
+        Vertical acceleration limit of the depth controller's square-root stage [cm/s/s], >= 0.
         """
     @PILOT_ACCEL_Z.setter
     def PILOT_ACCEL_Z(self, arg1: typing.SupportsFloat) -> None:
@@ -1451,7 +1459,7 @@ class ArduSubConfig:
     @property
     def PILOT_SPEED_DN(self) -> float:
         """
-        Largest descent rate the depth controller asks (0: PILOT_SPEED_UP).
+        Largest descent rate the depth controller asks (0: PILOT_SPEED_UP) [cm/s], >= 0.
         """
     @PILOT_SPEED_DN.setter
     def PILOT_SPEED_DN(self, arg1: typing.SupportsFloat) -> None:
@@ -1459,7 +1467,7 @@ class ArduSubConfig:
     @property
     def PILOT_SPEED_UP(self) -> float:
         """
-        Largest climb rate the depth controller asks.
+        Largest climb rate the depth controller asks [cm/s], >= 0.
         """
     @PILOT_SPEED_UP.setter
     def PILOT_SPEED_UP(self, arg1: typing.SupportsFloat) -> None:
@@ -1467,7 +1475,7 @@ class ArduSubConfig:
     @property
     def PSC_ACCZ_D(self) -> float:
         """
-        Vertical acceleration D.
+        Vertical acceleration D, >= 0.
         """
     @PSC_ACCZ_D.setter
     def PSC_ACCZ_D(self, arg1: typing.SupportsFloat) -> None:
@@ -1475,7 +1483,7 @@ class ArduSubConfig:
     @property
     def PSC_ACCZ_FF(self) -> float:
         """
-        Vertical acceleration feed-forward: throttle (x1000) per cm/s/s of acceleration target.
+        Vertical acceleration feed-forward: throttle (x1000) per cm/s/s of acceleration target, >= 0.
         """
     @PSC_ACCZ_FF.setter
     def PSC_ACCZ_FF(self, arg1: typing.SupportsFloat) -> None:
@@ -1483,7 +1491,7 @@ class ArduSubConfig:
     @property
     def PSC_ACCZ_FLTD(self) -> float:
         """
-        Vertical acceleration derivative filter (0: off).
+        Vertical acceleration derivative filter (0: off) [Hz], >= 0.
         """
     @PSC_ACCZ_FLTD.setter
     def PSC_ACCZ_FLTD(self, arg1: typing.SupportsFloat) -> None:
@@ -1491,7 +1499,7 @@ class ArduSubConfig:
     @property
     def PSC_ACCZ_FLTE(self) -> float:
         """
-        Vertical acceleration error filter (0: off).
+        Vertical acceleration error filter (0: off) [Hz], >= 0.
         """
     @PSC_ACCZ_FLTE.setter
     def PSC_ACCZ_FLTE(self, arg1: typing.SupportsFloat) -> None:
@@ -1499,7 +1507,7 @@ class ArduSubConfig:
     @property
     def PSC_ACCZ_FLTT(self) -> float:
         """
-        Vertical acceleration target filter (0: off).
+        Vertical acceleration target filter (0: off) [Hz], >= 0.
         """
     @PSC_ACCZ_FLTT.setter
     def PSC_ACCZ_FLTT(self, arg1: typing.SupportsFloat) -> None:
@@ -1507,7 +1515,7 @@ class ArduSubConfig:
     @property
     def PSC_ACCZ_I(self) -> float:
         """
-        Vertical acceleration I.
+        Vertical acceleration I, >= 0.
         """
     @PSC_ACCZ_I.setter
     def PSC_ACCZ_I(self, arg1: typing.SupportsFloat) -> None:
@@ -1515,7 +1523,7 @@ class ArduSubConfig:
     @property
     def PSC_ACCZ_IMAX(self) -> float:
         """
-        Largest vertical acceleration I term (throttle x1000).
+        Largest vertical acceleration I term (throttle x1000) [d%], >= 0.
         """
     @PSC_ACCZ_IMAX.setter
     def PSC_ACCZ_IMAX(self, arg1: typing.SupportsFloat) -> None:
@@ -1523,7 +1531,7 @@ class ArduSubConfig:
     @property
     def PSC_ACCZ_P(self) -> float:
         """
-        Vertical acceleration P: throttle (x1000) per cm/s/s of acceleration error.
+        Vertical acceleration P: throttle (x1000) per cm/s/s of acceleration error, >= 0.
         """
     @PSC_ACCZ_P.setter
     def PSC_ACCZ_P(self, arg1: typing.SupportsFloat) -> None:
@@ -1531,7 +1539,7 @@ class ArduSubConfig:
     @property
     def PSC_POSXY_P(self) -> float:
         """
-        Horizontal position P: speed asked per position error.
+        Horizontal position P: speed asked per position error [1/s], >= 0.
         """
     @PSC_POSXY_P.setter
     def PSC_POSXY_P(self, arg1: typing.SupportsFloat) -> None:
@@ -1539,7 +1547,7 @@ class ArduSubConfig:
     @property
     def PSC_POSZ_P(self) -> float:
         """
-        Vertical position P: climb rate asked per depth error.
+        Vertical position P: climb rate asked per depth error [1/s], >= 0.
         """
     @PSC_POSZ_P.setter
     def PSC_POSZ_P(self, arg1: typing.SupportsFloat) -> None:
@@ -1547,7 +1555,7 @@ class ArduSubConfig:
     @property
     def PSC_VELXY_D(self) -> float:
         """
-        Horizontal velocity D.
+        Horizontal velocity D, >= 0.
         """
     @PSC_VELXY_D.setter
     def PSC_VELXY_D(self, arg1: typing.SupportsFloat) -> None:
@@ -1555,7 +1563,7 @@ class ArduSubConfig:
     @property
     def PSC_VELXY_FLTD(self) -> float:
         """
-        Horizontal velocity derivative filter (0: off).
+        Horizontal velocity derivative filter (0: off) [Hz], >= 0.
         """
     @PSC_VELXY_FLTD.setter
     def PSC_VELXY_FLTD(self, arg1: typing.SupportsFloat) -> None:
@@ -1563,7 +1571,7 @@ class ArduSubConfig:
     @property
     def PSC_VELXY_FLTE(self) -> float:
         """
-        Horizontal velocity error filter (0: off).
+        Horizontal velocity error filter (0: off) [Hz], >= 0.
         """
     @PSC_VELXY_FLTE.setter
     def PSC_VELXY_FLTE(self, arg1: typing.SupportsFloat) -> None:
@@ -1571,7 +1579,7 @@ class ArduSubConfig:
     @property
     def PSC_VELXY_I(self) -> float:
         """
-        Horizontal velocity I.
+        Horizontal velocity I [1/s/s], >= 0.
         """
     @PSC_VELXY_I.setter
     def PSC_VELXY_I(self, arg1: typing.SupportsFloat) -> None:
@@ -1579,7 +1587,7 @@ class ArduSubConfig:
     @property
     def PSC_VELXY_IMAX(self) -> float:
         """
-        Largest horizontal velocity I term.
+        Largest horizontal velocity I term [cm/s/s], >= 0.
         """
     @PSC_VELXY_IMAX.setter
     def PSC_VELXY_IMAX(self, arg1: typing.SupportsFloat) -> None:
@@ -1587,7 +1595,7 @@ class ArduSubConfig:
     @property
     def PSC_VELXY_P(self) -> float:
         """
-        Horizontal velocity P: acceleration asked per speed error.
+        Horizontal velocity P: acceleration asked per speed error [1/s], >= 0.
         """
     @PSC_VELXY_P.setter
     def PSC_VELXY_P(self, arg1: typing.SupportsFloat) -> None:
@@ -1595,7 +1603,7 @@ class ArduSubConfig:
     @property
     def PSC_VELZ_D(self) -> float:
         """
-        Vertical velocity D.
+        Vertical velocity D, >= 0.
         """
     @PSC_VELZ_D.setter
     def PSC_VELZ_D(self, arg1: typing.SupportsFloat) -> None:
@@ -1603,7 +1611,7 @@ class ArduSubConfig:
     @property
     def PSC_VELZ_FLTD(self) -> float:
         """
-        Vertical velocity derivative filter (0: off).
+        Vertical velocity derivative filter (0: off) [Hz], >= 0.
         """
     @PSC_VELZ_FLTD.setter
     def PSC_VELZ_FLTD(self, arg1: typing.SupportsFloat) -> None:
@@ -1611,7 +1619,7 @@ class ArduSubConfig:
     @property
     def PSC_VELZ_FLTE(self) -> float:
         """
-        Vertical velocity error filter (0: off).
+        Vertical velocity error filter (0: off) [Hz], >= 0.
         """
     @PSC_VELZ_FLTE.setter
     def PSC_VELZ_FLTE(self, arg1: typing.SupportsFloat) -> None:
@@ -1619,7 +1627,7 @@ class ArduSubConfig:
     @property
     def PSC_VELZ_I(self) -> float:
         """
-        Vertical velocity I.
+        Vertical velocity I [1/s/s], >= 0.
         """
     @PSC_VELZ_I.setter
     def PSC_VELZ_I(self, arg1: typing.SupportsFloat) -> None:
@@ -1627,7 +1635,7 @@ class ArduSubConfig:
     @property
     def PSC_VELZ_IMAX(self) -> float:
         """
-        Largest vertical velocity I term.
+        Largest vertical velocity I term [cm/s/s], >= 0.
         """
     @PSC_VELZ_IMAX.setter
     def PSC_VELZ_IMAX(self, arg1: typing.SupportsFloat) -> None:
@@ -1635,7 +1643,7 @@ class ArduSubConfig:
     @property
     def PSC_VELZ_P(self) -> float:
         """
-        Vertical velocity P: acceleration asked per climb rate error.
+        Vertical velocity P: acceleration asked per climb rate error [1/s], >= 0.
         """
     @PSC_VELZ_P.setter
     def PSC_VELZ_P(self, arg1: typing.SupportsFloat) -> None:
@@ -1643,7 +1651,7 @@ class ArduSubConfig:
     @property
     def SCHED_LOOP_RATE(self) -> float:
         """
-        Main loop rate: the controllers' own period is 1 / SCHED_LOOP_RATE.
+        Main loop rate: the controllers' own period is 1 / SCHED_LOOP_RATE [Hz], >= 0.
         """
     @SCHED_LOOP_RATE.setter
     def SCHED_LOOP_RATE(self, arg1: typing.SupportsFloat) -> None:
@@ -1651,7 +1659,7 @@ class ArduSubConfig:
     @property
     def WPNAV_ACCEL(self) -> float:
         """
-        Horizontal acceleration limit of the position controller's square-root stage.
+        Horizontal acceleration limit of the position controller's square-root stage [cm/s/s], >= 0.
         """
     @WPNAV_ACCEL.setter
     def WPNAV_ACCEL(self, arg1: typing.SupportsFloat) -> None:
@@ -1659,7 +1667,7 @@ class ArduSubConfig:
     @property
     def WPNAV_SPEED(self) -> float:
         """
-        Largest horizontal speed the position controller asks.
+        Largest horizontal speed the position controller asks [cm/s], >= 0.
         """
     @WPNAV_SPEED.setter
     def WPNAV_SPEED(self, arg1: typing.SupportsFloat) -> None:
@@ -2166,10 +2174,6 @@ class ArduSubController:
         """
     def __setstate__(self, arg0: dict) -> None:
         ...
-    def mix(self, inputs: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[6, 1]"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
-        """
-        The motor stage alone, as ArduSub's manual mode drives it: the PWM [us] of each motor, shape (motors,), for the mixer's inputs roll, pitch, yaw, throttle, forward, lateral (each held within -1..1) through the frame's factors, MOT_n_DIRECTION and MOT_PWM_MIN/MAX. Changes nothing.
-        """
     def reset(self) -> None:
         """
         Back to the initial state and a zero history.
@@ -2408,6 +2412,7 @@ class GaussMarkovCurrentConfig:
     """
     A current whose speed, direction and vertical angle wander about their means as first-order Gauss-Markov processes (Fossen 2011, 8.3).
     """
+    FIELDS: typing.ClassVar[tuple]
     def __copy__(self) -> GaussMarkovCurrentConfig:
         ...
     def __deepcopy__(self, memo: dict) -> GaussMarkovCurrentConfig:
@@ -2425,7 +2430,7 @@ class GaussMarkovCurrentConfig:
     @property
     def direction(self) -> float:
         """
-        Mean direction the current flows toward [deg from north].
+        Mean direction the current flows toward [deg from north], finite.
         """
     @direction.setter
     def direction(self, arg1: typing.SupportsFloat) -> None:
@@ -2433,7 +2438,7 @@ class GaussMarkovCurrentConfig:
     @property
     def direction_std(self) -> float:
         """
-        [deg], >= 0.
+        Standard deviation of the direction [deg], >= 0.
         """
     @direction_std.setter
     def direction_std(self, arg1: typing.SupportsFloat) -> None:
@@ -2441,7 +2446,7 @@ class GaussMarkovCurrentConfig:
     @property
     def speed(self) -> float:
         """
-        Mean speed [m/s], within [speed_min, speed_max].
+        Mean speed, within [speed_min, speed_max] [m/s].
         """
     @speed.setter
     def speed(self, arg1: typing.SupportsFloat) -> None:
@@ -2449,7 +2454,7 @@ class GaussMarkovCurrentConfig:
     @property
     def speed_max(self) -> float:
         """
-        Upper bound of the speed given out [m/s].
+        Upper bound of the speed given out, >= speed_min [m/s].
         """
     @speed_max.setter
     def speed_max(self, arg1: typing.SupportsFloat) -> None:
@@ -2481,7 +2486,7 @@ class GaussMarkovCurrentConfig:
     @property
     def vertical_angle(self) -> float:
         """
-        Mean angle below the horizontal plane [deg], positive flowing down.
+        Mean angle below the horizontal plane, positive flowing down, within [-90, 90] [deg].
         """
     @vertical_angle.setter
     def vertical_angle(self, arg1: typing.SupportsFloat) -> None:
@@ -2489,7 +2494,7 @@ class GaussMarkovCurrentConfig:
     @property
     def vertical_angle_std(self) -> float:
         """
-        [deg], >= 0.
+        Standard deviation of the vertical angle [deg], >= 0.
         """
     @vertical_angle_std.setter
     def vertical_angle_std(self, arg1: typing.SupportsFloat) -> None:
@@ -2498,6 +2503,7 @@ class WaveConfig:
     """
     Linear deep-water waves realised from a spectrum as a sum of seeded components.
     """
+    FIELDS: typing.ClassVar[tuple]
     def __copy__(self) -> WaveConfig:
         ...
     def __deepcopy__(self, memo: dict) -> WaveConfig:
@@ -2519,7 +2525,7 @@ class WaveConfig:
     @property
     def components(self) -> int:
         """
-        Number of components, 1 to 512.
+        Number of components.
         """
     @components.setter
     def components(self, arg1: typing.SupportsIndex) -> None:
@@ -2527,7 +2533,7 @@ class WaveConfig:
     @property
     def direction(self) -> float:
         """
-        Direction the waves travel toward [deg from north].
+        Direction the waves travel toward [deg from north], finite.
         """
     @direction.setter
     def direction(self, arg1: typing.SupportsFloat) -> None:
@@ -2559,7 +2565,7 @@ class WaveConfig:
     @property
     def spreading(self) -> float:
         """
-        n of the cos^n directional spreading; 0: long-crested.
+        n of the cos^n directional spreading; 0: long-crested, >= 0.
         """
     @spreading.setter
     def spreading(self, arg1: typing.SupportsFloat) -> None:
@@ -2576,6 +2582,7 @@ class PayloadEvent:
     """
     A change of the vehicle at `time` that the controller is not told about: mass, buoyancy, damping and added mass.
     """
+    FIELDS: typing.ClassVar[tuple]
     def __copy__(self) -> PayloadEvent:
         ...
     def __deepcopy__(self, memo: dict) -> PayloadEvent:
@@ -2593,7 +2600,7 @@ class PayloadEvent:
     @property
     def added_mass_scale(self) -> float:
         """
-        Factor on the added-mass matrix.
+        Factor on the added-mass matrix, >= 0.
         """
     @added_mass_scale.setter
     def added_mass_scale(self, arg1: typing.SupportsFloat) -> None:
@@ -2601,7 +2608,7 @@ class PayloadEvent:
     @property
     def buoyancy(self) -> float:
         """
-        Buoyancy added [N] (negative: lost).
+        Buoyancy added (negative: lost; the vehicle keeps B + buoyancy >= 0) [N], finite.
         """
     @buoyancy.setter
     def buoyancy(self, arg1: typing.SupportsFloat) -> None:
@@ -2609,7 +2616,7 @@ class PayloadEvent:
     @property
     def buoyancy_position(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"] | None:
         """
-        Where it acts, body axes [m] (3,); None: the centre of buoyancy.
+        Where it acts, body axes (3,); None: the centre of buoyancy [m].
         """
     @buoyancy_position.setter
     def buoyancy_position(self, arg1: numpy.typing.ArrayLike | None) -> None:
@@ -2617,7 +2624,7 @@ class PayloadEvent:
     @property
     def damping_scale(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
         """
-        Factors on the linear and quadratic damping per DOF (6,).
+        Factors on the linear and quadratic damping per DOF (6,), >= 0.
         """
     @damping_scale.setter
     def damping_scale(self, arg1: numpy.typing.ArrayLike) -> None:
@@ -2625,7 +2632,7 @@ class PayloadEvent:
     @property
     def mass(self) -> float:
         """
-        Mass added [kg] (negative: dropped); weight mass * 9.81.
+        Mass added (negative: dropped; the vehicle keeps m + mass > 0); weight mass * 9.81 [kg], finite.
         """
     @mass.setter
     def mass(self, arg1: typing.SupportsFloat) -> None:
@@ -2633,7 +2640,7 @@ class PayloadEvent:
     @property
     def mass_position(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"] | None:
         """
-        Where the mass sits, body axes [m] (3,); None: the centre of gravity.
+        Where the mass sits, body axes (3,); None: the centre of gravity [m].
         """
     @mass_position.setter
     def mass_position(self, arg1: numpy.typing.ArrayLike | None) -> None:
@@ -2650,6 +2657,7 @@ class TetherConfig:
     """
     A ROV's umbilical from a surface anchor to the vehicle: a quasi-static straight line whose normal drag, integrated along it, acts half at the vehicle's attachment point.
     """
+    FIELDS: typing.ClassVar[tuple]
     def __copy__(self) -> TetherConfig:
         ...
     def __deepcopy__(self, memo: dict) -> TetherConfig:
@@ -2667,7 +2675,7 @@ class TetherConfig:
     @property
     def anchor(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
         """
-        The surface end, NED [m] (3,).
+        The surface end, NED (3,) [m], finite.
         """
     @anchor.setter
     def anchor(self, arg1: numpy.typing.ArrayLike) -> None:
@@ -2675,7 +2683,7 @@ class TetherConfig:
     @property
     def attachment(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
         """
-        The vehicle end, body axes [m] (3,).
+        The vehicle end, body axes (3,) [m], finite.
         """
     @attachment.setter
     def attachment(self, arg1: numpy.typing.ArrayLike) -> None:
@@ -2683,7 +2691,7 @@ class TetherConfig:
     @property
     def diameter(self) -> float:
         """
-        d [m], > 0.
+        d, the cable's diameter [m], > 0.
         """
     @diameter.setter
     def diameter(self, arg1: typing.SupportsFloat) -> None:
@@ -2699,10 +2707,53 @@ class TetherConfig:
     @property
     def length(self) -> float:
         """
-        [m]; 0: the straight distance at t = 0, which it may not be shorter than (slack is not modelled).
+        The cable's length; 0: the straight distance at t = 0, which it may not be shorter than (slack is not modelled) [m], >= 0.
         """
     @length.setter
     def length(self, arg1: typing.SupportsFloat) -> None:
+        ...
+class SteadyForceConfig:
+    """
+    A steady force fixed in the earth frame (a wind's pull on a surface float, a surface drift, a towing load) acting at a body point from `start` on.
+    """
+    FIELDS: typing.ClassVar[tuple]
+    def __copy__(self) -> SteadyForceConfig:
+        ...
+    def __deepcopy__(self, memo: dict) -> SteadyForceConfig:
+        ...
+    def __getstate__(self) -> dict:
+        ...
+    def __init__(self, **kwargs) -> None:
+        """
+        Every field is a keyword argument: force, point, start.
+        """
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, arg0: dict) -> None:
+        ...
+    @property
+    def force(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        """
+        The force, NED (3,) [N], finite.
+        """
+    @force.setter
+    def force(self, arg1: numpy.typing.ArrayLike) -> None:
+        ...
+    @property
+    def point(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        """
+        Where it acts, body axes (3,) [m], finite.
+        """
+    @point.setter
+    def point(self, arg1: numpy.typing.ArrayLike) -> None:
+        ...
+    @property
+    def start(self) -> float:
+        """
+        From when it acts [s], >= 0.
+        """
+    @start.setter
+    def start(self, arg1: typing.SupportsFloat) -> None:
         ...
 class EstimatorType:
     """
@@ -2755,6 +2806,7 @@ class UsblConfig:
     """
     An acoustic position fix (USBL-like): NED position.
     """
+    FIELDS: typing.ClassVar[tuple]
     def __copy__(self) -> UsblConfig:
         ...
     def __deepcopy__(self, memo: dict) -> UsblConfig:
@@ -2772,7 +2824,7 @@ class UsblConfig:
     @property
     def bias(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
         """
-        NED [m] (3,).
+        Bias, NED (3,) [m], finite.
         """
     @bias.setter
     def bias(self, arg1: numpy.typing.ArrayLike) -> None:
@@ -2780,7 +2832,7 @@ class UsblConfig:
     @property
     def latency(self) -> float:
         """
-        [s], >= 0 (acoustic travel and processing).
+        Latency (acoustic travel and processing) [s], >= 0.
         """
     @latency.setter
     def latency(self, arg1: typing.SupportsFloat) -> None:
@@ -2796,7 +2848,7 @@ class UsblConfig:
     @property
     def rate(self) -> float:
         """
-        [Hz], > 0.
+        Sample rate [Hz], > 0.
         """
     @rate.setter
     def rate(self, arg1: typing.SupportsFloat) -> None:
@@ -2805,6 +2857,7 @@ class DvlConfig:
     """
     A Doppler velocity log: body velocity over ground.
     """
+    FIELDS: typing.ClassVar[tuple]
     def __copy__(self) -> DvlConfig:
         ...
     def __deepcopy__(self, memo: dict) -> DvlConfig:
@@ -2822,7 +2875,7 @@ class DvlConfig:
     @property
     def bias(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
         """
-        [m/s] (3,).
+        Bias (3,) [m/s], finite.
         """
     @bias.setter
     def bias(self, arg1: numpy.typing.ArrayLike) -> None:
@@ -2838,7 +2891,7 @@ class DvlConfig:
     @property
     def latency(self) -> float:
         """
-        [s], >= 0.
+        Latency [s], >= 0.
         """
     @latency.setter
     def latency(self, arg1: typing.SupportsFloat) -> None:
@@ -2854,7 +2907,7 @@ class DvlConfig:
     @property
     def rate(self) -> float:
         """
-        [Hz], > 0.
+        Sample rate [Hz], > 0.
         """
     @rate.setter
     def rate(self, arg1: typing.SupportsFloat) -> None:
@@ -2863,6 +2916,7 @@ class DepthConfig:
     """
     A pressure depth sensor: z, down positive.
     """
+    FIELDS: typing.ClassVar[tuple]
     def __copy__(self) -> DepthConfig:
         ...
     def __deepcopy__(self, memo: dict) -> DepthConfig:
@@ -2880,7 +2934,7 @@ class DepthConfig:
     @property
     def bias(self) -> float:
         """
-        [m].
+        Bias [m], finite.
         """
     @bias.setter
     def bias(self, arg1: typing.SupportsFloat) -> None:
@@ -2888,7 +2942,7 @@ class DepthConfig:
     @property
     def latency(self) -> float:
         """
-        [s], >= 0.
+        Latency [s], >= 0.
         """
     @latency.setter
     def latency(self, arg1: typing.SupportsFloat) -> None:
@@ -2904,7 +2958,7 @@ class DepthConfig:
     @property
     def rate(self) -> float:
         """
-        [Hz], > 0.
+        Sample rate [Hz], > 0.
         """
     @rate.setter
     def rate(self, arg1: typing.SupportsFloat) -> None:
@@ -2913,6 +2967,7 @@ class ImuConfig:
     """
     An AHRS/IMU: attitude and gyro rates, the gyro's bias walking.
     """
+    FIELDS: typing.ClassVar[tuple]
     def __copy__(self) -> ImuConfig:
         ...
     def __deepcopy__(self, memo: dict) -> ImuConfig:
@@ -2938,7 +2993,7 @@ class ImuConfig:
     @property
     def gyro_bias(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
         """
-        Initial gyro bias [rad/s] (3,).
+        Initial gyro bias (3,) [rad/s], finite.
         """
     @gyro_bias.setter
     def gyro_bias(self, arg1: numpy.typing.ArrayLike) -> None:
@@ -2962,7 +3017,7 @@ class ImuConfig:
     @property
     def latency(self) -> float:
         """
-        [s], >= 0.
+        Latency [s], >= 0.
         """
     @latency.setter
     def latency(self, arg1: typing.SupportsFloat) -> None:
@@ -2970,7 +3025,7 @@ class ImuConfig:
     @property
     def rate(self) -> float:
         """
-        [Hz], > 0.
+        Sample rate [Hz], > 0.
         """
     @rate.setter
     def rate(self, arg1: typing.SupportsFloat) -> None:
@@ -2979,6 +3034,7 @@ class SensorsConfig:
     """
     The sensors of a run, each optional; none configured: ideal sensing.
     """
+    FIELDS: typing.ClassVar[tuple]
     def __copy__(self) -> SensorsConfig:
         ...
     def __deepcopy__(self, memo: dict) -> SensorsConfig:
@@ -3033,6 +3089,7 @@ class EstimatorConfig:
     """
     What the controller is given from the sensors; the EKF's measurement noises are the sensors' own.
     """
+    FIELDS: typing.ClassVar[tuple]
     def __copy__(self) -> EstimatorConfig:
         ...
     def __deepcopy__(self, memo: dict) -> EstimatorConfig:
@@ -3058,7 +3115,7 @@ class EstimatorConfig:
     @property
     def initial_std(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[15, 1]"]:
         """
-        Standard deviations of the initial estimate (15,): position, angles, body velocity, rates, gyro bias.
+        Standard deviations of the initial estimate (15,): position, angles, body velocity, rates, gyro bias, > 0.
         """
     @initial_std.setter
     def initial_std(self, arg1: numpy.typing.ArrayLike) -> None:
@@ -3083,6 +3140,7 @@ class SinusoidalDisturbance:
     """
     A force or moment in one body DOF: amplitude * sin(2 pi frequency (t - start) + phase) for t >= start.
     """
+    FIELDS: typing.ClassVar[tuple]
     def __copy__(self) -> SinusoidalDisturbance:
         ...
     def __deepcopy__(self, memo: dict) -> SinusoidalDisturbance:
@@ -3100,7 +3158,7 @@ class SinusoidalDisturbance:
     @property
     def amplitude(self) -> float:
         """
-        [N] or [N m].
+        Amplitude [N or N m], finite.
         """
     @amplitude.setter
     def amplitude(self, arg1: typing.SupportsFloat) -> None:
@@ -3116,7 +3174,7 @@ class SinusoidalDisturbance:
     @property
     def frequency(self) -> float:
         """
-        [Hz].
+        Frequency [Hz], finite.
         """
     @frequency.setter
     def frequency(self, arg1: typing.SupportsFloat) -> None:
@@ -3124,7 +3182,7 @@ class SinusoidalDisturbance:
     @property
     def phase(self) -> float:
         """
-        [rad].
+        Phase [rad], finite.
         """
     @phase.setter
     def phase(self, arg1: typing.SupportsFloat) -> None:
@@ -3132,7 +3190,7 @@ class SinusoidalDisturbance:
     @property
     def start(self) -> float:
         """
-        [s].
+        Start [s], finite.
         """
     @start.setter
     def start(self, arg1: typing.SupportsFloat) -> None:
@@ -3141,6 +3199,7 @@ class ThrusterFailure:
     """
     Thruster `index` works at `efficiency` (0: failed) from `time` on.
     """
+    FIELDS: typing.ClassVar[tuple]
     def __copy__(self) -> ThrusterFailure:
         ...
     def __deepcopy__(self, memo: dict) -> ThrusterFailure:
@@ -3174,7 +3233,7 @@ class ThrusterFailure:
     @property
     def time(self) -> float:
         """
-        [s].
+        From when [s], finite.
         """
     @time.setter
     def time(self, arg1: typing.SupportsFloat) -> None:
@@ -3183,6 +3242,7 @@ class SensorFault:
     """
     A sensor fault over [start, end): the measurement of eta and/or nu freezes, drops out (NaN) or gets extra white noise.
     """
+    FIELDS: typing.ClassVar[tuple]
     def __copy__(self) -> SensorFault:
         ...
     def __deepcopy__(self, memo: dict) -> SensorFault:
@@ -3200,7 +3260,7 @@ class SensorFault:
     @property
     def end(self) -> float:
         """
-        [s], >= start.
+        End, >= start [s].
         """
     @end.setter
     def end(self, arg1: typing.SupportsFloat) -> None:
@@ -3224,7 +3284,7 @@ class SensorFault:
     @property
     def noise_eta(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
         """
-        Standard deviations (6,); noise_burst only.
+        Standard deviations (6,); noise_burst only, >= 0.
         """
     @noise_eta.setter
     def noise_eta(self, arg1: numpy.typing.ArrayLike) -> None:
@@ -3232,7 +3292,7 @@ class SensorFault:
     @property
     def noise_nu(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
         """
-        Standard deviations (6,); noise_burst only.
+        Standard deviations (6,); noise_burst only, >= 0.
         """
     @noise_nu.setter
     def noise_nu(self, arg1: numpy.typing.ArrayLike) -> None:
@@ -3248,7 +3308,7 @@ class SensorFault:
     @property
     def start(self) -> float:
         """
-        [s].
+        Start [s], finite.
         """
     @start.setter
     def start(self, arg1: typing.SupportsFloat) -> None:
@@ -3257,6 +3317,7 @@ class CurrentStep:
     """
     From `time` on, the mean current is `velocity`.
     """
+    FIELDS: typing.ClassVar[tuple]
     def __copy__(self) -> CurrentStep:
         ...
     def __deepcopy__(self, memo: dict) -> CurrentStep:
@@ -3274,7 +3335,7 @@ class CurrentStep:
     @property
     def time(self) -> float:
         """
-        [s].
+        From when [s].
         """
     @time.setter
     def time(self, arg1: typing.SupportsFloat) -> None:
@@ -3282,7 +3343,7 @@ class CurrentStep:
     @property
     def velocity(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
         """
-        NED [m/s] (3,).
+        The mean current from then on, NED (3,) [m/s], finite.
         """
     @velocity.setter
     def velocity(self, arg1: numpy.typing.ArrayLike) -> None:
@@ -3291,6 +3352,7 @@ class Command:
     """
     Commanded poses at increasing times; held before the first and after the last; between them linear or held.
     """
+    FIELDS: typing.ClassVar[tuple]
     def __copy__(self) -> Command:
         ...
     def __deepcopy__(self, memo: dict) -> Command:
@@ -3337,6 +3399,7 @@ class SimulationConfig:
     """
     Everything of a closed-loop run but the vehicle and the controller. Rows of a run are at t_k = k dt; the force is held over each control period and the plant integrated by RK4 at dt / substeps.
     """
+    FIELDS: typing.ClassVar[tuple]
     def __copy__(self) -> SimulationConfig:
         ...
     def __deepcopy__(self, memo: dict) -> SimulationConfig:
@@ -3345,7 +3408,7 @@ class SimulationConfig:
         ...
     def __init__(self, **kwargs) -> None:
         """
-        Every field is a keyword argument: dt, substeps, duration, eta0, nu0, command, lambda_d, omega, disturbances, current, current_amplitude, current_period, noise_eta, noise_nu, seed, use_thrusters, thrusters, thruster_failures, sensor_faults, current_steps, refused_step_policy, current_model, gauss_markov_current, waves, payload, control_delay, water_density, sensors, estimator, tether.
+        Every field is a keyword argument: dt, substeps, duration, eta0, nu0, command, lambda_d, omega, disturbances, current, current_amplitude, current_period, noise_eta, noise_nu, seed, use_thrusters, thrusters, thruster_failures, sensor_faults, current_steps, refused_step_policy, current_model, gauss_markov_current, waves, payload, control_delay, water_density, sensors, estimator, tether, steady_force.
         """
     def __repr__(self) -> str:
         ...
@@ -3374,7 +3437,7 @@ class SimulationConfig:
     @property
     def current(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
         """
-        Mean current, NED [m/s] (3,).
+        Mean current, NED (3,) [m/s], finite.
         """
     @current.setter
     def current(self, arg1: numpy.typing.ArrayLike) -> None:
@@ -3382,7 +3445,7 @@ class SimulationConfig:
     @property
     def current_amplitude(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
         """
-        Amplitude of the current's sinusoid per axis (3,).
+        Amplitude of the current's sinusoid per axis (3,) [m/s], finite.
         """
     @current_amplitude.setter
     def current_amplitude(self, arg1: numpy.typing.ArrayLike) -> None:
@@ -3398,7 +3461,7 @@ class SimulationConfig:
     @property
     def current_period(self) -> float:
         """
-        [s]; 0 means a constant current.
+        0 means a constant current [s], >= 0.
         """
     @current_period.setter
     def current_period(self, arg1: typing.SupportsFloat) -> None:
@@ -3430,7 +3493,7 @@ class SimulationConfig:
     @property
     def duration(self) -> float:
         """
-        [s].
+        Duration [s].
         """
     @duration.setter
     def duration(self, arg1: typing.SupportsFloat) -> None:
@@ -3446,7 +3509,7 @@ class SimulationConfig:
     @property
     def eta0(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
         """
-        Initial pose (6,).
+        Initial pose (6,), finite.
         """
     @eta0.setter
     def eta0(self, arg1: numpy.typing.ArrayLike) -> None:
@@ -3462,7 +3525,7 @@ class SimulationConfig:
     @property
     def lambda_d(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
         """
-        Reference-model damping (6,).
+        Reference-model damping (6,), > 0.
         """
     @lambda_d.setter
     def lambda_d(self, arg1: numpy.typing.ArrayLike) -> None:
@@ -3470,7 +3533,7 @@ class SimulationConfig:
     @property
     def noise_eta(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
         """
-        Standard deviations of the pose noise (6,).
+        Standard deviations of the pose noise (6,), >= 0.
         """
     @noise_eta.setter
     def noise_eta(self, arg1: numpy.typing.ArrayLike) -> None:
@@ -3478,7 +3541,7 @@ class SimulationConfig:
     @property
     def noise_nu(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
         """
-        Standard deviations of the velocity noise (6,).
+        Standard deviations of the velocity noise (6,), >= 0.
         """
     @noise_nu.setter
     def noise_nu(self, arg1: numpy.typing.ArrayLike) -> None:
@@ -3486,7 +3549,7 @@ class SimulationConfig:
     @property
     def nu0(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
         """
-        Initial body velocity (6,).
+        Initial body velocity (6,), finite.
         """
     @nu0.setter
     def nu0(self, arg1: numpy.typing.ArrayLike) -> None:
@@ -3494,7 +3557,7 @@ class SimulationConfig:
     @property
     def omega(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
         """
-        Reference-model stiffness (6,).
+        Reference-model stiffness (6,), > 0.
         """
     @omega.setter
     def omega(self, arg1: numpy.typing.ArrayLike) -> None:
@@ -3540,6 +3603,14 @@ class SimulationConfig:
     def sensors(self, arg1: SensorsConfig) -> None:
         ...
     @property
+    def steady_force(self) -> SteadyForceConfig | None:
+        """
+        A SteadyForceConfig, or None: no steady force.
+        """
+    @steady_force.setter
+    def steady_force(self, arg1: SteadyForceConfig | None) -> None:
+        ...
+    @property
     def substeps(self) -> int:
         """
         RK4 steps per control period, 1 to 10000 (MAX_SUBSTEPS).
@@ -3582,7 +3653,7 @@ class SimulationConfig:
     @property
     def water_density(self) -> float:
         """
-        [kg/m^3], > 0 (sea water by default); a vehicle file's displaced volume gives its buoyancy as buoyancy_in_water(water_density, volume).
+        Sea water by default; a vehicle file's displaced volume gives its buoyancy as buoyancy_in_water(water_density, volume) [kg/m^3], > 0.
         """
     @water_density.setter
     def water_density(self, arg1: typing.SupportsFloat) -> None:
@@ -3723,20 +3794,6 @@ class Simulator:
     def steps(self) -> int:
         """
         Rows logged so far.
-        """
-class RunSums:
-    """
-    A run's metric sums (WINDOW_SUMS before and from `after` on, and what the metrics read over every row), added row by row as run_batch's metrics_only adds them.
-    """
-    def __init__(self, after: typing.SupportsFloat | typing.SupportsIndex) -> None:
-        ...
-    def add(self, t: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], eta: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 6]", "flags.c_contiguous"], eta_d: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 6]", "flags.c_contiguous"], tau_demanded: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 6]", "flags.c_contiguous"], controller_status: typing.Annotated[numpy.typing.NDArray[numpy.uint8], "[m, 1]"], adaptive_norm: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], diverged: bool) -> None:
-        """
-        Adds a run's next rows (t (n,), eta, eta_d, tau_demanded (n, 6), controller_status (n,), adaptive_norm (n,)), in time order, and whether the run diverged.
-        """
-    def as_dict(self) -> dict[str, typing.Any]:
-        """
-        The sums as run_batch's metrics_only gives them.
         """
 class BatchSimulator:
     """
@@ -3982,10 +4039,6 @@ def allocate_thrust(matrix: numpy.typing.ArrayLike, tau: numpy.typing.ArrayLike,
     """
     Allocates a wrench tau (6,) to thrusters with configuration matrix (6, n) by the weighted pseudo-inverse and saturates ('scale' keeps the direction, 'clip' clips each). Returns (thrusts (n,), produced wrench (6,)).
     """
-def allocation_matrix(positions: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 3]"], directions: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 3]"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, n]"]:
-    """
-    The allocation matrix B (6, n) of n thrusters at positions (n, 3) [m] pushing along unit directions (n, 3), body axes: column i is [d_i; r_i x d_i] (model/thruster_geometry.hpp).
-    """
 def bluerov2_heavy_layout() -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[8, 3]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[8, 3]"], list]:
     """
     The BlueROV2 Heavy's thruster layout of the C++ core (model/bluerov2_heavy.hpp): (positions (8, 3) [m], unit thrust directions (8, 3), names), body axes x forward, y starboard, z down.
@@ -4136,6 +4189,7 @@ def tracking_error(eta: numpy.typing.ArrayLike, nu: numpy.typing.ArrayLike, eta_
     """
 ARDUSUB_PARAMETERS: list = [('ATC_ANG_RLL_P', 6.0, 0.0, 12.0, '1/s', 'Roll angle P: roll rate asked per roll angle error.'), ('ATC_ANG_PIT_P', 6.0, 0.0, 12.0, '1/s', 'Pitch angle P: pitch rate asked per pitch angle error.'), ('ATC_ANG_YAW_P', 6.0, 0.0, 12.0, '1/s', 'Yaw angle P: yaw rate asked per yaw angle error.'), ('ATC_ACCEL_R_MAX', 110000.0, 0.0, 180000.0, 'cdeg/s/s', 'Largest roll acceleration of the shaped target and the angle controller (0: none).'), ('ATC_ACCEL_P_MAX', 110000.0, 0.0, 180000.0, 'cdeg/s/s', 'Largest pitch acceleration of the shaped target and the angle controller (0: none).'), ('ATC_ACCEL_Y_MAX', 110000.0, 0.0, 180000.0, 'cdeg/s/s', 'Largest yaw acceleration of the shaped target and the angle controller (0: none).'), ('ATC_INPUT_TC', 0.15, 0.0, 1.0, 's', 'Attitude input time constant: the shaped target approaches the commanded angle with this time constant.'), ('ATC_RATE_FF_ENAB', 1.0, 0.0, 1.0, '', "1: input shaping and the target's rate fed forward; 0: the target jumps to the command."), ('ANGLE_MAX', 3000.0, 1000.0, 8000.0, 'cdeg', 'Largest roll and pitch target (and lean angle of position hold).'), ('ATC_RAT_RLL_P', 0.135, 0.0, 0.3, '', 'Roll rate P: roll output per rad/s of rate error.'), ('ATC_RAT_RLL_I', 0.09, 0.0, 0.5, '', 'Roll rate I.'), ('ATC_RAT_RLL_D', 0.0036, 0.0, 0.05, '', 'Roll rate D.'), ('ATC_RAT_RLL_FF', 0.0, 0.0, 0.5, '', 'Roll rate feed-forward: output per rad/s of target rate.'), ('ATC_RAT_RLL_IMAX', 0.444, 0.0, 1.0, '', 'Largest roll I term.'), ('ATC_RAT_RLL_FLTT', 30.0, 1.0, 100.0, 'Hz', 'Roll target filter (0: off).'), ('ATC_RAT_RLL_FLTE', 0.0, 0.0, 100.0, 'Hz', 'Roll error filter (0: off).'), ('ATC_RAT_RLL_FLTD', 30.0, 0.0, 100.0, 'Hz', 'Roll derivative filter (0: off).'), ('ATC_RAT_PIT_P', 0.135, 0.0, 0.3, '', 'Pitch rate P: pitch output per rad/s of rate error.'), ('ATC_RAT_PIT_I', 0.09, 0.0, 0.5, '', 'Pitch rate I.'), ('ATC_RAT_PIT_D', 0.0036, 0.0, 0.05, '', 'Pitch rate D.'), ('ATC_RAT_PIT_FF', 0.0, 0.0, 0.5, '', 'Pitch rate feed-forward.'), ('ATC_RAT_PIT_IMAX', 0.444, 0.0, 1.0, '', 'Largest pitch I term.'), ('ATC_RAT_PIT_FLTT', 30.0, 1.0, 100.0, 'Hz', 'Pitch target filter (0: off).'), ('ATC_RAT_PIT_FLTE', 0.0, 0.0, 100.0, 'Hz', 'Pitch error filter (0: off).'), ('ATC_RAT_PIT_FLTD', 30.0, 0.0, 100.0, 'Hz', 'Pitch derivative filter (0: off).'), ('ATC_RAT_YAW_P', 0.18, 0.0, 1.0, '', 'Yaw rate P: yaw output per rad/s of rate error.'), ('ATC_RAT_YAW_I', 0.018, 0.0, 0.5, '', 'Yaw rate I.'), ('ATC_RAT_YAW_D', 0.0, 0.0, 0.02, '', 'Yaw rate D.'), ('ATC_RAT_YAW_FF', 0.0, 0.0, 0.5, '', 'Yaw rate feed-forward.'), ('ATC_RAT_YAW_IMAX', 0.222, 0.0, 1.0, '', 'Largest yaw I term.'), ('ATC_RAT_YAW_FLTT', 5.0, 1.0, 50.0, 'Hz', 'Yaw target filter (0: off).'), ('ATC_RAT_YAW_FLTE', 0.0, 0.0, 20.0, 'Hz', 'Yaw error filter (0: off).'), ('ATC_RAT_YAW_FLTD', 5.0, 0.0, 50.0, 'Hz', 'Yaw derivative filter (0: off).'), ('PSC_POSZ_P', 3.0, 1.0, 3.0, '1/s', 'Vertical position P: climb rate asked per depth error.'), ('PSC_VELZ_P', 8.0, 1.0, 8.0, '1/s', 'Vertical velocity P: acceleration asked per climb rate error.'), ('PSC_VELZ_I', 0.0, 0.0, 10.0, '1/s/s', 'Vertical velocity I.'), ('PSC_VELZ_D', 0.0, 0.0, 1.0, '', 'Vertical velocity D.'), ('PSC_VELZ_IMAX', 1000.0, 1.0, 1000.0, 'cm/s/s', 'Largest vertical velocity I term.'), ('PSC_VELZ_FLTE', 5.0, 0.0, 100.0, 'Hz', 'Vertical velocity error filter (0: off).'), ('PSC_VELZ_FLTD', 5.0, 0.0, 100.0, 'Hz', 'Vertical velocity derivative filter (0: off).'), ('PSC_ACCZ_P', 0.5, 0.2, 1.5, '', 'Vertical acceleration P: throttle (x1000) per cm/s/s of acceleration error.'), ('PSC_ACCZ_I', 0.1, 0.0, 3.0, '', 'Vertical acceleration I.'), ('PSC_ACCZ_D', 0.0, 0.0, 0.4, '', 'Vertical acceleration D.'), ('PSC_ACCZ_FF', 0.0, 0.0, 0.5, '', 'Vertical acceleration feed-forward: throttle (x1000) per cm/s/s of acceleration target.'), ('PSC_ACCZ_IMAX', 800.0, 0.0, 1000.0, 'd%', 'Largest vertical acceleration I term (throttle x1000).'), ('PSC_ACCZ_FLTT', 0.0, 0.0, 100.0, 'Hz', 'Vertical acceleration target filter (0: off).'), ('PSC_ACCZ_FLTE', 20.0, 0.0, 100.0, 'Hz', 'Vertical acceleration error filter (0: off).'), ('PSC_ACCZ_FLTD', 0.0, 0.0, 100.0, 'Hz', 'Vertical acceleration derivative filter (0: off).'), ('PILOT_SPEED_UP', 50.0, 20.0, 500.0, 'cm/s', 'Largest climb rate the depth controller asks.'), ('PILOT_SPEED_DN', 50.0, 20.0, 500.0, 'cm/s', 'Largest descent rate the depth controller asks (0: PILOT_SPEED_UP).'), ('PILOT_ACCEL_Z', 100.0, 50.0, 500.0, 'cm/s/s', "Vertical acceleration limit of the depth controller's square-root stage."), ('PSC_POSXY_P', 1.0, 0.5, 2.0, '1/s', 'Horizontal position P: speed asked per position error.'), ('PSC_VELXY_P', 2.0, 0.1, 6.0, '1/s', 'Horizontal velocity P: acceleration asked per speed error.'), ('PSC_VELXY_I', 1.0, 0.02, 1.0, '1/s/s', 'Horizontal velocity I.'), ('PSC_VELXY_D', 0.5, 0.0, 1.0, '', 'Horizontal velocity D.'), ('PSC_VELXY_IMAX', 1000.0, 0.0, 4500.0, 'cm/s/s', 'Largest horizontal velocity I term.'), ('PSC_VELXY_FLTE', 5.0, 0.0, 100.0, 'Hz', 'Horizontal velocity error filter (0: off).'), ('PSC_VELXY_FLTD', 5.0, 0.0, 100.0, 'Hz', 'Horizontal velocity derivative filter (0: off).'), ('WPNAV_SPEED', 500.0, 20.0, 2000.0, 'cm/s', 'Largest horizontal speed the position controller asks.'), ('WPNAV_ACCEL', 100.0, 50.0, 500.0, 'cm/s/s', "Horizontal acceleration limit of the position controller's square-root stage."), ('FRAME_CONFIG', 1.0, 0.0, 7.0, '', 'Frame: 1 vectored (BlueROV2, 6 motors), 2 vectored 6DOF (BlueROV2 Heavy, 8 motors); others not modelled.'), ('MOT_PWM_MIN', 1100.0, 0.0, 2000.0, 'PWM', 'Lowest PWM ever sent to a motor.'), ('MOT_PWM_MAX', 1900.0, 0.0, 2000.0, 'PWM', 'Highest PWM ever sent to a motor.'), ('MOT_1_DIRECTION', 1.0, -1.0, 1.0, '', 'Motor 1 normal (1) or reversed (-1).'), ('MOT_2_DIRECTION', 1.0, -1.0, 1.0, '', 'Motor 2 normal (1) or reversed (-1).'), ('MOT_3_DIRECTION', 1.0, -1.0, 1.0, '', 'Motor 3 normal (1) or reversed (-1).'), ('MOT_4_DIRECTION', 1.0, -1.0, 1.0, '', 'Motor 4 normal (1) or reversed (-1).'), ('MOT_5_DIRECTION', 1.0, -1.0, 1.0, '', 'Motor 5 normal (1) or reversed (-1).'), ('MOT_6_DIRECTION', 1.0, -1.0, 1.0, '', 'Motor 6 normal (1) or reversed (-1).'), ('MOT_7_DIRECTION', 1.0, -1.0, 1.0, '', 'Motor 7 normal (1) or reversed (-1).'), ('MOT_8_DIRECTION', 1.0, -1.0, 1.0, '', 'Motor 8 normal (1) or reversed (-1).'), ('SCHED_LOOP_RATE', 400.0, 50.0, 400.0, 'Hz', "Main loop rate: the controllers' own period is 1 / SCHED_LOOP_RATE.")]
 BUILT_IN_CONTROLLERS: dict = {'nn': NNAdaptiveController, 'linear': LinearAdaptiveController, 'pd': PDController, 'pid': PIDController, 'smc': SlidingModeController, 'computed_torque': ComputedTorqueController, 'super_twisting': SuperTwistingController, 'ardusub': ArduSubController}
+DISTURBANCE_TABLES: tuple = (('waves', WaveConfig, False), ('payload', PayloadEvent, True), ('tether', TetherConfig, False), ('steady_force', SteadyForceConfig, False))
 LANE_NOT_STEPPED: int = 255
 MAX_CENTRES: int = 65536
 MAX_SUBSTEPS: int = 10000

@@ -3,10 +3,11 @@
 // NEUROV_CONTROLLER_NAMES: its configuration class field by field with the
 // C++ validator, its class with the constructor from the configuration and
 // the keyword one (the fields in order, the struct's defaults shown), the
-// members every controller has, its (6,) state and its snapshot. A built-in
-// controller with bindings of its own (the NN's network, the linear adaptive's
-// gamma as one number) has an overload of bind_config / bind_controller in
-// controller_configs.cpp / controllers.cpp instead.
+// members every controller has, its (6,) state and its snapshot. Every
+// built-in controller's configuration is bound here (bind_generic_config); a
+// controller with a constructor of its own (the NN's network, the linear
+// adaptive's gamma as one number) has an overload of bind_controller in
+// controllers.cpp.
 #pragma once
 
 #include <pybind11/eigen.h>
@@ -38,8 +39,7 @@ inline std::string config_class_name(const char* class_name) {
 /// "super-twisting controller": the prefix of the validator's errors.
 template <typename Controller>
 const char* controller_what() {
-  static const std::string what = std::string(Controller::kTitle) + " controller";
-  return what.c_str();
+  return Controller::kWhat;
 }
 
 template <typename Config>
@@ -47,23 +47,14 @@ auto fields_of() {
   return ::neurov::config_fields(static_cast<const Config*>(nullptr));
 }
 
-/// One described field bound: a number by value, a vector as a numpy view.
-template <typename Config, typename D>
-void bind_field(Fields<Config>& f, const FieldSpec<Config, D>& spec) {
-  if constexpr (std::is_same_v<D, double>)
-    f.value(spec.name, spec.member, spec.doc);
-  else
-    f.vector(spec.name, spec.member, spec.doc);
-}
-
 template <typename Controller>
 void bind_generic_config(py::module_& m) {
   using Config = typename Controller::Config;
   static const std::string name = config_class_name(Controller::kClassName);
   static const std::string doc = std::string("Configuration of ") + Controller::kClassName + ".";
-  Fields<Config> f(m, name.c_str(), doc.c_str());
-  std::apply([&f](const auto&... spec) { (bind_field(f, spec), ...); }, fields_of<Config>());
-  f.validator(controller_what<Controller>()).finish();
+  Fields<Config>::described(m, name.c_str(), doc.c_str())
+      .validator(controller_what<Controller>())
+      .finish();
 }
 
 /// A keyword argument for a field: a number defaults to the struct's value,

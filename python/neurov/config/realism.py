@@ -20,6 +20,7 @@ from __future__ import annotations
 from typing import Any
 
 from neurov import _core
+from neurov.config.sea import fill
 
 __all__ = ["REALISM_KEYS", "read_realism"]
 
@@ -27,13 +28,9 @@ __all__ = ["REALISM_KEYS", "read_realism"]
 # sensors' and the estimator's messages already name theirs).
 REALISM_KEYS: dict[str, str] = {}
 
-# TOML key -> (bound config, its numbers, its 3-vectors).
-_SENSORS: dict[str, tuple[Any, tuple[str, ...], tuple[str, ...]]] = {
-    "usbl": (_core.UsblConfig, ("rate", "latency", "noise"), ("bias",)),
-    "dvl": (_core.DvlConfig, ("rate", "latency", "noise", "dropout_rate"), ("bias",)),
-    "depth": (_core.DepthConfig, ("rate", "latency", "noise", "bias"), ()),
-    "imu": (_core.ImuConfig, ("rate", "latency", "attitude_noise", "gyro_noise", "gyro_bias_walk"),
-            ("gyro_bias",)),
+# TOML key -> the bound sensor config, whose keys are its fields (FIELDS).
+_SENSORS: dict[str, Any] = {
+    "usbl": _core.UsblConfig, "dvl": _core.DvlConfig, "depth": _core.DepthConfig, "imu": _core.ImuConfig,
 }
 
 
@@ -44,25 +41,18 @@ def read_realism(r: Any, c: Any) -> None:
     c.water_density = r.number("water_density", c.water_density)
     sensors = _core.SensorsConfig()
     table = r.table_of("sensors")
-    for key, (kind, numbers, vectors) in _SENSORS.items():
+    for key, kind in _SENSORS.items():
         if not table.has(key):
             continue
         t = table.table_of(key)
         config = kind()
-        for name in numbers:
-            setattr(config, name, t.number(name, getattr(config, name)))
-        for name in vectors:
-            setattr(config, name, t.array(name, 3, getattr(config, name), broadcast=False))
+        fill(t, config)
         t.finish()
         setattr(sensors, key, config)
     table.finish()
     c.sensors = sensors
     e = r.table_of("estimator")
     estimator = _core.EstimatorConfig()
-    kind = e.string("type", "none", choices=tuple(_core.EstimatorType.__members__))
-    estimator.type = _core.EstimatorType.__members__[kind]
-    for name in ("linear_acceleration_noise", "angular_acceleration_noise"):
-        setattr(estimator, name, e.number(name, getattr(estimator, name)))
-    estimator.initial_std = e.array("initial_std", 15, estimator.initial_std)
+    fill(e, estimator)
     e.finish()
     c.estimator = estimator

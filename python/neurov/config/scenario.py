@@ -314,10 +314,12 @@ class Scenario:
         command = {k: (v.tolist() if isinstance(v, np.ndarray) else v)
                    for k, v in dataclasses.asdict(self.command).items()}
         simulation = as_dict(self.__dict__["simulation"])
-        # A run without a tether describes itself as before tethers existed:
-        # its studies keep their fingerprints, and so their folders.
-        if simulation.get("tether", 0) is None:
-            del simulation["tether"]
+        # A run without a disturbance part added after waves and payload (the
+        # tether, ...) describes itself as before that part existed: its
+        # studies keep their fingerprints, and so their folders.
+        for key, _, _ in _core.DISTURBANCE_TABLES:
+            if key not in ("waves", "payload") and simulation.get(key, 0) in (None, []):
+                del simulation[key]
         return {"name": self.name, "vehicle": self.vehicle, "vehicle_parameters": self.vehicle_parameters,
                 "thruster_time_constant": self.thruster_time_constant, "command": command,
                 "controller": self.controller.describe(), "simulation": simulation}

@@ -1,11 +1,16 @@
-"""Reading the sea of a scenario file: ``[current] model = "gauss_markov"``,
-``[waves]``, ``[[payload]]`` and ``[tether]`` (docs/disturbances.md).
+"""Reading the sea of a scenario file: ``[current] model = "gauss_markov"``
+and the table of every disturbance part that has one (``[waves]``,
+``[[payload]]``, ``[tether]``, ...: ``neurov.DISTURBANCE_TABLES``, in the
+order of the parts in C++; docs/disturbances.md).
 
 Each value goes into the core's own struct (``GaussMarkovCurrentConfig``,
-``WaveConfig``, ``PayloadEvent``, ``TetherConfig``): their defaults and their validators are
-the C++ ones. The C++ messages name a struct's field (``hs``); here each
-section is validated on its own, so that the message can name the TOML key
-(``waves.hs``) without guessing which section a field belongs to.
+``WaveConfig``, ``PayloadEvent``, ``TetherConfig``, ...), field by field as
+the struct's description in C++ lists them (its ``FIELDS``): their defaults
+and their validators are the C++ ones. The C++ messages name a struct's
+field (``hs``); here each section is validated on its own, so that the
+message can name the TOML key (``waves.hs``) without guessing which section
+a field belongs to. One reader serves every part: a new part's table is read
+as soon as its header names it (``kTable``).
 """
 
 from __future__ import annotations
@@ -22,27 +27,41 @@ from neurov.errors import ScenarioError
 if TYPE_CHECKING:
     from neurov.config.scenario import Scenario
 
-__all__ = ["CURRENT_MODELS", "read_current_model", "read_payload", "read_sea", "read_tether", "read_waves",
-           "check_payload"]
+__all__ = ["CURRENT_MODELS", "fill", "read_current_model", "read_part", "read_payload", "read_sea", "read_tether",
+           "read_waves", "check_payload"]
 
 CURRENT_MODELS = tuple(_core.CurrentModel.__members__)
 # [current] keys of the constant model, refused with gauss_markov (the C++
 # validator refuses a non-zero constant current beside it).
 _CONSTANT_KEYS = ("velocity", "amplitude", "period")
-# PayloadEvent fields that may be left empty (None: the vehicle's own point).
-_OPTIONAL_POINTS = ("mass_position", "buoyancy_position")
+# The disturbance parts' tables: key -> (bound struct, an array of tables).
+_TABLES: dict[str, tuple[Any, bool]] = {key: (cls, many) for key, cls, many in _core.DISTURBANCE_TABLES}
 
 
-def _fill(r: TableReader, target: Any, skip: tuple[str, ...] = ()) -> None:
+def fill(r: TableReader, target: Any) -> None:
     """Every field of the bound struct `target` that the table gives, under
-    the field's own name, converted by the kind of the field's default."""
-    for key in field_names(target):
-        if key in skip or not r.has(key):
+    the field's own name, converted by the kind of the field's default; an
+    empty optional vector by its described length, a count within its
+    described maximum (a larger one would not reach the validator)."""
+    for field in type(target).FIELDS:
+        key = field["name"]
+        if not r.has(key):
             continue
+        current = getattr(target, key)
         try:
-            setattr(target, key, convert(getattr(target, key), r.raw(key), r._name(key)))
+            if current is None and field["shape"] is not None:
+                value: Any = r.array(key, field["shape"][0], broadcast=False)
+            else:
+                value = convert(current, r.raw(key), r._name(key))
+                if isinstance(value, int) and not isinstance(value, bool) and value > field["max"]:
+                    raise r.error(key, f"expected an integer <= {field['max']:.0f}, got {value}")
+            setattr(target, key, value)
         except SchemaError as e:
             raise ScenarioError(f"{r.origin}: {e}") from None
+        except (TypeError, ValueError, OverflowError) as e:
+            if isinstance(e, ScenarioError):
+                raise
+            raise r.error(key, str(e)) from None
 
 
 def _probe() -> Any:
@@ -52,10 +71,9 @@ def _probe() -> Any:
     return c
 
 
-def _validate_section(probe: Any, origin: str, prefix: str, lists: tuple[str, ...] = ()) -> None:
-    keys = {name: f"{prefix}.{name}" for name in
-            (*field_names(_core.GaussMarkovCurrentConfig()), *field_names(_core.WaveConfig()))}
-    keys["payload"] = "payload"
+def _validate_section(probe: Any, origin: str, prefix: str, kind: Any, lists: tuple[str, ...] = ()) -> None:
+    keys = {name: f"{prefix}.{name}" for name in field_names(kind())}
+    keys[prefix] = prefix
     validated(probe, origin, keys, lists)
 
 
@@ -76,75 +94,67 @@ def read_current_model(cr: TableReader, config: Any) -> bool:
             raise cr.error(key, "is a key of model = \"constant\"; with model = \"gauss_markov\" the "
                                 "current is the Gauss-Markov process alone (speed, direction, ...)")
     gm = _core.GaussMarkovCurrentConfig()
-    _fill(cr, gm)
+    fill(cr, gm)
     probe = _probe()
     probe.current_model = config.current_model
     probe.gauss_markov_current = gm
-    _validate_section(probe, cr.origin, cr.where)
+    _validate_section(probe, cr.origin, cr.where, _core.GaussMarkovCurrentConfig)
     config.gauss_markov_current = gm
     return False
 
 
 def read_sea(r: TableReader, config: Any) -> None:
-    """The tables of the disturbance parts beside ``[current]``: each one's
-    reader, in the order of the parts in C++ (config.hpp)."""
-    read_waves(r, config)
-    read_payload(r, config)
-    read_tether(r, config)
+    """The tables of the disturbance parts beside ``[current]``, in the order
+    of the parts in C++ (``DisturbanceParts``, config.hpp)."""
+    for key in _TABLES:
+        read_part(r, config, key)
+
+
+def read_part(r: TableReader, config: Any, key: str) -> None:
+    """The table of one disturbance part: ``[key]`` (absent: the part is
+    off; present, even empty: the C++ defaults for the keys it does not
+    give) or ``[[key]]`` (the list, in its order); each table's keys under
+    the struct's own field names, checked by the C++ validator."""
+    kind, many = _TABLES[key]
+    if many:
+        items = []
+        for tr in tables(r, key):
+            items.append(kind())
+            fill(tr, items[-1])
+            tr.finish()
+        if not items:
+            return
+        value: Any = items
+    else:
+        if not r.has(key):
+            return
+        tr = r.table_of(key)
+        value = kind()
+        fill(tr, value)
+        tr.finish()
+    probe = _probe()
+    probe.eta0 = config.eta0
+    setattr(probe, key, value)
+    _validate_section(probe, r.origin, key, kind, lists=(key,) if many else ())
+    setattr(config, key, value)
 
 
 def read_waves(r: TableReader, config: Any) -> None:
     """``[waves]``: absent, a calm sea; present (even empty), the C++
     defaults (JONSWAP, Hs 2 m, Tp 8 s) for the keys it does not give."""
-    if not r.has("waves"):
-        return
-    wr = r.table_of("waves")
-    # Checked here too: a count beyond a C++ int would not reach the validator.
-    wr.integer("components", 0, minimum=-(2**31),
-               maximum=(_core.MAX_WAVE_COMPONENTS, "the wave field's capacity, neurov.MAX_WAVE_COMPONENTS"))
-    waves = _core.WaveConfig()
-    _fill(wr, waves)
-    wr.finish()
-    probe = _probe()
-    probe.waves = waves
-    _validate_section(probe, r.origin, "waves")
-    config.waves = waves
+    read_part(r, config, "waves")
 
 
 def read_tether(r: TableReader, config: Any) -> None:
     """``[tether]``: absent, no tether; present, its keys on the C++
     defaults (``diameter`` has none that passes: it must be given)."""
-    if not r.has("tether"):
-        return
-    tr = r.table_of("tether")
-    tether = _core.TetherConfig()
-    _fill(tr, tether)
-    tr.finish()
-    probe = _probe()
-    probe.eta0 = config.eta0
-    probe.tether = tether
-    _validate_section(probe, r.origin, "tether")
-    config.tether = tether
+    read_part(r, config, "tether")
 
 
 def read_payload(r: TableReader, config: Any) -> None:
     """``[[payload]]``: the events in time order; each against the vehicle it
     changes is checked by :func:`check_payload`."""
-    events = []
-    for pr in tables(r, "payload"):
-        event = _core.PayloadEvent()
-        for key in _OPTIONAL_POINTS:
-            if pr.has(key):
-                setattr(event, key, pr.array(key, 3, broadcast=False))
-        _fill(pr, event, skip=_OPTIONAL_POINTS)
-        pr.finish()
-        events.append(event)
-    if not events:
-        return
-    probe = _probe()
-    probe.payload = events
-    _validate_section(probe, r.origin, "payload", lists=("payload",))
-    config.payload = events
+    read_part(r, config, "payload")
 
 
 def check_payload(scenario: Scenario, origin: str) -> None:

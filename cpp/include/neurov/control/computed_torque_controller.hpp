@@ -11,6 +11,7 @@
 #pragma once
 
 #include "neurov/control/controller_base.hpp"
+#include "neurov/core/field_spec.hpp"
 #include "neurov/model/vehicle.hpp"
 
 namespace neurov {
@@ -20,6 +21,14 @@ struct ComputedTorqueConfig : SlidingGains<Scalar> {
   /// The nominal model (e.g. the parameters of the vehicle file).
   VehicleParameters<Scalar> vehicle{};
 };
+
+template <typename Scalar>
+auto config_fields(const ComputedTorqueConfig<Scalar>*) noexcept {
+  using C = ComputedTorqueConfig<Scalar>;
+  return std::tuple_cat(detail::sliding_gain_fields<C>(),
+                        std::make_tuple(field_spec<C>("vehicle", &C::vehicle,
+                                                      "The nominal model, a Vehicle (None until set).")));
+}
 
 template <typename Scalar>
 inline ValidationError validate(const ComputedTorqueConfig<Scalar>& c) noexcept {

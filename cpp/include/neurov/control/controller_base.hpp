@@ -19,6 +19,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <tuple>
 #include <type_traits>
 
 // What every controller uses, so that a controller's header includes this
@@ -26,6 +27,7 @@
 #include "neurov/control/desired_state.hpp"
 #include "neurov/control/tracking_error.hpp"
 #include "neurov/core/config.hpp"
+#include "neurov/core/field_spec.hpp"
 #include "neurov/core/status.hpp"
 #include "neurov/core/types.hpp"
 #include "neurov/core/validation.hpp"
@@ -38,12 +40,15 @@
 /// controller's own members are initialised, which would then overwrite it.
 #if NEUROV_HAS_EXCEPTIONS
 #define NEUROV_CONTROLLER_CONSTRUCTORS(Controller, what)                  \
+  static constexpr const char* kWhat = what;                              \
   Controller() = default;                                                 \
   explicit Controller(const typename Controller::Config& config) {        \
     ::neurov::throw_if_invalid(Controller::create(config, *this), what);  \
   }
 #else
-#define NEUROV_CONTROLLER_CONSTRUCTORS(Controller, what) Controller() = default;
+#define NEUROV_CONTROLLER_CONSTRUCTORS(Controller, what) \
+  static constexpr const char* kWhat = what;             \
+  Controller() = default;
 #endif
 
 /// A built-in controller's names (control/built_in_controllers.hpp): its
@@ -77,6 +82,16 @@ template <typename Scalar>
 inline ValidationError check_sliding_gains(const SlidingGains<Scalar>& c) noexcept {
   if (auto e = check_positive("lambda", c.lambda)) return e;
   return check_non_negative("kd", c.kd);
+}
+
+/// The descriptions of Lambda and K_d as fields of Config (a SlidingGains).
+template <typename Config>
+constexpr auto sliding_gain_fields() noexcept {
+  using Gains = SlidingGains<typename decltype(Config::lambda)::Scalar>;
+  return std::make_tuple(
+      field_spec<Config>("lambda_", &Gains::lambda, "", Check::positive,
+                         "Lambda in s = eta_tilde_dot + Lambda eta_tilde, diagonal (6,)"),
+      field_spec<Config>("kd", &Gains::kd, "", Check::non_negative, "K_d, diagonal (6,)"));
 }
 
 }  // namespace detail

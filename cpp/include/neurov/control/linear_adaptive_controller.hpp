@@ -5,6 +5,7 @@
 #pragma once
 
 #include "neurov/control/controller_base.hpp"
+#include "neurov/core/field_spec.hpp"
 #include "neurov/model/regressor.hpp"
 
 namespace neurov {
@@ -19,12 +20,26 @@ struct LinearAdaptiveConfig : SlidingGains<Scalar> {
 };
 
 template <typename Scalar>
+auto config_fields(const LinearAdaptiveConfig<Scalar>*) noexcept {
+  using C = LinearAdaptiveConfig<Scalar>;
+  return std::tuple_cat(
+      detail::sliding_gain_fields<C>(),
+      std::make_tuple(
+          field_spec<C>("gamma", &C::gamma, "", Check::non_negative,
+                        "Diagonal of Gamma (24,) (0 freezes that parameter); a number sets every "
+                        "entry",
+                        kNumberFills),
+          field_spec<C>("dt", &C::dt, "s", Check::positive, "Control period"),
+          field_spec<C>("theta0", &C::theta0, "", Check::finite,
+                        "theta_hat(0) (24,): zero, or a nominal guess such as "
+                        "regressor_parameters(vehicle)")));
+}
+
+/// Lambda first (named "lambda"), then the fields' rules.
+template <typename Scalar>
 inline ValidationError validate(const LinearAdaptiveConfig<Scalar>& c) noexcept {
   if (auto e = detail::check_sliding_gains(c)) return e;
-  if (auto e = detail::check_non_negative("gamma", c.gamma)) return e;
-  if (auto e = detail::check_positive_scalar("dt", static_cast<double>(c.dt))) return e;
-  if (auto e = detail::check_finite("theta0", c.theta0)) return e;
-  return {};
+  return check_fields(c);
 }
 
 template <typename ScalarT>

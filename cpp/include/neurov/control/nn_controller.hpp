@@ -17,6 +17,7 @@
 #include "neurov/control/controller_base.hpp"
 #include "neurov/control/rbf_kernels.hpp"
 #include "neurov/control/rbf_network.hpp"
+#include "neurov/core/field_spec.hpp"
 
 namespace neurov {
 
@@ -54,6 +55,28 @@ struct NNAdaptiveConfig : SlidingGains<Scalar> {
   /// Adaptation stops while ||s|| < dead_zone (0 disables; any modification).
   Scalar dead_zone = Scalar(0);
 };
+
+/// The configuration's fields (the robust modifications' gains are checked
+/// with the modification that uses them, by validate).
+template <typename Scalar>
+auto config_fields(const NNAdaptiveConfig<Scalar>*) noexcept {
+  using C = NNAdaptiveConfig<Scalar>;
+  return std::tuple_cat(
+      detail::sliding_gain_fields<C>(),
+      std::make_tuple(
+          field_spec<C>("gamma", &C::gamma, "", Check::non_negative, "Gamma_w = gamma I (the paper: 0.3)"),
+          field_spec<C>("dt", &C::dt, "s", Check::positive, "Control period (the paper: 0.2)"),
+          field_spec<C>("modification", &C::modification,
+                        "The robust modification: a RobustModification or its name."),
+          field_spec<C>("sigma_m", &C::sigma_m, "", Check::non_negative,
+                        "Leakage of the sigma-modification (> 0 when used)"),
+          field_spec<C>("kappa", &C::kappa, "", Check::non_negative,
+                        "Gain of the e-modification (> 0 when used)"),
+          field_spec<C>("w_max", &C::w_max, "", Check::non_negative,
+                        "Frobenius bound of the projection (> 0 when used)"),
+          field_spec<C>("dead_zone", &C::dead_zone, "", Check::non_negative,
+                        "No adaptation while ||s|| < dead_zone (0 disables)")));
+}
 
 template <typename Scalar>
 inline ValidationError validate(const NNAdaptiveConfig<Scalar>& c) noexcept {
@@ -110,6 +133,8 @@ class NNAdaptiveController
   using WeightMatrix = typename Network::WeightMatrix;
 
   NEUROV_CONTROLLER_NAMES("nn", "NN adaptive", "NNAdaptiveController")
+  /// The prefix of its validator's messages.
+  static constexpr const char* kWhat = "NN controller";
   NNAdaptiveController() = default;
 
 #if NEUROV_HAS_EXCEPTIONS

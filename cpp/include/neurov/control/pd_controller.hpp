@@ -5,6 +5,7 @@
 #pragma once
 
 #include "neurov/control/controller_base.hpp"
+#include "neurov/core/field_spec.hpp"
 
 namespace neurov {
 
@@ -15,10 +16,15 @@ struct PDConfig {
 };
 
 template <typename Scalar>
+auto config_fields(const PDConfig<Scalar>*) noexcept {
+  using C = PDConfig<Scalar>;
+  return std::make_tuple(field_spec<C>("kp", &C::kp, "", Check::non_negative, "K_p, diagonal (6,)"),
+                         field_spec<C>("kd", &C::kd, "", Check::non_negative, "K_d, diagonal (6,)"));
+}
+
+template <typename Scalar>
 inline ValidationError validate(const PDConfig<Scalar>& c) noexcept {
-  if (auto e = detail::check_non_negative("kp", c.kp)) return e;
-  if (auto e = detail::check_non_negative("kd", c.kd)) return e;
-  return {};
+  return check_fields(c);
 }
 
 template <typename ScalarT>

@@ -10,6 +10,7 @@
 #include <cmath>
 
 #include "neurov/control/controller_base.hpp"
+#include "neurov/core/field_spec.hpp"
 
 namespace neurov {
 
@@ -24,13 +25,20 @@ struct PIDConfig {
 };
 
 template <typename Scalar>
+auto config_fields(const PIDConfig<Scalar>*) noexcept {
+  using C = PIDConfig<Scalar>;
+  return std::make_tuple(
+      field_spec<C>("kp", &C::kp, "", Check::non_negative, "K_p, diagonal (6,)"),
+      field_spec<C>("ki", &C::ki, "", Check::non_negative, "K_i, diagonal (6,)"),
+      field_spec<C>("kd", &C::kd, "", Check::non_negative, "K_d, diagonal (6,)"),
+      field_spec<C>("integral_limit", &C::integral_limit, "N, N m", Check::positive,
+                    "Largest |K_i z| per DOF (6,)"),
+      field_spec<C>("dt", &C::dt, "s", Check::positive, "Control period"));
+}
+
+template <typename Scalar>
 inline ValidationError validate(const PIDConfig<Scalar>& c) noexcept {
-  if (auto e = detail::check_non_negative("kp", c.kp)) return e;
-  if (auto e = detail::check_non_negative("ki", c.ki)) return e;
-  if (auto e = detail::check_non_negative("kd", c.kd)) return e;
-  if (auto e = detail::check_positive("integral_limit", c.integral_limit)) return e;
-  if (auto e = detail::check_positive_scalar("dt", static_cast<double>(c.dt))) return e;
-  return {};
+  return check_fields(c);
 }
 
 template <typename ScalarT>

@@ -11,6 +11,7 @@
 #include <cmath>
 
 #include "neurov/control/controller_base.hpp"
+#include "neurov/core/field_spec.hpp"
 #include "neurov/model/regressor.hpp"
 
 namespace neurov {
@@ -24,12 +25,22 @@ struct SlidingModeConfig : SlidingGains<Scalar> {
 };
 
 template <typename Scalar>
+auto config_fields(const SlidingModeConfig<Scalar>*) noexcept {
+  using C = SlidingModeConfig<Scalar>;
+  return std::tuple_cat(
+      detail::sliding_gain_fields<C>(),
+      std::make_tuple(
+          field_spec<C>("k", &C::k, "N, N m", Check::non_negative, "Switching gain K (6,)"),
+          field_spec<C>("phi", &C::phi, "units of s", Check::positive, "Boundary-layer width (6,)"),
+          field_spec<C>("theta", &C::theta, "", Check::finite,
+                        "The nominal model's theta (24,), e.g. regressor_parameters(vehicle)")));
+}
+
+/// Lambda first (named "lambda"), then the fields' rules.
+template <typename Scalar>
 inline ValidationError validate(const SlidingModeConfig<Scalar>& c) noexcept {
   if (auto e = detail::check_sliding_gains(c)) return e;
-  if (auto e = detail::check_non_negative("k", c.k)) return e;
-  if (auto e = detail::check_positive("phi", c.phi)) return e;
-  if (auto e = detail::check_finite("theta", c.theta)) return e;
-  return {};
+  return check_fields(c);
 }
 
 template <typename ScalarT>

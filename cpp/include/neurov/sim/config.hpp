@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "neurov/control/reference_model.hpp"
+#include "neurov/core/field_spec.hpp"
 #include "neurov/core/types.hpp"
 #include "neurov/core/validation.hpp"
 #include "neurov/model/thrusters.hpp"
@@ -19,6 +20,7 @@
 #include "neurov/sim/disturbances/payload_events.hpp"
 #include "neurov/sim/disturbances/sea_waves.hpp"
 #include "neurov/sim/disturbances/sinusoids.hpp"
+#include "neurov/sim/disturbances/steady_force.hpp"
 #include "neurov/sim/disturbances/steady_current.hpp"
 #include "neurov/sim/disturbances/tether.hpp"
 #include "neurov/sim/disturbances/thruster_failures.hpp"
@@ -74,6 +76,49 @@ struct CurrentStep {
   Vector3<Scalar> velocity = Vector3<Scalar>::Zero();
 };
 
+template <typename Scalar>
+auto config_fields(const SinusoidalDisturbance<Scalar>*) noexcept {
+  using C = SinusoidalDisturbance<Scalar>;
+  return std::make_tuple(
+      field_spec<C>("dof", &C::dof, "0..5: surge, sway, heave, roll, pitch, yaw."),
+      field_spec<C>("amplitude", &C::amplitude, "N or N m", Check::finite, "Amplitude"),
+      field_spec<C>("frequency", &C::frequency, "Hz", Check::finite, "Frequency"),
+      field_spec<C>("phase", &C::phase, "rad", Check::finite, "Phase"),
+      field_spec<C>("start", &C::start, "s", Check::finite, "Start"));
+}
+
+template <typename Scalar>
+auto config_fields(const ThrusterFailure<Scalar>*) noexcept {
+  using C = ThrusterFailure<Scalar>;
+  return std::make_tuple(
+      field_spec<C>("index", &C::index, "The thruster (a column of the thruster matrix)."),
+      field_spec<C>("efficiency", &C::efficiency, "", Check::none, "In [0, 1]"),
+      field_spec<C>("time", &C::time, "s", Check::finite, "From when"));
+}
+
+template <typename Scalar>
+auto config_fields(const SensorFault<Scalar>*) noexcept {
+  using C = SensorFault<Scalar>;
+  return std::make_tuple(
+      field_spec<C>("kind", &C::kind, "A SensorFaultKind."),
+      field_spec<C>("start", &C::start, "s", Check::finite, "Start"),
+      field_spec<C>("end", &C::end, "s", Check::none, "End, >= start"),
+      field_spec<C>("eta", &C::eta, "Affects the pose measurement."),
+      field_spec<C>("nu", &C::nu, "Affects the velocity measurement."),
+      field_spec<C>("noise_eta", &C::noise_eta, "", Check::non_negative,
+                    "Standard deviations (6,); noise_burst only"),
+      field_spec<C>("noise_nu", &C::noise_nu, "", Check::non_negative,
+                    "Standard deviations (6,); noise_burst only"));
+}
+
+template <typename Scalar>
+auto config_fields(const CurrentStep<Scalar>*) noexcept {
+  using C = CurrentStep<Scalar>;
+  return std::make_tuple(field_spec<C>("time", &C::time, "s", Check::none, "From when"),
+                         field_spec<C>("velocity", &C::velocity, "m/s", Check::finite,
+                                       "The mean current from then on, NED (3,)"));
+}
+
 /// What the loop applies when the controller refuses a step (a NaN
 /// measurement, the pitch singularity): the zero force the controller writes,
 /// or the last force it accepted.
@@ -102,6 +147,15 @@ struct Command {
     return ((Scalar(1) - a) * poses.row(lo) + a * poses.row(hi)).transpose();
   }
 };
+
+template <typename Scalar>
+auto config_fields(const Command<Scalar>*) noexcept {
+  using C = Command<Scalar>;
+  return std::make_tuple(
+      field_spec<C>("times", &C::times, "s", Check::none, "(K,) strictly increasing"),
+      field_spec<C>("poses", &C::poses, "(K, 6) poses eta."),
+      field_spec<C>("linear", &C::linear, "Linear between the poses; False: piecewise constant."));
+}
 
 /// The longest computation delay a run holds, in control periods: the
 /// simulator keeps the forces not yet applied in a fixed ring of this many + 1.
@@ -168,7 +222,64 @@ struct SimulationConfig {
   EstimatorConfig<Scalar> estimator;
   /// A ROV's umbilical to a surface point (parts::Tether); empty: none.
   std::optional<TetherConfig<Scalar>> tether;
+  /// A steady force fixed in the earth frame (parts::SteadyForce); empty: none.
+  std::optional<SteadyForceConfig<Scalar>> steady_force;
 };
+
+/// SimulationConfig's fields (its validator and the disturbance parts' check them).
+template <typename Scalar>
+auto config_fields(const SimulationConfig<Scalar>*) noexcept {
+  using C = SimulationConfig<Scalar>;
+  return std::make_tuple(
+      field_spec<C>("dt", &C::dt, "s", Check::none, "Control period"),
+      field_spec<C>("substeps", &C::substeps, "RK4 steps per control period, 1 to 10000 (MAX_SUBSTEPS)."),
+      field_spec<C>("duration", &C::duration, "s", Check::none, "Duration"),
+      field_spec<C>("eta0", &C::eta0, "", Check::finite, "Initial pose (6,)"),
+      field_spec<C>("nu0", &C::nu0, "", Check::finite, "Initial body velocity (6,)"),
+      field_spec<C>("command", &C::command, "The commanded path (a Command)."),
+      field_spec<C>("lambda_d", &C::lambda_d, "", Check::positive, "Reference-model damping (6,)"),
+      field_spec<C>("omega", &C::omega, "", Check::positive, "Reference-model stiffness (6,)"),
+      field_spec<C>("disturbances", &C::disturbances, "Sinusoidal forces (a tuple; assign a list)."),
+      field_spec<C>("current", &C::current, "m/s", Check::finite, "Mean current, NED (3,)"),
+      field_spec<C>("current_amplitude", &C::current_amplitude, "m/s", Check::finite,
+                    "Amplitude of the current's sinusoid per axis (3,)"),
+      field_spec<C>("current_period", &C::current_period, "s", Check::non_negative,
+                    "0 means a constant current"),
+      field_spec<C>("noise_eta", &C::noise_eta, "", Check::non_negative,
+                    "Standard deviations of the pose noise (6,)"),
+      field_spec<C>("noise_nu", &C::noise_nu, "", Check::non_negative,
+                    "Standard deviations of the velocity noise (6,)"),
+      field_spec<C>("seed", &C::seed,
+                    "Seed of the measurement noise; the current's and the waves' streams are "
+                    "derived from it."),
+      field_spec<C>("use_thrusters", &C::use_thrusters,
+                    "Allocate the force to `thrusters`; False: the force acts directly."),
+      field_spec<C>("thrusters", &C::thrusters, "The thruster layout (a ThrusterConfig)."),
+      field_spec<C>("thruster_failures", &C::thruster_failures,
+                    "Thruster failures (a tuple; assign a list)."),
+      field_spec<C>("sensor_faults", &C::sensor_faults, "Sensor faults (a tuple; assign a list)."),
+      field_spec<C>("current_steps", &C::current_steps,
+                    "Steps of the mean current, in increasing time (a tuple; assign a list)."),
+      field_spec<C>("refused_step_policy", &C::refused_step_policy,
+                    "The force applied on a refused step (a RefusedStepPolicy)."),
+      field_spec<C>("current_model", &C::current_model, "A CurrentModel."),
+      field_spec<C>("gauss_markov_current", &C::gauss_markov_current,
+                    "The Gauss-Markov current (a GaussMarkovCurrentConfig), used with "
+                    "current_model gauss_markov."),
+      field_spec<C>("waves", &C::waves, "A WaveConfig, or None for a calm sea."),
+      field_spec<C>("payload", &C::payload,
+                    "Payload events in non-decreasing time (a tuple; assign a list)."),
+      field_spec<C>("control_delay", &C::control_delay,
+                    "Control periods between a measurement and the force computed from it "
+                    "acting, 0..16 (0: in the same period)."),
+      field_spec<C>("water_density", &C::water_density, "kg/m^3", Check::positive,
+                    "Sea water by default; a vehicle file's displaced volume gives its buoyancy "
+                    "as buoyancy_in_water(water_density, volume)"),
+      field_spec<C>("sensors", &C::sensors, "The sensors (a SensorsConfig); none: ideal sensing."),
+      field_spec<C>("estimator", &C::estimator, "The estimator (an EstimatorConfig)."),
+      field_spec<C>("tether", &C::tether, "A TetherConfig, or None: no tether."),
+      field_spec<C>("steady_force", &C::steady_force, "A SteadyForceConfig, or None: no steady force."));
+}
 
 /// The disturbance parts of a run (sim/disturbances/part.hpp), each hook
 /// called on them in this order; a new source of force or flow is a part
@@ -177,7 +288,7 @@ template <typename Scalar>
 using DisturbanceParts =
     parts::PartList<Scalar, parts::Sinusoids, parts::SteadyCurrent, parts::GaussMarkovFlow,
                     parts::SeaWaves, parts::PayloadEvents, parts::ThrusterFailures,
-                    parts::Tether>;
+                    parts::Tether, parts::SteadyForce>;
 
 /// B = rho g V [N]: the buoyancy of `displaced_volume` [m^3] in water of
 /// `water_density` [kg/m^3] (g = standard_gravity). Both must be > 0 and

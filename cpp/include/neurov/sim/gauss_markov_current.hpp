@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "neurov/core/field_spec.hpp"
 #include "neurov/core/random.hpp"
 #include "neurov/core/status.hpp"
 #include "neurov/core/types.hpp"
@@ -38,6 +39,28 @@ struct GaussMarkovCurrentConfig {
   Scalar vertical_angle = Scalar(0);
   Scalar vertical_angle_std = Scalar(0);  ///< [deg]
 };
+
+template <typename Scalar>
+auto config_fields(const GaussMarkovCurrentConfig<Scalar>*) noexcept {
+  using C = GaussMarkovCurrentConfig<Scalar>;
+  return std::make_tuple(
+      field_spec<C>("speed", &C::speed, "m/s", Check::none, "Mean speed, within [speed_min, speed_max]"),
+      field_spec<C>("speed_std", &C::speed_std, "m/s", Check::non_negative, "Stationary standard deviation"),
+      field_spec<C>("time_constant", &C::time_constant, "s", Check::positive, "Of all three processes"),
+      field_spec<C>("speed_min", &C::speed_min, "m/s", Check::non_negative,
+                    "Lower bound of the speed given out"),
+      field_spec<C>("speed_max", &C::speed_max, "m/s", Check::none,
+                    "Upper bound of the speed given out, >= speed_min"),
+      field_spec<C>("direction", &C::direction, "deg from north", Check::finite,
+                    "Mean direction the current flows toward"),
+      field_spec<C>("direction_std", &C::direction_std, "deg", Check::non_negative,
+                    "Standard deviation of the direction"),
+      field_spec<C>("vertical_angle", &C::vertical_angle, "deg", Check::none,
+                    "Mean angle below the horizontal plane, positive flowing down, within "
+                    "[-90, 90]"),
+      field_spec<C>("vertical_angle_std", &C::vertical_angle_std, "deg", Check::non_negative,
+                    "Standard deviation of the vertical angle"));
+}
 
 /// Checks a configuration; the error names the field. Speeds are magnitudes,
 /// so the bounds are >= 0, and the mean lies within them.

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <optional>
 
+#include "neurov/core/field_spec.hpp"
 #include "neurov/core/types.hpp"
 #include "neurov/core/validation.hpp"
 #include "neurov/model/vehicle.hpp"
@@ -36,6 +37,25 @@ struct PayloadEvent {
   /// Factor on the whole added-mass matrix M_A.
   Scalar added_mass_scale = Scalar(1);
 };
+
+template <typename Scalar>
+auto config_fields(const PayloadEvent<Scalar>*) noexcept {
+  using C = PayloadEvent<Scalar>;
+  return std::make_tuple(
+      field_spec<C>("time", &C::time, "s", Check::non_negative, "When it happens"),
+      field_spec<C>("mass", &C::mass, "kg", Check::finite,
+                    "Mass added (negative: dropped; the vehicle keeps m + mass > 0); weight mass * 9.81"),
+      field_spec<C>("mass_position", &C::mass_position, "m", Check::none,
+                    "Where the mass sits, body axes (3,); None: the centre of gravity"),
+      field_spec<C>("buoyancy", &C::buoyancy, "N", Check::finite,
+                    "Buoyancy added (negative: lost; the vehicle keeps B + buoyancy >= 0)"),
+      field_spec<C>("buoyancy_position", &C::buoyancy_position, "m", Check::none,
+                    "Where it acts, body axes (3,); None: the centre of buoyancy"),
+      field_spec<C>("damping_scale", &C::damping_scale, "", Check::non_negative,
+                    "Factors on the linear and quadratic damping per DOF (6,)"),
+      field_spec<C>("added_mass_scale", &C::added_mass_scale, "", Check::non_negative,
+                    "Factor on the added-mass matrix"));
+}
 
 namespace detail {
 

@@ -21,6 +21,7 @@
 
 #include <Eigen/Core>
 
+#include "neurov/core/field_spec.hpp"
 #include "neurov/core/status.hpp"
 #include "neurov/core/types.hpp"
 #include "neurov/core/validation.hpp"
@@ -39,6 +40,15 @@ struct SensorsConfig {
 
   bool any() const noexcept { return usbl || dvl || depth || imu; }
 };
+
+template <typename Scalar>
+auto config_fields(const SensorsConfig<Scalar>*) noexcept {
+  using C = SensorsConfig<Scalar>;
+  return std::make_tuple(field_spec<C>("usbl", &C::usbl, "A UsblConfig, or None."),
+                         field_spec<C>("dvl", &C::dvl, "A DvlConfig, or None."),
+                         field_spec<C>("depth", &C::depth, "A DepthConfig, or None."),
+                         field_spec<C>("imu", &C::imu, "An ImuConfig, or None."));
+}
 
 /// What the controller is given from the sensors: the raw readings or the EKF's estimate.
 enum class EstimatorType : std::uint8_t { none = 0, ekf = 1 };
@@ -67,6 +77,21 @@ struct EstimatorConfig {
     return s;
   }
 };
+
+template <typename Scalar>
+auto config_fields(const EstimatorConfig<Scalar>*) noexcept {
+  using C = EstimatorConfig<Scalar>;
+  return std::make_tuple(
+      field_spec<C>("type", &C::type, "An EstimatorType."),
+      field_spec<C>("linear_acceleration_noise", &C::linear_acceleration_noise, "m/s^2/sqrt(Hz)",
+                    Check::non_negative, "sqrt of the PSD of the velocities' random walk"),
+      field_spec<C>("angular_acceleration_noise", &C::angular_acceleration_noise,
+                    "rad/s^2/sqrt(Hz)", Check::non_negative,
+                    "sqrt of the PSD of the rates' random walk"),
+      field_spec<C>("initial_std", &C::initial_std, "", Check::positive,
+                    "Standard deviations of the initial estimate (15,): position, angles, body "
+                    "velocity, rates, gyro bias"));
+}
 
 /// The smallest measurement noise the EKF assumes [the sensor's unit].
 inline constexpr double kFilterNoiseFloor = 1e-4;

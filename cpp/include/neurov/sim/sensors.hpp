@@ -18,6 +18,7 @@
 
 #include <Eigen/Core>
 
+#include "neurov/core/field_spec.hpp"
 #include "neurov/core/random.hpp"
 #include "neurov/core/status.hpp"
 #include "neurov/core/types.hpp"
@@ -209,6 +210,18 @@ struct ImuConfig {
   Vector3<Scalar> gyro_bias = Vector3<Scalar>::Zero();  ///< initial gyro bias [rad/s]
 };
 
+template <typename Scalar>
+auto config_fields(const ImuConfig<Scalar>*) noexcept {
+  using C = ImuConfig<Scalar>;
+  return std::make_tuple(
+      field_spec<C>("rate", &C::rate, "Hz", Check::positive, "Sample rate"),
+      field_spec<C>("latency", &C::latency, "s", Check::non_negative, "Latency"),
+      field_spec<C>("attitude_noise", &C::attitude_noise, "rad", Check::non_negative, "Standard deviation of the angles"),
+      field_spec<C>("gyro_noise", &C::gyro_noise, "rad/s", Check::non_negative, "Standard deviation of the rates"),
+      field_spec<C>("gyro_bias_walk", &C::gyro_bias_walk, "rad/s/sqrt(s)", Check::non_negative, "Bias random walk"),
+      field_spec<C>("gyro_bias", &C::gyro_bias, "rad/s", Check::finite, "Initial gyro bias (3,)"));
+}
+
 /// Measures [phi, theta, psi (wrapped to (-pi, pi]), p, q, r] + [0; bias] + noise.
 template <typename Scalar>
 class ImuSensor : public detail::Sensor<ImuSensor<Scalar>, ImuConfig<Scalar>, Scalar, 6,
@@ -262,6 +275,18 @@ struct DvlConfig {
   Vector3<Scalar> bias = Vector3<Scalar>::Zero();  ///< [m/s]
 };
 
+template <typename Scalar>
+auto config_fields(const DvlConfig<Scalar>*) noexcept {
+  using C = DvlConfig<Scalar>;
+  return std::make_tuple(
+      field_spec<C>("rate", &C::rate, "Hz", Check::positive, "Sample rate"),
+      field_spec<C>("latency", &C::latency, "s", Check::non_negative, "Latency"),
+      field_spec<C>("noise", &C::noise, "m/s", Check::non_negative, "Standard deviation per axis"),
+      field_spec<C>("dropout_rate", &C::dropout_rate, "", Check::none,
+                    "Probability that a sample has no bottom lock, in [0, 1)"),
+      field_spec<C>("bias", &C::bias, "m/s", Check::finite, "Bias (3,)"));
+}
+
 /// Measures the body velocity over ground [u, v, w] + bias + noise; a
 /// dropout delivers a sample with valid = false.
 template <typename Scalar>
@@ -300,6 +325,16 @@ struct DepthConfig {
   Scalar bias = Scalar(0);   ///< [m]
 };
 
+template <typename Scalar>
+auto config_fields(const DepthConfig<Scalar>*) noexcept {
+  using C = DepthConfig<Scalar>;
+  return std::make_tuple(
+      field_spec<C>("rate", &C::rate, "Hz", Check::positive, "Sample rate"),
+      field_spec<C>("latency", &C::latency, "s", Check::non_negative, "Latency"),
+      field_spec<C>("noise", &C::noise, "m", Check::non_negative, "Standard deviation"),
+      field_spec<C>("bias", &C::bias, "m", Check::finite, "Bias"));
+}
+
 /// Measures the depth z (NED, down positive) + bias + noise.
 template <typename Scalar>
 class DepthSensor : public detail::Sensor<DepthSensor<Scalar>, DepthConfig<Scalar>, Scalar, 1,
@@ -333,6 +368,16 @@ struct UsblConfig {
   Scalar noise = Scalar(0);  ///< std per axis [m]
   Vector3<Scalar> bias = Vector3<Scalar>::Zero();  ///< [m], NED
 };
+
+template <typename Scalar>
+auto config_fields(const UsblConfig<Scalar>*) noexcept {
+  using C = UsblConfig<Scalar>;
+  return std::make_tuple(
+      field_spec<C>("rate", &C::rate, "Hz", Check::positive, "Sample rate"),
+      field_spec<C>("latency", &C::latency, "s", Check::non_negative, "Latency (acoustic travel and processing)"),
+      field_spec<C>("noise", &C::noise, "m", Check::non_negative, "Standard deviation per axis"),
+      field_spec<C>("bias", &C::bias, "m", Check::finite, "Bias, NED (3,)"));
+}
 
 /// Measures the position [x, y, z] (NED) + bias + noise, at the sample time.
 template <typename Scalar>

@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "neurov/core/field_spec.hpp"
 #include "neurov/core/validation.hpp"
 
 namespace neurov {
@@ -47,6 +48,22 @@ struct WaveConfig {
 /// 200 bytes, held inline, and a pass per step.
 inline constexpr int kMaxWaveComponents = 512;
 static_assert(kMaxWaveComponents == 512, "validate()'s components message names the maximum");
+
+template <typename Scalar>
+auto config_fields(const WaveConfig<Scalar>*) noexcept {
+  using C = WaveConfig<Scalar>;
+  return std::make_tuple(
+      field_spec<C>("spectrum", &C::spectrum, "A WaveSpectrum."),
+      field_spec<C>("hs", &C::hs, "m", Check::positive, "Significant wave height"),
+      field_spec<C>("tp", &C::tp, "s", Check::positive, "Peak period"),
+      field_spec<C>("gamma", &C::gamma, "", Check::none, "JONSWAP peak enhancement, >= 1"),
+      field_spec<C>("direction", &C::direction, "deg from north", Check::finite,
+                    "Direction the waves travel toward"),
+      field_spec<C>("spreading", &C::spreading, "", Check::non_negative,
+                    "n of the cos^n directional spreading; 0: long-crested"),
+      field_spec<C>("components", &C::components, "", Check::none, "Number of components")
+          .within(1, kMaxWaveComponents));
+}
 
 /// Checks a configuration; the error names the field. max_components is the
 /// capacity of the wave field that will hold it.

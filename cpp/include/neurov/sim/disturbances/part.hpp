@@ -8,7 +8,16 @@
 // is shared and the state lives where the caller puts it. Simulator holds one
 // State per part (PartList::States); a batch of runs holds an array of them
 // per part and calls the same hooks lane by lane. A part overrides only the
-// hooks it needs (PartDefaults gives the others, which do nothing).
+// hooks it needs (PartDefaults gives the others, which do nothing). A part
+// configured by a scenario table of its own names it `kTable`: the
+// SimulationConfig field of that name (an optional struct for [table], a
+// list of structs for [[table]]), described with config_fields beside the
+// part; the scenario reader (neurov/config/sea.py) reads every such table
+// generically. A part whose struct is its own names it `Settings`, with its
+// Python class name and docstring (kSettingsClass, kSettingsDoc): the
+// bindings bind it from its description. A new part is then its header and
+// config.hpp (its include, its field in SimulationConfig and that field's
+// description, its line in DisturbanceParts).
 //
 // The hooks, in the order Simulator::step calls them (PartList calls each
 // hook on every part in the order of the list, see DisturbanceParts in

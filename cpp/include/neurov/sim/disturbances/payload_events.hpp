@@ -12,6 +12,8 @@ namespace neurov::parts {
 
 template <typename Scalar>
 struct PayloadEvents : PartDefaults<Scalar> {
+  /// Its scenario tables [[payload]]: SimulationConfig's list of the same name.
+  static constexpr const char* kTable = "payload";
   struct State {
     std::vector<bool> applied;  ///< sized by create(), so reset allocates nothing
     Scalar mass = Scalar(0);

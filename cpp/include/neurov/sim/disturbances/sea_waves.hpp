@@ -15,6 +15,8 @@ namespace neurov::parts {
 
 template <typename Scalar>
 struct SeaWaves : PartDefaults<Scalar> {
+  /// Its scenario table [waves]: SimulationConfig's field of the same name.
+  static constexpr const char* kTable = "waves";
   using Vec3 = Vector3<Scalar>;
   using Vec6 = Vector6<Scalar>;
   struct State {

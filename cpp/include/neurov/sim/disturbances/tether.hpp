@@ -17,6 +17,7 @@
 #include <cmath>
 #include <optional>
 
+#include "neurov/core/field_spec.hpp"
 #include "neurov/model/kinematics.hpp"
 #include "neurov/sim/disturbances/part.hpp"
 
@@ -34,10 +35,31 @@ struct TetherConfig {
   Scalar length = Scalar(0);
 };
 
+template <typename Scalar>
+auto config_fields(const TetherConfig<Scalar>*) noexcept {
+  using C = TetherConfig<Scalar>;
+  return std::make_tuple(
+      field_spec<C>("diameter", &C::diameter, "m", Check::positive, "d, the cable's diameter"),
+      field_spec<C>("drag_coefficient", &C::drag_coefficient, "", Check::non_negative,
+                    "C_d of the flow normal to the cable"),
+      field_spec<C>("anchor", &C::anchor, "m", Check::finite, "The surface end, NED (3,)"),
+      field_spec<C>("attachment", &C::attachment, "m", Check::finite, "The vehicle end, body axes (3,)"),
+      field_spec<C>("length", &C::length, "m", Check::non_negative,
+                    "The cable's length; 0: the straight distance at t = 0, which it may not be "
+                    "shorter than (slack is not modelled)"));
+}
+
 namespace parts {
 
 template <typename Scalar>
 struct Tether : PartDefaults<Scalar> {
+  /// Its scenario table [tether]: SimulationConfig's field of the same name.
+  static constexpr const char* kTable = "tether";
+  using Settings = TetherConfig<Scalar>;
+  static constexpr const char* kSettingsClass = "TetherConfig";
+  static constexpr const char* kSettingsDoc =
+      "A ROV's umbilical from a surface anchor to the vehicle: a quasi-static straight line "
+      "whose normal drag, integrated along it, acts half at the vehicle's attachment point.";
   using Vec3 = Vector3<Scalar>;
   struct State {};
   static constexpr int kPoints = 4;
