@@ -10,7 +10,7 @@ import numpy
 import numpy.typing
 import os
 import typing
-__all__: list[str] = ['ARDUSUB_PARAMETERS', 'ArduSubConfig', 'ArduSubController', 'BUILT_IN_CONTROLLERS', 'BatchSimulator', 'Command', 'ComputedTorqueConfig', 'ComputedTorqueController', 'CurrentModel', 'CurrentStep', 'DISTURBANCE_TABLES', 'DepthConfig', 'DvlConfig', 'EstimatorConfig', 'EstimatorType', 'GaussMarkovCurrentConfig', 'ImuConfig', 'LANE_NOT_STEPPED', 'LinearAdaptiveConfig', 'LinearAdaptiveController', 'MAX_CENTRES', 'MAX_SUBSTEPS', 'MAX_WAVE_COMPONENTS', 'MIN_LANES_PER_THREAD', 'NNAdaptiveConfig', 'NNAdaptiveController', 'NeurovError', 'Observation', 'PDConfig', 'PDController', 'PIDConfig', 'PIDController', 'PayloadEvent', 'RESULT_SERIES', 'RbfNetwork', 'ReferenceModel', 'RefusedStepPolicy', 'RobustModification', 'Saturation', 'SensorFault', 'SensorFaultKind', 'SensorsConfig', 'SimulationConfig', 'Simulator', 'SinusoidalDisturbance', 'SlidingModeConfig', 'SlidingModeController', 'Status', 'SteadyForceConfig', 'SuperTwistingConfig', 'SuperTwistingController', 'THETA_NAMES', 'TRACKING_OBSERVATION_SIZE', 'TetherConfig', 'ThrusterConfig', 'ThrusterCurveConfig', 'ThrusterFailure', 'TrackingTask', 'TrackingTaskConfig', 'UsblConfig', 'ValidationError', 'Vehicle', 'WINDOW_SUMS', 'WaveConfig', 'WaveSpectrum', 'allocate_thrust', 'bluerov2_heavy_layout', 'buoyancy_in_water', 'is_near_singularity', 'jacobian', 'jacobian_dot', 'jacobian_inverse', 'plant_derivative', 'plant_jacobians', 'regressor', 'regressor_parameters', 'rk4_segments', 'rk4_step', 'rotation', 'run_batch', 'run_closed_loop', 'run_closed_loop_chunks', 'singularity_threshold', 'to_body', 'tracking_error']
+__all__: list[str] = ['ARDUSUB_PARAMETERS', 'ArduSubConfig', 'ArduSubController', 'BUILT_IN_CONTROLLERS', 'BatchSimulator', 'Command', 'ComputedTorqueConfig', 'ComputedTorqueController', 'CurrentModel', 'CurrentStep', 'DISTURBANCE_TABLES', 'DepthConfig', 'DvlConfig', 'EstimatorConfig', 'EstimatorType', 'GaussMarkovCurrentConfig', 'ImuConfig', 'LANE_NOT_STEPPED', 'LinearAdaptiveConfig', 'LinearAdaptiveController', 'MAX_CENTRES', 'MAX_SUBSTEPS', 'MAX_WAVE_COMPONENTS', 'MIN_LANES_PER_THREAD', 'NNAdaptiveConfig', 'NNAdaptiveController', 'NeurovError', 'Observation', 'PDConfig', 'PDController', 'PIDConfig', 'PIDController', 'PayloadEvent', 'RESULT_SERIES', 'RbfNetwork', 'ReferenceModel', 'RefusedStepPolicy', 'RobustModification', 'RunSums', 'Saturation', 'SensorFault', 'SensorFaultKind', 'SensorsConfig', 'SimulationConfig', 'Simulator', 'SinusoidalDisturbance', 'SlidingModeConfig', 'SlidingModeController', 'Status', 'SteadyForceConfig', 'SuperTwistingConfig', 'SuperTwistingController', 'THETA_NAMES', 'TRACKING_OBSERVATION_SIZE', 'TetherConfig', 'ThrusterConfig', 'ThrusterCurveConfig', 'ThrusterFailure', 'TrackingTask', 'TrackingTaskConfig', 'UsblConfig', 'ValidationError', 'Vehicle', 'WINDOW_SUMS', 'WaveConfig', 'WaveSpectrum', 'allocate_thrust', 'allocation_matrix', 'bluerov2_heavy_layout', 'buoyancy_in_water', 'is_near_singularity', 'jacobian', 'jacobian_dot', 'jacobian_inverse', 'plant_derivative', 'plant_jacobians', 'regressor', 'regressor_parameters', 'rk4_segments', 'rk4_step', 'rotation', 'run_batch', 'run_closed_loop', 'run_closed_loop_chunks', 'singularity_threshold', 'to_body', 'tracking_error']
 class _SimulationResult(typing.TypedDict):
     """What run_closed_loop, Simulator.result and Simulator.drain return: one row per
     control step t_k = k dt, one array per entry of RESULT_SERIES (in its order),
@@ -2174,6 +2174,10 @@ class ArduSubController:
         """
     def __setstate__(self, arg0: dict) -> None:
         ...
+    def mix(self, inputs: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[6, 1]"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        The motor stage alone, as ArduSub's manual mode drives it: the PWM [us] of each motor, shape (motors,), for the mixer's inputs roll, pitch, yaw, throttle, forward, lateral (each held within -1..1) through the frame's factors, MOT_n_DIRECTION and MOT_PWM_MIN/MAX. Changes nothing.
+        """
     def reset(self) -> None:
         """
         Back to the initial state and a zero history.
@@ -3795,6 +3799,20 @@ class Simulator:
         """
         Rows logged so far.
         """
+class RunSums:
+    """
+    A run's metric sums (WINDOW_SUMS before and from `after` on, and what the metrics read over every row), added row by row as run_batch's metrics_only adds them.
+    """
+    def __init__(self, after: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    def add(self, t: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], eta: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 6]", "flags.c_contiguous"], eta_d: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 6]", "flags.c_contiguous"], tau_demanded: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 6]", "flags.c_contiguous"], controller_status: typing.Annotated[numpy.typing.NDArray[numpy.uint8], "[m, 1]"], adaptive_norm: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], diverged: bool) -> None:
+        """
+        Adds a run's next rows (t (n,), eta, eta_d, tau_demanded (n, 6), controller_status (n,), adaptive_norm (n,)), in time order, and whether the run diverged.
+        """
+    def as_dict(self) -> dict[str, typing.Any]:
+        """
+        The sums as run_batch's metrics_only gives them.
+        """
 class BatchSimulator:
     """
     K runs (lanes) stepped in lockstep from outside, one call per step for every lane; each lane gives the rows of the same run alone (a Simulator).
@@ -4038,6 +4056,10 @@ def _kernel_isa() -> str:
 def allocate_thrust(matrix: numpy.typing.ArrayLike, tau: numpy.typing.ArrayLike, max_thrust: numpy.typing.ArrayLike | None = None, min_thrust: numpy.typing.ArrayLike | None = None, saturation: str = 'scale', weights: numpy.typing.ArrayLike | None = None) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]]:
     """
     Allocates a wrench tau (6,) to thrusters with configuration matrix (6, n) by the weighted pseudo-inverse and saturates ('scale' keeps the direction, 'clip' clips each). Returns (thrusts (n,), produced wrench (6,)).
+    """
+def allocation_matrix(positions: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 3]"], directions: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 3]"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, n]"]:
+    """
+    The allocation matrix B (6, n) of n thrusters at positions (n, 3) [m] pushing along unit directions (n, 3), body axes: column i is [d_i; r_i x d_i] (model/thruster_geometry.hpp).
     """
 def bluerov2_heavy_layout() -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[8, 3]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[8, 3]"], list]:
     """

@@ -16,14 +16,11 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 import numpy as np
 
 from neurov import _core
-
-if TYPE_CHECKING:
-    from neurov.results.timeseries import Result
 
 __all__ = ["METRICS", "TRANSIENT_S", "Metric", "MetricsWindow", "Window", "WindowSums", "flat_metrics",
            "metric_label", "metric_names", "metrics_start", "register_metric"]
@@ -35,6 +32,19 @@ commands start moving within 5 s). A fixed time, so that a 24-hour run and a
 1-minute run are judged on the same footing."""
 
 DOF_NAMES = ("x", "y", "z", "roll", "pitch", "yaw")
+
+
+class Rows(Protocol):
+    """The series of a run's consecutive rows that its sums read (a
+    :class:`~neurov.results.timeseries.Result` is one)."""
+
+    t: np.ndarray
+    eta: np.ndarray
+    eta_d: np.ndarray
+    tau_demanded: np.ndarray
+    controller_status: np.ndarray
+    adaptive_norm: np.ndarray
+    diverged: bool
 
 
 def metrics_start(duration: float) -> float:
@@ -91,7 +101,7 @@ class MetricsWindow:
         self._sums = _core.RunSums(self.after)
         self._given: dict[str, Any] | None = None  # sums C++ accumulated as a run ran (from_sums)
 
-    def add(self, rows: Result) -> None:
+    def add(self, rows: Rows) -> None:
         """The next rows of the run (a Result of consecutive rows), summed by
         the C++ that sums a run in C++ (:class:`neurov._core.RunSums`)."""
         if self._given is not None:
