@@ -84,6 +84,7 @@ def test_the_log_report_says_what_is_not_in_the_log() -> None:
            "out of the fit" in text
     assert re.search(r"(?m)^u\s+m/s.*not logged$", text) and re.search(r"(?m)^surge\s.*not logged$", text)
     assert "u [m/s] never moves" not in text
+    assert "the depth is logged, but its rate is the heave velocity only while u and v are zero" in text
     assert report.verdicts[4] == ("no", "not in this log: u not logged (no linear velocity or position), so "
                                         "its DOF cannot be told")
     assert report.verdicts[0][0] == "no"  # the mass acts in surge, sway and heave only

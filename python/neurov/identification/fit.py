@@ -71,10 +71,7 @@ def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Pat
     linear velocity is such a staircase, True, or False (docs/identification.md,
     the worked example); the rates go through the estimator's filter with it,
     except with ``"linear"`` (the staircase alone: a log of raw gyro rates)."""
-    items = logs if isinstance(logs, list) else [logs]
-    read = [x if isinstance(x, Log) else read_log(x, mapping, _thrusters(vehicle)) for x in items]
-    if not read:
-        raise IdentificationError("no log given")
+    read = _read(logs, mapping, vehicle)
     template = read_vehicle_file(vehicle)
     if water_density is not None:
         template = template.in_water(water_density)
@@ -182,7 +179,7 @@ def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Pat
     fitted_vehicle = result.vehicle()
     result.warnings += _self_verdict(read, fitted_vehicle, substeps)
     for h in heldout or []:
-        hl = h if isinstance(h, Log) else read_log(h, mapping, _thrusters(vehicle))
+        hl = _read(h, mapping, vehicle)[0]
         result.heldout.append(held_out(hl, fitted_vehicle, template.vehicle(), substeps))
         moved = np.ptp(hl.nu, axis=0) > 1e-3
         result.warnings += verdict_warnings(hl.source, result.heldout[-1].fit, moved,
@@ -256,8 +253,14 @@ def _thrusters(path: str | Path) -> Any:
 def report_only(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Path, *,
                 free: str | list[str] | None = None, mapping: str | Path | None = None) -> LogReport:
     """The log report of `logs` for the `free` parameters, without a fit."""
+    return analyse_logs(_read(logs, mapping, vehicle), free_indices(free))
+
+
+def _read(logs: list[str | Path | Log] | str | Path | Log, mapping: str | Path | None,
+          vehicle: str | Path) -> list[Log]:
+    """The logs read (a Log as it is)."""
     items = logs if isinstance(logs, list) else [logs]
     read = [x if isinstance(x, Log) else read_log(x, mapping, _thrusters(vehicle)) for x in items]
     if not read:
         raise IdentificationError("no log given")
-    return analyse_logs(read, free_indices(free))
+    return read

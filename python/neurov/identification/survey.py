@@ -135,7 +135,10 @@ def analyse_logs(logs: list[Log], free: list[int]) -> LogReport:
                         + (f"{', '.join(gone)} left out of the fit, their parameters kept at the "
                            "template's values (\"not in this log\"); " if gone else "")
                         + f"{', '.join(kept)} identified with the missing linear velocities taken as zero "
-                        "(their coupling into the rotation is not measured)")
+                        "(their coupling into the rotation is not measured)"
+                        + ("; the depth is logged, but its rate is the heave velocity only while u and v "
+                           "are zero: a vehicle heaving as it pitches moves along its own x, so heave is not "
+                           "fitted from the depth alone" if "w" in absent and "z" not in absent else ""))
     for k, (name, unit) in enumerate(_COLUMNS):
         x = data[:, k]
         hz = float(np.nanmean([_updates_hz(log.t, np.hstack([log.eta, log.nu, log.tau])[:, k]) for log in logs]))
