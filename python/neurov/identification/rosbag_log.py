@@ -19,7 +19,10 @@ the topics the mapping file names:
 
 Every signal but the odometry is held from its latest message onto the time
 base (the zero-order hold of a command) and cut where older than the
-mapping's ``max_age``. The mapping file (see
+mapping's ``max_age``. An irregular time base (an unstamped array topic's
+receive times) is resampled by the CSV reader's rule (the mapping's
+``resample``, :func:`neurov.identification.csv_mapping.resample_by_mapping`).
+The mapping file (see
 :mod:`neurov.identification.mapping`)::
 
     format = "rosbag"
@@ -36,6 +39,7 @@ mapping's ``max_age``. The mapping file (see
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -43,6 +47,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from neurov.identification.alignment import hold
+from neurov.identification.csv_mapping import resample_by_mapping
 from neurov.identification.errors import LogError
 from neurov.identification.log import Log, fill_absent, make_log
 from neurov.identification.mapping import Mapping, to_neurov_frames
@@ -211,4 +216,6 @@ def read_rosbag(path: str | Path, mapping: Mapping, thrusters: dict[str, Any] | 
         if mapping.body_frame == "flu":
             tau = tau * np.array([1, -1, -1, 1, -1, -1.0])
     eta, nu, tau = to_neurov_frames(eta, twist, tau, mapping.body_frame, mapping.world_frame)
-    return make_log(str(path), t, eta, nu, tau, absent=absent)
+    t, eta, nu, tau, notes = resample_by_mapping(t, eta, nu, tau, mapping)
+    log = make_log(str(path), t, eta, nu, tau, absent=absent)
+    return replace(log, notes=(*notes, *log.notes)) if notes else log
