@@ -159,3 +159,4 @@ def advance_linear_velocity(log: Log, lag_s: float) -> Log:
                absent=log.absent,
                notes=(*log.notes, f"linear velocity moved {rows} row(s) ({rows * log.dt:g} s) earlier "
                       "for the estimator's lag"))
+
