@@ -197,3 +197,28 @@ def test_heave_is_left_out_because_even_its_true_velocity_does_not_do_without_u_
     assert 6 in with_w.fitted and abs(with_w.theta[6] / truth[6] - 1) > 0.3  # -Z_wdot
     worst = {k: max(abs(f.theta[i] / truth[i] - 1) for i in ROTATION) for k, f in (("w", with_w), ("no w", without_w))}
     assert worst["w"] > 0.5 and worst["no w"] < 0.25, worst
+
+
+def test_an_ardusub_tlog_without_local_position_is_read_and_says_so(tmp_path: Path, capsys) -> None:
+    """An ArduSub log with no DVL or positioning has no LOCAL_POSITION_NED:
+    the real excerpt with that message taken out is read (attitude, rates
+    and PWM), x, y, z, u, v, w named as not logged, no traceback."""
+    import struct
+
+    from pymavlink import mavutil
+
+    tlog = Path(__file__).resolve().parents[1] / "data" / "logs" / "ardusub_log_tools" / "bluerov2_heavy_excerpt.tlog"
+    conn = mavutil.mavlink_connection(str(tlog), dialect="ardupilotmega")
+    with open(tmp_path / "imu_only.tlog", "wb") as f:
+        while (m := conn.recv_match(blocking=False)) is not None:
+            if m.get_type() not in ("LOCAL_POSITION_NED", "BAD_DATA"):
+                f.write(struct.pack(">Q", int(round(m._timestamp * 1e6))) + m.get_msgbuf())
+    conn.close()
+    thrusters = neurov.config.vehicle_file.load_thrusters(preset_path("bluerov2_heavy"))
+    log = read_log(tmp_path / "imu_only.tlog", None, thrusters)
+    assert log.absent == ("x", "y", "z", "u", "v", "w")
+    assert any("no LOCAL_POSITION_NED (no position or linear velocity)" in n for n in log.notes)
+    assert main(["identify", str(tmp_path / "imu_only.tlog"), "--vehicle", "bluerov2_heavy", "--report"]) == 0
+    printed = capsys.readouterr()
+    assert "Traceback" not in printed.out + printed.err
+    assert "Problem: the log has no x, y, z, u, v, w (no DVL or positioning logged): surge, sway, heave" in printed.out
