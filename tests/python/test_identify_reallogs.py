@@ -383,6 +383,9 @@ def test_integer_pwm_arrays_are_thruster_commands_and_a_missing_velocity_is_name
     log = read_log(tmp_path / "pwm.bag", tmp_path / "all.toml", thrusters)
     np.testing.assert_allclose(log.tau, pwm_force(pwm.astype(float), thrusters)[: len(log.t)], atol=1e-12)
     (tmp_path / "rot.toml").write_text(head + "elements = { roll = 3, pitch = 4, yaw = 5, p = 9, q = 10, r = 11, z = 2 }\n")
+    # No linear velocity or position (the thesis BlueROV's bags): read, those held at zero and named.
+    assert read_log(tmp_path / "pwm.bag", tmp_path / "rot.toml", thrusters).absent == ("x", "y", "u", "v", "w")
+    (tmp_path / "angles.toml").write_text(head + "elements = { roll = 3, pitch = 4, yaw = 5, z = 2 }\n")
     six = dict(thrusters, matrix=thrusters["matrix"][:, :6], curves=thrusters["curves"][:6])
-    with pytest.raises(neurov.identification.LogError, match=r"no topic gives x, y, u, v, w \(.*rot\.toml"):
-        read_log(tmp_path / "pwm.bag", tmp_path / "rot.toml", six)
+    with pytest.raises(neurov.identification.LogError, match=r"no topic gives x, y, u, v, w, p, q, r \(.*angles\.toml"):
+        read_log(tmp_path / "pwm.bag", tmp_path / "angles.toml", six)

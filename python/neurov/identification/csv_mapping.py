@@ -32,7 +32,7 @@ from neurov.memory import check_csv_fits
 from neurov.identification.log import GAP_FACTOR, Log, make_log
 from neurov.identification.mapping import UNITS, Mapping, to_neurov_frames
 
-__all__ = ["read_mapped_csv", "resample_uniform"]
+__all__ = ["read_mapped_csv", "resample_by_mapping", "resample_uniform"]
 
 Array = NDArray[np.float64]
 
@@ -95,6 +95,26 @@ def resample_uniform(t: Array, eta: Array, nu: Array, tau: Array, max_age: float
             np.array([steps.min(), steps.max(), dt]))
 
 
+def resample_by_mapping(t: Array, eta: Array, nu: Array, tau: Array,
+                        mapping: Mapping) -> tuple[Array, Array, Array, Array, list[str]]:
+    """The rows resampled as the mapping's ``resample`` says (``"auto"``,
+    the default: where the sampling is irregular, :func:`resample_uniform`;
+    ``"off"``: as they are), with the note saying the rule used."""
+    mode = mapping.data.get("resample", "auto")
+    if mode not in ("auto", "off"):
+        raise LogError(f"{mapping.where}: resample: expected 'auto' or 'off', got {mode!r}")
+    if mode == "auto" and np.all(np.diff(t[np.isfinite(t)]) > 0):
+        done = resample_uniform(t, eta, nu, tau, mapping.max_age)
+    else:
+        done = None  # a clock going backwards is refused by make_log, naming the row
+    if done is None:
+        return t, eta, nu, tau, []
+    t, eta, nu, tau, (lo, hi, dt) = done
+    return t, eta, nu, tau, [f"irregular sampling (steps {lo:.3g} to {hi:.3g} s): resampled to {1 / dt:.3g} Hz "
+                             "(the median step), pose and velocity interpolated linearly, force held; gaps "
+                             f"over {mapping.max_age:g} s (max_age) kept"]
+
+
 def read_mapped_csv(path: str | Path, mapping: Mapping) -> Log:
     path = Path(path)
     frame = _frame(path)
@@ -127,18 +147,7 @@ def read_mapped_csv(path: str | Path, mapping: Mapping) -> Log:
         signals[name] = values
     eta, nu, tau = to_neurov_frames(signals["eta"], signals["nu"], signals["tau"],
                                     mapping.body_frame, mapping.world_frame)
-    t = base
-    mode = mapping.data.get("resample", "auto")
-    if mode not in ("auto", "off"):
-        raise LogError(f"{mapping.where}: resample: expected 'auto' or 'off', got {mode!r}")
-    if mode == "auto" and np.all(np.diff(t[np.isfinite(t)]) > 0):
-        done = resample_uniform(t, eta, nu, tau, mapping.max_age)
-    else:
-        done = None  # a clock going backwards is refused by make_log, naming the row
-    if done is not None:
-        t, eta, nu, tau, (lo, hi, dt) = done
-        notes.append(f"irregular sampling (steps {lo:.3g} to {hi:.3g} s): resampled to {1 / dt:.3g} Hz "
-                     "(the median step), pose and velocity interpolated linearly, force held; gaps over "
-                     f"{mapping.max_age:g} s (max_age) kept")
+    t, eta, nu, tau, said = resample_by_mapping(base, eta, nu, tau, mapping)
+    notes += said
     log = make_log(str(path), t, eta, nu, tau)
     return replace(log, notes=(*notes, *log.notes)) if notes else log

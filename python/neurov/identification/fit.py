@@ -71,10 +71,7 @@ def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Pat
     linear velocity is such a staircase, True, or False (docs/identification.md,
     the worked example); the rates go through the estimator's filter with it,
     except with ``"linear"`` (the staircase alone: a log of raw gyro rates)."""
-    items = logs if isinstance(logs, list) else [logs]
-    read = [x if isinstance(x, Log) else read_log(x, mapping, _thrusters(vehicle)) for x in items]
-    if not read:
-        raise IdentificationError("no log given")
+    read = _read(logs, mapping, vehicle)
     template = read_vehicle_file(vehicle)
     if water_density is not None:
         template = template.in_water(water_density)
@@ -85,12 +82,16 @@ def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Pat
     free_idx = [i for i in asked if i not in untold]
     if not free_idx:
         raise NothingToFit("none of the free parameters can be identified from the logs: "
-                           + "; ".join(f"{_core.THETA_NAMES[i]}: not excited" for i in untold)
+                           + "; ".join(f"{_core.THETA_NAMES[i]}: "
+                                       + ("not in this log" if why.startswith("not in this log") else "not excited")
+                                       for i, why in untold.items())
                            + " (the log report says why); nothing fitted: fly the excitation plan and "
                            "identify again", log_report)
     model_rates = estimator != "linear"
     if estimator == "auto":
-        model_estimator = output_error and any(staircase(log) for log in read)
+        # A log with no linear velocity has no staircase to model (its zeros are not updates).
+        model_estimator = output_error and any(staircase(log) for log in read
+                                               if not set("uvw") & set(log.absent))
     elif isinstance(estimator, bool):
         model_estimator = estimator and output_error
     elif estimator == "linear":
@@ -145,7 +146,9 @@ def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Pat
                                               lin.fitted) + ": fix one of each with --free") from None
     q = centre + small_sample_scale(blocks.count) * (q - centre)
     interval[lin.fitted] = np.clip(q, lo[:, None], hi[:, None])
-    reasons = {**lin.reasons, **{i: f"not excited: left at the template's value, {why}" for i, why in untold.items()}}
+    reasons = {**lin.reasons, **{i: (f"{why}: left at the template's value" if why.startswith("not in this log")
+                                     else f"not excited: left at the template's value, {why}")
+                                 for i, why in untold.items()}}
     result = Identification(template=template, logs=read, theta_template=theta0, theta=theta,
                             theta_stage1=lin.theta, fitted=lin.fitted, reasons=reasons,
                             interval=interval, condition=lin.condition, stages=stages_done,
@@ -156,9 +159,14 @@ def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Pat
                         + ", ".join(f"{g:.3f}" for g in st.gain[:3])
                         + (", (p, q, r) " + ", ".join(f"{g:.3f}" for g in st.gain[3:])
                            if len(st.gain) > 3 else ""))
-    if st.dead:
-        lag_note.append(f"output error: {', '.join(st.dead)} never move in the logs (a dead signal): "
+    dead = [n for n in st.dead if n not in log_report.absent]
+    if dead:
+        lag_note.append(f"output error: {', '.join(dead)} never move in the logs (a dead signal): "
                         "left out of its residual, the simulated motion compared on the others")
+    if log_report.absent:
+        lag_note.append(f"{', '.join(log_report.absent)} not in the logs: held at zero in the equation error, "
+                        "left out of the output error's residual and the free runs' verdict (simulated "
+                        "with the template's values there)")
     if st.rejected:
         lag_note.append(f"output error: {st.rejected} trial step(s) overflowed in the simulation and were "
                         "rejected (the solver went on from the last good point)")
@@ -171,7 +179,7 @@ def identify(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Pat
     fitted_vehicle = result.vehicle()
     result.warnings += _self_verdict(read, fitted_vehicle, substeps)
     for h in heldout or []:
-        hl = h if isinstance(h, Log) else read_log(h, mapping, _thrusters(vehicle))
+        hl = _read(h, mapping, vehicle)[0]
         result.heldout.append(held_out(hl, fitted_vehicle, template.vehicle(), substeps))
         moved = np.ptp(hl.nu, axis=0) > 1e-3
         result.warnings += verdict_warnings(hl.source, result.heldout[-1].fit, moved,
@@ -245,8 +253,14 @@ def _thrusters(path: str | Path) -> Any:
 def report_only(logs: list[str | Path | Log] | str | Path | Log, vehicle: str | Path, *,
                 free: str | list[str] | None = None, mapping: str | Path | None = None) -> LogReport:
     """The log report of `logs` for the `free` parameters, without a fit."""
+    return analyse_logs(_read(logs, mapping, vehicle), free_indices(free))
+
+
+def _read(logs: list[str | Path | Log] | str | Path | Log, mapping: str | Path | None,
+          vehicle: str | Path) -> list[Log]:
+    """The logs read (a Log as it is)."""
     items = logs if isinstance(logs, list) else [logs]
     read = [x if isinstance(x, Log) else read_log(x, mapping, _thrusters(vehicle)) for x in items]
     if not read:
         raise IdentificationError("no log given")
-    return analyse_logs(read, free_indices(free))
+    return read

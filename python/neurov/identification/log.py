@@ -14,9 +14,14 @@ from numpy.typing import NDArray
 
 from neurov.identification.errors import LogError
 
-__all__ = ["Log", "make_log"]
+__all__ = ["ABSENT_OK", "Log", "fill_absent", "make_log"]
 
 Array = NDArray[np.float64]
+
+# The columns of [eta | nu] a log may lack (no DVL, no positioning: an IMU,
+# an attitude estimator and a depth sensor); the attitude and rates may not.
+ABSENT_OK = ("x", "y", "z", "u", "v", "w")
+_NAMES = ("x", "y", "z", "roll", "pitch", "yaw", "u", "v", "w", "p", "q", "r")
 
 # A step longer than this many times the median step is a gap: the data
 # either side are separate segments (never interpolated across).
@@ -40,6 +45,9 @@ class Log:
     notes: tuple[str, ...] = field(default_factory=tuple)
     #: what the reader found wrong with the log, said first in the log report
     problems: tuple[str, ...] = field(default_factory=tuple)
+    #: the pose and velocity columns (x y z u v w) the log does not have,
+    #: held at zero: their DOFs are left out of the fit (the log report says so)
+    absent: tuple[str, ...] = field(default_factory=tuple)
 
     @property
     def dt(self) -> float:
@@ -52,8 +60,24 @@ class Log:
         return float(sum(self.t[b - 1] - self.t[a] for a, b in self.segments))
 
 
+def fill_absent(source: str, eta: Array, nu: Array, where: str) -> tuple[str, ...]:
+    """The columns of `eta` and `nu` (N, 6) that are NaN on every row, set
+    to zero in place and named (only x y z u v w may be: a log with no
+    linear velocity or position is fitted in the DOFs it has); a LogError
+    naming `source` and `where` (the mapping) when an attitude or rate is
+    missing."""
+    empty = [n for k, n in enumerate(_NAMES) if np.all(np.isnan(eta[:, k] if k < 6 else nu[:, k - 6]))]
+    if any(n not in ABSENT_OK for n in empty):
+        raise LogError(f"{source}: no topic gives {', '.join(empty)} ({where}: an odometry topic, "
+                       "or [[arrays]] elements for them; the attitude and rates are needed at least)")
+    for n in empty:
+        k = _NAMES.index(n)
+        (eta[:, k] if k < 6 else nu[:, k - 6])[:] = 0.0
+    return tuple(empty)
+
+
 def make_log(source: str, t: object, eta: object, nu: object, tau: object,
-             current: object = None, min_segment: int = 8) -> Log:
+             current: object = None, min_segment: int = 8, absent: tuple[str, ...] = ()) -> Log:
     """Checks and cuts a log: shapes, time strictly increasing (an error
     naming `source` otherwise), rows with a NaN or inf dropped and counted,
     gaps split into segments; segments shorter than `min_segment` rows are
@@ -103,7 +127,7 @@ def make_log(source: str, t: object, eta: object, nu: object, tau: object,
     notes = (f"{cut} row(s) with non-finite values cut",) if cut else ()
     return Log(source=source, t=t_all[index], eta=arrays["eta"][index], nu=arrays["nu"][index],
                tau=arrays["tau"][index], current=c[index], segments=tuple(segments), cut=cut,
-               notes=notes)
+               notes=notes, absent=tuple(absent))
 
 
 def advance_linear_velocity(log: Log, lag_s: float) -> Log:
@@ -132,5 +156,7 @@ def advance_linear_velocity(log: Log, lag_s: float) -> Log:
     index = np.concatenate(keep)
     return Log(source=log.source, t=log.t[index], eta=log.eta[index], nu=np.concatenate(nu),
                tau=log.tau[index], current=log.current[index], segments=tuple(segments), cut=log.cut,
+               absent=log.absent,
                notes=(*log.notes, f"linear velocity moved {rows} row(s) ({rows * log.dt:g} s) earlier "
                       "for the estimator's lag"))
+

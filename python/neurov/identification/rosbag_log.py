@@ -19,7 +19,10 @@ the topics the mapping file names:
 
 Every signal but the odometry is held from its latest message onto the time
 base (the zero-order hold of a command) and cut where older than the
-mapping's ``max_age``. The mapping file (see
+mapping's ``max_age``. An irregular time base (an unstamped array topic's
+receive times) is resampled by the CSV reader's rule (the mapping's
+``resample``, :func:`neurov.identification.csv_mapping.resample_by_mapping`).
+The mapping file (see
 :mod:`neurov.identification.mapping`)::
 
     format = "rosbag"
@@ -36,6 +39,7 @@ mapping's ``max_age``. The mapping file (see
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -43,8 +47,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from neurov.identification.alignment import hold
+from neurov.identification.csv_mapping import resample_by_mapping
 from neurov.identification.errors import LogError
-from neurov.identification.log import Log, make_log
+from neurov.identification.log import Log, fill_absent, make_log
 from neurov.identification.mapping import Mapping, to_neurov_frames
 from neurov.identification.ros_arrays import ARRAY_TYPES, array_rows, array_specs
 from neurov.identification.tlog_log import pwm_force
@@ -191,12 +196,10 @@ def read_rosbag(path: str | Path, mapping: Mapping, thrusters: dict[str, Any] | 
         for col in np.flatnonzero(np.any(np.isfinite(values), axis=0)):
             (eta if col < 6 else twist)[:, col % 6] = got[:, col]
     # What the log lacks is said before the force is read (a thruster
-    # mismatch is the lesser problem of a log with no velocity).
-    names = ("x", "y", "z", "roll", "pitch", "yaw", "u", "v", "w", "p", "q", "r")
-    empty = [n for k, n in enumerate(names) if np.all(np.isnan(eta[:, k] if k < 6 else twist[:, k - 6]))]
-    if empty:
-        raise LogError(f"{path}: no topic gives {', '.join(empty)} ({mapping.where}: an odometry topic, "
-                       "or [[arrays]] elements for them)")
+    # mismatch is the lesser problem of a log with no attitude); a log with
+    # no linear velocity or position is read, those columns held at zero
+    # and named (its DOFs are left out of the fit, the log report says so).
+    absent = fill_absent(str(path), eta, twist, mapping.where)
     if "wrench" in msgs:
         w = np.array([[m.wrench.force.x, m.wrench.force.y, m.wrench.force.z,
                        m.wrench.torque.x, m.wrench.torque.y, m.wrench.torque.z] for m in msgs["wrench"]])
@@ -213,4 +216,6 @@ def read_rosbag(path: str | Path, mapping: Mapping, thrusters: dict[str, Any] | 
         if mapping.body_frame == "flu":
             tau = tau * np.array([1, -1, -1, 1, -1, -1.0])
     eta, nu, tau = to_neurov_frames(eta, twist, tau, mapping.body_frame, mapping.world_frame)
-    return make_log(str(path), t, eta, nu, tau)
+    t, eta, nu, tau, notes = resample_by_mapping(t, eta, nu, tau, mapping)
+    log = make_log(str(path), t, eta, nu, tau, absent=absent)
+    return replace(log, notes=(*notes, *log.notes)) if notes else log

@@ -58,11 +58,18 @@ class LogReport:
     rows: int = 0
     duration: float = 0.0
     notes: list[str] = field(default_factory=list)  #: what the readers used (parameters, rates)
+    absent: tuple[str, ...] = ()  #: the signals no log has (held at zero), as Log.absent
+
+    def absent_dofs(self) -> list[int]:
+        """The DOFs whose body velocity is not in the logs (no flight tells them)."""
+        return [d for d in range(3) if "uvw"[d] in self.absent]
 
     def weak_dofs(self) -> list[int]:
-        """The DOFs whose parameters the log tells too quietly or not at all."""
-        return [d for d in range(6) if min(self.thrust_share[d], self.motion_share[d]) < QUIET
-                or self.thrust_samples[d] < MIN_SAMPLES]
+        """The DOFs whose parameters the log tells too quietly or not at all
+        (those not in the log are not: flying them again would not help)."""
+        return [d for d in range(6) if d not in self.absent_dofs()
+                and (min(self.thrust_share[d], self.motion_share[d]) < QUIET
+                     or self.thrust_samples[d] < MIN_SAMPLES)]
 
     def untold(self) -> dict[int, str]:
         """The free parameters the log cannot tell, with why."""
@@ -87,8 +94,12 @@ def dof_of(i: int) -> tuple[int, ...]:
     return (2,) if i == 22 else (3, 4)
 
 
-def _verdict(i: int, thrust: Array, motion: Array, peak: Array, samples: Array) -> tuple[str, str]:
+def _verdict(i: int, thrust: Array, motion: Array, peak: Array, samples: Array,
+             absent: tuple[str, ...] = ()) -> tuple[str, str]:
     dofs = dof_of(i)
+    if all(d < 3 and "uvw"[d] in absent for d in dofs):
+        return "no", (f"not in this log: {', '.join('uvw'[d] for d in dofs)} not logged (no linear velocity "
+                      "or position), so its DOF cannot be told")
     if max(samples[d] for d in dofs) < MIN_SAMPLES:
         d = max(dofs, key=lambda k: samples[k])
         return "no", (f"the log cannot tell it ({DOFS[d]}: the force outside the dead band was logged "
@@ -115,13 +126,26 @@ def analyse_logs(logs: list[Log], free: list[int]) -> LogReport:
     rows = len(t)
     signals = []
     problems: list[str] = [f"{log.source}: {p}" for log in logs for p in log.problems]
+    # A signal some log lacks is not in the data (held at zero there).
+    absent = tuple(n for n, _ in _COLUMNS[:12] if any(n in log.absent for log in logs))
+    gone = [DOFS[d] for d in range(3) if "uvw"[d] in absent]
+    if absent:
+        kept = [DOFS[d] for d in range(6) if DOFS[d] not in gone]
+        problems.append(f"the log has no {', '.join(absent)} (no DVL or positioning logged): "
+                        + (f"{', '.join(gone)} left out of the fit, their parameters kept at the "
+                           "template's values (\"not in this log\"); " if gone else "")
+                        + f"{', '.join(kept)} identified with the missing linear velocities taken as zero "
+                        "(their coupling into the rotation is not measured)"
+                        + ("; the depth is logged, but its rate is the heave velocity only while u and v "
+                           "are zero: a vehicle heaving as it pitches moves along its own x, so heave is not "
+                           "fitted from the depth alone" if "w" in absent and "z" not in absent else ""))
     for k, (name, unit) in enumerate(_COLUMNS):
         x = data[:, k]
         hz = float(np.nanmean([_updates_hz(log.t, np.hstack([log.eta, log.nu, log.tau])[:, k]) for log in logs]))
         gap = max(float(np.max(np.diff(log.t))) if len(log.t) > 1 else 0.0 for log in logs)
         moves = bool(np.ptp(x) > STILL[k])
         signals.append((name, unit, hz, gap, float(np.min(x)), float(np.max(x)), moves))
-        if not moves and k >= 6:
+        if not moves and k >= 6 and name not in absent:
             problems.append(f"{name} [{unit}] never moves (range {np.min(x):.3g} to {np.max(x):.3g}): "
                             + ("no thrust in this DOF" if k >= 12 else "a dead signal, or a DOF that was never driven"))
     tau = data[:, 12:]
@@ -135,7 +159,7 @@ def analyse_logs(logs: list[Log], free: list[int]) -> LogReport:
             problems.append(f"{log.source}: the rows come at {hz:.3g} Hz, implausible for a vehicle's log "
                             f"(expected {RATE_RANGE[0]:g} to {RATE_RANGE[1]:g} Hz): is the time column in "
                             "milliseconds (or microseconds) but labelled seconds? (the mapping's time.unit)")
-        ratio = _kinematic_ratio(log)
+        ratio = None if log.absent else _kinematic_ratio(log)
         if ratio is not None and not 0.2 <= ratio <= 5.0:
             problems.append(f"{log.source}: the position changes {ratio:.3g} times as fast as the logged "
                             "velocity says: a time or velocity unit is wrong (the mapping's units)")
@@ -146,8 +170,10 @@ def analyse_logs(logs: list[Log], free: list[int]) -> LogReport:
         for a, b in log.segments:
             fresh[a] = True
         samples += np.sum(on & fresh, axis=0)
-    verdicts = {i: _verdict(i, thrust, motion, peak, samples) for i in free}
+    verdicts = {i: _verdict(i, thrust, motion, peak, samples, absent) for i in free}
     for d in range(6):
+        if DOFS[d] in gone:
+            continue
         if thrust[d] < QUIET and any(d in dof_of(i) for i in free):
             problems.append(f"{DOFS[d]}: the thrusters push in this DOF on only {100 * thrust[d]:.1f} % of "
                             "the log (the rest is inside the dead band or zero)")
@@ -156,7 +182,7 @@ def analyse_logs(logs: list[Log], free: list[int]) -> LogReport:
                             "times (the thruster outputs are logged too slowly, or pushed too briefly)")
     notes = [f"{log.source}: {n}" for log in logs for n in log.notes]
     return LogReport(signals, thrust, motion, verdicts, samples, problems, rows,
-                     float(sum(log.duration for log in logs)), notes)
+                     float(sum(log.duration for log in logs)), notes, absent)
 
 
 def _kinematic_ratio(log: Log, window_s: float = 2.0) -> float | None:
@@ -182,11 +208,13 @@ def report_lines(r: LogReport) -> list[str]:
     lines += [f"Read: {n}" for n in r.notes]
     lines += ["", f"{'signal':<8}{'unit':<7}{'changes/s':>10}{'largest gap s':>14}{'min':>11}{'max':>11}  moves"]
     for name, unit, hz, gap, lo, hi, moves in r.signals:
-        lines.append(f"{name:<8}{unit:<7}{hz:>10.3g}{gap:>14.3g}{lo:>11.4g}{hi:>11.4g}  {'yes' if moves else 'NO'}")
+        said = "not logged" if name in r.absent else "yes" if moves else "NO"
+        lines.append(f"{name:<8}{unit:<7}{hz:>10.3g}{gap:>14.3g}{lo:>11.4g}{hi:>11.4g}  {said}")
     lines += ["", f"{'DOF':<8}{'thrust outside dead band':>26}{'its samples':>13}{'motion':>10}"]
     for d in range(6):
+        motion = "not logged" if d in r.absent_dofs() else f"{100 * r.motion_share[d]:.1f}%"
         lines.append(f"{DOFS[d]:<8}{100 * r.thrust_share[d]:>25.1f}%{int(r.thrust_samples[d]):>13d}"
-                     f"{100 * r.motion_share[d]:>9.1f}%")
+                     f"{motion:>10}")
     lines += ["", f"{'parameter':<16}{'can the log tell it':<22}why"]
     for i, (v, why) in sorted(r.verdicts.items()):
         lines.append(f"{_core.THETA_NAMES[i]:<16}{v:<22}{why}")

@@ -4,7 +4,8 @@ pymavlink reads with the same message names) through ``pymavlink``.
 The time base is ATTITUDE's ``time_boot_ms`` (roll, pitch, yaw and the body
 rates p, q, r); LOCAL_POSITION_NED (the autopilot's position and NED
 velocity, from its EKF: DVL, depth and IMU where logged) is held onto it and
-its velocity turned into the body frame; SERVO_OUTPUT_RAW's PWM goes through
+its velocity turned into the body frame (a log without it is fitted in roll,
+pitch and yaw: :func:`neurov.identification.log.fill_absent`); SERVO_OUTPUT_RAW's PWM goes through
 the template's thruster curves (``ThrusterCurveConfig.static_thrust`` at the
 template's supply voltage) and its configuration matrix to the force, after
 the log's own MOT_n_DIRECTION reversals are undone
@@ -29,7 +30,7 @@ from neurov import _core
 from neurov.identification.alignment import hold
 from neurov.identification.ardusub_params import parameter_notes, quiet, read_log_parameters, undo_directions
 from neurov.identification.errors import LogError
-from neurov.identification.log import Log, make_log
+from neurov.identification.log import Log, fill_absent, make_log
 from neurov.identification.mapping import Mapping
 
 __all__ = ["ardusub_force", "armed_rows", "cut_disarmed", "pwm_force", "rate_note", "read_tlog", "servo_channels"]
@@ -147,7 +148,7 @@ def read_tlog(path: str | Path, mapping: Mapping | None, thrusters: dict[str, An
         raise LogError(f"{path}: the vehicle was never armed in this log (HEARTBEAT): its thrusters never "
                        "pushed, so the log holds nothing to identify")
     for name, found in rows.items():
-        if not found:
+        if not found and name != "LOCAL_POSITION_NED":  # without it: no position or linear velocity
             raise LogError(f"{path}: no {name} message (ArduSub sends it at the stream rates of its "
                            "SR*_ parameters)")
     att = rows["ATTITUDE"]
@@ -157,7 +158,8 @@ def read_tlog(path: str | Path, mapping: Mapping | None, thrusters: dict[str, An
     lp = rows["LOCAL_POSITION_NED"]
     lp_t = np.array([m.time_boot_ms for m in lp], dtype=np.float64) * 1e-3
     lp_v = np.array([[m.x, m.y, m.z, m.vx, m.vy, m.vz] for m in lp], dtype=np.float64)
-    held = hold(t, lp_t, lp_v, mapping.max_age, f"{path}: LOCAL_POSITION_NED")
+    held = (hold(t, lp_t, lp_v, mapping.max_age, f"{path}: LOCAL_POSITION_NED") if lp
+            else np.full((len(t), 6), np.nan))
     so = rows["SERVO_OUTPUT_RAW"]
     so_t = np.array([m.time_usec for m in so], dtype=np.float64) * 1e-6
     pwm = np.array([[getattr(m, f"servo{c}_raw") for c in channels] for m in so], dtype=np.float64)
@@ -171,7 +173,10 @@ def read_tlog(path: str | Path, mapping: Mapping | None, thrusters: dict[str, An
     for k in np.flatnonzero(np.all(np.isfinite(held), axis=1)):
         nu[k, :3] = _core.rotation(*angles[k]).T @ held[k, 3:]
     eta = np.hstack([held[:, :3], angles])
-    notes.append("signals: " + ", ".join([rate_note("ATTITUDE", t), rate_note("LOCAL_POSITION_NED", lp_t),
-                                          rate_note("SERVO_OUTPUT_RAW", so_t)]))
-    log = make_log(str(path), t, eta, nu, tau)
+    notes.append("signals: " + ", ".join([rate_note("ATTITUDE", t)]
+                                         + ([rate_note("LOCAL_POSITION_NED", lp_t)] if lp else [])
+                                         + [rate_note("SERVO_OUTPUT_RAW", so_t)])
+                 + ("" if lp else "; no LOCAL_POSITION_NED (no position or linear velocity)"))
+    absent = fill_absent(str(path), eta, nu, mapping.where) if not lp else ()
+    log = make_log(str(path), t, eta, nu, tau, absent=absent)
     return replace(log, notes=(*notes, *log.notes), problems=tuple(problems))
