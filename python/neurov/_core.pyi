@@ -346,7 +346,7 @@ class ThrusterCurveConfig:
     @property
     def slew_rate(self) -> float:
         """
-        Largest rate of change of the thrust; 0: none [N/s], >= 0.
+        Largest rate of change of the thrust (0: none) [N/s], >= 0.
         """
     @slew_rate.setter
     def slew_rate(self, arg1: typing.SupportsFloat) -> None:
@@ -362,7 +362,7 @@ class ThrusterCurveConfig:
     @property
     def time_constant(self) -> float:
         """
-        First-order lag of the thrust; 0: none [s], >= 0.
+        First-order lag of the thrust (0: none) [s], >= 0.
         """
     @time_constant.setter
     def time_constant(self, arg1: typing.SupportsFloat) -> None:
@@ -417,7 +417,7 @@ class ThrusterConfig:
     @property
     def max_thrust(self) -> numpy.typing.NDArray[numpy.float64]:
         """
-        Upper limits (n,), > min_thrust [N].
+        Upper limits (n,), each above its min_thrust [N].
         """
     @max_thrust.setter
     def max_thrust(self, arg1: numpy.typing.ArrayLike) -> None:
@@ -425,7 +425,7 @@ class ThrusterConfig:
     @property
     def min_thrust(self) -> numpy.typing.NDArray[numpy.float64]:
         """
-        Lower limits (n,), <= 0 [N].
+        Lower limits (n,), each <= 0 [N].
         """
     @min_thrust.setter
     def min_thrust(self, arg1: numpy.typing.ArrayLike) -> None:
@@ -441,7 +441,7 @@ class ThrusterConfig:
     @property
     def supply_voltage(self) -> float:
         """
-        Supply voltage of the curves, > 0 with curves [V].
+        Supply voltage of the curves (> 0 with curves) [V].
         """
     @supply_voltage.setter
     def supply_voltage(self, arg1: typing.SupportsFloat) -> None:
@@ -449,7 +449,7 @@ class ThrusterConfig:
     @property
     def time_constant(self) -> float:
         """
-        First-order lag of linear thrusters; 0 means none (0 with curves) [s], >= 0.
+        First-order lag of linear thrusters (0: none; 0 with curves) [s], >= 0.
         """
     @time_constant.setter
     def time_constant(self, arg1: typing.SupportsFloat) -> None:
@@ -3934,7 +3934,7 @@ class TrackingTaskConfig:
     @property
     def box_high(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
         """
-        Its high corner, > box_low [m].
+        Its high corner (> box_low) [m].
         """
     @box_high.setter
     def box_high(self, arg1: numpy.typing.ArrayLike) -> None:

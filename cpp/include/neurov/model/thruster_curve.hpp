@@ -74,9 +74,9 @@ auto config_fields(const ThrusterCurveConfig<Scalar>*) noexcept {
       field_spec<C>("voltage_exponent", &C::voltage_exponent, "", Check::non_negative,
                     "Thrust ~ voltage^exponent at a fixed command (2: an assumption)"),
       field_spec<C>("time_constant", &C::time_constant, "s", Check::non_negative,
-                    "First-order lag of the thrust; 0: none"),
+                    "First-order lag of the thrust (0: none)"),
       field_spec<C>("slew_rate", &C::slew_rate, "N/s", Check::non_negative,
-                    "Largest rate of change of the thrust; 0: none"));
+                    "Largest rate of change of the thrust (0: none)"));
 }
 
 namespace detail {

@@ -69,7 +69,7 @@ auto config_fields(const TrackingTaskConfig<Scalar>*) noexcept {
                     "Reward weight of |a|^2 (a the clipped action)"),
       field_spec<C>("box_low", &C::box_low, "m", Check::finite,
                     "The bounding box's low corner (NED)"),
-      field_spec<C>("box_high", &C::box_high, "m", Check::none, "Its high corner, > box_low"),
+      field_spec<C>("box_high", &C::box_high, "m", Check::none, "Its high corner (> box_low)"),
       field_spec<C>("velocity_bound", &C::velocity_bound, "m/s, rad/s", Check::positive,
                     "Bound of the observation's velocity entries"),
       field_spec<C>("action_positive", &C::action_positive, "", Check::positive,
