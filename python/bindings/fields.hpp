@@ -318,7 +318,8 @@ class Fields {
       } else if constexpr (D::ColsAtCompileTime == 1) {
         dynamic_vector(s.name, s.member, doc.c_str());
       } else {
-        dynamic_matrix(s.name, s.member, -1, D::ColsAtCompileTime, doc.c_str());
+        dynamic_matrix(s.name, s.member, D::RowsAtCompileTime, D::ColsAtCompileTime,
+                       doc.c_str());
       }
     } else {
       value(s.name, s.member, doc.c_str());

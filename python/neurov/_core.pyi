@@ -292,6 +292,7 @@ class ThrusterCurveConfig:
     """
     One thruster from command to thrust: a table (linearly interpolated), a dead band around the neutral command, supply-voltage scaling, a first-order lag and a slew-rate limit.
     """
+    FIELDS: typing.ClassVar[tuple]
     def __copy__(self) -> ThrusterCurveConfig:
         ...
     def __deepcopy__(self, memo: dict) -> ThrusterCurveConfig:
@@ -337,7 +338,7 @@ class ThrusterCurveConfig:
     @property
     def reference_voltage(self) -> float:
         """
-        Supply voltage [V] at which the table was measured, > 0.
+        Supply voltage at which the table was measured [V], > 0.
         """
     @reference_voltage.setter
     def reference_voltage(self, arg1: typing.SupportsFloat) -> None:
@@ -345,7 +346,7 @@ class ThrusterCurveConfig:
     @property
     def slew_rate(self) -> float:
         """
-        Largest rate of change of the thrust [N/s]; 0: none.
+        Largest rate of change of the thrust (0: none) [N/s], >= 0.
         """
     @slew_rate.setter
     def slew_rate(self, arg1: typing.SupportsFloat) -> None:
@@ -361,7 +362,7 @@ class ThrusterCurveConfig:
     @property
     def time_constant(self) -> float:
         """
-        First-order lag of the thrust [s]; 0: none.
+        First-order lag of the thrust (0: none) [s], >= 0.
         """
     @time_constant.setter
     def time_constant(self, arg1: typing.SupportsFloat) -> None:
@@ -369,7 +370,7 @@ class ThrusterCurveConfig:
     @property
     def voltage_exponent(self) -> float:
         """
-        Thrust ~ voltage^exponent at a fixed command, >= 0 (2: an assumption).
+        Thrust ~ voltage^exponent at a fixed command (2: an assumption), >= 0.
         """
     @voltage_exponent.setter
     def voltage_exponent(self, arg1: typing.SupportsFloat) -> None:
@@ -378,6 +379,7 @@ class ThrusterConfig:
     """
     n thrusters: tau = B u, allocated by the weighted pseudo-inverse, saturated, with a first-order lag.
     """
+    FIELDS: typing.ClassVar[tuple]
     def __copy__(self) -> ThrusterConfig:
         ...
     def __deepcopy__(self, memo: dict) -> ThrusterConfig:
@@ -415,7 +417,7 @@ class ThrusterConfig:
     @property
     def max_thrust(self) -> numpy.typing.NDArray[numpy.float64]:
         """
-        Upper limits [N] (n,), > min_thrust.
+        Upper limits (n,), each above its min_thrust [N].
         """
     @max_thrust.setter
     def max_thrust(self, arg1: numpy.typing.ArrayLike) -> None:
@@ -423,7 +425,7 @@ class ThrusterConfig:
     @property
     def min_thrust(self) -> numpy.typing.NDArray[numpy.float64]:
         """
-        Lower limits [N] (n,), <= 0.
+        Lower limits (n,), each <= 0 [N].
         """
     @min_thrust.setter
     def min_thrust(self, arg1: numpy.typing.ArrayLike) -> None:
@@ -439,7 +441,7 @@ class ThrusterConfig:
     @property
     def supply_voltage(self) -> float:
         """
-        Supply voltage [V] of the curves, > 0 with curves.
+        Supply voltage of the curves (> 0 with curves) [V].
         """
     @supply_voltage.setter
     def supply_voltage(self, arg1: typing.SupportsFloat) -> None:
@@ -447,7 +449,7 @@ class ThrusterConfig:
     @property
     def time_constant(self) -> float:
         """
-        First-order lag [s] of linear thrusters; 0 means none (0 with curves).
+        First-order lag of linear thrusters (0: none; 0 with curves) [s], >= 0.
         """
     @time_constant.setter
     def time_constant(self, arg1: typing.SupportsFloat) -> None:
@@ -3886,6 +3888,7 @@ class TrackingTaskConfig:
     """
     The Gymnasium tracking task's constants (docs/gymnasium.md): the reward's weights, the bounding box, the observation's velocity bound and the action's scale.
     """
+    FIELDS: typing.ClassVar[tuple]
     def __copy__(self) -> TrackingTaskConfig:
         ...
     def __deepcopy__(self, memo: dict) -> TrackingTaskConfig:
@@ -3915,7 +3918,7 @@ class TrackingTaskConfig:
     @property
     def action_positive(self) -> numpy.typing.NDArray[numpy.float64]:
         """
-        What action +1 stands for per component (n,), > 0: N and N m, or N of thrust.
+        What action +1 stands for per component (n,): N and N m, or N of thrust, > 0.
         """
     @action_positive.setter
     def action_positive(self, arg1: numpy.typing.ArrayLike) -> None:
@@ -3931,7 +3934,7 @@ class TrackingTaskConfig:
     @property
     def box_high(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
         """
-        Its high corner [m], > box_low.
+        Its high corner (> box_low) [m].
         """
     @box_high.setter
     def box_high(self, arg1: numpy.typing.ArrayLike) -> None:
@@ -3939,7 +3942,7 @@ class TrackingTaskConfig:
     @property
     def box_low(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
         """
-        The bounding box's low corner (NED) [m].
+        The bounding box's low corner (NED) [m], finite.
         """
     @box_low.setter
     def box_low(self, arg1: numpy.typing.ArrayLike) -> None:
@@ -3971,7 +3974,7 @@ class TrackingTaskConfig:
     @property
     def thrusters(self) -> numpy.typing.NDArray[numpy.float64]:
         """
-        tau = thrusters u for thruster commands u, (6, n); (6, 0): the action is tau (n = 6).
+        tau = thrusters u for thruster commands u, (6, n); (6, 0): the action is tau (n = 6), finite.
         """
     @thrusters.setter
     def thrusters(self, arg1: numpy.typing.ArrayLike) -> None:

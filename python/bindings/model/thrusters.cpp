@@ -1,8 +1,10 @@
-// neurov/model/thrusters.hpp in Python: the thruster layout (ThrusterConfig,
-// field by field) and the allocation of one wrench.
+// neurov/model/thrusters.hpp in Python: the thruster layout (ThrusterConfig)
+// and its curves (ThrusterCurveConfig), bound from their descriptions beside
+// them in C++ (config_fields), and the allocation of one wrench.
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
 
+#include <array>
 #include <limits>
 #include <string>
 #include <vector>
@@ -30,6 +32,40 @@ ThrusterCurve<double> curve_of(const ThrusterCurveConfig<double>& c) {
 
 }  // namespace
 
+/// A curve's table (ThrusterCurveConfig's description, whose member is the
+/// command column): (n, 2) rows of (command, thrust), stored in the command
+/// and thrust columns and the count of points.
+template <>
+struct FieldForm<std::array<double, kThrusterCurveCapacity>> {
+  static constexpr bool custom = true;
+  template <typename T>
+  static void bind(Fields<T>& f, const char* name, std::array<double, kThrusterCurveCapacity> T::*,
+                   const char* doc) {
+    f.field(
+        name,
+        [](const T& c) {
+          Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor> t(c.points, 2);
+          for (int i = 0; i < c.points; ++i) t.row(i) << c.command[i], c.thrust[i];
+          py::array a = py::cast(t);
+          a.attr("setflags")(py::arg("write") = false);
+          return a;
+        },
+        [](T& c, const typed::ArrayLike& v, const std::string& qualified) {
+          const auto t = py_args::dynamic_matrix(v, qualified.c_str(), -1, 2);
+          if (t.rows() > kThrusterCurveCapacity)
+            throw py::value_error(qualified + " must have at most " +
+                                  std::to_string(kThrusterCurveCapacity) + " rows, got " +
+                                  std::to_string(t.rows()));
+          c.points = static_cast<int>(t.rows());
+          for (int i = 0; i < c.points; ++i) {
+            c.command[i] = t(i, 0);
+            c.thrust[i] = t(i, 1);
+          }
+        },
+        doc);
+  }
+};
+
 void bind_thrusters(py::module_& m) {
   py::enum_<Saturation>(m, "Saturation", "How thrusts beyond their limits are brought back.")
       .value("scale", Saturation::scale,
@@ -37,42 +73,10 @@ void bind_thrusters(py::module_& m) {
       .value("clip", Saturation::clip, "Each thruster clipped to its limits: the wrench turns.");
   {
     using T = ThrusterCurveConfig<double>;
-    auto cls = Fields<T>(m, "ThrusterCurveConfig",
+    auto cls = Fields<T>::described(m, "ThrusterCurveConfig",
                          "One thruster from command to thrust: a table (linearly interpolated), a "
                          "dead band around the neutral command, supply-voltage scaling, a "
                          "first-order lag and a slew-rate limit.")
-        .field(
-            "table",
-            [](const T& c) {
-              Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor> t(c.points, 2);
-              for (int i = 0; i < c.points; ++i) t.row(i) << c.command[i], c.thrust[i];
-              py::array a = py::cast(t);
-              a.attr("setflags")(py::arg("write") = false);
-              return a;
-            },
-            [](T& c, const typed::ArrayLike& v, const std::string& qualified) {
-              const auto t = py_args::dynamic_matrix(v, qualified.c_str(), -1, 2);
-              if (t.rows() > kThrusterCurveCapacity)
-                throw py::value_error(qualified + " must have at most " +
-                                      std::to_string(kThrusterCurveCapacity) + " rows, got " +
-                                      std::to_string(t.rows()));
-              c.points = static_cast<int>(t.rows());
-              for (int i = 0; i < c.points; ++i) {
-                c.command[i] = t(i, 0);
-                c.thrust[i] = t(i, 1);
-              }
-            },
-            "(n, 2) rows of (command, thrust [N] at reference_voltage), commands strictly "
-            "increasing, 2 <= n <= 256 (a read-only copy; assign a whole table).")
-        .value("neutral", &T::neutral, "The command of zero thrust, inside the table.")
-        .value("dead_band", &T::dead_band,
-               "Half-width of the dead band around neutral (command units), >= 0.")
-        .value("reference_voltage", &T::reference_voltage,
-               "Supply voltage [V] at which the table was measured, > 0.")
-        .value("voltage_exponent", &T::voltage_exponent,
-               "Thrust ~ voltage^exponent at a fixed command, >= 0 (2: an assumption).")
-        .value("time_constant", &T::time_constant, "First-order lag of the thrust [s]; 0: none.")
-        .value("slew_rate", &T::slew_rate, "Largest rate of change of the thrust [N/s]; 0: none.")
         .validator("ThrusterCurveConfig")
         .finish();
     cls.def(
@@ -93,21 +97,9 @@ void bind_thrusters(py::module_& m) {
   }
   {
     using T = ThrusterConfig<double>;
-    Fields<T>(m, "ThrusterConfig",
+    Fields<T>::described(m, "ThrusterConfig",
               "n thrusters: tau = B u, allocated by the weighted pseudo-inverse, saturated, with a "
               "first-order lag.")
-        .dynamic_matrix("matrix", &T::matrix, 6, -1, "B (6, n): the wrench of each thruster per unit thrust.")
-        .dynamic_vector("min_thrust", &T::min_thrust, "Lower limits [N] (n,), <= 0.")
-        .dynamic_vector("max_thrust", &T::max_thrust, "Upper limits [N] (n,), > min_thrust.")
-        .dynamic_vector("weights", &T::weights,
-               "Allocation weights (n,), > 0; empty means all 1.")
-        .value("saturation", &T::saturation, "A Saturation.")
-        .value("time_constant", &T::time_constant,
-               "First-order lag [s] of linear thrusters; 0 means none (0 with curves).")
-        .list("curves", &T::curves, "ThrusterCurveConfig",
-              "One command-to-thrust curve per thruster, or empty: linear thrusters (a tuple; "
-              "assign a list). With curves, empty limits mean the curves' range.")
-        .value("supply_voltage", &T::supply_voltage, "Supply voltage [V] of the curves, > 0 with curves.")
         .validator("ThrusterConfig",
                    [](const T& c) {
                      Thrusters<double> t;

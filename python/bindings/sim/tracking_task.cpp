@@ -1,5 +1,5 @@
 // neurov/sim/tracking_task.hpp in Python: the Gymnasium tracking task's
-// constants (TrackingTaskConfig, bound field by field) and TrackingTask,
+// constants (TrackingTaskConfig, bound from its description) and TrackingTask,
 // which steps one Simulator (the single env) or every lane of a
 // BatchSimulator (the vector env, the GIL released) in one call and returns
 // the observation, reward, flags and info arrays, so that a step runs no
@@ -254,26 +254,9 @@ Task make_task(const Config& config) {
 void bind_tracking_task(py::module_& m) {
   m.attr("TRACKING_OBSERVATION_SIZE") = kTrackingObservationSize;
 
-  Fields<Config>(m, "TrackingTaskConfig",
+  Fields<Config>::described(m, "TrackingTaskConfig",
                  "The Gymnasium tracking task's constants (docs/gymnasium.md): the reward's weights, "
                  "the bounding box, the observation's velocity bound and the action's scale.")
-      .value("position_weight", &Config::position_weight, "Reward weight of |p - p_d|^2 [1/m^2], >= 0.")
-      .value("attitude_weight", &Config::attitude_weight,
-             "Reward weight of |wrap(Theta - Theta_d)|^2 [1/rad^2], >= 0.")
-      .value("effort_weight", &Config::effort_weight, "Reward weight of |a|^2 (a the clipped action), >= 0.")
-      .vector("box_low", &Config::box_low, "The bounding box's low corner (NED) [m].")
-      .vector("box_high", &Config::box_high, "Its high corner [m], > box_low.")
-      .value("velocity_bound", &Config::velocity_bound,
-             "Bound of the observation's velocity entries [m/s, rad/s], > 0.")
-      .dynamic_vector("action_positive", &Config::action_positive,
-                      "What action +1 stands for per component (n,), > 0: N and N m, or N of thrust.")
-      .dynamic_vector("action_negative", &Config::action_negative,
-                      "The magnitude action -1 stands for per component (n,), > 0.")
-      .dynamic_matrix("thrusters", &Config::thrusters, 6, -1,
-                      "tau = thrusters u for thruster commands u, (6, n); (6, 0): the action is tau "
-                      "(n = 6).")
-      .value("dropouts_read_zero", &Config::dropouts_read_zero,
-             "A non-finite measurement (a sensor dropout's NaN) reads 0 in the observation.")
       .validator("TrackingTaskConfig")
       .finish();
 

@@ -19,7 +19,9 @@
 
 #include <array>
 #include <cmath>
+#include <tuple>
 
+#include "neurov/core/field_spec.hpp"
 #include "neurov/core/status.hpp"
 #include "neurov/core/validation.hpp"
 
@@ -53,6 +55,29 @@ struct ThrusterCurveConfig {
   /// Largest rate of change of the thrust [N/s]; 0: unlimited.
   Scalar slew_rate = Scalar(0);
 };
+
+/// The curve's fields; `table` stands for the rows of command and thrust
+/// (its member is the command column; the binding reads thrust and points
+/// beside it). validate() below checks them.
+template <typename Scalar>
+auto config_fields(const ThrusterCurveConfig<Scalar>*) noexcept {
+  using C = ThrusterCurveConfig<Scalar>;
+  return std::make_tuple(
+      field_spec<C>("table", &C::command,
+                    "(n, 2) rows of (command, thrust [N] at reference_voltage), commands strictly "
+                    "increasing, 2 <= n <= 256 (a read-only copy; assign a whole table)"),
+      field_spec<C>("neutral", &C::neutral, "The command of zero thrust, inside the table"),
+      field_spec<C>("dead_band", &C::dead_band, "", Check::non_negative,
+                    "Half-width of the dead band around neutral (command units)"),
+      field_spec<C>("reference_voltage", &C::reference_voltage, "V", Check::positive,
+                    "Supply voltage at which the table was measured"),
+      field_spec<C>("voltage_exponent", &C::voltage_exponent, "", Check::non_negative,
+                    "Thrust ~ voltage^exponent at a fixed command (2: an assumption)"),
+      field_spec<C>("time_constant", &C::time_constant, "s", Check::non_negative,
+                    "First-order lag of the thrust (0: none)"),
+      field_spec<C>("slew_rate", &C::slew_rate, "N/s", Check::non_negative,
+                    "Largest rate of change of the thrust (0: none)"));
+}
 
 namespace detail {
 /// The table alone, linearly interpolated, clamped to its ends.

@@ -14,8 +14,10 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <tuple>
 #include <vector>
 
+#include "neurov/core/field_spec.hpp"
 #include "neurov/core/status.hpp"
 #include "neurov/core/types.hpp"
 #include "neurov/core/validation.hpp"
@@ -45,6 +47,26 @@ struct ThrusterConfig {
   /// Supply voltage [V] the curves are scaled to; > 0 with curves.
   Scalar supply_voltage = Scalar(0);
 };
+
+/// The layout's fields; Thrusters::create checks them (sizes, limits, rank).
+template <typename Scalar>
+auto config_fields(const ThrusterConfig<Scalar>*) noexcept {
+  using C = ThrusterConfig<Scalar>;
+  return std::make_tuple(
+      field_spec<C>("matrix", &C::matrix, "B (6, n): the wrench of each thruster per unit thrust"),
+      field_spec<C>("min_thrust", &C::min_thrust, "N", Check::none, "Lower limits (n,), each <= 0"),
+      field_spec<C>("max_thrust", &C::max_thrust, "N", Check::none,
+                    "Upper limits (n,), each above its min_thrust"),
+      field_spec<C>("weights", &C::weights, "Allocation weights (n,), > 0; empty means all 1"),
+      field_spec<C>("saturation", &C::saturation, "A Saturation"),
+      field_spec<C>("time_constant", &C::time_constant, "s", Check::non_negative,
+                    "First-order lag of linear thrusters (0: none; 0 with curves)"),
+      field_spec<C>("curves", &C::curves,
+                    "One command-to-thrust curve per thruster, or empty: linear thrusters (a "
+                    "tuple; assign a list). With curves, empty limits mean the curves' range"),
+      field_spec<C>("supply_voltage", &C::supply_voltage, "V", Check::none,
+                    "Supply voltage of the curves (> 0 with curves)"));
+}
 
 template <typename Scalar>
 class Thrusters {

@@ -16,8 +16,10 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <tuple>
 #include <utility>
 
+#include "neurov/core/field_spec.hpp"
 #include "neurov/core/types.hpp"
 #include "neurov/core/validation.hpp"
 #include "neurov/model/kinematics.hpp"
@@ -53,6 +55,34 @@ struct TrackingTaskConfig {
   /// A non-finite measurement (a sensor dropout's NaN) reads 0.
   bool dropouts_read_zero = false;
 };
+
+/// The task's fields; validate() below checks them.
+template <typename Scalar>
+auto config_fields(const TrackingTaskConfig<Scalar>*) noexcept {
+  using C = TrackingTaskConfig<Scalar>;
+  return std::make_tuple(
+      field_spec<C>("position_weight", &C::position_weight, "1/m^2", Check::non_negative,
+                    "Reward weight of |p - p_d|^2"),
+      field_spec<C>("attitude_weight", &C::attitude_weight, "1/rad^2", Check::non_negative,
+                    "Reward weight of |wrap(Theta - Theta_d)|^2"),
+      field_spec<C>("effort_weight", &C::effort_weight, "", Check::non_negative,
+                    "Reward weight of |a|^2 (a the clipped action)"),
+      field_spec<C>("box_low", &C::box_low, "m", Check::finite,
+                    "The bounding box's low corner (NED)"),
+      field_spec<C>("box_high", &C::box_high, "m", Check::none, "Its high corner (> box_low)"),
+      field_spec<C>("velocity_bound", &C::velocity_bound, "m/s, rad/s", Check::positive,
+                    "Bound of the observation's velocity entries"),
+      field_spec<C>("action_positive", &C::action_positive, "", Check::positive,
+                    "What action +1 stands for per component (n,): N and N m, or N of thrust"),
+      field_spec<C>("action_negative", &C::action_negative, "", Check::positive,
+                    "The magnitude action -1 stands for per component (n,)"),
+      field_spec<C>("thrusters", &C::thrusters, "", Check::finite,
+                    "tau = thrusters u for thruster commands u, (6, n); (6, 0): the action is "
+                    "tau (n = 6)"),
+      field_spec<C>("dropouts_read_zero", &C::dropouts_read_zero,
+                    "A non-finite measurement (a sensor dropout's NaN) reads 0 in the "
+                    "observation"));
+}
 
 template <typename Scalar>
 inline ValidationError validate(const TrackingTaskConfig<Scalar>& c) noexcept {
