@@ -69,15 +69,15 @@ class WindowSums:
     rows: int
     t_first: float
     t_last: float
-    e2: np.ndarray  #: sum of e_i^2 per DOF
-    abs_e: np.ndarray  #: sum of |e_i| per DOF
+    e2: np.ndarray  #: sum of ``e_i**2`` per DOF
+    abs_e: np.ndarray  #: sum of ``abs(e_i)`` per DOF
     max_abs_e: np.ndarray
-    pos2: float  #: sum of |e_xyz|^2
+    pos2: float  #: sum of ``norm(e_xyz)**2``
     max_pos: float
-    abs_tau: float  #: sum of |tau_i| over every DOF
+    abs_tau: float  #: sum of ``abs(tau_i)`` over every DOF
     abs_tau_dof: np.ndarray
     max_abs_tau_dof: np.ndarray
-    tau_norm: float  #: sum of ||tau||
+    tau_norm: float  #: sum of ``norm(tau)``
     refused: int
 
     def __init__(self, sums: dict[str, Any] | None = None) -> None:
