@@ -12,7 +12,7 @@
 //  * nested structs: references into the parent.
 //  * anything else: a getter and a setter of its own (`field`).
 // Every struct also gets a keyword constructor that refuses unknown names
-// (with a did-you-mean), a repr, copy and pickle support, and validate() runs
+// (listing the fields), a repr, copy and pickle support, and validate() runs
 // the C++ validator. A struct described by config_fields
 // (neurov/core/field_spec.hpp) is bound whole by Fields<T>::described.
 #pragma once
@@ -447,13 +447,11 @@ class Fields {
       const auto key = py::str(item.first).cast<std::string>();
       bool known = false;
       for (const auto& n : names) known = known || n == key;
+      // The fields listed, no did-you-mean: the compiled module imports
+      // nothing of the package (neurov.schema.did_you_mean is the readers').
       if (!known) {
-        py::list candidates;
-        for (const auto& n : names) candidates.append(n);
-        const py::object suggest = py::module_::import("neurov.schema").attr("did_you_mean");
         throw py::type_error(type + "() got an unexpected keyword argument '" + key +
-                             "'; the fields are " + joined(names) +
-                             py::str(suggest(key, candidates)).cast<std::string>());
+                             "'; the fields are " + joined(names));
       }
       view.attr(item.first) = item.second;
     }
