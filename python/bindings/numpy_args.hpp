@@ -95,7 +95,7 @@ inline py::array_t<double, py::array::c_style> real_array(const py::handle& obj,
   }
   if (!converted)
     throw py::type_error(who.str() + " must be a float array of shape " + expected + ", got " +
-                         type_name(obj));
+                         (obj.is_none() ? std::string("None") : type_name(obj)));
   const auto arr = py::reinterpret_borrow<py::array>(converted);
   const char kind = arr.dtype().kind();
   if (kind != 'f' && kind != 'i' && kind != 'u')
