@@ -1,9 +1,9 @@
-// neurov/sim/tracking_task.hpp in Python: the Gymnasium tracking task's
-// constants (TrackingTaskConfig, bound from its description) and TrackingTask,
-// which steps one Simulator (the single env) or every lane of a
-// BatchSimulator (the vector env, the GIL released) in one call and returns
-// the observation, reward, flags and info arrays, so that a step runs no
-// per-row Python. Its row functions (clip, forces, observe_rows,
+// neurov/sim/tracking_task.hpp and tracking_lanes.hpp in Python: the
+// Gymnasium tracking task's constants (TrackingTaskConfig, bound from its
+// description) and TrackingTask, which steps one Simulator (the single env)
+// or every lane of a BatchSimulator (the vector env, the GIL released) in
+// one call and returns the observation, reward, flags and info arrays, so
+// that a step runs no per-row Python. Its row functions (clip, forces, observe_rows,
 // score_rows) serve a batch written in Python and the tests.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
