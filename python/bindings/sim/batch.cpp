@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -227,29 +228,22 @@ std::vector<double> after_of(const py::handle& after, std::size_t k) {
   return out;
 }
 
-py::dict window_sums_dict(const WindowSums& w) {
-  py::dict d;
-  w.visit([&d](const WindowSumSpec& spec, const auto& v) {
-    using T = std::decay_t<decltype(v)>;
-    if constexpr (std::is_same_v<T, WindowSums::Sums6>)
-      d[spec.name] = py::array_t<double>(py::ssize_t(6), v.data());
-    else
-      d[spec.name] = v;
-  });
-  return d;
+/// A run's sums as Python values: a dict for each WindowSums, a (6,) array
+/// for a sum per DOF, a tuple or None for first_refused.
+template <typename T>
+py::object sums_value(const T& v) {
+  if constexpr (std::is_same_v<T, WindowSums>) {
+    py::dict d;
+    v.visit([&d](const WindowSumSpec& spec, const auto& sum) { d[spec.name] = sums_value(sum); });
+    return std::move(d);
+  } else {
+    return py::cast(v);
+  }
 }
 
 typed::AnyDict run_sums_dict(const RunSums& s) {
   typed::AnyDict d;
-  d["after"] = s.after;
-  d["before"] = window_sums_dict(s.before);
-  d["window"] = window_sums_dict(s.window);
-  d["final_adaptive_norm"] = s.final_adaptive_norm;
-  d["max_adaptive_norm"] = s.max_adaptive_norm;
-  d["diverged"] = s.diverged;
-  d["first_refused"] = s.first_refused_status
-                           ? py::object(py::make_tuple(s.first_refused_t, int(s.first_refused_status)))
-                           : py::object(py::none());
+  s.visit([&d](const char* name, const auto& v) { d[name] = sums_value(v); });
   return d;
 }
 
