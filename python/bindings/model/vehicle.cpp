@@ -27,13 +27,9 @@ using Params = VehicleParameters<double>;
 namespace {
 
 CoriolisForm parse_coriolis_form(const py::handle& obj, const char* name) {
-  return py_args::choice(obj, name, {"velocity_independent", "kirchhoff"}) == "kirchhoff"
-             ? CoriolisForm::kirchhoff
-             : CoriolisForm::velocity_independent;
-}
-
-const char* coriolis_form_name(CoriolisForm f) {
-  return f == CoriolisForm::kirchhoff ? "kirchhoff" : "velocity_independent";
+  const auto form = py_args::choice(obj, name, {"velocity_independent", "kirchhoff"});
+  return form == to_string(CoriolisForm::kirchhoff) ? CoriolisForm::kirchhoff
+                                                    : CoriolisForm::velocity_independent;
 }
 
 Vehicle<double> make_vehicle(const Params& p) {
@@ -48,56 +44,37 @@ void for_each_parameter(F f) {
   std::apply([&f](const auto&... s) { (f(s), ...); }, config_fields(static_cast<const Params*>(nullptr)));
 }
 
-/// A parameter as Python has it: a number, a fresh array, the form's name.
 template <typename D>
-D python_value(const D& x) {
-  return x;
-}
-std::string python_value(CoriolisForm f) { return coriolis_form_name(f); }
+D python_value(const D& x) { return x; }  // a number or a fresh array
+std::string python_value(CoriolisForm f) { return to_string(f); }
 
-/// Vehicle's keyword argument `name` as its parameter, converted by its kind
-/// and named "argument 'name'" in its errors.
+/// Keyword argument `name` as its field, named "argument 'name'" in errors.
 template <typename D>
 D argument(const py::handle& v, const char* name, unsigned flags) {
-  if constexpr (std::is_same_v<D, CoriolisForm>) {
-    return parse_coriolis_form(v, name);
-  } else if constexpr (std::is_floating_point_v<D>) {
-    return py_args::scalar(v, name);
-  } else if constexpr (D::ColsAtCompileTime == 1) {
-    return py_args::vector<D::RowsAtCompileTime>(v, name);
-  } else {
-    static_assert(D::RowsAtCompileTime == D::ColsAtCompileTime, "a square matrix");
-    if (flags & kDiagonal) return py_args::matrix_or_diagonal<D::RowsAtCompileTime>(v, name);
-    return D(py_args::dynamic_matrix(v, name, D::RowsAtCompileTime, D::ColsAtCompileTime));
-  }
+  if constexpr (std::is_same_v<D, CoriolisForm>) return parse_coriolis_form(v, name);
+  else if constexpr (std::is_floating_point_v<D>) return py_args::scalar(v, name);
+  else if constexpr (D::ColsAtCompileTime == 1) return py_args::vector<D::RowsAtCompileTime>(v, name);
+  else if (flags & kDiagonal) return py_args::matrix_or_diagonal<D::RowsAtCompileTime>(v, name);
+  else return D(py_args::dynamic_matrix(v, name, D::RowsAtCompileTime, D::ColsAtCompileTime));
 }
 
-/// Vehicle(**kw): every field of the description a keyword (None: the
-/// default of a field that has one); TypeError for a missing or unknown one.
+/// Vehicle(**kw): each field a keyword argument (None or absent: the default
+/// of one not required); TypeError for a missing or unknown one.
 Vehicle<double> from_keywords(const py::kwargs& kw) {
-  std::vector<std::string> names;
-  for_each_parameter([&](const auto& s) {
-    names.emplace_back(s.name);
-    if ((s.flags & kRequired) && !kw.contains(s.name))
-      throw py::type_error(std::string("Vehicle() missing required keyword argument '") + s.name +
-                           "'");
-  });
-  for (const auto& item : kw) {
-    const auto key = py::str(item.first).cast<std::string>();
-    if (std::find(names.begin(), names.end(), key) == names.end()) {
-      std::string all;
-      for (const auto& n : names) all += (all.empty() ? "" : ", ") + n;
-      throw py::type_error("Vehicle() got an unexpected keyword argument '" + key +
-                           "'; the parameters are " + all);
-    }
-  }
   Params p;
+  std::string names;
+  const auto unused = py::reinterpret_steal<py::dict>(PyDict_Copy(kw.ptr()));
   for_each_parameter([&](const auto& s) {
-    using D = typename std::decay_t<decltype(s)>::Type;
-    if (!kw.contains(s.name)) return;
-    const py::object v = kw[s.name];
-    if (!v.is_none() || (s.flags & kRequired)) p.*s.member = argument<D>(v, s.name, s.flags);
+    names += (names.empty() ? "" : ", ") + std::string(s.name);
+    const py::object v = unused.attr("pop")(s.name, py::none());
+    if ((s.flags & kRequired) && !kw.contains(s.name))
+      throw py::type_error(std::string("Vehicle() missing required keyword argument '") + s.name + "'");
+    if (!v.is_none() || (s.flags & kRequired))
+      p.*s.member = argument<typename std::decay_t<decltype(s)>::Type>(v, s.name, s.flags);
   });
+  for (const auto& item : unused)
+    throw py::type_error("Vehicle() got an unexpected keyword argument '" + std::string(py::str(item.first)) +
+                         "'; the parameters are " + names);
   return make_vehicle(p);
 }
 
@@ -183,36 +160,24 @@ void def_of_vector6(py::class_<Vehicle<double>>& cls, const char* name, const ch
 
 }  // namespace
 
-/// The Coriolis form: its name, 'velocity_independent' or 'kirchhoff'.
+/// The Coriolis form by its name, 'velocity_independent' or 'kirchhoff'.
 template <>
 struct FieldForm<CoriolisForm> {
   static constexpr bool custom = true;
   template <typename T>
-  static void bind(Fields<T>& f, const char* name, CoriolisForm T::*member, const char* doc) {
-    f.field(
-        name, [member](const T& c) { return std::string(coriolis_form_name(c.*member)); },
-        [member](T& c, const typed::Str& v, const std::string& qualified) {
-          c.*member = parse_coriolis_form(v, qualified.c_str());
-        },
-        doc);
+  static void bind(Fields<T>& f, const char* name, CoriolisForm T::*m, const char* doc) {
+    f.field(name, [m](const T& c) { return python_value(c.*m); },
+            [m](T& c, const typed::Str& v, const std::string& q) { c.*m = parse_coriolis_form(v, q.c_str()); },
+            doc);
   }
 };
 
 void bind_vehicle(py::module_& m) {
-  Fields<Params>::described(
-      m, "VehicleParameters",
-      "A vehicle's parameters (SI units, body axes with z down), described once in C++: "
-      "Vehicle's keyword arguments and properties, the vehicle files' keys and FIELDS come "
-      "from that description. Vehicle(**{f['name']: getattr(p, f['name']) for f in p.FIELDS}) "
-      "builds the vehicle.")
+  Fields<Params>::described(m, "VehicleParameters",
+                            "A vehicle's parameters (SI units, body axes with z down): Vehicle's "
+                            "keyword arguments, its properties and the vehicle files' keys.")
       .validator("vehicle parameter")
       .finish();
-  const py::object fields = py::type::of<Params>();
-  std::string keywords, required;
-  for_each_parameter([&](const auto& s) {
-    keywords += (keywords.empty() ? "" : ", ") + std::string(s.name);
-    if (s.flags & kRequired) required += (required.empty() ? "" : ", ") + std::string(s.name);
-  });
   py::class_<Vehicle<double>> vehicle(
       m, "Vehicle",
       "A 6-DOF vehicle in Fossen's form, M nu_dot + C(nu) nu + D(nu) nu + g(eta) = tau.\n\n"
@@ -221,32 +186,26 @@ void bind_vehicle(py::module_& m) {
       "naming the field.");
   vehicle
       .def(py::init(&from_keywords),
-           ("Builds a vehicle from its parameters, each a keyword argument named as a field of "
-            "VehicleParameters (its unit, rule and meaning there): " + keywords +
-            ". Required: " + required + "; the others (or None) default to zero and "
-            "'velocity_independent'.").c_str())
+           "Builds a vehicle from its parameters, each a keyword argument named as a field of "
+           "VehicleParameters (FIELDS gives its unit, rule and shape; a square matrix may be given "
+           "as its diagonal). The required ones must be given; the others, absent or None, are "
+           "zero and 'velocity_independent'.")
       .def_static(
           "nerov", [] { return make_vehicle(nerov_parameters<double>()); },
           "NEROV, the paper's vehicle, with the numbers of its section 5.")
       .def("__copy__", [](const Vehicle<double>& v) { return Vehicle<double>(v); })
       .def("__deepcopy__", [](const Vehicle<double>& v, const py::dict&) { return Vehicle<double>(v); },
            py::arg("memo"))
-      .def(py::pickle(
-          [](const Vehicle<double>& v) { return parameters_dict(v.parameters()); },
-          [](const py::dict& d) {
-            // The keyword constructor, so an unpickled vehicle is validated like any other.
-            return from_keywords(py::kwargs(d));
-          }))
+      // Unpickled by the keyword constructor: validated like any other.
+      .def(py::pickle([](const Vehicle<double>& v) { return parameters_dict(v.parameters()); },
+                      [](const py::dict& d) { return from_keywords(py::kwargs(d)); }))
       .def("parameters", [](const Vehicle<double>& v) { return parameters_dict(v.parameters()); },
            "The parameters as a dict of keyword arguments: Vehicle(**v.parameters()) "
            "rebuilds the vehicle, so a perturbed copy is one dict edit away.");
-  // Each parameter a read-only property (a copy), documented as its field.
-  for_each_parameter([&](const auto& s) {
-    const std::string doc = py::str(fields.attr(s.name).attr("__doc__"));
+  for_each_parameter([&](const auto& s) {  // read-only copies, documented as the fields
+    const std::string doc = py::str(py::type::of<Params>().attr(s.name).attr("__doc__"));
     vehicle.def_property_readonly(
-        s.name, [member = s.member](const Vehicle<double>& v) {
-          return python_value(v.parameters().*member);
-        },
+        s.name, [m = s.member](const Vehicle<double>& v) { return python_value(v.parameters().*m); },
         doc.c_str());
   });
   vehicle

@@ -28,6 +28,11 @@ enum class CoriolisForm : std::uint8_t {
   kirchhoff = 1,
 };
 
+/// The form's name, as vehicle files and Python give it.
+constexpr const char* to_string(CoriolisForm f) noexcept {
+  return f == CoriolisForm::kirchhoff ? "kirchhoff" : "velocity_independent";
+}
+
 template <typename Scalar>
 struct VehicleParameters {
   Scalar mass = Scalar(0);                          ///< m [kg]
@@ -83,9 +88,10 @@ auto config_fields(const VehicleParameters<Scalar>*) noexcept {
                     "(M_A = -diag(X_udot, ..., N_rdot) for a diagonal one)",
                     kRequired | kDiagonal),
       field_spec<P>("linear_damping", &P::linear_damping, "N s/m, N m s", Check::non_negative,
-                    "D_L (6,): D(nu) = diag(D_L + D_Q |nu|)", kRequired),
+                    "D_L (6,), the constant part of D(nu)'s diagonal", kRequired),
       field_spec<P>("quadratic_damping", &P::quadratic_damping, "N s^2/m^2, N m s^2",
-                    Check::non_negative, "D_Q (6,)", kRequired),
+                    Check::non_negative, "D_Q (6,), the part of D(nu)'s diagonal times abs(nu)",
+                    kRequired),
       field_spec<P>("coriolis_form", &P::coriolis_form,
                     "'velocity_independent' (the paper's eq. 39, the default) or 'kirchhoff'"));
 }
