@@ -10,7 +10,7 @@ import numpy
 import numpy.typing
 import os
 import typing
-__all__: list[str] = ['ARDUSUB_PARAMETERS', 'ArduSubConfig', 'ArduSubController', 'BUILT_IN_CONTROLLERS', 'BatchSimulator', 'Command', 'ComputedTorqueConfig', 'ComputedTorqueController', 'CurrentModel', 'CurrentStep', 'DISTURBANCE_TABLES', 'DepthConfig', 'DvlConfig', 'EstimatorConfig', 'EstimatorType', 'GaussMarkovCurrentConfig', 'ImuConfig', 'LANE_NOT_STEPPED', 'LinearAdaptiveConfig', 'LinearAdaptiveController', 'MAX_CENTRES', 'MAX_SUBSTEPS', 'MAX_WAVE_COMPONENTS', 'MIN_LANES_PER_THREAD', 'NNAdaptiveConfig', 'NNAdaptiveController', 'NeurovError', 'Observation', 'PDConfig', 'PDController', 'PIDConfig', 'PIDController', 'PayloadEvent', 'RESULT_SERIES', 'RbfNetwork', 'ReferenceModel', 'RefusedStepPolicy', 'RobustModification', 'RunSums', 'Saturation', 'SensorFault', 'SensorFaultKind', 'SensorsConfig', 'SimulationConfig', 'Simulator', 'SinusoidalDisturbance', 'SlidingModeConfig', 'SlidingModeController', 'Status', 'SteadyForceConfig', 'SuperTwistingConfig', 'SuperTwistingController', 'THETA_NAMES', 'TRACKING_OBSERVATION_SIZE', 'TetherConfig', 'ThrusterConfig', 'ThrusterCurveConfig', 'ThrusterFailure', 'TrackingTask', 'TrackingTaskConfig', 'UsblConfig', 'ValidationError', 'Vehicle', 'WINDOW_SUMS', 'WaveConfig', 'WaveSpectrum', 'allocate_thrust', 'allocation_matrix', 'bluerov2_heavy_layout', 'buoyancy_in_water', 'is_near_singularity', 'jacobian', 'jacobian_dot', 'jacobian_inverse', 'plant_derivative', 'plant_jacobians', 'regressor', 'regressor_parameters', 'rk4_segments', 'rk4_step', 'rotation', 'run_batch', 'run_closed_loop', 'run_closed_loop_chunks', 'singularity_threshold', 'to_body', 'tracking_error']
+__all__: list[str] = ['ARDUSUB_PARAMETERS', 'ArduSubConfig', 'ArduSubController', 'BUILT_IN_CONTROLLERS', 'BatchSimulator', 'Command', 'ComputedTorqueConfig', 'ComputedTorqueController', 'CurrentModel', 'CurrentStep', 'DISTURBANCE_TABLES', 'DepthConfig', 'DvlConfig', 'EstimatorConfig', 'EstimatorType', 'GaussMarkovCurrentConfig', 'ImuConfig', 'LANE_NOT_STEPPED', 'LinearAdaptiveConfig', 'LinearAdaptiveController', 'MAX_CENTRES', 'MAX_SUBSTEPS', 'MAX_WAVE_COMPONENTS', 'MIN_LANES_PER_THREAD', 'NNAdaptiveConfig', 'NNAdaptiveController', 'NeurovError', 'Observation', 'PDConfig', 'PDController', 'PIDConfig', 'PIDController', 'PayloadEvent', 'RESULT_SERIES', 'RbfNetwork', 'ReferenceModel', 'RefusedStepPolicy', 'RobustModification', 'RunSums', 'Saturation', 'SensorFault', 'SensorFaultKind', 'SensorsConfig', 'SimulationConfig', 'Simulator', 'SinusoidalDisturbance', 'SlidingModeConfig', 'SlidingModeController', 'Status', 'SteadyForceConfig', 'SuperTwistingConfig', 'SuperTwistingController', 'THETA_NAMES', 'TRACKING_OBSERVATION_SIZE', 'TetherConfig', 'ThrusterConfig', 'ThrusterCurveConfig', 'ThrusterFailure', 'TrackingTask', 'TrackingTaskConfig', 'UsblConfig', 'ValidationError', 'Vehicle', 'VehicleParameters', 'WINDOW_SUMS', 'WaveConfig', 'WaveSpectrum', 'allocate_thrust', 'allocation_matrix', 'bluerov2_heavy_layout', 'buoyancy_in_water', 'is_near_singularity', 'jacobian', 'jacobian_dot', 'jacobian_inverse', 'plant_derivative', 'plant_jacobians', 'regressor', 'regressor_parameters', 'rk4_segments', 'rk4_step', 'rotation', 'run_batch', 'run_closed_loop', 'run_closed_loop_chunks', 'singularity_threshold', 'to_body', 'tracking_error']
 class _SimulationResult(typing.TypedDict):
     """What run_closed_loop, Simulator.result and Simulator.drain return: one row per
     control step t_k = k dt, one array per entry of RESULT_SERIES (in its order),
@@ -126,6 +126,109 @@ class Status:
     @property
     def value(self) -> int:
         ...
+class VehicleParameters:
+    """
+    A vehicle's parameters (SI units, body axes with z down): Vehicle's keyword arguments, its properties and the vehicle files' keys.
+    """
+    FIELDS: typing.ClassVar[tuple]
+    def __copy__(self) -> VehicleParameters:
+        ...
+    def __deepcopy__(self, memo: dict) -> VehicleParameters:
+        ...
+    def __getstate__(self) -> dict:
+        ...
+    def __init__(self, **kwargs) -> None:
+        """
+        Every field is a keyword argument: mass, inertia, centre_of_gravity, centre_of_buoyancy, weight, buoyancy, added_mass, linear_damping, quadratic_damping, coriolis_form.
+        """
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, arg0: dict) -> None:
+        ...
+    def validate(self) -> None:
+        """
+        Runs the C++ validator: neurov.ValidationError (a ValueError carrying field, index, value and expected) naming the first bad field and what it must be, None when the configuration is valid.
+        """
+    @property
+    def added_mass(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 6]"]:
+        """
+        M_A (6, 6), or its diagonal (6,); symmetric positive semidefinite (M_A = -diag(X_udot, ..., N_rdot) for a diagonal one) [kg, kg m, kg m^2], finite.
+        """
+    @added_mass.setter
+    def added_mass(self, arg1: numpy.typing.ArrayLike) -> None:
+        ...
+    @property
+    def buoyancy(self) -> float:
+        """
+        B [N], >= 0.
+        """
+    @buoyancy.setter
+    def buoyancy(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def centre_of_buoyancy(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        """
+        r_b (3,), body axes (z down) [m], finite.
+        """
+    @centre_of_buoyancy.setter
+    def centre_of_buoyancy(self, arg1: numpy.typing.ArrayLike) -> None:
+        ...
+    @property
+    def centre_of_gravity(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        """
+        r_g (3,), body axes [m], finite.
+        """
+    @centre_of_gravity.setter
+    def centre_of_gravity(self, arg1: numpy.typing.ArrayLike) -> None:
+        ...
+    @property
+    def coriolis_form(self) -> str:
+        """
+        'velocity_independent' (the paper's eq. 39, the default) or 'kirchhoff'.
+        """
+    @coriolis_form.setter
+    def coriolis_form(self, arg1: str) -> None:
+        ...
+    @property
+    def inertia(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 3]"]:
+        """
+        I_o about the body origin (3, 3), or its diagonal (3,); symmetric positive definite [kg m^2], finite.
+        """
+    @inertia.setter
+    def inertia(self, arg1: numpy.typing.ArrayLike) -> None:
+        ...
+    @property
+    def linear_damping(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
+        """
+        D_L (6,), the constant part of D(nu)'s diagonal [N s/m, N m s], >= 0.
+        """
+    @linear_damping.setter
+    def linear_damping(self, arg1: numpy.typing.ArrayLike) -> None:
+        ...
+    @property
+    def mass(self) -> float:
+        """
+        m [kg], > 0.
+        """
+    @mass.setter
+    def mass(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def quadratic_damping(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
+        """
+        D_Q (6,), the part of D(nu)'s diagonal times abs(nu) [N s^2/m^2, N m s^2], >= 0.
+        """
+    @quadratic_damping.setter
+    def quadratic_damping(self, arg1: numpy.typing.ArrayLike) -> None:
+        ...
+    @property
+    def weight(self) -> float:
+        """
+        W = m g [N], >= 0.
+        """
+    @weight.setter
+    def weight(self, arg1: typing.SupportsFloat) -> None:
+        ...
 class Vehicle:
     """
     A 6-DOF vehicle in Fossen's form, M nu_dot + C(nu) nu + D(nu) nu + g(eta) = tau.
@@ -156,14 +259,9 @@ class Vehicle:
         ...
     def __getstate__(self) -> dict[str, typing.Any]:
         ...
-    def __init__(self, *, mass: typing.SupportsFloat, inertia: numpy.typing.ArrayLike, weight: typing.SupportsFloat, buoyancy: typing.SupportsFloat, added_mass: numpy.typing.ArrayLike, linear_damping: numpy.typing.ArrayLike, quadratic_damping: numpy.typing.ArrayLike, centre_of_gravity: numpy.typing.ArrayLike | None = None, centre_of_buoyancy: numpy.typing.ArrayLike | None = None, coriolis_form: str = 'velocity_independent') -> None:
+    def __init__(self, **kwargs) -> None:
         """
-        Builds a vehicle from its parameters (SI units, body axes with z down):
-        mass [kg]; inertia (3, 3) about the body origin, or its diagonal (3,);
-        weight W and buoyancy B [N]; added_mass M_A (6, 6) or its diagonal (6,), positive (M_A = -diag(X_udot, ...));
-        linear_damping and quadratic_damping (6,): D(nu) = diag(lin + quad * |nu|);
-        centre_of_gravity r_g and centre_of_buoyancy r_b (3,) [m], default zero;
-        coriolis_form: 'velocity_independent' (the paper's eq. 39, default) or 'kirchhoff'.
+        Builds a vehicle from its parameters, each a keyword argument named as a field of VehicleParameters (FIELDS gives its unit, rule and shape; a square matrix may be given as its diagonal). The required ones must be given; the others, absent or None, are zero and 'velocity_independent'.
         """
     def __setstate__(self, arg0: dict) -> None:
         ...
@@ -194,52 +292,52 @@ class Vehicle:
     @property
     def added_mass(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 6]"]:
         """
-        M_A (6, 6), positive definite.
+        M_A (6, 6), or its diagonal (6,); symmetric positive semidefinite (M_A = -diag(X_udot, ..., N_rdot) for a diagonal one) [kg, kg m, kg m^2], finite.
         """
     @property
     def buoyancy(self) -> float:
         """
-        B [N].
+        B [N], >= 0.
         """
     @property
     def centre_of_buoyancy(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
         """
-        r_b (3,) [m], body axes (z down).
+        r_b (3,), body axes (z down) [m], finite.
         """
     @property
     def centre_of_gravity(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
         """
-        r_g (3,) [m], body axes.
+        r_g (3,), body axes [m], finite.
         """
     @property
     def coriolis_form(self) -> str:
         """
-        'velocity_independent' (the paper's eq. 39) or 'kirchhoff'.
+        'velocity_independent' (the paper's eq. 39, the default) or 'kirchhoff'.
         """
     @property
     def inertia(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 3]"]:
         """
-        I_o about the body origin (3, 3) [kg m^2].
+        I_o about the body origin (3, 3), or its diagonal (3,); symmetric positive definite [kg m^2], finite.
         """
     @property
     def linear_damping(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
         """
-        D_L (6,).
+        D_L (6,), the constant part of D(nu)'s diagonal [N s/m, N m s], >= 0.
         """
     @property
     def mass(self) -> float:
         """
-        m [kg].
+        m [kg], > 0.
         """
     @property
     def quadratic_damping(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
         """
-        D_Q (6,).
+        D_Q (6,), the part of D(nu)'s diagonal times abs(nu) [N s^2/m^2, N m s^2], >= 0.
         """
     @property
     def weight(self) -> float:
         """
-        W [N].
+        W = m g [N], >= 0.
         """
 class Saturation:
     """
