@@ -41,6 +41,7 @@ constexpr const char* check_text(Check c) noexcept {
 /// Ways Python may give a field besides its own type.
 enum FieldFlag : unsigned {
   kNumberFills = 1u,  ///< a fixed-size vector also set from one number (every entry)
+  kKeywordOnly = 2u,  ///< by name only in a keyword constructor, as every field after it
 };
 
 /// One field of Config: its Python/TOML name, the member, its meaning, its
