@@ -87,11 +87,6 @@ struct process_attribute<neurov::bindings::KeywordOnlyIf>
 
 namespace neurov::bindings {
 
-template <typename Config>
-auto fields_of() {
-  return ::neurov::config_fields(static_cast<const Config*>(nullptr));
-}
-
 // How a field is given to a keyword constructor: a number, an array, or (an
 // enum, a bound object) what its configuration property takes.
 template <typename D>
@@ -132,7 +127,7 @@ auto keyword_fields() {
         return std::tuple_cat(keep_if<is_object_field<typename std::decay_t<decltype(s)>::Type>>(s)...,
                               keep_if<!is_object_field<typename std::decay_t<decltype(s)>::Type>>(s)...);
       },
-      fields_of<Config>());
+      config_fields(static_cast<const Config*>(nullptr)));
 }
 
 /// Which of them have a default: from the first number or enum on, all
@@ -267,50 +262,45 @@ py::class_<Controller> bind_controller_class(py::module_& m) {
   return cls;
 }
 
-// The state a snapshot keeps besides the tracking error: the vector a header
-// names (kStateName), or a model law's last output, or none.
+// The state a snapshot keeps besides the tracking error, shown as a property
+// of the same name: the vector a header names (kStateName), or a model law's
+// last output f, or none.
 template <typename Controller, typename = void>
-struct has_state_name : std::false_type {};
+struct StateOf {
+  static constexpr const char* name = nullptr;
+};
 template <typename Controller>
-struct has_state_name<Controller, std::void_t<decltype(Controller::kStateName)>> : std::true_type {};
-template <typename Controller, typename = void>
-struct has_model_output : std::false_type {};
+struct StateOf<Controller, std::void_t<decltype(&Controller::model_output)>> {
+  static constexpr const char* name = "model_output";
+  static constexpr const char* doc = "The model's f of the last step, shape (6,).";
+};
 template <typename Controller>
-struct has_model_output<Controller, std::void_t<decltype(&Controller::model_output)>> : std::true_type {};
+struct StateOf<Controller, std::void_t<decltype(Controller::kStateName)>> {
+  static constexpr const char* name = Controller::kStateName;
+  static constexpr const char* doc = Controller::kStateDoc;
+};
 
 template <typename Controller>
-constexpr const char* state_name() {
-  if constexpr (has_state_name<Controller>::value)
-    return Controller::kStateName;
-  else
-    return "model_output";
+auto state_of(const Controller& c) {
+  constexpr int n = std::decay_t<decltype(c.state())>::RowsAtCompileTime;
+  return Eigen::Matrix<double, n, 1>(c.state().template cast<double>());
 }
 
-/// The state as a read-only property named as in the snapshot.
 template <typename Controller>
 void def_state(py::class_<Controller>& cls) {
-  constexpr int n = std::decay_t<decltype(std::declval<const Controller&>().state())>::RowsAtCompileTime;
-  const char* doc = "The model's f of the last step, shape (6,).";
-  if constexpr (has_state_name<Controller>::value) doc = Controller::kStateDoc;
-  cls.def_property_readonly(
-      state_name<Controller>(),
-      [](const Controller& c) { return Eigen::Matrix<double, n, 1>(c.state().template cast<double>()); },
-      doc);
+  cls.def_property_readonly(StateOf<Controller>::name, &state_of<Controller>, StateOf<Controller>::doc);
 }
 
 template <typename Controller>
 py::class_<Controller> bind_generic_controller(py::module_& m) {
   py::class_<Controller> cls = bind_controller_class<Controller>(m);
-  if constexpr (has_state_name<Controller>::value || has_model_output<Controller>::value) {
-    constexpr int n = std::decay_t<decltype(std::declval<const Controller&>().state())>::RowsAtCompileTime;
-    constexpr const char* name = state_name<Controller>();
+  constexpr const char* name = StateOf<Controller>::name;
+  if constexpr (name != nullptr) {
+    using State = decltype(state_of(std::declval<const Controller&>()));
     def_controller_snapshot<Controller>(
-        cls, Controller::kWhat,
-        [](const Controller& c, py::dict& d) {
-          d[name] = Eigen::Matrix<double, n, 1>(c.state().template cast<double>());
-        },
+        cls, Controller::kWhat, [](const Controller& c, py::dict& d) { d[name] = state_of(c); },
         [](Controller& c, const py::dict& d, const TrackingError<double>& e, Status s) {
-          return c.restore(e, s, snapshot_vector<n>(d, name));
+          return c.restore(e, s, snapshot_vector<State::RowsAtCompileTime>(d, name));
         });
     def_state<Controller>(cls);
   } else {
