@@ -641,12 +641,12 @@ class RbfNetwork:
     @property
     def input_offset(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
-        Input offset, shape (n_in,).
+        Input offset of the network's normalisation, shape (n_in,).
         """
     @property
     def input_scale(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
-        Input scale, shape (n_in,).
+        Input scale of the network's normalisation, shape (n_in,).
         """
     @property
     def n_centres(self) -> int:
@@ -1833,7 +1833,7 @@ class NNAdaptiveController:
     @typing.overload
     def __init__(self, network: RbfNetwork, lambda_: numpy.typing.ArrayLike, kd: numpy.typing.ArrayLike, gamma: typing.SupportsFloat = 0.3, dt: typing.SupportsFloat = 0.2, *, modification: RobustModification | str = 'none', sigma_m: typing.SupportsFloat = 0.0, kappa: typing.SupportsFloat = 0.0, w_max: typing.SupportsFloat = 0.0, dead_zone: typing.SupportsFloat = 0.0, learning_rates: numpy.typing.ArrayLike | None = None) -> None:
         """
-        network: an RbfNetwork with 24 inputs (copied; its weights are W(0)); lambda_: Lambda diagonal (6,), > 0; kd: K_d diagonal (6,), >= 0; gamma: Gamma_w = gamma I (the paper: 0.3); dt: control period [s] (the paper: 0.2). Robust modifications (off by default, as in the paper): modification = 'sigma' (sigma_m > 0), 'e_modification' (kappa > 0) or 'projection' (||W||_F <= w_max); dead_zone: no adaptation while ||s|| < dead_zone. learning_rates (N,): per-centre Gamma_w.
+        network: an RbfNetwork with 24 inputs (copied; its weights are W(0)); learning_rates (N,): per-centre Gamma_w. The configuration's fields by name (see NNAdaptiveConfig); ValueError names a bad one.
         """
     def __setstate__(self, arg0: dict) -> None:
         ...
@@ -1868,7 +1868,7 @@ class NNAdaptiveController:
     @property
     def centres(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         """
-        Centres, shape (N, 24).
+        Centres, shape (N, n_in).
         """
     @property
     def config(self) -> NNAdaptiveConfig:
@@ -1878,12 +1878,12 @@ class NNAdaptiveController:
     @property
     def input_offset(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
-        Input offset of the network's normalisation, shape (24,).
+        Input offset of the network's normalisation, shape (n_in,).
         """
     @property
     def input_scale(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
-        Input scale of the network's normalisation, shape (24,).
+        Input scale of the network's normalisation, shape (n_in,).
         """
     @property
     def modification(self) -> str:
@@ -1949,7 +1949,7 @@ class LinearAdaptiveController:
     @typing.overload
     def __init__(self, lambda_: numpy.typing.ArrayLike, kd: numpy.typing.ArrayLike, gamma: numpy.typing.ArrayLike, dt: typing.SupportsFloat = 0.2, theta0: numpy.typing.ArrayLike = None) -> None:
         """
-        lambda_: Lambda diagonal (6,), > 0; kd: K_d diagonal (6,), >= 0; gamma: Gamma diagonal, a number or (24,), >= 0; dt: control period [s]; theta0: theta_hat(0) (24,), default zero (regressor_parameters(vehicle) gives the true one).
+        The configuration's fields by name (see LinearAdaptiveConfig); ValueError names a bad one.
         """
     def __setstate__(self, arg0: dict) -> None:
         ...
@@ -1969,7 +1969,7 @@ class LinearAdaptiveController:
     @property
     def model_output(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
         """
-        Phi theta_hat of the last step, shape (6,).
+        The model's f of the last step, shape (6,).
         """
     @property
     def s(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
@@ -2010,7 +2010,7 @@ class PDController:
     @typing.overload
     def __init__(self, kp: numpy.typing.ArrayLike, kd: numpy.typing.ArrayLike) -> None:
         """
-        kp, kd: diagonal gains (6,), >= 0.
+        The configuration's fields by name (see PDConfig); ValueError names a bad one.
         """
     def __setstate__(self, arg0: dict) -> None:
         ...
@@ -2058,7 +2058,7 @@ class PIDController:
     @typing.overload
     def __init__(self, kp: numpy.typing.ArrayLike, ki: numpy.typing.ArrayLike, kd: numpy.typing.ArrayLike, integral_limit: numpy.typing.ArrayLike, dt: typing.SupportsFloat = 0.2) -> None:
         """
-        kp, ki, kd: diagonal gains (6,), >= 0; integral_limit: largest |K_i z| per DOF (6,), > 0 [N, N m]; dt: control period [s].
+        The configuration's fields by name (see PIDConfig); ValueError names a bad one.
         """
     def __setstate__(self, arg0: dict) -> None:
         ...
@@ -2111,7 +2111,7 @@ class SlidingModeController:
     @typing.overload
     def __init__(self, lambda_: numpy.typing.ArrayLike, kd: numpy.typing.ArrayLike, k: numpy.typing.ArrayLike, phi: numpy.typing.ArrayLike, theta: numpy.typing.ArrayLike) -> None:
         """
-        lambda_: Lambda (6,), > 0; kd: K_d (6,), >= 0; k: switching gain (6,), >= 0; phi: boundary-layer width (6,), > 0; theta: the nominal model (24,), e.g. regressor_parameters(vehicle).
+        The configuration's fields by name (see SlidingModeConfig); ValueError names a bad one.
         """
     def __setstate__(self, arg0: dict) -> None:
         ...
@@ -2131,7 +2131,7 @@ class SlidingModeController:
     @property
     def model_output(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
         """
-        The nominal model's f of the last step, shape (6,).
+        The model's f of the last step, shape (6,).
         """
     @property
     def s(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
@@ -2164,7 +2164,7 @@ class ComputedTorqueController:
     @typing.overload
     def __init__(self, vehicle: Vehicle, lambda_: numpy.typing.ArrayLike, kd: numpy.typing.ArrayLike) -> None:
         """
-        vehicle: the nominal model (its parameters are copied); lambda_: Lambda (6,), > 0; kd: K_d (6,), >= 0.
+        The configuration's fields by name (see ComputedTorqueConfig); ValueError names a bad one.
         """
     def __setstate__(self, arg0: dict) -> None:
         ...
@@ -2184,7 +2184,7 @@ class ComputedTorqueController:
     @property
     def model_output(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
         """
-        M nu_r_dot + C(nu) nu_r + D(nu) nu_r + g(eta) of the last step, shape (6,).
+        The model's f of the last step, shape (6,).
         """
     @property
     def s(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
@@ -2268,7 +2268,7 @@ class ArduSubController:
         Builds the controller from its configuration object; ValueError names a bad field.
         """
     @typing.overload
-    def __init__(self, curve_pwm: numpy.typing.ArrayLike, curve_thrust: numpy.typing.ArrayLike, ATC_ANG_RLL_P: typing.SupportsFloat = 6.0, ATC_ANG_PIT_P: typing.SupportsFloat = 6.0, ATC_ANG_YAW_P: typing.SupportsFloat = 6.0, ATC_ACCEL_R_MAX: typing.SupportsFloat = 110000.0, ATC_ACCEL_P_MAX: typing.SupportsFloat = 110000.0, ATC_ACCEL_Y_MAX: typing.SupportsFloat = 110000.0, ATC_INPUT_TC: typing.SupportsFloat = 0.15, ATC_RATE_FF_ENAB: typing.SupportsFloat = 1.0, ANGLE_MAX: typing.SupportsFloat = 3000.0, ATC_RAT_RLL_P: typing.SupportsFloat = 0.135, ATC_RAT_RLL_I: typing.SupportsFloat = 0.09, ATC_RAT_RLL_D: typing.SupportsFloat = 0.0036, ATC_RAT_RLL_FF: typing.SupportsFloat = 0.0, ATC_RAT_RLL_IMAX: typing.SupportsFloat = 0.444, ATC_RAT_RLL_FLTT: typing.SupportsFloat = 30.0, ATC_RAT_RLL_FLTE: typing.SupportsFloat = 0.0, ATC_RAT_RLL_FLTD: typing.SupportsFloat = 30.0, ATC_RAT_PIT_P: typing.SupportsFloat = 0.135, ATC_RAT_PIT_I: typing.SupportsFloat = 0.09, ATC_RAT_PIT_D: typing.SupportsFloat = 0.0036, ATC_RAT_PIT_FF: typing.SupportsFloat = 0.0, ATC_RAT_PIT_IMAX: typing.SupportsFloat = 0.444, ATC_RAT_PIT_FLTT: typing.SupportsFloat = 30.0, ATC_RAT_PIT_FLTE: typing.SupportsFloat = 0.0, ATC_RAT_PIT_FLTD: typing.SupportsFloat = 30.0, ATC_RAT_YAW_P: typing.SupportsFloat = 0.18, ATC_RAT_YAW_I: typing.SupportsFloat = 0.018, ATC_RAT_YAW_D: typing.SupportsFloat = 0.0, ATC_RAT_YAW_FF: typing.SupportsFloat = 0.0, ATC_RAT_YAW_IMAX: typing.SupportsFloat = 0.222, ATC_RAT_YAW_FLTT: typing.SupportsFloat = 5.0, ATC_RAT_YAW_FLTE: typing.SupportsFloat = 0.0, ATC_RAT_YAW_FLTD: typing.SupportsFloat = 5.0, PSC_POSZ_P: typing.SupportsFloat = 3.0, PSC_VELZ_P: typing.SupportsFloat = 8.0, PSC_VELZ_I: typing.SupportsFloat = 0.0, PSC_VELZ_D: typing.SupportsFloat = 0.0, PSC_VELZ_IMAX: typing.SupportsFloat = 1000.0, PSC_VELZ_FLTE: typing.SupportsFloat = 5.0, PSC_VELZ_FLTD: typing.SupportsFloat = 5.0, PSC_ACCZ_P: typing.SupportsFloat = 0.5, PSC_ACCZ_I: typing.SupportsFloat = 0.1, PSC_ACCZ_D: typing.SupportsFloat = 0.0, PSC_ACCZ_FF: typing.SupportsFloat = 0.0, PSC_ACCZ_IMAX: typing.SupportsFloat = 800.0, PSC_ACCZ_FLTT: typing.SupportsFloat = 0.0, PSC_ACCZ_FLTE: typing.SupportsFloat = 20.0, PSC_ACCZ_FLTD: typing.SupportsFloat = 0.0, PILOT_SPEED_UP: typing.SupportsFloat = 50.0, PILOT_SPEED_DN: typing.SupportsFloat = 50.0, PILOT_ACCEL_Z: typing.SupportsFloat = 100.0, PSC_POSXY_P: typing.SupportsFloat = 1.0, PSC_VELXY_P: typing.SupportsFloat = 2.0, PSC_VELXY_I: typing.SupportsFloat = 1.0, PSC_VELXY_D: typing.SupportsFloat = 0.5, PSC_VELXY_IMAX: typing.SupportsFloat = 1000.0, PSC_VELXY_FLTE: typing.SupportsFloat = 5.0, PSC_VELXY_FLTD: typing.SupportsFloat = 5.0, WPNAV_SPEED: typing.SupportsFloat = 500.0, WPNAV_ACCEL: typing.SupportsFloat = 100.0, FRAME_CONFIG: typing.SupportsFloat = 1.0, MOT_PWM_MIN: typing.SupportsFloat = 1100.0, MOT_PWM_MAX: typing.SupportsFloat = 1900.0, MOT_1_DIRECTION: typing.SupportsFloat = 1.0, MOT_2_DIRECTION: typing.SupportsFloat = 1.0, MOT_3_DIRECTION: typing.SupportsFloat = 1.0, MOT_4_DIRECTION: typing.SupportsFloat = 1.0, MOT_5_DIRECTION: typing.SupportsFloat = 1.0, MOT_6_DIRECTION: typing.SupportsFloat = 1.0, MOT_7_DIRECTION: typing.SupportsFloat = 1.0, MOT_8_DIRECTION: typing.SupportsFloat = 1.0, SCHED_LOOP_RATE: typing.SupportsFloat = 400.0, mode: typing.SupportsFloat = 1.0, curve_rows: typing.SupportsFloat = 3.0, dt: typing.SupportsFloat = 0.0025) -> None:
+    def __init__(self, ATC_ANG_RLL_P: typing.SupportsFloat = 6.0, ATC_ANG_PIT_P: typing.SupportsFloat = 6.0, ATC_ANG_YAW_P: typing.SupportsFloat = 6.0, ATC_ACCEL_R_MAX: typing.SupportsFloat = 110000.0, ATC_ACCEL_P_MAX: typing.SupportsFloat = 110000.0, ATC_ACCEL_Y_MAX: typing.SupportsFloat = 110000.0, ATC_INPUT_TC: typing.SupportsFloat = 0.15, ATC_RATE_FF_ENAB: typing.SupportsFloat = 1.0, ANGLE_MAX: typing.SupportsFloat = 3000.0, ATC_RAT_RLL_P: typing.SupportsFloat = 0.135, ATC_RAT_RLL_I: typing.SupportsFloat = 0.09, ATC_RAT_RLL_D: typing.SupportsFloat = 0.0036, ATC_RAT_RLL_FF: typing.SupportsFloat = 0.0, ATC_RAT_RLL_IMAX: typing.SupportsFloat = 0.444, ATC_RAT_RLL_FLTT: typing.SupportsFloat = 30.0, ATC_RAT_RLL_FLTE: typing.SupportsFloat = 0.0, ATC_RAT_RLL_FLTD: typing.SupportsFloat = 30.0, ATC_RAT_PIT_P: typing.SupportsFloat = 0.135, ATC_RAT_PIT_I: typing.SupportsFloat = 0.09, ATC_RAT_PIT_D: typing.SupportsFloat = 0.0036, ATC_RAT_PIT_FF: typing.SupportsFloat = 0.0, ATC_RAT_PIT_IMAX: typing.SupportsFloat = 0.444, ATC_RAT_PIT_FLTT: typing.SupportsFloat = 30.0, ATC_RAT_PIT_FLTE: typing.SupportsFloat = 0.0, ATC_RAT_PIT_FLTD: typing.SupportsFloat = 30.0, ATC_RAT_YAW_P: typing.SupportsFloat = 0.18, ATC_RAT_YAW_I: typing.SupportsFloat = 0.018, ATC_RAT_YAW_D: typing.SupportsFloat = 0.0, ATC_RAT_YAW_FF: typing.SupportsFloat = 0.0, ATC_RAT_YAW_IMAX: typing.SupportsFloat = 0.222, ATC_RAT_YAW_FLTT: typing.SupportsFloat = 5.0, ATC_RAT_YAW_FLTE: typing.SupportsFloat = 0.0, ATC_RAT_YAW_FLTD: typing.SupportsFloat = 5.0, PSC_POSZ_P: typing.SupportsFloat = 3.0, PSC_VELZ_P: typing.SupportsFloat = 8.0, PSC_VELZ_I: typing.SupportsFloat = 0.0, PSC_VELZ_D: typing.SupportsFloat = 0.0, PSC_VELZ_IMAX: typing.SupportsFloat = 1000.0, PSC_VELZ_FLTE: typing.SupportsFloat = 5.0, PSC_VELZ_FLTD: typing.SupportsFloat = 5.0, PSC_ACCZ_P: typing.SupportsFloat = 0.5, PSC_ACCZ_I: typing.SupportsFloat = 0.1, PSC_ACCZ_D: typing.SupportsFloat = 0.0, PSC_ACCZ_FF: typing.SupportsFloat = 0.0, PSC_ACCZ_IMAX: typing.SupportsFloat = 800.0, PSC_ACCZ_FLTT: typing.SupportsFloat = 0.0, PSC_ACCZ_FLTE: typing.SupportsFloat = 20.0, PSC_ACCZ_FLTD: typing.SupportsFloat = 0.0, PILOT_SPEED_UP: typing.SupportsFloat = 50.0, PILOT_SPEED_DN: typing.SupportsFloat = 50.0, PILOT_ACCEL_Z: typing.SupportsFloat = 100.0, PSC_POSXY_P: typing.SupportsFloat = 1.0, PSC_VELXY_P: typing.SupportsFloat = 2.0, PSC_VELXY_I: typing.SupportsFloat = 1.0, PSC_VELXY_D: typing.SupportsFloat = 0.5, PSC_VELXY_IMAX: typing.SupportsFloat = 1000.0, PSC_VELXY_FLTE: typing.SupportsFloat = 5.0, PSC_VELXY_FLTD: typing.SupportsFloat = 5.0, WPNAV_SPEED: typing.SupportsFloat = 500.0, WPNAV_ACCEL: typing.SupportsFloat = 100.0, FRAME_CONFIG: typing.SupportsFloat = 1.0, MOT_PWM_MIN: typing.SupportsFloat = 1100.0, MOT_PWM_MAX: typing.SupportsFloat = 1900.0, MOT_1_DIRECTION: typing.SupportsFloat = 1.0, MOT_2_DIRECTION: typing.SupportsFloat = 1.0, MOT_3_DIRECTION: typing.SupportsFloat = 1.0, MOT_4_DIRECTION: typing.SupportsFloat = 1.0, MOT_5_DIRECTION: typing.SupportsFloat = 1.0, MOT_6_DIRECTION: typing.SupportsFloat = 1.0, MOT_7_DIRECTION: typing.SupportsFloat = 1.0, MOT_8_DIRECTION: typing.SupportsFloat = 1.0, SCHED_LOOP_RATE: typing.SupportsFloat = 400.0, mode: typing.SupportsFloat = 1.0, curve_pwm: numpy.typing.ArrayLike = None, curve_thrust: numpy.typing.ArrayLike = None, curve_rows: typing.SupportsFloat = 3.0, dt: typing.SupportsFloat = 0.0025) -> None:
         """
         The configuration's fields by name (see ArduSubConfig); ValueError names a bad one.
         """
