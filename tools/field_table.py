@@ -1,7 +1,7 @@
 """Prints the fields of configuration structs as Markdown tables (field,
-default, unit, rule, meaning) from their one description beside each struct
+default or "required", unit, rule, meaning) from their one description beside each struct
 in C++ (config_fields, neurov/core/field_spec.hpp), which the bindings give
-as the class's ``FIELDS``. Used by docs/disturbances.md::
+as the class's ``FIELDS``. Used by docs/disturbances.md and docs/model.md::
 
     python tools/field_table.py TetherConfig SteadyForceConfig
 """
@@ -40,7 +40,8 @@ def table(name: str) -> str:
         rule = f["rule"] or "–"
         if math.isfinite(f["min"]) and math.isfinite(f["max"]):
             rule = f"{f['min']:g} to {f['max']:g}" if not f["rule"] else f"{rule}, {f['min']:g} to {f['max']:g}"
-        rows.append(f"| `{f['name']}` | {_value(getattr(default, f['name']))} | {f['unit'] or '–'} | {rule} "
+        given = "required" if f["required"] else _value(getattr(default, f["name"]))
+        rows.append(f"| `{f['name']}` | {given} | {f['unit'] or '–'} | {rule} "
                     f"| {f['doc'].rstrip('.')} |")
     return "\n".join(rows)
 

@@ -1,32 +1,22 @@
-// One function per binding file; module.cpp calls them in order (a type is
-// bound before the functions whose signatures name it).
+// One function per binding file, bind_<name>(m), listed once here in the
+// order module.cpp calls them: a type is bound before the functions whose
+// signatures name it. The files mirror the C++ layers.
 #pragma once
 
 #include <pybind11/pybind11.h>
 
+#define NEUROV_BINDINGS(X)                                                          \
+  /* core/ */ X(errors) X(status)                                                   \
+  /* model/ */ X(kinematics) X(vehicle) X(linearization) X(thrusters) X(regressor)  \
+  /* control/ */ X(tracking_error) X(reference_model) X(rbf_network)                \
+  X(controller_configs) X(controllers)                                              \
+  /* sim/ */ X(sim_config) X(result_series) X(simulator) X(closed_loop) X(batch)    \
+  X(tracking_task)
+
 namespace neurov::bindings {
 
-// core/
-void bind_errors(pybind11::module_& m);
-void bind_status(pybind11::module_& m);
-// model/
-void bind_kinematics(pybind11::module_& m);
-void bind_vehicle(pybind11::module_& m);
-void bind_regressor(pybind11::module_& m);
-void bind_linearization(pybind11::module_& m);
-void bind_thrusters(pybind11::module_& m);
-// control/
-void bind_tracking_error(pybind11::module_& m);
-void bind_reference_model(pybind11::module_& m);
-void bind_rbf_network(pybind11::module_& m);
-void bind_controller_configs(pybind11::module_& m);
-void bind_controllers(pybind11::module_& m);
-// sim/
-void bind_sim_config(pybind11::module_& m);
-void bind_result_series(pybind11::module_& m);
-void bind_simulator(pybind11::module_& m);
-void bind_closed_loop(pybind11::module_& m);
-void bind_batch(pybind11::module_& m);
-void bind_tracking_task(pybind11::module_& m);
+#define NEUROV_DECLARE_BINDING(name) void bind_##name(pybind11::module_& m);
+NEUROV_BINDINGS(NEUROV_DECLARE_BINDING)
+#undef NEUROV_DECLARE_BINDING
 
 }  // namespace neurov::bindings

@@ -5,7 +5,8 @@
 //  * numbers, bools and enums: by value;
 //  * fixed-size vectors: writable numpy views into the struct (the storage is
 //    inside it, so a view lives as long as the struct), optionally also set
-//    from one number for every entry;
+//    from one number for every entry; square matrices likewise, optionally
+//    also set from their diagonal (kDiagonal);
 //  * dynamic arrays: read-only copies, assigned whole (a view could outlive a
 //    buffer that a later assignment frees);
 //  * lists of structs: tuples of copies, assigned whole from any sequence;
@@ -68,8 +69,8 @@ class Fields {
  public:
   /// T bound from its description (config_fields): each field by its kind,
   /// its docstring from its meaning, unit and rule; the class's FIELDS lists
-  /// them as dicts (name, unit, rule, min, max, doc, shape) for the readers
-  /// and the docs' tables. Call validator() and finish() after.
+  /// them as dicts (name, unit, rule, min, max, doc, shape, diagonal,
+  /// required) for the readers and the docs' tables. Call validator() and finish() after.
   static Fields described(py::module_& m, const char* name, const char* doc) {
     Fields f(m, name, doc);
     py::list table;
@@ -180,7 +181,14 @@ class Fields {
         vector(s.name, s.member, s.flags & kNumberFills, doc.c_str());
         shape = py::make_tuple(static_cast<int>(D::RowsAtCompileTime));
       } else {
-        dynamic(s.name, s.member, doc.c_str());
+        constexpr int rows = D::RowsAtCompileTime, cols = D::ColsAtCompileTime;
+        if constexpr (rows > 0 && rows == cols) {
+          if (s.flags & kDiagonal) matrix_or_diagonal(s.name, s.member, doc.c_str());
+          else dynamic(s.name, s.member, doc.c_str());
+        } else {
+          dynamic(s.name, s.member, doc.c_str());
+        }
+        if constexpr (rows > 0 && cols > 0) shape = py::make_tuple(rows, cols);
       }
     } else {
       value(s.name, s.member, doc.c_str());
@@ -193,6 +201,8 @@ class Fields {
     row["max"] = s.max;
     row["doc"] = s.doc;
     row["shape"] = shape;
+    row["diagonal"] = (s.flags & kDiagonal) != 0;  // a square matrix also given as its diagonal
+    row["required"] = (s.flags & kRequired) != 0;
     table.append(row);
   }
 
@@ -227,6 +237,16 @@ class Fields {
       else
         self.*member = py_args::vector<N>(v, py_args::field(q), false);
     }, doc);
+  }
+
+  /// A fixed-size square matrix: a writable numpy view; assigned from an
+  /// (N, N) array-like or its diagonal (N,).
+  template <int N>
+  void matrix_or_diagonal(const char* name, Eigen::Matrix<double, N, N> T::*member, const char* doc) {
+    field(name, [member](T& self) -> Eigen::Matrix<double, N, N>& { return self.*member; },
+          [member](T& self, const typed::ArrayLike& v, const std::string& q) {
+            self.*member = py_args::matrix_or_diagonal<N>(v, q.c_str());
+          }, doc);
   }
 
   /// A dynamic vector or matrix: a read-only copy (a view could outlive a

@@ -19,23 +19,7 @@ PYBIND11_MODULE(_core, m) {
       "numbers (not ``bool``). Every returned array is a new, writeable ``float64`` array.";
   m.attr("__version__") = NEUROV_VERSION_INFO;
 
-  using namespace neurov::bindings;
-  bind_errors(m);
-  bind_status(m);
-  bind_kinematics(m);
-  bind_vehicle(m);
-  bind_linearization(m);
-  bind_thrusters(m);
-  bind_regressor(m);
-  bind_tracking_error(m);
-  bind_reference_model(m);
-  bind_rbf_network(m);
-  bind_controller_configs(m);
-  bind_controllers(m);
-  bind_sim_config(m);
-  bind_result_series(m);
-  bind_simulator(m);
-  bind_closed_loop(m);
-  bind_batch(m);
-  bind_tracking_task(m);
+#define NEUROV_CALL_BINDING(name) neurov::bindings::bind_##name(m);
+  NEUROV_BINDINGS(NEUROV_CALL_BINDING)
+#undef NEUROV_CALL_BINDING
 }

@@ -10,7 +10,7 @@ import numpy
 import numpy.typing
 import os
 import typing
-__all__: list[str] = ['ARDUSUB_PARAMETERS', 'ArduSubConfig', 'ArduSubController', 'BUILT_IN_CONTROLLERS', 'BatchSimulator', 'Command', 'ComputedTorqueConfig', 'ComputedTorqueController', 'CurrentModel', 'CurrentStep', 'DISTURBANCE_TABLES', 'DepthConfig', 'DvlConfig', 'EstimatorConfig', 'EstimatorType', 'GaussMarkovCurrentConfig', 'ImuConfig', 'LANE_NOT_STEPPED', 'LinearAdaptiveConfig', 'LinearAdaptiveController', 'MAX_CENTRES', 'MAX_SUBSTEPS', 'MAX_WAVE_COMPONENTS', 'MIN_LANES_PER_THREAD', 'NNAdaptiveConfig', 'NNAdaptiveController', 'NeurovError', 'Observation', 'PDConfig', 'PDController', 'PIDConfig', 'PIDController', 'PayloadEvent', 'RESULT_SERIES', 'RbfNetwork', 'ReferenceModel', 'RefusedStepPolicy', 'RobustModification', 'RunSums', 'Saturation', 'SensorFault', 'SensorFaultKind', 'SensorsConfig', 'SimulationConfig', 'Simulator', 'SinusoidalDisturbance', 'SlidingModeConfig', 'SlidingModeController', 'Status', 'SteadyForceConfig', 'SuperTwistingConfig', 'SuperTwistingController', 'THETA_NAMES', 'TRACKING_OBSERVATION_SIZE', 'TetherConfig', 'ThrusterConfig', 'ThrusterCurveConfig', 'ThrusterFailure', 'TrackingTask', 'TrackingTaskConfig', 'UsblConfig', 'ValidationError', 'Vehicle', 'WINDOW_SUMS', 'WaveConfig', 'WaveSpectrum', 'allocate_thrust', 'allocation_matrix', 'bluerov2_heavy_layout', 'buoyancy_in_water', 'is_near_singularity', 'jacobian', 'jacobian_dot', 'jacobian_inverse', 'plant_derivative', 'plant_jacobians', 'regressor', 'regressor_parameters', 'rk4_segments', 'rk4_step', 'rotation', 'run_batch', 'run_closed_loop', 'run_closed_loop_chunks', 'singularity_threshold', 'to_body', 'tracking_error']
+__all__: list[str] = ['ARDUSUB_PARAMETERS', 'ArduSubConfig', 'ArduSubController', 'BUILT_IN_CONTROLLERS', 'BatchSimulator', 'Command', 'ComputedTorqueConfig', 'ComputedTorqueController', 'CurrentModel', 'CurrentStep', 'DISTURBANCE_TABLES', 'DepthConfig', 'DvlConfig', 'EstimatorConfig', 'EstimatorType', 'GaussMarkovCurrentConfig', 'ImuConfig', 'LANE_NOT_STEPPED', 'LinearAdaptiveConfig', 'LinearAdaptiveController', 'MAX_CENTRES', 'MAX_SUBSTEPS', 'MAX_WAVE_COMPONENTS', 'MIN_LANES_PER_THREAD', 'NNAdaptiveConfig', 'NNAdaptiveController', 'NeurovError', 'Observation', 'PDConfig', 'PDController', 'PIDConfig', 'PIDController', 'PayloadEvent', 'RESULT_SERIES', 'RbfNetwork', 'ReferenceModel', 'RefusedStepPolicy', 'RobustModification', 'RunSums', 'Saturation', 'SensorFault', 'SensorFaultKind', 'SensorsConfig', 'SimulationConfig', 'Simulator', 'SinusoidalDisturbance', 'SlidingModeConfig', 'SlidingModeController', 'Status', 'SteadyForceConfig', 'SuperTwistingConfig', 'SuperTwistingController', 'THETA_NAMES', 'TRACKING_OBSERVATION_SIZE', 'TetherConfig', 'ThrusterConfig', 'ThrusterCurveConfig', 'ThrusterFailure', 'TrackingTask', 'TrackingTaskConfig', 'UsblConfig', 'ValidationError', 'Vehicle', 'VehicleParameters', 'WINDOW_SUMS', 'WaveConfig', 'WaveSpectrum', 'allocate_thrust', 'allocation_matrix', 'bluerov2_heavy_layout', 'buoyancy_in_water', 'is_near_singularity', 'jacobian', 'jacobian_dot', 'jacobian_inverse', 'plant_derivative', 'plant_jacobians', 'regressor', 'regressor_parameters', 'rk4_segments', 'rk4_step', 'rotation', 'run_batch', 'run_closed_loop', 'run_closed_loop_chunks', 'singularity_threshold', 'to_body', 'tracking_error']
 class _SimulationResult(typing.TypedDict):
     """What run_closed_loop, Simulator.result and Simulator.drain return: one row per
     control step t_k = k dt, one array per entry of RESULT_SERIES (in its order),
@@ -126,6 +126,109 @@ class Status:
     @property
     def value(self) -> int:
         ...
+class VehicleParameters:
+    """
+    A vehicle's parameters (SI units, body axes with z down): Vehicle's keyword arguments, its properties and the vehicle files' keys.
+    """
+    FIELDS: typing.ClassVar[tuple]
+    def __copy__(self) -> VehicleParameters:
+        ...
+    def __deepcopy__(self, memo: dict) -> VehicleParameters:
+        ...
+    def __getstate__(self) -> dict:
+        ...
+    def __init__(self, **kwargs) -> None:
+        """
+        Every field is a keyword argument: mass, inertia, centre_of_gravity, centre_of_buoyancy, weight, buoyancy, added_mass, linear_damping, quadratic_damping, coriolis_form.
+        """
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, arg0: dict) -> None:
+        ...
+    def validate(self) -> None:
+        """
+        Runs the C++ validator: neurov.ValidationError (a ValueError carrying field, index, value and expected) naming the first bad field and what it must be, None when the configuration is valid.
+        """
+    @property
+    def added_mass(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 6]"]:
+        """
+        M_A (6, 6), or its diagonal (6,); symmetric positive semidefinite (M_A = -diag(X_udot, ..., N_rdot) for a diagonal one) [kg, kg m, kg m^2], finite.
+        """
+    @added_mass.setter
+    def added_mass(self, arg1: numpy.typing.ArrayLike) -> None:
+        ...
+    @property
+    def buoyancy(self) -> float:
+        """
+        B [N], >= 0.
+        """
+    @buoyancy.setter
+    def buoyancy(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def centre_of_buoyancy(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        """
+        r_b (3,), body axes (z down) [m], finite.
+        """
+    @centre_of_buoyancy.setter
+    def centre_of_buoyancy(self, arg1: numpy.typing.ArrayLike) -> None:
+        ...
+    @property
+    def centre_of_gravity(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        """
+        r_g (3,), body axes [m], finite.
+        """
+    @centre_of_gravity.setter
+    def centre_of_gravity(self, arg1: numpy.typing.ArrayLike) -> None:
+        ...
+    @property
+    def coriolis_form(self) -> str:
+        """
+        'velocity_independent' (the paper's eq. 39, the default) or 'kirchhoff'.
+        """
+    @coriolis_form.setter
+    def coriolis_form(self, arg1: str) -> None:
+        ...
+    @property
+    def inertia(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 3]"]:
+        """
+        I_o about the body origin (3, 3), or its diagonal (3,); symmetric positive definite [kg m^2], finite.
+        """
+    @inertia.setter
+    def inertia(self, arg1: numpy.typing.ArrayLike) -> None:
+        ...
+    @property
+    def linear_damping(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
+        """
+        D_L (6,), the constant part of D(nu)'s diagonal [N s/m, N m s], >= 0.
+        """
+    @linear_damping.setter
+    def linear_damping(self, arg1: numpy.typing.ArrayLike) -> None:
+        ...
+    @property
+    def mass(self) -> float:
+        """
+        m [kg], > 0.
+        """
+    @mass.setter
+    def mass(self, arg1: typing.SupportsFloat) -> None:
+        ...
+    @property
+    def quadratic_damping(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
+        """
+        D_Q (6,), the part of D(nu)'s diagonal times abs(nu) [N s^2/m^2, N m s^2], >= 0.
+        """
+    @quadratic_damping.setter
+    def quadratic_damping(self, arg1: numpy.typing.ArrayLike) -> None:
+        ...
+    @property
+    def weight(self) -> float:
+        """
+        W = m g [N], >= 0.
+        """
+    @weight.setter
+    def weight(self, arg1: typing.SupportsFloat) -> None:
+        ...
 class Vehicle:
     """
     A 6-DOF vehicle in Fossen's form, M nu_dot + C(nu) nu + D(nu) nu + g(eta) = tau.
@@ -156,14 +259,9 @@ class Vehicle:
         ...
     def __getstate__(self) -> dict[str, typing.Any]:
         ...
-    def __init__(self, *, mass: typing.SupportsFloat, inertia: numpy.typing.ArrayLike, weight: typing.SupportsFloat, buoyancy: typing.SupportsFloat, added_mass: numpy.typing.ArrayLike, linear_damping: numpy.typing.ArrayLike, quadratic_damping: numpy.typing.ArrayLike, centre_of_gravity: numpy.typing.ArrayLike | None = None, centre_of_buoyancy: numpy.typing.ArrayLike | None = None, coriolis_form: str = 'velocity_independent') -> None:
+    def __init__(self, **kwargs) -> None:
         """
-        Builds a vehicle from its parameters (SI units, body axes with z down):
-        mass [kg]; inertia (3, 3) about the body origin, or its diagonal (3,);
-        weight W and buoyancy B [N]; added_mass M_A (6, 6) or its diagonal (6,), positive (M_A = -diag(X_udot, ...));
-        linear_damping and quadratic_damping (6,): D(nu) = diag(lin + quad * |nu|);
-        centre_of_gravity r_g and centre_of_buoyancy r_b (3,) [m], default zero;
-        coriolis_form: 'velocity_independent' (the paper's eq. 39, default) or 'kirchhoff'.
+        Builds a vehicle from its parameters, each a keyword argument named as a field of VehicleParameters (FIELDS gives its unit, rule and shape; a square matrix may be given as its diagonal). The required ones must be given; the others, absent or None, are zero and 'velocity_independent'.
         """
     def __setstate__(self, arg0: dict) -> None:
         ...
@@ -194,52 +292,52 @@ class Vehicle:
     @property
     def added_mass(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 6]"]:
         """
-        M_A (6, 6), positive definite.
+        M_A (6, 6), or its diagonal (6,); symmetric positive semidefinite (M_A = -diag(X_udot, ..., N_rdot) for a diagonal one) [kg, kg m, kg m^2], finite.
         """
     @property
     def buoyancy(self) -> float:
         """
-        B [N].
+        B [N], >= 0.
         """
     @property
     def centre_of_buoyancy(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
         """
-        r_b (3,) [m], body axes (z down).
+        r_b (3,), body axes (z down) [m], finite.
         """
     @property
     def centre_of_gravity(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
         """
-        r_g (3,) [m], body axes.
+        r_g (3,), body axes [m], finite.
         """
     @property
     def coriolis_form(self) -> str:
         """
-        'velocity_independent' (the paper's eq. 39) or 'kirchhoff'.
+        'velocity_independent' (the paper's eq. 39, the default) or 'kirchhoff'.
         """
     @property
     def inertia(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 3]"]:
         """
-        I_o about the body origin (3, 3) [kg m^2].
+        I_o about the body origin (3, 3), or its diagonal (3,); symmetric positive definite [kg m^2], finite.
         """
     @property
     def linear_damping(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
         """
-        D_L (6,).
+        D_L (6,), the constant part of D(nu)'s diagonal [N s/m, N m s], >= 0.
         """
     @property
     def mass(self) -> float:
         """
-        m [kg].
+        m [kg], > 0.
         """
     @property
     def quadratic_damping(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
         """
-        D_Q (6,).
+        D_Q (6,), the part of D(nu)'s diagonal times abs(nu) [N s^2/m^2, N m s^2], >= 0.
         """
     @property
     def weight(self) -> float:
         """
-        W [N].
+        W = m g [N], >= 0.
         """
 class Saturation:
     """
@@ -543,12 +641,12 @@ class RbfNetwork:
     @property
     def input_offset(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
-        Input offset, shape (n_in,).
+        Input offset of the network's normalisation, shape (n_in,).
         """
     @property
     def input_scale(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
-        Input scale, shape (n_in,).
+        Input scale of the network's normalisation, shape (n_in,).
         """
     @property
     def n_centres(self) -> int:
@@ -1735,7 +1833,7 @@ class NNAdaptiveController:
     @typing.overload
     def __init__(self, network: RbfNetwork, lambda_: numpy.typing.ArrayLike, kd: numpy.typing.ArrayLike, gamma: typing.SupportsFloat = 0.3, dt: typing.SupportsFloat = 0.2, *, modification: RobustModification | str = 'none', sigma_m: typing.SupportsFloat = 0.0, kappa: typing.SupportsFloat = 0.0, w_max: typing.SupportsFloat = 0.0, dead_zone: typing.SupportsFloat = 0.0, learning_rates: numpy.typing.ArrayLike | None = None) -> None:
         """
-        network: an RbfNetwork with 24 inputs (copied; its weights are W(0)); lambda_: Lambda diagonal (6,), > 0; kd: K_d diagonal (6,), >= 0; gamma: Gamma_w = gamma I (the paper: 0.3); dt: control period [s] (the paper: 0.2). Robust modifications (off by default, as in the paper): modification = 'sigma' (sigma_m > 0), 'e_modification' (kappa > 0) or 'projection' (||W||_F <= w_max); dead_zone: no adaptation while ||s|| < dead_zone. learning_rates (N,): per-centre Gamma_w.
+        network: an RbfNetwork with 24 inputs (copied; its weights are W(0)); learning_rates (N,): per-centre Gamma_w. The configuration's fields by name (see NNAdaptiveConfig); ValueError names a bad one.
         """
     def __setstate__(self, arg0: dict) -> None:
         ...
@@ -1770,7 +1868,7 @@ class NNAdaptiveController:
     @property
     def centres(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         """
-        Centres, shape (N, 24).
+        Centres, shape (N, n_in).
         """
     @property
     def config(self) -> NNAdaptiveConfig:
@@ -1780,12 +1878,12 @@ class NNAdaptiveController:
     @property
     def input_offset(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
-        Input offset of the network's normalisation, shape (24,).
+        Input offset of the network's normalisation, shape (n_in,).
         """
     @property
     def input_scale(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
-        Input scale of the network's normalisation, shape (24,).
+        Input scale of the network's normalisation, shape (n_in,).
         """
     @property
     def modification(self) -> str:
@@ -1851,7 +1949,7 @@ class LinearAdaptiveController:
     @typing.overload
     def __init__(self, lambda_: numpy.typing.ArrayLike, kd: numpy.typing.ArrayLike, gamma: numpy.typing.ArrayLike, dt: typing.SupportsFloat = 0.2, theta0: numpy.typing.ArrayLike = None) -> None:
         """
-        lambda_: Lambda diagonal (6,), > 0; kd: K_d diagonal (6,), >= 0; gamma: Gamma diagonal, a number or (24,), >= 0; dt: control period [s]; theta0: theta_hat(0) (24,), default zero (regressor_parameters(vehicle) gives the true one).
+        The configuration's fields by name (see LinearAdaptiveConfig); ValueError names a bad one.
         """
     def __setstate__(self, arg0: dict) -> None:
         ...
@@ -1871,7 +1969,7 @@ class LinearAdaptiveController:
     @property
     def model_output(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
         """
-        Phi theta_hat of the last step, shape (6,).
+        The model's f of the last step, shape (6,).
         """
     @property
     def s(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
@@ -1912,7 +2010,7 @@ class PDController:
     @typing.overload
     def __init__(self, kp: numpy.typing.ArrayLike, kd: numpy.typing.ArrayLike) -> None:
         """
-        kp, kd: diagonal gains (6,), >= 0.
+        The configuration's fields by name (see PDConfig); ValueError names a bad one.
         """
     def __setstate__(self, arg0: dict) -> None:
         ...
@@ -1960,7 +2058,7 @@ class PIDController:
     @typing.overload
     def __init__(self, kp: numpy.typing.ArrayLike, ki: numpy.typing.ArrayLike, kd: numpy.typing.ArrayLike, integral_limit: numpy.typing.ArrayLike, dt: typing.SupportsFloat = 0.2) -> None:
         """
-        kp, ki, kd: diagonal gains (6,), >= 0; integral_limit: largest |K_i z| per DOF (6,), > 0 [N, N m]; dt: control period [s].
+        The configuration's fields by name (see PIDConfig); ValueError names a bad one.
         """
     def __setstate__(self, arg0: dict) -> None:
         ...
@@ -2013,7 +2111,7 @@ class SlidingModeController:
     @typing.overload
     def __init__(self, lambda_: numpy.typing.ArrayLike, kd: numpy.typing.ArrayLike, k: numpy.typing.ArrayLike, phi: numpy.typing.ArrayLike, theta: numpy.typing.ArrayLike) -> None:
         """
-        lambda_: Lambda (6,), > 0; kd: K_d (6,), >= 0; k: switching gain (6,), >= 0; phi: boundary-layer width (6,), > 0; theta: the nominal model (24,), e.g. regressor_parameters(vehicle).
+        The configuration's fields by name (see SlidingModeConfig); ValueError names a bad one.
         """
     def __setstate__(self, arg0: dict) -> None:
         ...
@@ -2033,7 +2131,7 @@ class SlidingModeController:
     @property
     def model_output(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
         """
-        The nominal model's f of the last step, shape (6,).
+        The model's f of the last step, shape (6,).
         """
     @property
     def s(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
@@ -2066,7 +2164,7 @@ class ComputedTorqueController:
     @typing.overload
     def __init__(self, vehicle: Vehicle, lambda_: numpy.typing.ArrayLike, kd: numpy.typing.ArrayLike) -> None:
         """
-        vehicle: the nominal model (its parameters are copied); lambda_: Lambda (6,), > 0; kd: K_d (6,), >= 0.
+        The configuration's fields by name (see ComputedTorqueConfig); ValueError names a bad one.
         """
     def __setstate__(self, arg0: dict) -> None:
         ...
@@ -2086,7 +2184,7 @@ class ComputedTorqueController:
     @property
     def model_output(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
         """
-        M nu_r_dot + C(nu) nu_r + D(nu) nu_r + g(eta) of the last step, shape (6,).
+        The model's f of the last step, shape (6,).
         """
     @property
     def s(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
@@ -2170,7 +2268,7 @@ class ArduSubController:
         Builds the controller from its configuration object; ValueError names a bad field.
         """
     @typing.overload
-    def __init__(self, curve_pwm: numpy.typing.ArrayLike, curve_thrust: numpy.typing.ArrayLike, ATC_ANG_RLL_P: typing.SupportsFloat = 6.0, ATC_ANG_PIT_P: typing.SupportsFloat = 6.0, ATC_ANG_YAW_P: typing.SupportsFloat = 6.0, ATC_ACCEL_R_MAX: typing.SupportsFloat = 110000.0, ATC_ACCEL_P_MAX: typing.SupportsFloat = 110000.0, ATC_ACCEL_Y_MAX: typing.SupportsFloat = 110000.0, ATC_INPUT_TC: typing.SupportsFloat = 0.15, ATC_RATE_FF_ENAB: typing.SupportsFloat = 1.0, ANGLE_MAX: typing.SupportsFloat = 3000.0, ATC_RAT_RLL_P: typing.SupportsFloat = 0.135, ATC_RAT_RLL_I: typing.SupportsFloat = 0.09, ATC_RAT_RLL_D: typing.SupportsFloat = 0.0036, ATC_RAT_RLL_FF: typing.SupportsFloat = 0.0, ATC_RAT_RLL_IMAX: typing.SupportsFloat = 0.444, ATC_RAT_RLL_FLTT: typing.SupportsFloat = 30.0, ATC_RAT_RLL_FLTE: typing.SupportsFloat = 0.0, ATC_RAT_RLL_FLTD: typing.SupportsFloat = 30.0, ATC_RAT_PIT_P: typing.SupportsFloat = 0.135, ATC_RAT_PIT_I: typing.SupportsFloat = 0.09, ATC_RAT_PIT_D: typing.SupportsFloat = 0.0036, ATC_RAT_PIT_FF: typing.SupportsFloat = 0.0, ATC_RAT_PIT_IMAX: typing.SupportsFloat = 0.444, ATC_RAT_PIT_FLTT: typing.SupportsFloat = 30.0, ATC_RAT_PIT_FLTE: typing.SupportsFloat = 0.0, ATC_RAT_PIT_FLTD: typing.SupportsFloat = 30.0, ATC_RAT_YAW_P: typing.SupportsFloat = 0.18, ATC_RAT_YAW_I: typing.SupportsFloat = 0.018, ATC_RAT_YAW_D: typing.SupportsFloat = 0.0, ATC_RAT_YAW_FF: typing.SupportsFloat = 0.0, ATC_RAT_YAW_IMAX: typing.SupportsFloat = 0.222, ATC_RAT_YAW_FLTT: typing.SupportsFloat = 5.0, ATC_RAT_YAW_FLTE: typing.SupportsFloat = 0.0, ATC_RAT_YAW_FLTD: typing.SupportsFloat = 5.0, PSC_POSZ_P: typing.SupportsFloat = 3.0, PSC_VELZ_P: typing.SupportsFloat = 8.0, PSC_VELZ_I: typing.SupportsFloat = 0.0, PSC_VELZ_D: typing.SupportsFloat = 0.0, PSC_VELZ_IMAX: typing.SupportsFloat = 1000.0, PSC_VELZ_FLTE: typing.SupportsFloat = 5.0, PSC_VELZ_FLTD: typing.SupportsFloat = 5.0, PSC_ACCZ_P: typing.SupportsFloat = 0.5, PSC_ACCZ_I: typing.SupportsFloat = 0.1, PSC_ACCZ_D: typing.SupportsFloat = 0.0, PSC_ACCZ_FF: typing.SupportsFloat = 0.0, PSC_ACCZ_IMAX: typing.SupportsFloat = 800.0, PSC_ACCZ_FLTT: typing.SupportsFloat = 0.0, PSC_ACCZ_FLTE: typing.SupportsFloat = 20.0, PSC_ACCZ_FLTD: typing.SupportsFloat = 0.0, PILOT_SPEED_UP: typing.SupportsFloat = 50.0, PILOT_SPEED_DN: typing.SupportsFloat = 50.0, PILOT_ACCEL_Z: typing.SupportsFloat = 100.0, PSC_POSXY_P: typing.SupportsFloat = 1.0, PSC_VELXY_P: typing.SupportsFloat = 2.0, PSC_VELXY_I: typing.SupportsFloat = 1.0, PSC_VELXY_D: typing.SupportsFloat = 0.5, PSC_VELXY_IMAX: typing.SupportsFloat = 1000.0, PSC_VELXY_FLTE: typing.SupportsFloat = 5.0, PSC_VELXY_FLTD: typing.SupportsFloat = 5.0, WPNAV_SPEED: typing.SupportsFloat = 500.0, WPNAV_ACCEL: typing.SupportsFloat = 100.0, FRAME_CONFIG: typing.SupportsFloat = 1.0, MOT_PWM_MIN: typing.SupportsFloat = 1100.0, MOT_PWM_MAX: typing.SupportsFloat = 1900.0, MOT_1_DIRECTION: typing.SupportsFloat = 1.0, MOT_2_DIRECTION: typing.SupportsFloat = 1.0, MOT_3_DIRECTION: typing.SupportsFloat = 1.0, MOT_4_DIRECTION: typing.SupportsFloat = 1.0, MOT_5_DIRECTION: typing.SupportsFloat = 1.0, MOT_6_DIRECTION: typing.SupportsFloat = 1.0, MOT_7_DIRECTION: typing.SupportsFloat = 1.0, MOT_8_DIRECTION: typing.SupportsFloat = 1.0, SCHED_LOOP_RATE: typing.SupportsFloat = 400.0, mode: typing.SupportsFloat = 1.0, curve_rows: typing.SupportsFloat = 3.0, dt: typing.SupportsFloat = 0.0025) -> None:
+    def __init__(self, ATC_ANG_RLL_P: typing.SupportsFloat = 6.0, ATC_ANG_PIT_P: typing.SupportsFloat = 6.0, ATC_ANG_YAW_P: typing.SupportsFloat = 6.0, ATC_ACCEL_R_MAX: typing.SupportsFloat = 110000.0, ATC_ACCEL_P_MAX: typing.SupportsFloat = 110000.0, ATC_ACCEL_Y_MAX: typing.SupportsFloat = 110000.0, ATC_INPUT_TC: typing.SupportsFloat = 0.15, ATC_RATE_FF_ENAB: typing.SupportsFloat = 1.0, ANGLE_MAX: typing.SupportsFloat = 3000.0, ATC_RAT_RLL_P: typing.SupportsFloat = 0.135, ATC_RAT_RLL_I: typing.SupportsFloat = 0.09, ATC_RAT_RLL_D: typing.SupportsFloat = 0.0036, ATC_RAT_RLL_FF: typing.SupportsFloat = 0.0, ATC_RAT_RLL_IMAX: typing.SupportsFloat = 0.444, ATC_RAT_RLL_FLTT: typing.SupportsFloat = 30.0, ATC_RAT_RLL_FLTE: typing.SupportsFloat = 0.0, ATC_RAT_RLL_FLTD: typing.SupportsFloat = 30.0, ATC_RAT_PIT_P: typing.SupportsFloat = 0.135, ATC_RAT_PIT_I: typing.SupportsFloat = 0.09, ATC_RAT_PIT_D: typing.SupportsFloat = 0.0036, ATC_RAT_PIT_FF: typing.SupportsFloat = 0.0, ATC_RAT_PIT_IMAX: typing.SupportsFloat = 0.444, ATC_RAT_PIT_FLTT: typing.SupportsFloat = 30.0, ATC_RAT_PIT_FLTE: typing.SupportsFloat = 0.0, ATC_RAT_PIT_FLTD: typing.SupportsFloat = 30.0, ATC_RAT_YAW_P: typing.SupportsFloat = 0.18, ATC_RAT_YAW_I: typing.SupportsFloat = 0.018, ATC_RAT_YAW_D: typing.SupportsFloat = 0.0, ATC_RAT_YAW_FF: typing.SupportsFloat = 0.0, ATC_RAT_YAW_IMAX: typing.SupportsFloat = 0.222, ATC_RAT_YAW_FLTT: typing.SupportsFloat = 5.0, ATC_RAT_YAW_FLTE: typing.SupportsFloat = 0.0, ATC_RAT_YAW_FLTD: typing.SupportsFloat = 5.0, PSC_POSZ_P: typing.SupportsFloat = 3.0, PSC_VELZ_P: typing.SupportsFloat = 8.0, PSC_VELZ_I: typing.SupportsFloat = 0.0, PSC_VELZ_D: typing.SupportsFloat = 0.0, PSC_VELZ_IMAX: typing.SupportsFloat = 1000.0, PSC_VELZ_FLTE: typing.SupportsFloat = 5.0, PSC_VELZ_FLTD: typing.SupportsFloat = 5.0, PSC_ACCZ_P: typing.SupportsFloat = 0.5, PSC_ACCZ_I: typing.SupportsFloat = 0.1, PSC_ACCZ_D: typing.SupportsFloat = 0.0, PSC_ACCZ_FF: typing.SupportsFloat = 0.0, PSC_ACCZ_IMAX: typing.SupportsFloat = 800.0, PSC_ACCZ_FLTT: typing.SupportsFloat = 0.0, PSC_ACCZ_FLTE: typing.SupportsFloat = 20.0, PSC_ACCZ_FLTD: typing.SupportsFloat = 0.0, PILOT_SPEED_UP: typing.SupportsFloat = 50.0, PILOT_SPEED_DN: typing.SupportsFloat = 50.0, PILOT_ACCEL_Z: typing.SupportsFloat = 100.0, PSC_POSXY_P: typing.SupportsFloat = 1.0, PSC_VELXY_P: typing.SupportsFloat = 2.0, PSC_VELXY_I: typing.SupportsFloat = 1.0, PSC_VELXY_D: typing.SupportsFloat = 0.5, PSC_VELXY_IMAX: typing.SupportsFloat = 1000.0, PSC_VELXY_FLTE: typing.SupportsFloat = 5.0, PSC_VELXY_FLTD: typing.SupportsFloat = 5.0, WPNAV_SPEED: typing.SupportsFloat = 500.0, WPNAV_ACCEL: typing.SupportsFloat = 100.0, FRAME_CONFIG: typing.SupportsFloat = 1.0, MOT_PWM_MIN: typing.SupportsFloat = 1100.0, MOT_PWM_MAX: typing.SupportsFloat = 1900.0, MOT_1_DIRECTION: typing.SupportsFloat = 1.0, MOT_2_DIRECTION: typing.SupportsFloat = 1.0, MOT_3_DIRECTION: typing.SupportsFloat = 1.0, MOT_4_DIRECTION: typing.SupportsFloat = 1.0, MOT_5_DIRECTION: typing.SupportsFloat = 1.0, MOT_6_DIRECTION: typing.SupportsFloat = 1.0, MOT_7_DIRECTION: typing.SupportsFloat = 1.0, MOT_8_DIRECTION: typing.SupportsFloat = 1.0, SCHED_LOOP_RATE: typing.SupportsFloat = 400.0, mode: typing.SupportsFloat = 1.0, curve_pwm: numpy.typing.ArrayLike = None, curve_thrust: numpy.typing.ArrayLike = None, curve_rows: typing.SupportsFloat = 3.0, dt: typing.SupportsFloat = 0.0025) -> None:
         """
         The configuration's fields by name (see ArduSubConfig); ValueError names a bad one.
         """

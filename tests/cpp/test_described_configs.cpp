@@ -1,5 +1,5 @@
-// The descriptions beside the thruster curve, the thruster layout and the
-// tracking task (config_fields) against their validators: every rule a
+// The descriptions beside the thruster curve, the thruster layout, the
+// tracking task and the vehicle's parameters (config_fields) against their validators: every rule a
 // description states (and shows in the Python docstring and FIELDS) is one
 // the struct's own validator enforces on that field, and check_fields names it.
 #include <cmath>
@@ -12,6 +12,7 @@
 
 #include "neurov/model/thruster_curve.hpp"
 #include "neurov/model/thrusters.hpp"
+#include "neurov/model/vehicle.hpp"
 #include "neurov/sim/tracking_task.hpp"
 #include "curve_tables.hpp"
 
@@ -80,6 +81,59 @@ TEST(DescribedConfigs, TheTrackingTasksRulesAreItsValidators) {
   c.thrusters = TrackingTaskConfig<double>::Allocation::Identity(6, 6);
   const int n = expect_rules_enforced(c, [](const TrackingTaskConfig<double>& x) { return validate(x); });
   EXPECT_EQ(n, 8);  // all but box_high (> box_low) and dropouts_read_zero
+}
+
+TEST(DescribedConfigs, TheVehiclesRulesAreItsValidators) {
+  const int n = expect_rules_enforced(nerov_parameters<double>(),
+                                      [](const VehicleParameters<double>& p) { return validate(p); });
+  EXPECT_EQ(n, 9);  // all but coriolis_form (a choice)
+}
+
+std::string message(const ValidationError& e) {
+  char buf[256];
+  e.format(buf, sizeof buf);
+  return buf;
+}
+
+TEST(DescribedConfigs, CheckFieldsCatchesEachVehicleRuleWithTheValidatorsMessage) {
+  using P = VehicleParameters<double>;
+  const auto refused = [](void (*change)(P&)) {
+    P p = nerov_parameters<double>();
+    change(p);
+    const ValidationError by_fields = check_fields(p);
+    EXPECT_EQ(message(by_fields), message(validate(p)));
+    return message(by_fields);
+  };
+  EXPECT_EQ(refused([](P& p) { p.mass = 0.0; }), "mass = 0: expected > 0 and finite");
+  EXPECT_EQ(refused([](P& p) { p.inertia(1, 2) = INFINITY; }), "inertia[5] = inf: expected finite");
+  EXPECT_EQ(refused([](P& p) { p.centre_of_buoyancy(2) = NAN; }),
+            "centre_of_buoyancy[2]: expected finite");
+  EXPECT_EQ(refused([](P& p) { p.weight = -1.0; }), "weight = -1: expected >= 0 and finite");
+  EXPECT_EQ(refused([](P& p) { p.buoyancy = -0.5; }), "buoyancy = -0.5: expected >= 0 and finite");
+  EXPECT_EQ(refused([](P& p) { p.added_mass(0, 5) = -INFINITY; }),
+            "added_mass[5] = -inf: expected finite");
+  EXPECT_EQ(refused([](P& p) { p.linear_damping(2) = -1.0; }),
+            "linear_damping[2] = -1: expected >= 0 and finite");
+  EXPECT_EQ(refused([](P& p) { p.quadratic_damping(4) = -100.0; }),
+            "quadratic_damping[4] = -100: expected >= 0 and finite");
+  // What ties fields together stays the validator's own.
+  P p = nerov_parameters<double>();
+  p.inertia(0, 1) = 1.0;
+  EXPECT_TRUE(check_fields(p).ok());
+  EXPECT_EQ(std::string(validate(p).field), "inertia");
+}
+
+TEST(DescribedConfigs, TheVehiclesFormsAreInItsDescription) {
+  const auto specs = config_fields(static_cast<const VehicleParameters<double>*>(nullptr));
+  const auto& inertia = std::get<1>(specs);
+  const auto& centre = std::get<2>(specs);
+  const auto& added_mass = std::get<6>(specs);
+  EXPECT_STREQ(inertia.name, "inertia");
+  EXPECT_EQ(inertia.flags, unsigned{kRequired | kDiagonal});
+  EXPECT_STREQ(added_mass.name, "added_mass");
+  EXPECT_EQ(added_mass.flags, unsigned{kRequired | kDiagonal});
+  EXPECT_STREQ(centre.name, "centre_of_gravity");
+  EXPECT_EQ(centre.flags, 0u);  // optional: zero by default
 }
 
 }  // namespace

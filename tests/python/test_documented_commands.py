@@ -62,7 +62,7 @@ NOT_RUN_HERE = {
     "tools/pil_table.py": "a generated block of docs/firmware.md (test_doc_numbers.py)",
     "tools/ardusub_replay.py": "a generated block of docs/ardusub.md (test_doc_numbers.py)",
     "tools/call_path.py": "a generated block of docs/architecture.md (test_doc_numbers.py)",
-    "tools/field_table.py": "generated blocks of docs/disturbances.md (test_doc_numbers.py)",
+    "tools/field_table.py": "generated blocks of docs/disturbances.md and docs/model.md (test_doc_numbers.py)",
     "tools/kernel_paths.py": "minutes (the robustness study once per kernel path): the measured block of "
                              "docs/studies.md, rerun by NEUROV_MEASURE=1 pytest -m slow tests/python/test_doc_numbers.py",
     "bench/basis_rank_path.py": "a generated block of docs/tuning.md (test_doc_numbers.py)",

@@ -16,8 +16,7 @@ namespace neurov::bindings {
 
 inline void bind_controller(py::module_& m, TypeTag<ArduSubController<double>>) {
   using C = ArduSubController<double>;
-  bind_generic_controller<C>(m);
-  auto k = py::reinterpret_borrow<py::class_<C>>(py::type::of<C>());
+  py::class_<C> k = bind_generic_controller<C>(m);
   k.def_property_readonly(
       "pwm", [](const C& c) { return Eigen::VectorXd(c.pwm().head(c.motors())); },
       "PWM [us] of each motor at the last iteration, shape (motors,).");

@@ -1,16 +1,13 @@
 // What the bindings of every controller share: the refused step as a Python
 // error, the tracking error as a dict, the checked step, and the members
 // every controller class has (step, reset, s, tracking, config, and the
-// constructor from its bound configuration), and the keyword constructor
-// that fills the configuration from its arguments.
+// constructor from its bound configuration).
 #pragma once
 
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
 
 #include <string>
-#include <type_traits>
-#include <utility>
 
 #include "neurov/control/nn_controller.hpp"
 #include "neurov/control/tracking_error.hpp"
@@ -45,16 +42,20 @@ inline void raise_step_status(Status s) {
   }
 }
 
+/// The tracking error's (6,) fields by name: what its dict and its snapshot hold.
+struct TrackingField {
+  const char* name;
+  Vector6<double> TrackingError<double>::*member;
+};
+using TE = TrackingError<double>;
+inline constexpr TrackingField kTrackingFields[] = {
+    {"eta_tilde", &TE::eta_tilde}, {"eta_tilde_dot", &TE::eta_tilde_dot}, {"s", &TE::s},
+    {"eta_r_dot", &TE::eta_r_dot}, {"eta_r_ddot", &TE::eta_r_ddot},       {"nu_r", &TE::nu_r},
+    {"nu_r_dot", &TE::nu_r_dot}};
+
 inline typed::ArraysDict tracking_dict(const TrackingError<double>& e) {
-  using Vec6 = Vector6<double>;
   py::dict d;
-  d["eta_tilde"] = Vec6(e.eta_tilde);
-  d["eta_tilde_dot"] = Vec6(e.eta_tilde_dot);
-  d["s"] = Vec6(e.s);
-  d["eta_r_dot"] = Vec6(e.eta_r_dot);
-  d["eta_r_ddot"] = Vec6(e.eta_r_ddot);
-  d["nu_r"] = Vec6(e.nu_r);
-  d["nu_r_dot"] = Vec6(e.nu_r_dot);
+  for (const TrackingField& f : kTrackingFields) d[f.name] = Vector6<double>(e.*(f.member));
   return d;
 }
 
@@ -115,87 +116,6 @@ void def_init_from_config(Class& cls, const char* what) {
           }),
           py::arg("config"),
           "Builds the controller from its configuration object; ValueError names a bad field.");
-}
-
-/// A configuration member from a Python argument named `name` in its
-/// errors: a real number, or a vector of the member's length.
-template <typename D>
-D converted(py::handle v, const char* name) {
-  if constexpr (std::is_same_v<D, double>)
-    return py_args::scalar(v, name);
-  else
-    return py_args::vector<D::RowsAtCompileTime>(v, name);
-}
-
-/// An argument of a controller's keyword constructor: it sets `member` of
-/// the configuration, converted by `convert`.
-template <typename Config, typename D>
-struct ConfigArg {
-  const char* name;
-  D Config::*member;
-  D (*convert)(py::handle, const char*);
-
-  void apply(Config& config, py::handle v) const { config.*member = convert(v, name); }
-  py::arg declared() const { return py::arg(name); }
-};
-
-/// The same with a default value, shown in the signature.
-template <typename Config, typename D>
-struct DefaultedConfigArg : ConfigArg<Config, D> {
-  py::object default_value;
-
-  py::arg_v declared() const { return py::arg(this->name) = default_value; }
-};
-
-template <typename Config, typename D>
-ConfigArg<Config, D> config_arg(const char* name, D Config::*member,
-                                D (*convert)(py::handle, const char*) = &converted<D>) {
-  return {name, member, convert};
-}
-
-template <typename Config, typename D>
-DefaultedConfigArg<Config, D> config_arg_or(const char* name, D Config::*member,
-                                            py::object default_value,
-                                            D (*convert)(py::handle, const char*) = &converted<D>) {
-  return {{name, member, convert}, std::move(default_value)};
-}
-
-// Every argument of a keyword constructor arrives as a handle: one per
-// ConfigArg, so that the constructor's parameters can be a pack.
-// Declared as what the member is: a number, an enum (or its name) or an array.
-template <typename>
-struct python_argument;
-template <typename D, typename = void>
-struct member_argument {
-  using type = typed::ArrayLike;
-};
-template <typename D>
-struct member_argument<D, std::enable_if_t<std::is_floating_point_v<D>>> {
-  using type = typed::Real;
-};
-template <typename D>
-struct member_argument<D, std::enable_if_t<std::is_enum_v<D>>> {
-  using type = typed::EnumOrStr<D>;
-};
-template <typename Config, typename D>
-struct python_argument<ConfigArg<Config, D>> : member_argument<D> {};
-template <typename Config, typename D>
-struct python_argument<DefaultedConfigArg<Config, D>> : member_argument<D> {};
-
-/// The constructor from a configuration object, then the keyword
-/// constructor whose arguments, in order, are `args` (each setting one member
-/// of the configuration). The C++ validator's message is a ValueError
-/// prefixed with `what`.
-template <typename Controller, typename... Args>
-void def_constructors(py::class_<Controller>& cls, const char* what, const char* doc,
-                      Args... args) {
-  def_init_from_config<Controller>(cls, what);
-  cls.def(py::init([what, args...](typename python_argument<Args>::type... values) {
-            typename Controller::Config config;
-            (args.apply(config, values), ...);
-            return from_config<Controller>(config, what);
-          }),
-          args.declared()..., doc);
 }
 
 }  // namespace neurov::bindings

@@ -87,40 +87,21 @@ void bind_rbf_network(py::module_& m) {
             n.set_weights(wm);
           },
           "Output weights W, shape (6, N); assignable.")
-      .def_property_readonly("centres", [](const Network& n) { return Eigen::MatrixXd(n.centres()); },
-                             "Centres, shape (N, n_in).")
-      .def_property_readonly("widths", [](const Network& n) { return Eigen::VectorXd(n.widths()); },
-                             "Widths sigma_j, shape (N,).")
-      .def_property_readonly("input_offset",
-                             [](const Network& n) { return Eigen::VectorXd(n.input_offset()); },
-                             "Input offset, shape (n_in,).")
-      .def_property_readonly("input_scale",
-                             [](const Network& n) { return Eigen::VectorXd(n.input_scale()); },
-                             "Input scale, shape (n_in,).")
-      .def_property_readonly("n_inputs", &Network::inputs, "Number of inputs n_in.")
-      .def_property_readonly("n_centres", &Network::centres_count, "Number of centres N.");
+      .def_property_readonly("n_inputs", &Network::inputs, "Number of inputs n_in.");
+  def_network_views(network, [](const Network& n) -> const Network& { return n; });
   def_copy<Network>(network);
   network.def(py::pickle(
       [](const Network& n) {
         py::dict d;
-        d["centres"] = Eigen::MatrixXd(n.centres());
-        d["widths"] = Eigen::VectorXd(n.widths());
-        d["input_offset"] = Eigen::VectorXd(n.input_offset());
-        d["input_scale"] = Eigen::VectorXd(n.input_scale());
+        network_state(n, d);
         d["weights"] = Eigen::MatrixXd(n.weights());
         return d;
       },
       [](const py::dict& d) {
-        const Eigen::MatrixXd c = py_args::dynamic_matrix(snapshot_field(d, "centres"), "centres", -1, -1);
-        Network n;
-        py_args::raise_if_invalid(
-            Network::create(c, py_args::dynamic_vector(snapshot_field(d, "widths"), "widths", c.rows()),
-                            py_args::dynamic_vector(snapshot_field(d, "input_offset"), "input_offset", c.cols()),
-                            py_args::dynamic_vector(snapshot_field(d, "input_scale"), "input_scale", c.cols()),
-                            n),
-            "RBF network");
+        Network n = network_from_state<Network>(d, -1, "RBF network");
         raise_unless_restored(
-            n.set_weights(py_args::dynamic_matrix(snapshot_field(d, "weights"), "weights", 6, c.rows())),
+            n.set_weights(py_args::dynamic_matrix(snapshot_field(d, "weights"), "weights", 6,
+                                                  n.centres_count())),
             "RBF network");
         return n;
       }));

@@ -81,23 +81,19 @@ void bind_reference_model(py::module_& m) {
         return d;
       },
       [](const py::dict& d) {
-        const Vec6 eta_d = py_args::vector<6>(snapshot_field(d, "eta_d"), "eta_d");
+        const Vec6 eta_d = snapshot_vector<6>(d, "eta_d");
         Reference r;
         // create() checks the gains (and puts eta_d in the singular band out).
-        py_args::raise_if_invalid(
-            Reference::create(py_args::vector<6>(snapshot_field(d, "lambda_d"), "lambda_d"),
-                              py_args::vector<6>(snapshot_field(d, "omega"), "omega"), eta_d, r),
-            "reference model");
+        py_args::raise_if_invalid(Reference::create(snapshot_vector<6>(d, "lambda_d"),
+                                                    snapshot_vector<6>(d, "omega"), eta_d, r),
+                                  "reference model");
         DesiredState<double> desired;
-        desired.eta_d = py_args::vector<6>(snapshot_field(d, "desired_eta_d"), "desired_eta_d");
-        desired.eta_d_dot =
-            py_args::vector<6>(snapshot_field(d, "desired_eta_d_dot"), "desired_eta_d_dot");
-        desired.eta_d_ddot =
-            py_args::vector<6>(snapshot_field(d, "desired_eta_d_ddot"), "desired_eta_d_ddot");
-        raise_unless_restored(
-            r.restore(eta_d, py_args::vector<6>(snapshot_field(d, "nu_d"), "nu_d"), desired,
-                      snapshot_field(d, "pitch_limited").cast<bool>()),
-            "reference model");
+        desired.eta_d = snapshot_vector<6>(d, "desired_eta_d");
+        desired.eta_d_dot = snapshot_vector<6>(d, "desired_eta_d_dot");
+        desired.eta_d_ddot = snapshot_vector<6>(d, "desired_eta_d_ddot");
+        raise_unless_restored(r.restore(eta_d, snapshot_vector<6>(d, "nu_d"), desired,
+                                        snapshot_field(d, "pitch_limited").cast<bool>()),
+                              "reference model");
         return r;
       }));
 }

@@ -1,4 +1,5 @@
-// Snapshots of the controllers, the reference model and the RBF network:
+// Snapshots of the controllers, the reference model and the RBF network
+// (and the network's views, shared by the network and the NN controller):
 // pickle stores the configuration and every remembered quantity as named
 // fields (numpy arrays and numbers, never the object's bytes), and restores
 // through create() and the classes' own restore(), so a restored object
@@ -26,16 +27,16 @@ inline py::object snapshot_field(const py::dict& d, const char* key) {
   return d[key];
 }
 
+/// The (N,) vector a snapshot holds under `key`, errors naming the key.
+template <int N>
+Eigen::Matrix<double, N, 1> snapshot_vector(const py::dict& d, const char* key) {
+  return py_args::vector<N>(snapshot_field(d, key), key);
+}
+
 inline TrackingError<double> tracking_from_dict(const py::dict& d) {
   const py::dict t = snapshot_field(d, "tracking").cast<py::dict>();
   TrackingError<double> e;
-  e.eta_tilde = py_args::vector<6>(snapshot_field(t, "eta_tilde"), "eta_tilde");
-  e.eta_tilde_dot = py_args::vector<6>(snapshot_field(t, "eta_tilde_dot"), "eta_tilde_dot");
-  e.s = py_args::vector<6>(snapshot_field(t, "s"), "s");
-  e.eta_r_dot = py_args::vector<6>(snapshot_field(t, "eta_r_dot"), "eta_r_dot");
-  e.eta_r_ddot = py_args::vector<6>(snapshot_field(t, "eta_r_ddot"), "eta_r_ddot");
-  e.nu_r = py_args::vector<6>(snapshot_field(t, "nu_r"), "nu_r");
-  e.nu_r_dot = py_args::vector<6>(snapshot_field(t, "nu_r_dot"), "nu_r_dot");
+  for (const TrackingField& f : kTrackingFields) e.*(f.member) = snapshot_vector<6>(t, f.name);
   return e;
 }
 
@@ -57,6 +58,47 @@ inline void raise_unless_restored(bool ok, const char* what) {
   if (!ok)
     throw py::value_error(std::string("snapshot of the ") + what +
                           " holds a non-finite value, an unknown status or a wrong size");
+}
+
+/// An RBF network's structure in a snapshot: centres, widths, input normalisation.
+template <typename Network>
+void network_state(const Network& n, py::dict& d) {
+  d["centres"] = Eigen::MatrixXd(n.centres());
+  d["widths"] = Eigen::VectorXd(n.widths());
+  d["input_offset"] = Eigen::VectorXd(n.input_offset());
+  d["input_scale"] = Eigen::VectorXd(n.input_scale());
+}
+
+/// The network of a snapshot (weights zero); `inputs` -1 for any number.
+template <typename Network>
+Network network_from_state(const py::dict& d, Eigen::Index inputs, const char* what) {
+  const Eigen::MatrixXd c = py_args::dynamic_matrix(snapshot_field(d, "centres"), "centres", -1, inputs);
+  Network n;
+  py_args::raise_if_invalid(
+      Network::create(c, py_args::dynamic_vector(snapshot_field(d, "widths"), "widths", c.rows()),
+                      py_args::dynamic_vector(snapshot_field(d, "input_offset"), "input_offset", c.cols()),
+                      py_args::dynamic_vector(snapshot_field(d, "input_scale"), "input_scale", c.cols()),
+                      n),
+      what);
+  return n;
+}
+
+/// The read-only views of the network `net(x)` of each x: centres, widths,
+/// input normalisation, N.
+template <typename T, typename Net>
+void def_network_views(py::class_<T>& cls, Net net) {
+  cls.def_property_readonly("centres", [net](const T& x) { return Eigen::MatrixXd(net(x).centres()); },
+                            "Centres, shape (N, n_in).")
+      .def_property_readonly("widths", [net](const T& x) { return Eigen::VectorXd(net(x).widths()); },
+                             "Widths sigma_j, shape (N,).")
+      .def_property_readonly("input_offset",
+                             [net](const T& x) { return Eigen::VectorXd(net(x).input_offset()); },
+                             "Input offset of the network's normalisation, shape (n_in,).")
+      .def_property_readonly("input_scale",
+                             [net](const T& x) { return Eigen::VectorXd(net(x).input_scale()); },
+                             "Input scale of the network's normalisation, shape (n_in,).")
+      .def_property_readonly("n_centres", [net](const T& x) { return net(x).centres_count(); },
+                             "Number of centres N.");
 }
 
 /// __copy__ and __deepcopy__ through the C++ copy constructor.
@@ -90,28 +132,6 @@ void def_controller_snapshot(Class& cls, const char* what, Extra extra, Restore 
 /// The snapshot's last model output f of a controller on ModelControllerBase.
 inline Vector6<double> model_output_from(const py::dict& d) {
   return py_args::vector<6>(snapshot_field(d, "model_output"), "model_output");
-}
-
-/// The read-only property model_output of a controller on ModelControllerBase.
-template <typename Controller, typename Class>
-void def_model_output(Class& cls, const char* doc) {
-  cls.def_property_readonly(
-      "model_output", [](const Controller& c) { return Vector6<double>(c.model_output()); }, doc);
-}
-
-/// Snapshot and model_output of a controller whose only state of its own is
-/// the last model output (sliding mode, computed torque).
-template <typename Controller, typename Class>
-void def_model_controller(Class& cls, const char* what, const char* output_doc) {
-  def_controller_snapshot<Controller>(
-      cls, what,
-      [](const Controller& c, py::dict& d) {
-        d["model_output"] = Vector6<double>(c.model_output());
-      },
-      [](Controller& c, const py::dict& d, const TrackingError<double>& e, Status s) {
-        return c.restore(e, s, model_output_from(d));
-      });
-  def_model_output<Controller>(cls, output_doc);
 }
 
 }  // namespace neurov::bindings

@@ -5,10 +5,13 @@
 
 #include <cstdint>
 #include <string>
+#include <tuple>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
 #include "bindings.hpp"
+#include "fields.hpp"
 #include "neurov/model/integrator.hpp"
 #include "neurov/model/vehicle.hpp"
 #include "numpy_args.hpp"
@@ -23,15 +26,10 @@ using Params = VehicleParameters<double>;
 
 namespace {
 
-CoriolisForm parse_coriolis_form(const py::handle& obj) {
-  return py_args::choice(obj, "coriolis_form", {"velocity_independent", "kirchhoff"}) ==
-                 "kirchhoff"
-             ? CoriolisForm::kirchhoff
-             : CoriolisForm::velocity_independent;
-}
-
-const char* coriolis_form_name(CoriolisForm f) {
-  return f == CoriolisForm::kirchhoff ? "kirchhoff" : "velocity_independent";
+CoriolisForm parse_coriolis_form(const py::handle& obj, const char* name) {
+  const auto form = py_args::choice(obj, name, {"velocity_independent", "kirchhoff"});
+  return form == to_string(CoriolisForm::kirchhoff) ? CoriolisForm::kirchhoff
+                                                    : CoriolisForm::velocity_independent;
 }
 
 Vehicle<double> make_vehicle(const Params& p) {
@@ -40,18 +38,49 @@ Vehicle<double> make_vehicle(const Params& p) {
   return v;
 }
 
+/// f(spec) for each field of VehicleParameters' description, in its order.
+template <typename F>
+void for_each_parameter(F f) {
+  std::apply([&f](const auto&... s) { (f(s), ...); }, config_fields(static_cast<const Params*>(nullptr)));
+}
+
+template <typename D>
+D python_value(const D& x) { return x; }  // a number or a fresh array
+std::string python_value(CoriolisForm f) { return to_string(f); }
+
+/// Keyword argument `name` as its field, named "argument 'name'" in errors.
+template <typename D>
+D argument(const py::handle& v, const char* name, unsigned flags) {
+  if constexpr (std::is_same_v<D, CoriolisForm>) return parse_coriolis_form(v, name);
+  else if constexpr (std::is_floating_point_v<D>) return py_args::scalar(v, name);
+  else if constexpr (D::ColsAtCompileTime == 1) return py_args::vector<D::RowsAtCompileTime>(v, name);
+  else if (flags & kDiagonal) return py_args::matrix_or_diagonal<D::RowsAtCompileTime>(v, name);
+  else return D(py_args::dynamic_matrix(v, name, D::RowsAtCompileTime, D::ColsAtCompileTime));
+}
+
+/// Vehicle(**kw): each field a keyword argument (None or absent: the default
+/// of one not required); TypeError for a missing or unknown one.
+Vehicle<double> from_keywords(const py::kwargs& kw) {
+  Params p;
+  std::string names;
+  const auto unused = py::reinterpret_steal<py::dict>(PyDict_Copy(kw.ptr()));
+  for_each_parameter([&](const auto& s) {
+    names += (names.empty() ? "" : ", ") + std::string(s.name);
+    const py::object v = unused.attr("pop")(s.name, py::none());
+    if ((s.flags & kRequired) && !kw.contains(s.name))
+      throw py::type_error(std::string("Vehicle() missing required keyword argument '") + s.name + "'");
+    if (!v.is_none() || (s.flags & kRequired))
+      p.*s.member = argument<typename std::decay_t<decltype(s)>::Type>(v, s.name, s.flags);
+  });
+  for (const auto& item : unused)
+    throw py::type_error("Vehicle() got an unexpected keyword argument '" + std::string(py::str(item.first)) +
+                         "'; the parameters are " + names);
+  return make_vehicle(p);
+}
+
 typed::AnyDict parameters_dict(const Params& p) {
   py::dict d;
-  d["mass"] = p.mass;
-  d["inertia"] = Matrix3<double>(p.inertia);
-  d["centre_of_gravity"] = Vec3(p.centre_of_gravity);
-  d["centre_of_buoyancy"] = Vec3(p.centre_of_buoyancy);
-  d["weight"] = p.weight;
-  d["buoyancy"] = p.buoyancy;
-  d["added_mass"] = Mat6(p.added_mass);
-  d["linear_damping"] = Vec6(p.linear_damping);
-  d["quadratic_damping"] = Vec6(p.quadratic_damping);
-  d["coriolis_form"] = coriolis_form_name(p.coriolis_form);
+  for_each_parameter([&](const auto& s) { d[s.name] = python_value(p.*s.member); });
   return d;
 }
 
@@ -118,14 +147,6 @@ py::array_t<double> rk4_segments(const Vehicle<double>& v, const py::handle& eta
   return out;
 }
 
-/// A read-only property: a copy of the vehicle's parameter `member`.
-template <typename D>
-void def_parameter(py::class_<Vehicle<double>>& cls, const char* name, D Params::*member,
-                   const char* doc) {
-  cls.def_property_readonly(
-      name, [member](const Vehicle<double>& v) { return D(v.parameters().*member); }, doc);
-}
-
 /// `name(arg)`: f of the vehicle and one (6,) argument, checked and named
 /// `arg` in its errors.
 template <typename F>
@@ -139,7 +160,24 @@ void def_of_vector6(py::class_<Vehicle<double>>& cls, const char* name, const ch
 
 }  // namespace
 
+/// The Coriolis form by its name, 'velocity_independent' or 'kirchhoff'.
+template <>
+struct FieldForm<CoriolisForm> {
+  static constexpr bool custom = true;
+  template <typename T>
+  static void bind(Fields<T>& f, const char* name, CoriolisForm T::*m, const char* doc) {
+    f.field(name, [m](const T& c) { return python_value(c.*m); },
+            [m](T& c, const typed::Str& v, const std::string& q) { c.*m = parse_coriolis_form(v, q.c_str()); },
+            doc);
+  }
+};
+
 void bind_vehicle(py::module_& m) {
+  Fields<Params>::described(m, "VehicleParameters",
+                            "A vehicle's parameters (SI units, body axes with z down): Vehicle's "
+                            "keyword arguments, its properties and the vehicle files' keys.")
+      .validator("vehicle parameter")
+      .finish();
   py::class_<Vehicle<double>> vehicle(
       m, "Vehicle",
       "A 6-DOF vehicle in Fossen's form, M nu_dot + C(nu) nu + D(nu) nu + g(eta) = tau.\n\n"
@@ -147,69 +185,30 @@ void bind_vehicle(py::module_& m) {
       "or Vehicle(mass=..., ...). Parameters are validated: a bad one raises ValueError "
       "naming the field.");
   vehicle
-      .def(py::init([](const typed::Real& mass, const typed::ArrayLike& inertia, const typed::Real& weight, const typed::Real& buoyancy,
-                       const typed::ArrayLike& added_mass, const typed::ArrayLike& linear_damping,
-                       const typed::ArrayLike& quadratic_damping, const typed::OptionalArrayLike& centre_of_gravity,
-                       const typed::OptionalArrayLike& centre_of_buoyancy, const typed::Str& coriolis_form) {
-             Params p;
-             p.mass = py_args::scalar(mass, "mass");
-             p.inertia = py_args::matrix_or_diagonal<3>(inertia, "inertia");
-             p.weight = py_args::scalar(weight, "weight");
-             p.buoyancy = py_args::scalar(buoyancy, "buoyancy");
-             p.added_mass = py_args::matrix_or_diagonal<6>(added_mass, "added_mass");
-             p.linear_damping = py_args::vector<6>(linear_damping, "linear_damping");
-             p.quadratic_damping = py_args::vector<6>(quadratic_damping, "quadratic_damping");
-             if (!centre_of_gravity.is_none())
-               p.centre_of_gravity = py_args::vector<3>(centre_of_gravity, "centre_of_gravity");
-             if (!centre_of_buoyancy.is_none())
-               p.centre_of_buoyancy = py_args::vector<3>(centre_of_buoyancy, "centre_of_buoyancy");
-             p.coriolis_form = parse_coriolis_form(coriolis_form);
-             return make_vehicle(p);
-           }),
-           py::kw_only(), py::arg("mass"), py::arg("inertia"), py::arg("weight"),
-           py::arg("buoyancy"), py::arg("added_mass"), py::arg("linear_damping"),
-           py::arg("quadratic_damping"), py::arg("centre_of_gravity") = py::none(),
-           py::arg("centre_of_buoyancy") = py::none(),
-           py::arg("coriolis_form") = "velocity_independent",
-           "Builds a vehicle from its parameters (SI units, body axes with z down):\n"
-           "mass [kg]; inertia (3, 3) about the body origin, or its diagonal (3,);\n"
-           "weight W and buoyancy B [N]; added_mass M_A (6, 6) or its diagonal (6,), "
-           "positive (M_A = -diag(X_udot, ...));\n"
-           "linear_damping and quadratic_damping (6,): D(nu) = diag(lin + quad * |nu|);\n"
-           "centre_of_gravity r_g and centre_of_buoyancy r_b (3,) [m], default zero;\n"
-           "coriolis_form: 'velocity_independent' (the paper's eq. 39, default) or "
-           "'kirchhoff'.")
+      .def(py::init(&from_keywords),
+           "Builds a vehicle from its parameters, each a keyword argument named as a field of "
+           "VehicleParameters (FIELDS gives its unit, rule and shape; a square matrix may be given "
+           "as its diagonal). The required ones must be given; the others, absent or None, are "
+           "zero and 'velocity_independent'.")
       .def_static(
           "nerov", [] { return make_vehicle(nerov_parameters<double>()); },
           "NEROV, the paper's vehicle, with the numbers of its section 5.")
       .def("__copy__", [](const Vehicle<double>& v) { return Vehicle<double>(v); })
       .def("__deepcopy__", [](const Vehicle<double>& v, const py::dict&) { return Vehicle<double>(v); },
            py::arg("memo"))
-      .def(py::pickle(
-          [](const Vehicle<double>& v) { return parameters_dict(v.parameters()); },
-          [](const py::dict& d) {
-            // The keyword constructor, so an unpickled vehicle is validated like any other.
-            return py::type::of<Vehicle<double>>()(**d).cast<Vehicle<double>>();
-          }))
+      // Unpickled by the keyword constructor: validated like any other.
+      .def(py::pickle([](const Vehicle<double>& v) { return parameters_dict(v.parameters()); },
+                      [](const py::dict& d) { return from_keywords(py::kwargs(d)); }))
       .def("parameters", [](const Vehicle<double>& v) { return parameters_dict(v.parameters()); },
            "The parameters as a dict of keyword arguments: Vehicle(**v.parameters()) "
            "rebuilds the vehicle, so a perturbed copy is one dict edit away.");
-  def_parameter(vehicle, "mass", &Params::mass, "m [kg].");
-  def_parameter(vehicle, "inertia", &Params::inertia, "I_o about the body origin (3, 3) [kg m^2].");
-  def_parameter(vehicle, "centre_of_gravity", &Params::centre_of_gravity,
-                "r_g (3,) [m], body axes.");
-  def_parameter(vehicle, "centre_of_buoyancy", &Params::centre_of_buoyancy,
-                "r_b (3,) [m], body axes (z down).");
-  def_parameter(vehicle, "weight", &Params::weight, "W [N].");
-  def_parameter(vehicle, "buoyancy", &Params::buoyancy, "B [N].");
-  def_parameter(vehicle, "added_mass", &Params::added_mass, "M_A (6, 6), positive definite.");
-  def_parameter(vehicle, "linear_damping", &Params::linear_damping, "D_L (6,).");
-  def_parameter(vehicle, "quadratic_damping", &Params::quadratic_damping, "D_Q (6,).");
+  for_each_parameter([&](const auto& s) {  // read-only copies, documented as the fields
+    const std::string doc = py::str(py::type::of<Params>().attr(s.name).attr("__doc__"));
+    vehicle.def_property_readonly(
+        s.name, [m = s.member](const Vehicle<double>& v) { return python_value(v.parameters().*m); },
+        doc.c_str());
+  });
   vehicle
-      .def_property_readonly(
-          "coriolis_form",
-          [](const Vehicle<double>& v) { return coriolis_form_name(v.parameters().coriolis_form); },
-          "'velocity_independent' (the paper's eq. 39) or 'kirchhoff'.")
       .def("mass_matrix", [](const Vehicle<double>& v) { return Mat6(v.mass_matrix()); },
            "M = M_RB + M_A, shape (6, 6).");
   def_of_vector6(

@@ -10,7 +10,9 @@
 
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -43,22 +45,32 @@ using Controller = AnyBuiltInController<double>;
   throw py::error_already_set();
 }
 
-/// A list (any sequence, not a str) of objects of the bound type T, copied.
-template <typename T>
-std::vector<T> items(const py::handle& seq, const char* where, const char* name, const char* what) {
+/// A list (any sequence, not a str), each item what convert(item) makes of
+/// it; an empty std::optional refuses the item, which must be `one`.
+template <typename Convert>
+auto items(const py::handle& seq, const char* where, const char* name, const std::string& list,
+           const std::string& one, Convert&& convert) {
   if (!py::isinstance<py::sequence>(seq) || py::isinstance<py::str>(seq))
-    bad_argument(where, name, std::string("a list of ") + what, py_args::type_name(seq));
+    bad_argument(where, name, list, py_args::type_name(seq));
   const py::sequence s = py::reinterpret_borrow<py::sequence>(seq);
-  std::vector<T> out;
+  std::vector<typename decltype(convert(py::object()))::value_type> out;
   out.reserve(s.size());
   for (std::size_t i = 0; i < s.size(); ++i) {
     const py::object item = s[i];
-    if (!py::isinstance<T>(item))
-      bad_argument(where, std::string(name) + "[" + std::to_string(i) + "]", std::string("a ") + what,
-                   py_args::type_name(item));
-    out.push_back(item.cast<const T&>());
+    auto converted = convert(item);
+    if (!converted) bad_argument(where, std::string(name) + "[" + std::to_string(i) + "]", one, py_args::type_name(item));
+    out.push_back(std::move(*converted));
   }
   return out;
+}
+
+/// A list of objects of the bound type T (`what`: its Python name), copied.
+template <typename T>
+std::vector<T> items(const py::handle& seq, const char* where, const char* name, const char* what) {
+  return items(seq, where, name, std::string("a list of ") + what, std::string("a ") + what,
+               [](const py::object& item) {
+                 return py::isinstance<T>(item) ? std::optional<T>(item.cast<const T&>()) : std::nullopt;
+               });
 }
 
 /// A numpy array of `dtype` (real numbers, bools, integers >= 0) of `shape`
@@ -73,9 +85,9 @@ py::array_t<T, py::array::c_style> checked_array(const py::handle& obj, const ch
       obj, shape, [&](py_args::Refusal, const std::string& got) { bad_argument(where, name, expected, got); });
 }
 
-/// The lanes' mask: None (every lane) or a (K,) bool array.
-py::object mask_array(const Batch& b, const py::handle& mask, const char* where) {
-  if (mask.is_none()) return py::none();
+/// The lanes' mask: a (K,) bool array, or none (None: every lane).
+py::array_t<bool, py::array::c_style> mask_array(const Batch& b, const py::handle& mask, const char* where) {
+  if (mask.is_none()) return {};
   return checked_array<bool>(mask, where, "mask", {static_cast<py::ssize_t>(b.size())}, "bool");
 }
 
@@ -148,19 +160,16 @@ py::array_t<std::uint8_t> step(Batch& b, const typed::ArrayLike& tau_in,
   const char* where = "BatchSimulator.step";
   const auto k = static_cast<py::ssize_t>(b.size());
   const auto tau = checked_array<double>(tau_in, where, "tau", {k, 6}, "float64");
-  const py::object mask_obj = mask_array(b, mask_in, where);
-  const bool* mask = mask_obj.is_none() ? nullptr : py::reinterpret_borrow<py::array_t<bool>>(mask_obj).data();
-  py::object parameters_obj = py::none();
-  const double* parameters = nullptr;
+  const auto mask_in_lanes = mask_array(b, mask_in, where);
+  const bool* mask = mask_in.is_none() ? nullptr : mask_in_lanes.data();
+  py::array_t<double, py::array::c_style> parameters;  // read only when the batch logs some
   if (b.logged_parameters() > 0) {
     if (parameters_in.is_none())
       bad_argument(where, "parameters",
                    "an array of shape (" + std::to_string(k) + ", " + std::to_string(b.logged_parameters()) +
                        ") (the batch logs that many parameters per row)",
                    "None");
-    auto p = checked_array<double>(parameters_in, where, "parameters", {k, b.logged_parameters()}, "float64");
-    parameters = p.data();
-    parameters_obj = std::move(p);
+    parameters = checked_array<double>(parameters_in, where, "parameters", {k, b.logged_parameters()}, "float64");
   } else if (!parameters_in.is_none()) {
     bad_argument(where, "parameters", "None (the batch logs no parameters)", py_args::type_name(parameters_in));
   }
@@ -168,7 +177,8 @@ py::array_t<std::uint8_t> step(Batch& b, const typed::ArrayLike& tau_in,
   std::uint8_t* out = statuses.mutable_data();
   {
     py::gil_scoped_release release;
-    step_threaded(b, threads, tau.data(), mask, out, parameters, shared_pool(threads));
+    step_threaded(b, threads, tau.data(), mask, out, b.logged_parameters() > 0 ? parameters.data() : nullptr,
+                  shared_pool(threads));
   }
   return statuses;
 }
@@ -177,39 +187,25 @@ void reset(Batch& b, const typed::ArrayLike& seeds_in, const typed::OptionalArra
   const char* where = "BatchSimulator.reset";
   const auto seeds = checked_array<std::uint64_t>(seeds_in, where, "seeds",
                                                   {static_cast<py::ssize_t>(b.size())}, "uint64");
-  const py::object mask_obj = mask_array(b, mask_in, where);
-  const bool* mask = mask_obj.is_none() ? nullptr : py::reinterpret_borrow<py::array_t<bool>>(mask_obj).data();
+  const auto mask = mask_array(b, mask_in, where);
   py::gil_scoped_release release;
-  for (std::size_t i = 0; i < b.size(); ++i)
-    if (!mask || mask[i]) b.reset(i, seeds.data()[i]);
+  b.reset(seeds.data(), mask_in.is_none() ? nullptr : mask.data());
 }
 
 /// The controllers as given, copied into the lanes (the objects passed are
 /// not changed).
 std::vector<Controller> controllers_of(const py::handle& seq) {
-  const char* where = "run_batch";
-  if (!py::isinstance<py::sequence>(seq) || py::isinstance<py::str>(seq))
-    bad_argument(where, "controllers", "a list of built-in controllers", py_args::type_name(seq));
-  const py::sequence s = py::reinterpret_borrow<py::sequence>(seq);
-  std::vector<Controller> out;
-  out.reserve(s.size());
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    const py::object item = s[i];
-    bool found = false;
-    for_each_type(BuiltInControllers<double>{}, [&](auto tag) {
-      using C = typename decltype(tag)::type;
-      if (!found && py::isinstance<C>(item)) {
-        out.emplace_back(std::in_place_type<C>, item.cast<const C&>());
-        found = true;
-      }
-    });
-    if (!found)
-      bad_argument(where, "controllers[" + std::to_string(i) + "]",
-                   "a built-in controller (neurov.BUILT_IN_CONTROLLERS; a Python controller runs "
-                   "through neurov.simulate_many)",
-                   py_args::type_name(item));
-  }
-  return out;
+  return items(seq, "run_batch", "controllers", "a list of built-in controllers",
+               "a built-in controller (neurov.BUILT_IN_CONTROLLERS; a Python controller runs "
+               "through neurov.simulate_many)",
+               [](const py::object& item) {
+                 std::optional<Controller> out;
+                 for_each_type(BuiltInControllers<double>{}, [&](auto tag) {
+                   using C = typename decltype(tag)::type;
+                   if (!out && py::isinstance<C>(item)) out.emplace(std::in_place_type<C>, item.cast<const C&>());
+                 });
+                 return out;
+               });
 }
 
 std::vector<double> after_of(const py::handle& after, std::size_t k) {
@@ -232,29 +228,22 @@ std::vector<double> after_of(const py::handle& after, std::size_t k) {
   return out;
 }
 
-py::dict window_sums_dict(const WindowSums& w) {
-  py::dict d;
-  w.visit([&d](const WindowSumSpec& spec, const auto& v) {
-    using T = std::decay_t<decltype(v)>;
-    if constexpr (std::is_same_v<T, WindowSums::Sums6>)
-      d[spec.name] = py::array_t<double>(py::ssize_t(6), v.data());
-    else
-      d[spec.name] = v;
-  });
-  return d;
+/// A run's sums as Python values: a dict for each WindowSums, a (6,) array
+/// for a sum per DOF, a tuple or None for first_refused.
+template <typename T>
+py::object sums_value(const T& v) {
+  if constexpr (std::is_same_v<T, WindowSums>) {
+    py::dict d;
+    v.visit([&d](const WindowSumSpec& spec, const auto& sum) { d[spec.name] = sums_value(sum); });
+    return std::move(d);
+  } else {
+    return py::cast(v);
+  }
 }
 
 typed::AnyDict run_sums_dict(const RunSums& s) {
   typed::AnyDict d;
-  d["after"] = s.after;
-  d["before"] = window_sums_dict(s.before);
-  d["window"] = window_sums_dict(s.window);
-  d["final_adaptive_norm"] = s.final_adaptive_norm;
-  d["max_adaptive_norm"] = s.max_adaptive_norm;
-  d["diverged"] = s.diverged;
-  d["first_refused"] = s.first_refused_status
-                           ? py::object(py::make_tuple(s.first_refused_t, int(s.first_refused_status)))
-                           : py::object(py::none());
+  s.visit([&d](const char* name, const auto& v) { d[name] = sums_value(v); });
   return d;
 }
 

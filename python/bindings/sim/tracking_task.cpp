@@ -1,9 +1,9 @@
-// neurov/sim/tracking_task.hpp in Python: the Gymnasium tracking task's
-// constants (TrackingTaskConfig, bound from its description) and TrackingTask,
-// which steps one Simulator (the single env) or every lane of a
-// BatchSimulator (the vector env, the GIL released) in one call and returns
-// the observation, reward, flags and info arrays, so that a step runs no
-// per-row Python. Its row functions (clip, forces, observe_rows,
+// neurov/sim/tracking_task.hpp and tracking_lanes.hpp in Python: the
+// Gymnasium tracking task's constants (TrackingTaskConfig, bound from its
+// description) and TrackingTask, which steps one Simulator (the single env)
+// or every lane of a BatchSimulator (the vector env, the GIL released) in
+// one call and returns the observation, reward, flags and info arrays, so
+// that a step runs no per-row Python. Its row functions (clip, forces, observe_rows,
 // score_rows) serve a batch written in Python and the tests.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -19,7 +19,7 @@
 #include "fields.hpp"
 #include "numpy_args.hpp"
 #include "neurov/sim/batch.hpp"
-#include "neurov/sim/tracking_task.hpp"
+#include "neurov/sim/tracking_lanes.hpp"
 #include "typed_args.hpp"
 
 namespace neurov::bindings {
@@ -33,8 +33,8 @@ using Config = TrackingTaskConfig<double>;
 using Sim = Simulator<double>;
 using Batch = BatchSimulator<double>;
 using Rows = TrackingRows<double>;
+using Readout = LaneReadout<double>;
 using Scores = TrackingScores<double>;
-using Vec6 = Vector6<double>;
 constexpr py::ssize_t kObs = kTrackingObservationSize;
 
 using F64 = py::array_t<double>;
@@ -77,47 +77,27 @@ void clip_checked(const Task& task, const py::handle& obj, const char* name, py:
                         std::to_string(bad) + " (rows " + all + "] are not)");
 }
 
-/// What a step reads of K lanes, with the info arrays it returns: t, the
-/// measured eta and nu, eta_d, the true eta and nu (K rows, or one row of
-/// shape (6,) for a single Simulator).
-class LaneRows {
+/// The arrays a step reads K lanes into (one row of shape (6,) for a single
+/// Simulator): t, the measured eta and nu, eta_d, the true eta and nu, which
+/// info() hands over, and what only the scores read.
+class LaneArrays {
  public:
-  LaneRows(std::size_t k, bool single)
+  LaneArrays(std::size_t k, bool single)
       : k_(k), single_(single), t_(k), eta_d_dot_(6 * k), eta_d_ddot_(6 * k), steps_left_(k),
         diverged_(new bool[k]), done_(new bool[k]) {
-    const auto rows = static_cast<py::ssize_t>(k);
-    for (F64* a : {&eta_, &nu_, &eta_d_, &eta_true_, &nu_true_})
-      *a = single ? F64(py::ssize_t(6)) : F64({rows, py::ssize_t(6)});
-    // The arrays' storage, taken while the GIL is held: read() runs without it.
-    out_.t = t_.data();
-    out_.eta = eta_.mutable_data();
-    out_.nu = nu_.mutable_data();
-    out_.eta_d = eta_d_.mutable_data();
-    out_.eta_d_dot = eta_d_dot_.data();
-    out_.eta_d_ddot = eta_d_ddot_.data();
-    out_.eta_true = eta_true_.mutable_data();
-    out_.nu_true = nu_true_.mutable_data();
-    out_.diverged = diverged_.get();
-    out_.done = done_.get();
-    out_.steps_left = steps_left_.data();
-  }
-
-  /// Lane i of a run (no Python: callable without the GIL).
-  void read(std::size_t i, const Sim& s) noexcept { out_.read(i, s); }
-
-  Rows rows(const double* actions) noexcept {
-    Rows r;
-    r.eta = out_.eta;
-    r.nu = out_.nu;
-    r.eta_d = out_.eta_d;
-    r.eta_d_dot = out_.eta_d_dot;
-    r.eta_d_ddot = out_.eta_d_ddot;
-    r.eta_true = out_.eta_true;
-    r.actions = actions;
-    r.diverged = out_.diverged;
-    r.done = out_.done;
-    r.steps_left = out_.steps_left;
-    return r;
+    // The storage, taken while the GIL is held: a step reads into it without.
+    for (const auto& [array, field] : {std::pair{&eta_, &Readout::eta}, std::pair{&nu_, &Readout::nu},
+                                       std::pair{&eta_d_, &Readout::eta_d}, std::pair{&eta_true_, &Readout::eta_true},
+                                       std::pair{&nu_true_, &Readout::nu_true}}) {
+      *array = single ? F64(py::ssize_t(6)) : F64({static_cast<py::ssize_t>(k), py::ssize_t(6)});
+      readout.*field = array->mutable_data();
+    }
+    readout.t = t_.data();
+    readout.eta_d_dot = eta_d_dot_.data();
+    readout.eta_d_ddot = eta_d_ddot_.data();
+    readout.diverged = diverged_.get();
+    readout.done = done_.get();
+    readout.steps_left = steps_left_.data();
   }
 
   typed::AnyDict info() const {
@@ -131,7 +111,7 @@ class LaneRows {
     return d;
   }
 
-  bool diverged(std::size_t i) const noexcept { return diverged_[i]; }
+  Readout readout;  ///< where the lanes are read: the storage below
 
  private:
   std::size_t k_;
@@ -140,7 +120,6 @@ class LaneRows {
   std::vector<std::int64_t> steps_left_;
   std::unique_ptr<bool[]> diverged_, done_;
   F64 eta_, nu_, eta_d_, eta_true_, nu_true_;
-  LaneReadout<double> out_;  ///< where read() writes: the storage above
 };
 
 /// The outputs of K rows' scores.
@@ -166,17 +145,13 @@ StepTuple<F32, double, bool> step_one(const Task& task, Sim& sim, const typed::A
   std::vector<double> a(static_cast<std::size_t>(task.action_size()));
   bool clipped = false;
   clip_checked(task, action, "action", -1, a.data(), &clipped);
-  Vec6 tau;
-  tracking_forces(task, 1, a.data(), tau.data());
-  const Status plant = sim.step(tau, ControllerReport<double>{});
-  LaneRows lanes(1, true);
-  lanes.read(0, sim);
+  LaneArrays lane(1, true);
   F32 obs(kObs);
   double reward = 0;
   bool terminated = false, truncated = false, outside = false;
-  tracking_outcome(task, 1, lanes.rows(a.data()), obs.mutable_data(),
-                   Scores{&reward, &terminated, &truncated, &outside});
-  typed::AnyDict info = lanes.info();
+  const Status plant = tracking_step(task, sim, a.data(), lane.readout, obs.mutable_data(),
+                                     Scores{&reward, &terminated, &truncated, &outside});
+  typed::AnyDict info = lane.info();
   info["plant_status"] = plant;
   return StepTuple<F32, double, bool>(py::make_tuple(obs, reward, terminated, truncated, info, clipped, outside));
 }
@@ -185,47 +160,24 @@ StepTuple<F32, F64, Bools> step_batch(const Task& task, Batch& batch, const type
                                       const typed::OptionalArrayLike& mask_in, unsigned threads) {
   const std::size_t k = batch.size();
   const auto rows = static_cast<py::ssize_t>(k);
-  std::vector<double> a(k * static_cast<std::size_t>(task.action_size())), tau(6 * k);
+  std::vector<double> a(k * static_cast<std::size_t>(task.action_size()));
   Bools clipped(rows);
   clip_checked(task, actions, "actions", rows, a.data(), clipped.mutable_data());
-  py::object mask_obj = py::none();
-  const bool* mask = nullptr;
-  if (!mask_in.is_none()) {
-    auto m = flags_of<bool>(mask_in, "mask", rows);
-    mask = m.data();
-    mask_obj = std::move(m);
-  }
+  py::array_t<bool, py::array::c_style> mask;
+  if (!mask_in.is_none()) mask = flags_of<bool>(mask_in, "mask", rows);
   py::array_t<std::uint8_t> statuses(rows);
-  LaneRows lanes(k, false);
+  LaneArrays lanes(k, false);
   F32 obs({rows, kObs});
   ScoreArrays s(rows);
+  // The arrays' storage, taken while the GIL is held.
+  const bool* stepped = mask_in.is_none() ? nullptr : mask.data();
   std::uint8_t* status = statuses.mutable_data();
-  float* observation = obs.mutable_data();
-  const Scores out = s.scores();
-  const Rows r = lanes.rows(a.data());
+  float* observations = obs.mutable_data();
+  const Scores scores = s.scores();
   {
     py::gil_scoped_release release;
-    // Each thread's share of the lanes through the whole step: the rows are
-    // independent, so the split changes nothing.
-    split_lanes(k, threads, shared_pool(threads), [&](std::size_t b, std::size_t e) noexcept {
-      const auto n = static_cast<std::size_t>(task.action_size());
-      tracking_forces(task, e - b, a.data() + n * b, tau.data() + 6 * b);
-      // A batch made with a log window (the vector env's, of one row) is read from its
-      // observations, never its log: a full window is emptied so that the lane steps on.
-      if (batch.log_rows() > 0)
-        for (std::size_t i = b; i < e; ++i)
-          if (batch.lane(i).log_full() && !batch.lane(i).done()) batch.discard(i);
-      batch.step_lanes(b, e, tau.data(), mask, status);
-      for (std::size_t i = b; i < e; ++i) lanes.read(i, batch.lane(i));
-      float* obs_b = observation + static_cast<std::size_t>(kObs) * b;
-      tracking_outcome(task, e - b, r.from(b, task.action_size()), obs_b, out.from(b));
-      // A lane not stepped (masked out, or done) scores nothing.
-      for (std::size_t i = b; i < e; ++i)
-        if (status[i] == kLaneNotStepped) {
-          out.reward[i] = 0.0;
-          out.terminated[i] = out.truncated[i] = out.outside[i] = false;
-        }
-    });
+    tracking_step_batch(task, batch, a.data(), stepped, status, lanes.readout, observations, scores, threads,
+                        shared_pool(threads));
   }
   typed::AnyDict info = lanes.info();
   info["plant_status"] = statuses;
@@ -233,13 +185,12 @@ StepTuple<F32, F64, Bools> step_batch(const Task& task, Batch& batch, const type
       py::make_tuple(obs, s.reward, s.terminated, s.truncated, info, clipped, s.outside));
 }
 
-/// (observations, info) of k lanes, lane(i) the i-th run.
-template <typename Lane>
-py::typing::Tuple<F32, typed::AnyDict> observe_lanes(const Task& task, std::size_t k, bool single, Lane lane) {
-  LaneRows lanes(k, single);
-  for (std::size_t i = 0; i < k; ++i) lanes.read(i, lane(i));
+/// (observations, info) of k lanes, run(i) the i-th run.
+template <typename Run>
+py::typing::Tuple<F32, typed::AnyDict> observe_lanes(const Task& task, std::size_t k, bool single, Run run) {
+  LaneArrays lanes(k, single);
   F32 obs = single ? F32(kObs) : F32({static_cast<py::ssize_t>(k), kObs});
-  tracking_observation(task, k, lanes.rows(nullptr), obs.mutable_data());
+  tracking_observe(task, k, run, lanes.readout, obs.mutable_data());
   return py::typing::Tuple<F32, typed::AnyDict>(py::make_tuple(obs, lanes.info()));
 }
 

@@ -20,7 +20,7 @@ from __future__ import annotations
 from typing import Any
 
 from neurov import _core
-from neurov.config.sea import fill
+from neurov.config.toml_table import read_struct
 
 __all__ = ["REALISM_KEYS", "read_realism"]
 
@@ -42,17 +42,8 @@ def read_realism(r: Any, c: Any) -> None:
     sensors = _core.SensorsConfig()
     table = r.table_of("sensors")
     for key, kind in _SENSORS.items():
-        if not table.has(key):
-            continue
-        t = table.table_of(key)
-        config = kind()
-        fill(t, config)
-        t.finish()
-        setattr(sensors, key, config)
+        if table.has(key):
+            setattr(sensors, key, read_struct(table.table_of(key), kind))
     table.finish()
     c.sensors = sensors
-    e = r.table_of("estimator")
-    estimator = _core.EstimatorConfig()
-    fill(e, estimator)
-    e.finish()
-    c.estimator = estimator
+    c.estimator = read_struct(r.table_of("estimator"), _core.EstimatorConfig)

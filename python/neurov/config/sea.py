@@ -20,8 +20,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from neurov import _core
-from neurov.schema import SchemaError, convert, field_names
-from neurov.config.toml_table import TableReader, tables, validated
+from neurov.schema import field_names
+from neurov.config.toml_table import TableReader, fill, read_struct, tables, validated
 from neurov.errors import ScenarioError
 
 if TYPE_CHECKING:
@@ -36,32 +36,6 @@ CURRENT_MODELS = tuple(_core.CurrentModel.__members__)
 _CONSTANT_KEYS = ("velocity", "amplitude", "period")
 # The disturbance parts' tables: key -> (bound struct, an array of tables).
 _TABLES: dict[str, tuple[Any, bool]] = {key: (cls, many) for key, cls, many in _core.DISTURBANCE_TABLES}
-
-
-def fill(r: TableReader, target: Any) -> None:
-    """Every field of the bound struct `target` that the table gives, under
-    the field's own name, converted by the kind of the field's default; an
-    empty optional vector by its described length, a count within its
-    described maximum (a larger one would not reach the validator)."""
-    for field in type(target).FIELDS:
-        key = field["name"]
-        if not r.has(key):
-            continue
-        current = getattr(target, key)
-        try:
-            if current is None and field["shape"] is not None:
-                value: Any = r.array(key, field["shape"][0], broadcast=False)
-            else:
-                value = convert(current, r.raw(key), r._name(key))
-                if isinstance(value, int) and not isinstance(value, bool) and value > field["max"]:
-                    raise r.error(key, f"expected an integer <= {field['max']:.0f}, got {value}")
-            setattr(target, key, value)
-        except SchemaError as e:
-            raise ScenarioError(f"{r.origin}: {e}") from None
-        except (TypeError, ValueError, OverflowError) as e:
-            if isinstance(e, ScenarioError):
-                raise
-            raise r.error(key, str(e)) from None
 
 
 def _probe() -> Any:
@@ -117,21 +91,13 @@ def read_part(r: TableReader, config: Any, key: str) -> None:
     the struct's own field names, checked by the C++ validator."""
     kind, many = _TABLES[key]
     if many:
-        items = []
-        for tr in tables(r, key):
-            items.append(kind())
-            fill(tr, items[-1])
-            tr.finish()
-        if not items:
+        value: Any = [read_struct(tr, kind) for tr in tables(r, key)]
+        if not value:
             return
-        value: Any = items
     else:
         if not r.has(key):
             return
-        tr = r.table_of(key)
-        value = kind()
-        fill(tr, value)
-        tr.finish()
+        value = read_struct(r.table_of(key), kind)
     probe = _probe()
     probe.eta0 = config.eta0
     setattr(probe, key, value)

@@ -149,9 +149,13 @@ def thrusters_from_mapping(table: Any, where: str) -> dict[str, Any]:
     return out
 
 
-_CURVE_KEYS = {"command": False, "thrust": False, "polynomial": False, "command_range": False,
-               "points": False, "neutral": True, "reference_voltage": True, "dead_band": False,
-               "voltage_exponent": False, "time_constant": False, "slew_rate": False}
+# A curve's keys: its rows (the C++ field `table`) as `command` and `thrust`, or
+# as a `polynomial` sampled at `points` over `command_range`; then every other
+# field of its C++ description (ThrusterCurveConfig.FIELDS), a number, under its
+# own name; `neutral` and `reference_voltage` must be given.
+_CURVE_NUMBERS = tuple(f["name"] for f in ThrusterCurveConfig.FIELDS if f["name"] != "table")
+_CURVE_KEYS = ("command", "thrust", "polynomial", "command_range", "points") + _CURVE_NUMBERS
+_CURVE_REQUIRED = ("neutral", "reference_voltage")
 
 
 def _curves(table: dict[str, Any], n: int, where: str) -> list[Any]:
@@ -177,8 +181,8 @@ def _curve(t: dict[str, Any], where: str) -> Any:
         if key not in _CURVE_KEYS:
             hint = did_you_mean(key, list(_CURVE_KEYS))
             raise VehicleFileError(f"{where}.{key}: unknown field{hint}")
-    for key, required in _CURVE_KEYS.items():
-        if required and key not in t:
+    for key in _CURVE_REQUIRED:
+        if key not in t:
             raise VehicleFileError(f"{where}: missing field {key!r}")
     command, thrust = _curve_rows(t, where)
     for key, v in (("command", command), ("thrust", thrust)):
@@ -191,8 +195,7 @@ def _curve(t: dict[str, Any], where: str) -> Any:
     c = ThrusterCurveConfig()
     try:
         c.table = [[float(a), float(b)] for a, b in zip(command, thrust)]
-        for key in ("neutral", "reference_voltage", "dead_band", "voltage_exponent", "time_constant",
-                    "slew_rate"):
+        for key in _CURVE_NUMBERS:
             if key in t:
                 v = t[key]
                 if isinstance(v, bool) or not isinstance(v, (int, float)):

@@ -1,6 +1,7 @@
 """One table of a TOML file read key by key, each error naming the file and
-``where.key`` (:class:`TableReader`), and a C++ validator's refusal turned
-into the same kind of error (:func:`validated`). The readers of scenarios
+``where.key`` (:class:`TableReader`), a bound C++ struct filled from a table
+by the fields its description lists (:func:`fill`, :func:`read_struct`), and a
+C++ validator's refusal turned into the same kind of error (:func:`validated`). The readers of scenarios
 (:mod:`neurov.config.reading`, :mod:`neurov.config.sea`), studies and
 tunings all read through these."""
 
@@ -14,9 +15,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from neurov.errors import ScenarioError, ValidationError
-from neurov.schema import did_you_mean
+from neurov.schema import SchemaError, convert, did_you_mean
 
-__all__ = ["TableReader", "tables", "validated"]
+__all__ = ["TableReader", "fill", "read_struct", "tables", "validated"]
 
 
 class TableReader:
@@ -162,3 +163,38 @@ def tables(r: TableReader, key: str) -> list[TableReader]:
     if not isinstance(items, list):
         raise r.error(key, f"expected an array of tables [[{key}]]")
     return [TableReader(t, f"{key}[{k}]", r.origin) for k, t in enumerate(items)]
+
+
+def fill(r: TableReader, target: Any) -> None:
+    """Every field of the bound struct `target` that the table gives, under
+    the field's own name, converted by the kind of the field's default; an
+    empty optional vector by its described length, a count within its
+    described maximum (a larger one would not reach the validator)."""
+    for field in type(target).FIELDS:
+        key = field["name"]
+        if not r.has(key):
+            continue
+        current = getattr(target, key)
+        try:
+            if current is None and field["shape"] is not None:
+                value: Any = r.array(key, field["shape"][0], broadcast=False)
+            else:
+                value = convert(current, r.raw(key), r._name(key))
+                if isinstance(value, int) and not isinstance(value, bool) and value > field["max"]:
+                    raise r.error(key, f"expected an integer <= {field['max']:.0f}, got {value}")
+            setattr(target, key, value)
+        except SchemaError as e:
+            raise ScenarioError(f"{r.origin}: {e}") from None
+        except (TypeError, ValueError, OverflowError) as e:
+            if isinstance(e, ScenarioError):
+                raise
+            raise r.error(key, str(e)) from None
+
+
+def read_struct(r: TableReader, kind: Any) -> Any:
+    """A new bound struct `kind` with the fields table `r` gives (:func:`fill`);
+    any other key of the table is refused (:meth:`TableReader.finish`)."""
+    value = kind()
+    fill(r, value)
+    r.finish()
+    return value

@@ -1,16 +1,13 @@
 """Vehicle files: a vehicle's parameters in TOML.
 
-A file holds these keys (SI units, body axes x forward, y starboard, z down):
-
-``mass`` (number, kg); ``inertia`` (3 numbers, the diagonal, or a 3x3 table);
-``weight`` (number, N); ``buoyancy`` (number, N) or ``displaced_volume``
-(number, m^3: the buoyancy is then rho g V in the scenario's water, see
-``water_density``); ``added_mass`` (6 numbers, the positive
-diagonal of M_A, or a 6x6 table); ``linear_damping`` and ``quadratic_damping``
-(6 numbers each); optional ``centre_of_gravity`` and ``centre_of_buoyancy``
-(3 numbers, m, default zero), ``coriolis_form`` (``"velocity_independent"``, the
-default and the paper's eq. 39, or ``"kirchhoff"``), ``name`` and ``source``
-(strings).
+A file holds the fields of :class:`neurov.VehicleParameters`, read from its
+description in C++ (``VehicleParameters.FIELDS``: name, unit, rule, shape; a
+square matrix may be given as its diagonal; those ``required`` must be
+given; docs/model.md prints them), as TOML numbers, lists and tables (SI units,
+body axes x forward, y starboard, z down), and keys of the file alone:
+``displaced_volume`` (number, m^3), given instead of ``buoyancy``: the
+buoyancy is then rho g V in the scenario's water, see ``water_density``;
+``name`` and ``source`` (strings).
 
 An optional ``[thrusters]`` table gives the thruster layout, either as
 ``positions`` and ``directions`` (n rows of 3 numbers each, body axes; the
@@ -58,7 +55,7 @@ from neurov.config.thruster_table import describe, shape_of, shape_text, thruste
 from neurov.errors import VehicleFileError
 from neurov.schema import did_you_mean
 from neurov.files import PACKAGE_DIR, read_toml
-from neurov._core import SimulationConfig, Vehicle, buoyancy_in_water
+from neurov._core import SimulationConfig, Vehicle, VehicleParameters, buoyancy_in_water
 
 if TYPE_CHECKING:
     import neurov._core
@@ -77,26 +74,31 @@ __all__ = [
 
 PRESET_DIR = PACKAGE_DIR / "vehicles"
 
-# key -> (required, shapes accepted); () is a number, "str" a string.
-_FIELDS: dict[str, tuple[bool, tuple[Any, ...]]] = {
-    "mass": (True, ((),)),
-    "inertia": (True, ((3,), (3, 3))),
-    "weight": (True, ((),)),
-    "buoyancy": (False, ((),)),
-    "displaced_volume": (False, ((),)),
-    "added_mass": (True, ((6,), (6, 6))),
-    "linear_damping": (True, ((6,),)),
-    "quadratic_damping": (True, ((6,),)),
-    "centre_of_gravity": (False, ((3,),)),
-    "centre_of_buoyancy": (False, ((3,),)),
-    "coriolis_form": (False, ("str",)),
-    "name": (False, ("str",)),
-    "source": (False, ("str",)),
-}
+# The keys of a file alone -> shapes accepted; () is a number, "str" a string.
+_FILE_ONLY: dict[str, tuple[Any, ...]] = {"displaced_volume": ((),), "name": ("str",), "source": ("str",)}
+
+
+def file_fields(parameters: Any = VehicleParameters) -> dict[str, tuple[bool, tuple[Any, ...]]]:
+    """A vehicle file's keys -> (required, shapes accepted): the fields of
+    the bound struct `parameters` as its ``FIELDS`` describe them (a number,
+    a string by its default, an array of its shape or a square matrix's
+    diagonal), then the keys of the file alone. ``buoyancy`` is not
+    required: ``displaced_volume`` may give it instead (checked apart)."""
+    default = parameters()
+    table: dict[str, tuple[bool, tuple[Any, ...]]] = {}
+    for f in parameters.FIELDS:
+        shape = tuple(f["shape"] or ())
+        shapes: tuple[Any, ...] = ((shape[0],), shape) if f["diagonal"] else (shape,)
+        if isinstance(getattr(default, f["name"]), str):
+            shapes = ("str",)
+        table[f["name"]] = (f["required"] and f["name"] != "buoyancy", shapes)
+    return table | {key: (False, shapes) for key, shapes in _FILE_ONLY.items()}
+
+
+_FIELDS = file_fields()
 # Tables read apart from the parameters ([thrusters] for the simulation,
 # [limits] for neurov.gym's action scale).
 _OTHER_TABLES = {"thrusters", "limits"}
-_CORIOLIS_FORMS = ("velocity_independent", "kirchhoff")
 
 
 def preset_names() -> list[str]:
@@ -185,6 +187,7 @@ def parameters_from_mapping(data: dict[str, Any], where: str) -> dict[str, Any]:
         hint = did_you_mean(key, list(_FIELDS))
         raise VehicleFileError(f"{where}: unknown field {key!r}{hint}")
     kwargs: dict[str, Any] = {}
+    probe = VehicleParameters()
     for key, (required, shapes) in _FIELDS.items():
         if key not in data:
             if required:
@@ -209,14 +212,14 @@ def parameters_from_mapping(data: dict[str, Any], where: str) -> dict[str, Any]:
                 raise VehicleFileError(f"{where}: field {key!r}: expected finite numbers, got {bad[0]}")
         if key in ("name", "source"):
             continue
+        if key not in _FILE_ONLY:
+            try:  # the field's own setter: a choice such as coriolis_form's
+                setattr(probe, key, value)
+            except (TypeError, ValueError) as e:
+                raise VehicleFileError(f"{where}: field {key!r}: {e}") from None
         kwargs[key] = value
     if ("buoyancy" in kwargs) == ("displaced_volume" in kwargs):
         raise VehicleFileError(f"{where}: give either 'buoyancy' (N) or 'displaced_volume' (m^3)")
-    form = kwargs.get("coriolis_form", "velocity_independent")
-    if form not in _CORIOLIS_FORMS:
-        raise VehicleFileError(
-            f"{where}: field 'coriolis_form': expected one of {list(_CORIOLIS_FORMS)}, got {form!r}"
-        )
     return kwargs
 
 

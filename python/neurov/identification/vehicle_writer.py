@@ -13,13 +13,13 @@ from typing import Any
 
 from neurov.files import writing
 from neurov.identification.errors import IdentificationError
-from neurov.config.vehicle_file import read_vehicle_file
+from neurov.config.vehicle_file import file_fields, read_vehicle_file
 
 __all__ = ["write_vehicle_file"]
 
 _TABLE = re.compile(r"^\[{1,2}[A-Za-z_][\w.\-]*\]{1,2}\s*(#.*)?$")
-_KEYS = ("mass", "inertia", "weight", "buoyancy", "displaced_volume", "centre_of_gravity",
-         "centre_of_buoyancy", "added_mass", "linear_damping", "quadratic_damping", "coriolis_form")
+# The parameters a vehicle file holds, as its reader has them (name and source are written first).
+_KEYS = tuple(k for k in file_fields() if k not in ("name", "source"))
 
 
 def _value(v: Any) -> str:

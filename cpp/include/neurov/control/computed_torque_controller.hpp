@@ -48,6 +48,9 @@ class ComputedTorqueController
   using typename Base::Vec6;
 
   NEUROV_CONTROLLER_NAMES("computed_torque", "computed torque", "ComputedTorqueController")
+  static constexpr const char* kDoc =
+      "Computed-torque (inverse-dynamics) controller on a nominal vehicle: tau = M nu_r_dot + "
+      "C(nu) nu_r + D(nu) nu_r + g(eta) - J^T K_d s, with the vehicle's own M, C, D and g.";
   NEUROV_CONTROLLER_CONSTRUCTORS(ComputedTorqueController, "computed-torque controller")
 
   /// Validates the gains and the nominal vehicle and builds its M once.

@@ -58,6 +58,10 @@ class LinearAdaptiveController
   static constexpr int kLoggedParameters = kRegressorParameters;
 
   NEUROV_CONTROLLER_NAMES("linear", "linear adaptive", "LinearAdaptiveController")
+  static constexpr const char* kDoc =
+      "Linearly parameterised adaptive controller (eq. 26, 28; Fossen and Sagatun): tau = Phi "
+      "theta_hat - J^T K_d s, theta_hat <- theta_hat - dt Gamma Phi^T J^-1 s. Knows NEROV's "
+      "model structure (see regressor), not its parameters.";
   NEUROV_CONTROLLER_CONSTRUCTORS(LinearAdaptiveController, "linear adaptive controller")
 
   /// Back to theta0 and a zero history.

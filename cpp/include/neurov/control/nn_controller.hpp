@@ -66,16 +66,16 @@ auto config_fields(const NNAdaptiveConfig<Scalar>*) noexcept {
       std::make_tuple(
           field_spec<C>("gamma", &C::gamma, "", Check::non_negative, "Gamma_w = gamma I (the paper: 0.3)"),
           field_spec<C>("dt", &C::dt, "s", Check::positive, "Control period (the paper: 0.2)"),
-          field_spec<C>("modification", &C::modification,
-                        "The robust modification: a RobustModification or its name."),
+          field_spec<C>("modification", &C::modification, "", Check::none,
+                        "The robust modification: a RobustModification or its name.", kKeywordOnly),
           field_spec<C>("sigma_m", &C::sigma_m, "", Check::non_negative,
-                        "Leakage of the sigma-modification (> 0 when used)"),
+                        "Leakage of the sigma-modification (> 0 when used)", kKeywordOnly),
           field_spec<C>("kappa", &C::kappa, "", Check::non_negative,
-                        "Gain of the e-modification (> 0 when used)"),
+                        "Gain of the e-modification (> 0 when used)", kKeywordOnly),
           field_spec<C>("w_max", &C::w_max, "", Check::non_negative,
-                        "Frobenius bound of the projection (> 0 when used)"),
+                        "Frobenius bound of the projection (> 0 when used)", kKeywordOnly),
           field_spec<C>("dead_zone", &C::dead_zone, "", Check::non_negative,
-                        "No adaptation while ||s|| < dead_zone (0 disables)")));
+                        "No adaptation while ||s|| < dead_zone (0 disables)", kKeywordOnly)));
 }
 
 template <typename Scalar>
@@ -133,6 +133,10 @@ class NNAdaptiveController
   using WeightMatrix = typename Network::WeightMatrix;
 
   NEUROV_CONTROLLER_NAMES("nn", "NN adaptive", "NNAdaptiveController")
+  static constexpr const char* kDoc =
+      "Direct adaptive RBF-network controller (eq. 35, 37): tau = W g(x) - J^T K_d s with "
+      "x = [nu_r_dot; nu_r; nu; eta] (24 inputs), then W <- W - dt (J^-1 s) g(x)^T Gamma_w. "
+      "tau uses the weights from before the update.";
   /// The prefix of its validator's messages.
   static constexpr const char* kWhat = "NN controller";
   NNAdaptiveController() = default;

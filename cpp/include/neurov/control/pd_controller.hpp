@@ -34,6 +34,8 @@ class PDController : public ControllerBase<PDController<ScalarT>, ScalarT, PDCon
 
  public:
   NEUROV_CONTROLLER_NAMES("pd", "PD", "PDController")
+  static constexpr const char* kDoc =
+      "PD baseline in the earth frame: tau = -J^T (K_p eta_tilde + K_d eta_tilde_dot).";
   NEUROV_CONTROLLER_CONSTRUCTORS(PDController, "PD controller")
 
  private:

@@ -52,6 +52,13 @@ class PIDController
   using typename Base::Vec6;
 
   NEUROV_CONTROLLER_NAMES("pid", "PID", "PIDController")
+  static constexpr const char* kDoc =
+      "PID baseline in the earth frame with anti-windup: tau = -J^T (K_p eta_tilde + K_i z + "
+      "K_d eta_tilde_dot), z the integral of eta_tilde, |K_i z| <= integral_limit per DOF and "
+      "no integration further into the limit.";
+  static constexpr const char* kStateName = "integral";
+  static constexpr const char* kStateDoc =
+      "The integrator state z (6,), the limited time integral of eta_tilde.";
   NEUROV_CONTROLLER_CONSTRUCTORS(PIDController, "PID controller")
 
   /// The integrator state z (the time integral of eta_tilde, limited).

@@ -55,6 +55,9 @@ class SlidingModeController
   using typename Base::Vec6;
 
   NEUROV_CONTROLLER_NAMES("smc", "sliding mode", "SlidingModeController")
+  static constexpr const char* kDoc =
+      "Sliding-mode controller with a boundary layer: tau = Phi theta - J^T (K_d s + K "
+      "sat(s / phi)), with theta the nominal model's parameters (regressor).";
   NEUROV_CONTROLLER_CONSTRUCTORS(SlidingModeController, "sliding-mode controller")
 
  private:

@@ -41,6 +41,9 @@ constexpr const char* check_text(Check c) noexcept {
 /// Ways Python may give a field besides its own type.
 enum FieldFlag : unsigned {
   kNumberFills = 1u,  ///< a fixed-size vector also set from one number (every entry)
+  kDiagonal = 2u,     ///< a square matrix also set from its diagonal (a vector)
+  kRequired = 4u,     ///< no usable default: files and keyword constructors must give it
+  kKeywordOnly = 8u,  ///< by name only in a keyword constructor, as every field after it
 };
 
 /// One field of Config: its Python/TOML name, the member, its meaning, its

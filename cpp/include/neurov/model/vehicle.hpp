@@ -7,6 +7,7 @@
 #include <cstdint>
 
 #include "neurov/core/config.hpp"
+#include "neurov/core/field_spec.hpp"
 #include "neurov/model/kinematics.hpp"
 #include "neurov/model/plant_kernel.hpp"
 #include "neurov/core/status.hpp"
@@ -26,6 +27,11 @@ enum class CoriolisForm : std::uint8_t {
   /// Both C_RB and C_A from the 6x6 mass matrices (Fossen's "m2c" form).
   kirchhoff = 1,
 };
+
+/// The form's name, as vehicle files and Python give it.
+constexpr const char* to_string(CoriolisForm f) noexcept {
+  return f == CoriolisForm::kirchhoff ? "kirchhoff" : "velocity_independent";
+}
 
 template <typename Scalar>
 struct VehicleParameters {
@@ -59,6 +65,37 @@ struct VehicleParameters {
   }
 };
 
+/// The parameters described once: the Python class VehicleParameters, the
+/// keyword arguments and properties of Vehicle, the vehicle files' keys and
+/// the simple part of validate() come from this list.
+template <typename Scalar>
+auto config_fields(const VehicleParameters<Scalar>*) noexcept {
+  using P = VehicleParameters<Scalar>;
+  return std::make_tuple(
+      field_spec<P>("mass", &P::mass, "kg", Check::positive, "m", kRequired),
+      field_spec<P>("inertia", &P::inertia, "kg m^2", Check::finite,
+                    "I_o about the body origin (3, 3), or its diagonal (3,); symmetric positive "
+                    "definite",
+                    kRequired | kDiagonal),
+      field_spec<P>("centre_of_gravity", &P::centre_of_gravity, "m", Check::finite,
+                    "r_g (3,), body axes"),
+      field_spec<P>("centre_of_buoyancy", &P::centre_of_buoyancy, "m", Check::finite,
+                    "r_b (3,), body axes (z down)"),
+      field_spec<P>("weight", &P::weight, "N", Check::non_negative, "W = m g", kRequired),
+      field_spec<P>("buoyancy", &P::buoyancy, "N", Check::non_negative, "B", kRequired),
+      field_spec<P>("added_mass", &P::added_mass, "kg, kg m, kg m^2", Check::finite,
+                    "M_A (6, 6), or its diagonal (6,); symmetric positive semidefinite "
+                    "(M_A = -diag(X_udot, ..., N_rdot) for a diagonal one)",
+                    kRequired | kDiagonal),
+      field_spec<P>("linear_damping", &P::linear_damping, "N s/m, N m s", Check::non_negative,
+                    "D_L (6,), the constant part of D(nu)'s diagonal", kRequired),
+      field_spec<P>("quadratic_damping", &P::quadratic_damping, "N s^2/m^2, N m s^2",
+                    Check::non_negative, "D_Q (6,), the part of D(nu)'s diagonal times abs(nu)",
+                    kRequired),
+      field_spec<P>("coriolis_form", &P::coriolis_form,
+                    "'velocity_independent' (the paper's eq. 39, the default) or 'kirchhoff'"));
+}
+
 /// M_RB = [[m I, -m S(r_g)], [m S(r_g), I_o]].
 template <typename Scalar>
 inline Matrix6<Scalar> rigid_body_mass_matrix(const VehicleParameters<Scalar>& p) noexcept {
@@ -71,21 +108,13 @@ inline Matrix6<Scalar> rigid_body_mass_matrix(const VehicleParameters<Scalar>& p
   return m;
 }
 
-/// Checks a parameter set: finite numbers, mass > 0, W and B >= 0, damping
-/// >= 0, and M = M_RB + M_A symmetric positive definite.
+/// Checks a parameter set: each field's rule (config_fields: finite numbers,
+/// mass > 0, W and B >= 0, damping >= 0), then what ties fields together:
+/// symmetric inertia and added mass, and M = M_RB + M_A positive definite.
 template <typename Scalar>
 inline ValidationError validate(const VehicleParameters<Scalar>& p) noexcept {
   using detail::invalid;
-  if (auto e = detail::check_positive_scalar("mass", static_cast<double>(p.mass))) return e;
-  if (auto e = detail::check_finite("inertia", p.inertia)) return e;
-  if (auto e = detail::check_finite("centre_of_gravity", p.centre_of_gravity)) return e;
-  if (auto e = detail::check_finite("centre_of_buoyancy", p.centre_of_buoyancy)) return e;
-  if (auto e = detail::check_non_negative_scalar("weight", static_cast<double>(p.weight))) return e;
-  if (auto e = detail::check_non_negative_scalar("buoyancy", static_cast<double>(p.buoyancy)))
-    return e;
-  if (auto e = detail::check_finite("added_mass", p.added_mass)) return e;
-  if (auto e = detail::check_non_negative("linear_damping", p.linear_damping)) return e;
-  if (auto e = detail::check_non_negative("quadratic_damping", p.quadratic_damping)) return e;
+  if (auto e = check_fields(p)) return e;
   if (p.coriolis_form != CoriolisForm::velocity_independent &&
       p.coriolis_form != CoriolisForm::kirchhoff)
     return invalid("coriolis_form", -1, static_cast<double>(p.coriolis_form),

@@ -135,6 +135,13 @@ class BatchSimulator {
   /// Lane i back to t = 0 with noise from `seed`.
   void reset(std::size_t i, std::uint64_t seed) noexcept { lanes_[i].reset(seed); }
 
+  /// Every lane i with mask[i] (mask nullptr: every lane) back to t = 0 with
+  /// noise from seeds[i].
+  void reset(const std::uint64_t* seeds, const bool* mask) noexcept {
+    for (std::size_t i = 0; i < lanes_.size(); ++i)
+      if (!mask || mask[i]) lanes_[i].reset(seeds[i]);
+  }
+
   /// Steps every lane i with mask[i] (mask nullptr: every lane) that is not
   /// done, with the force tau[6 i .. 6 i + 5] (row i of a row-major (K, 6)
   /// block) and, with logged parameters, parameters[P i .. P i + P - 1]

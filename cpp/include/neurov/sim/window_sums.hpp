@@ -15,7 +15,9 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <type_traits>
+#include <utility>
 
 #include "neurov/core/types.hpp"
 #include "neurov/sim/result.hpp"
@@ -156,6 +158,22 @@ struct RunSums {
                               : std::max(max_adaptive_norm, norm);
     }
     diverged = diverged || run_diverged;
+  }
+
+  /// Calls f(name, value) on what the sums are to the outside world, in
+  /// order: after, before and window (WindowSums), final_adaptive_norm,
+  /// max_adaptive_norm, diverged and first_refused, the first refused step's
+  /// (time, status) or none.
+  template <typename F>
+  void visit(F&& f) const {
+    f("after", after);
+    f("before", before);
+    f("window", window);
+    f("final_adaptive_norm", final_adaptive_norm);
+    f("max_adaptive_norm", max_adaptive_norm);
+    f("diverged", diverged);
+    f("first_refused", first_refused_status ? std::optional(std::pair(first_refused_t, int(first_refused_status)))
+                                            : std::nullopt);
   }
 };
 
