@@ -14,8 +14,8 @@
 //  * anything else: a getter and a setter of its own (`field`).
 // Every struct also gets a keyword constructor that refuses unknown names
 // (listing the fields), a repr, copy and pickle support, and validate() runs
-// the C++ validator. A struct described by config_fields
-// (neurov/core/field_spec.hpp) is bound whole by Fields<T>::described.
+// the C++ validator. A struct is bound whole from its description
+// (config_fields, neurov/core/field_spec.hpp) by Fields<T>::described.
 #pragma once
 
 #include <pybind11/eigen.h>
@@ -67,14 +67,6 @@ struct FieldKind<std::vector<X>> {
 template <typename T>
 class Fields {
  public:
-  Fields(py::class_<T> cls, std::string type_name)
-      : cls_(std::move(cls)),
-        type_(std::move(type_name)),
-        names_(std::make_shared<std::vector<std::string>>()) {}
-  /// Binds T as `name` in `m`, its fields to follow.
-  Fields(py::module_& m, const char* name, const char* doc)
-      : Fields(py::class_<T>(m, name, doc), name) {}
-
   /// T bound from its description (config_fields): each field by its kind,
   /// its docstring from its meaning, unit and rule; the class's FIELDS lists
   /// them as dicts (name, unit, rule, min, max, doc, shape, diagonal,
@@ -86,68 +78,6 @@ class Fields {
                config_fields(static_cast<const T*>(nullptr)));
     f.cls_.attr("FIELDS") = py::tuple(table);
     return f;
-  }
-
-  /// A number, bool, enum (by value) or nested struct (a reference into this
-  /// one). A value of the wrong type is a TypeError naming the field.
-  template <typename D>
-  Fields& value(const char* name, D T::*member, const char* doc) {
-    const std::string qualified = type_ + "." + name;
-    auto set = [member, qualified](T& self, const typename ValueArg<D>::type& v) {
-      self.*member = checked<D>(v, qualified);
-    };
-    if constexpr (std::is_arithmetic_v<D> || std::is_enum_v<D>)
-      cls_.def_property(name, [member](const T& self) { return self.*member; }, set, doc);
-    else
-      cls_.def_property(name, [member](T& self) -> D& { return self.*member; }, set, doc);
-    names_->push_back(name);
-    return *this;
-  }
-
-  /// A fixed-size vector: a writable numpy view; assigned from any real
-  /// array-like of the right length.
-  template <int N>
-  Fields& vector(const char* name, Eigen::Matrix<double, N, 1> T::*member, const char* doc) {
-    const std::string qualified = type_ + "." + name;
-    cls_.def_property(
-        name, [member](T& self) -> Eigen::Matrix<double, N, 1>& { return self.*member; },
-        [member, qualified](T& self, const typed::ArrayLike& v) {
-          auto a = shaped(v, qualified, 1, N, -1);
-          self.*member = Eigen::Map<const Eigen::Matrix<double, N, 1>>(a.data());
-        },
-        doc);
-    names_->push_back(name);
-    return *this;
-  }
-
-  /// A fixed-size vector that also takes one number, which fills every entry.
-  template <int N>
-  Fields& vector_or_number(const char* name, Eigen::Matrix<double, N, 1> T::*member,
-                           const char* doc) {
-    return field(
-        name, [member](T& self) -> Eigen::Matrix<double, N, 1>& { return self.*member; },
-        [member](T& self, const typed::RealOrArrayLike& v, const std::string& qualified) {
-          if (py::isinstance<py::float_>(v) || py::isinstance<py::int_>(v))
-            (self.*member).setConstant(checked<double>(py::reinterpret_borrow<py::object>(v),
-                                                       qualified));
-          else
-            self.*member = Eigen::Map<const Eigen::Matrix<double, N, 1>>(
-                shaped(v, qualified, 1, N, -1).data());
-        },
-        doc);
-  }
-
-  /// A fixed-size square matrix: a writable numpy view; assigned from an
-  /// (N, N) array-like or its diagonal (N,).
-  template <int N>
-  Fields& matrix_or_diagonal(const char* name, Eigen::Matrix<double, N, N> T::*member,
-                             const char* doc) {
-    return field(
-        name, [member](T& self) -> Eigen::Matrix<double, N, N>& { return self.*member; },
-        [member](T& self, const typed::ArrayLike& v, const std::string& qualified) {
-          self.*member = py_args::matrix_or_diagonal<N>(v, qualified.c_str());
-        },
-        doc);
   }
 
   /// A field with a conversion of its own: `get(self)` returns it (a
@@ -182,83 +112,7 @@ class Fields {
     return validator(what, [](const T& self) { return validate(self); });
   }
 
-  /// A dynamic vector: a read-only copy; assigned whole.
-  template <typename M>
-  Fields& dynamic_vector(const char* name, M T::*member, const char* doc) {
-    return dynamic(name, member, 1, -1, -1, doc);
-  }
-
-  /// A dynamic matrix (rows or cols < 0: any): a read-only copy; assigned whole.
-  template <typename M>
-  Fields& dynamic_matrix(const char* name, M T::*member, py::ssize_t rows, py::ssize_t cols,
-                         const char* doc) {
-    return dynamic(name, member, 2, rows, cols, doc);
-  }
-
-  /// A list of bound structs: a tuple of copies (changing one changes the
-  /// copy, not the struct); assigned whole from any sequence of E.
-  template <typename E>
-  Fields& list(const char* name, std::vector<E> T::*member, const char* element,
-               const char* doc) {
-    const std::string qualified = type_ + "." + name;
-    const std::string element_name = element;
-    cls_.def_property(
-        name,
-        [member](const T& self) {
-          py::typing::Tuple<E, py::ellipsis> out((self.*member).size());
-          for (std::size_t i = 0; i < (self.*member).size(); ++i)
-            out[i] = py::cast((self.*member)[i]);
-          return out;
-        },
-        [member, qualified, element_name](T& self, const typed::IterableOf<E>& v) {
-          if (py::isinstance<py::str>(v) || !py::isinstance<py::sequence>(v))
-            throw py::type_error(qualified + " must be a list of " + element_name + ", got " +
-                                 type_name(v));
-          std::vector<E> items;
-          std::size_t i = 0;
-          for (const py::handle item : v) {
-            if (!py::isinstance<E>(item))
-              throw py::type_error(qualified + "[" + std::to_string(i) + "] must be a " +
-                                   element_name + ", got " + type_name(item));
-            items.push_back(item.cast<E>());
-            ++i;
-          }
-          self.*member = std::move(items);
-        },
-        doc);
-    names_->push_back(name);
-    return *this;
-  }
-
   /// The keyword constructor, repr, copy and pickle; call after the fields.
-  /// An optional bound struct or fixed-size vector: None when empty. The
-  /// getter gives the held value itself (changing its fields changes this
-  /// object's); assigning None empties it.
-  template <typename D>
-  Fields& optional(const char* name, std::optional<D> T::*member, const char* doc) {
-    const std::string qualified = type_ + "." + name;
-    cls_.def_property(
-        name,
-        [member](py::object self) -> py::typing::Optional<D> {
-          auto& o = self.cast<T&>().*member;
-          if (!o) return py::none();
-          return py::cast(&*o, py::return_value_policy::reference_internal, self);
-        },
-        [member, qualified](T& self, const typename OptionalArg<D>::type& v) {
-          if (v.is_none()) {
-            (self.*member).reset();
-          } else if constexpr (std::is_base_of_v<Eigen::MatrixBase<D>, D>) {
-            auto a = shaped(v, qualified, 1, D::RowsAtCompileTime, -1);
-            self.*member = D(Eigen::Map<const D>(a.data()));
-          } else {
-            self.*member = checked<D>(v, qualified);
-          }
-        },
-        doc);
-    names_->push_back(name);
-    return *this;
-  }
-
   /// Returns the class, for methods of its own.
   py::class_<T> finish() {
     auto names = names_;
@@ -298,6 +152,9 @@ class Fields {
   }
 
  private:
+  Fields(py::module_& m, const char* name, const char* doc)
+      : cls_(m, name, doc), type_(name), names_(std::make_shared<std::vector<std::string>>()) {}
+
   /// One described field bound by its kind, and its row of FIELDS.
   template <typename D>
   void add(const FieldSpec<T, D>& s, py::list& table) {
@@ -318,26 +175,18 @@ class Fields {
       if constexpr (std::is_base_of_v<Eigen::MatrixBase<V>, V>)
         shape = py::make_tuple(static_cast<int>(V::RowsAtCompileTime));
     } else if constexpr (FieldKind<D>::kind == 3) {
-      using E = typename FieldKind<D>::Element;
-      const py::handle type = py::detail::get_type_handle(typeid(E), true);
-      const std::string element = py::str(type.attr("__name__"));
-      list(s.name, s.member, element.c_str(), doc.c_str());
+      list(s.name, s.member, doc.c_str());
     } else if constexpr (FieldKind<D>::kind == 1) {
       if constexpr (D::RowsAtCompileTime > 0 && D::ColsAtCompileTime == 1) {
-        if (s.flags & kNumberFills)
-          vector_or_number(s.name, s.member, doc.c_str());
-        else
-          vector(s.name, s.member, doc.c_str());
+        vector(s.name, s.member, s.flags & kNumberFills, doc.c_str());
         shape = py::make_tuple(static_cast<int>(D::RowsAtCompileTime));
-      } else if constexpr (D::ColsAtCompileTime == 1) {
-        dynamic_vector(s.name, s.member, doc.c_str());
       } else {
         constexpr int rows = D::RowsAtCompileTime, cols = D::ColsAtCompileTime;
         if constexpr (rows > 0 && rows == cols) {
           if (s.flags & kDiagonal) matrix_or_diagonal(s.name, s.member, doc.c_str());
-          else dynamic_matrix(s.name, s.member, rows, cols, doc.c_str());
+          else dynamic(s.name, s.member, doc.c_str());
         } else {
-          dynamic_matrix(s.name, s.member, rows, cols, doc.c_str());
+          dynamic(s.name, s.member, doc.c_str());
         }
         if constexpr (rows > 0 && cols > 0) shape = py::make_tuple(rows, cols);
       }
@@ -357,55 +206,132 @@ class Fields {
     table.append(row);
   }
 
+  /// A number, bool, enum (by value) or nested struct (a reference into this
+  /// one). A value of the wrong type is a TypeError naming the field.
+  template <typename D>
+  void value(const char* name, D T::*member, const char* doc) {
+    const auto set = [member](T& self, const typename ValueArg<D>::type& v, const std::string& q) {
+      self.*member = checked<D>(v, q);
+    };
+    if constexpr (std::is_arithmetic_v<D> || std::is_enum_v<D>)
+      field(name, [member](const T& self) { return self.*member; }, set, doc);
+    else
+      field(name, [member](T& self) -> D& { return self.*member; }, set, doc);
+  }
+
+  /// A fixed-size vector: a writable numpy view (the storage is inside the
+  /// struct); assigned from any real array-like of its length or, when
+  /// `fills`, from one number for every entry.
+  template <int N>
+  void vector(const char* name, Eigen::Matrix<double, N, 1> T::*member, bool fills, const char* doc) {
+    const auto get = [member](T& self) -> Eigen::Matrix<double, N, 1>& { return self.*member; };
+    if (!fills) {
+      field(name, get, [member](T& self, const typed::ArrayLike& v, const std::string& q) {
+        self.*member = py_args::vector<N>(v, py_args::field(q), false);
+      }, doc);
+      return;
+    }
+    field(name, get, [member](T& self, const typed::RealOrArrayLike& v, const std::string& q) {
+      if (py::isinstance<py::float_>(v) || py::isinstance<py::int_>(v))
+        (self.*member).setConstant(checked<double>(v, q));
+      else
+        self.*member = py_args::vector<N>(v, py_args::field(q), false);
+    }, doc);
+  }
+
+  /// A fixed-size square matrix: a writable numpy view; assigned from an
+  /// (N, N) array-like or its diagonal (N,).
+  template <int N>
+  void matrix_or_diagonal(const char* name, Eigen::Matrix<double, N, N> T::*member, const char* doc) {
+    field(name, [member](T& self) -> Eigen::Matrix<double, N, N>& { return self.*member; },
+          [member](T& self, const typed::ArrayLike& v, const std::string& q) {
+            self.*member = py_args::matrix_or_diagonal<N>(v, q.c_str());
+          }, doc);
+  }
+
+  /// A dynamic vector or matrix: a read-only copy (a view could outlive a
+  /// buffer that a later assignment frees); assigned whole.
   template <typename M>
-  Fields& dynamic(const char* name, M T::*member, int ndim, py::ssize_t rows, py::ssize_t cols,
-                  const char* doc) {
-    const std::string qualified = type_ + "." + name;
-    cls_.def_property(
+  void dynamic(const char* name, M T::*member, const char* doc) {
+    field(
         name,
         [member](const T& self) {
           py::array a = py::cast(M(self.*member));
           a.attr("setflags")(py::arg("write") = false);
           return py::reinterpret_borrow<py::array_t<double>>(a);
         },
-        [member, qualified, ndim, rows, cols](T& self, const typed::ArrayLike& v) {
-          auto a = shaped(v, qualified, ndim, rows, cols);
+        [member](T& self, const typed::ArrayLike& v, const std::string& q) {
           if constexpr (M::ColsAtCompileTime == 1)
-            self.*member = Eigen::Map<const Eigen::VectorXd>(a.data(), a.shape(0));
+            self.*member = py_args::dynamic_vector(v, py_args::field(q), M::RowsAtCompileTime, false);
           else
-            self.*member =
-                Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic,
-                                               Eigen::RowMajor>>(a.data(), a.shape(0), a.shape(1));
+            self.*member = py_args::dynamic_matrix(v, py_args::field(q), M::RowsAtCompileTime,
+                                                   M::ColsAtCompileTime, false);
         },
         doc);
-    names_->push_back(name);
-    return *this;
   }
 
-  /// v as a real array with ndim dimensions of the given sizes (< 0: any);
-  /// TypeError or ValueError naming the field.
-  static py::array_t<double, py::array::c_style> shaped(const py::handle& v,
-                                                        const std::string& name, int ndim,
-                                                        py::ssize_t rows, py::ssize_t cols) {
-    const auto size = [](py::ssize_t n, const char* any) {
-      return n < 0 ? std::string(any) : std::to_string(n);
-    };
-    const std::string expected = ndim == 1 ? "(" + size(rows, "n") + ",)"
-                                           : "(" + size(rows, "n") + ", " + size(cols, "m") + ")";
-    auto a = py_args::real_array(v, name.c_str(), expected);
-    const bool ok = a.ndim() == ndim && (rows < 0 || a.shape(0) == rows) &&
-                    (ndim == 1 || cols < 0 || a.shape(1) == cols);
-    if (!ok)
-      throw py::value_error(name + " must have shape " + expected + ", got " +
-                            py_args::shape_string(a));
-    return a;
+  /// A list of bound structs: a tuple of copies (changing one changes the
+  /// copy, not the struct); assigned whole from any sequence of E.
+  template <typename E>
+  void list(const char* name, std::vector<E> T::*member, const char* doc) {
+    field(
+        name,
+        [member](const T& self) {
+          py::typing::Tuple<E, py::ellipsis> out((self.*member).size());
+          for (std::size_t i = 0; i < (self.*member).size(); ++i) out[i] = py::cast((self.*member)[i]);
+          return out;
+        },
+        [member](T& self, const typed::IterableOf<E>& v, const std::string& q) {
+          if (py::isinstance<py::str>(v) || !py::isinstance<py::sequence>(v))
+            throw py::type_error(q + " must be a list of " + bound_name<E>() + ", got " + py_args::type_name(v));
+          std::vector<E> items;
+          for (const py::handle item : v) {
+            if (!py::isinstance<E>(item))
+              throw py::type_error(q + "[" + std::to_string(items.size()) + "] must be a " + bound_name<E>() +
+                                   ", got " + py_args::type_name(item));
+            items.push_back(item.cast<E>());
+          }
+          self.*member = std::move(items);
+        },
+        doc);
+  }
+
+  /// An optional bound struct or fixed-size vector: None when empty. The
+  /// getter gives the held value itself (changing its fields changes this
+  /// object's); assigning None empties it.
+  template <typename D>
+  void optional(const char* name, std::optional<D> T::*member, const char* doc) {
+    field(
+        name,
+        [member](py::object self) -> py::typing::Optional<D> {
+          auto& o = self.cast<T&>().*member;
+          if (!o) return py::none();
+          return py::cast(&*o, py::return_value_policy::reference_internal, self);
+        },
+        [member](T& self, const typename OptionalArg<D>::type& v, const std::string& q) {
+          if (v.is_none()) {
+            (self.*member).reset();
+          } else if constexpr (std::is_base_of_v<Eigen::MatrixBase<D>, D>) {
+            self.*member = D(py_args::vector<D::RowsAtCompileTime>(v, py_args::field(q), false));
+          } else {
+            self.*member = checked<D>(v, q);
+          }
+        },
+        doc);
+  }
+
+  /// The Python name of a bound struct or enum (py::enum_ types have no
+  /// py::type::of in pybind11 3).
+  template <typename D>
+  static std::string bound_name() {
+    return py::str(py::detail::get_type_handle(typeid(D), true).attr("__name__"));
   }
 
   /// v as a D: a bool only from a bool, an integer only from an int, a real
   /// number from an int or float, a bound type only from itself.
   template <typename D>
   static D checked(const py::object& v, const std::string& name) {
-    const auto got = [&] { return type_name(v); };
+    const auto got = [&] { return py_args::type_name(v); };
     if constexpr (std::is_same_v<D, bool>) {
       if (!py::isinstance<py::bool_>(v) && got() != "bool_")
         throw py::type_error(name + " must be a bool, got " + got());
@@ -413,16 +339,10 @@ class Fields {
     } else if constexpr (std::is_integral_v<D>) {
       return py_args::integer<D>(v, name);
     } else if constexpr (std::is_floating_point_v<D>) {
-      if (py::isinstance<py::bool_>(v) || !py::hasattr(v, "__float__") ||
-          (py::isinstance<py::array>(v) && py::reinterpret_borrow<py::array>(v).ndim() != 0))
-        throw py::type_error(name + " must be a real number, got " + got());
-      return v.cast<D>();
+      return static_cast<D>(py_args::scalar(v, py_args::field(name), false));
     } else {
-      // A bound struct or enum (py::enum_ types have no py::type::of in pybind11 3).
-      const py::handle type = py::detail::get_type_handle(typeid(D), true);
-      if (!py::isinstance(v, type))
-        throw py::type_error(name + " must be a " + std::string(py::str(type.attr("__name__"))) +
-                             ", got " + got());
+      if (!py::isinstance(v, py::detail::get_type_handle(typeid(D), true)))
+        throw py::type_error(name + " must be a " + bound_name<D>() + ", got " + got());
       return v.cast<D>();
     }
   }
@@ -450,10 +370,6 @@ class Fields {
   struct SetterArg<R (C::*)(S, V, N) const> {
     using type = std::decay_t<V>;
   };
-
-  static std::string type_name(const py::handle& v) {
-    return std::string(py::str(py::type::handle_of(v).attr("__name__")));
-  }
 
   static std::string joined(const std::vector<std::string>& names) {
     std::string s;

@@ -1,6 +1,7 @@
-// Checked conversion of Python arguments to fixed-size Eigen objects, so that a
-// wrong shape, dtype or a non-finite number is an error naming the argument
-// (pybind11's own casters only say that no overload matched).
+// Checked conversion of Python arguments (and of bound structs' fields,
+// fields.hpp) to Eigen objects and numbers, so that a wrong type, shape, dtype
+// or a non-finite number is an error naming the argument or field (pybind11's
+// own casters only say that no overload matched). One array reader, real().
 #pragma once
 
 #include <pybind11/eigen.h>
@@ -37,44 +38,92 @@ inline std::string type_name(const py::handle& obj) {
   return py::str(py::type::handle_of(obj).attr("__name__"));
 }
 
+/// Who a refusal names: an argument by its name ("argument 'eta'"), or a
+/// field by its qualified name (field("Type.field"): "Type.field"). Made
+/// from an argument's name, so call sites pass just the name.
+struct Who {
+  const char* name;
+  bool is_field = false;
+  Who(const char* argument) : name(argument) {}  // NOLINT: implicit by design
+  std::string str() const { return is_field ? name : std::string("argument '") + name + "'"; }
+};
+inline Who field(const std::string& qualified) {
+  Who w(qualified.c_str());
+  w.is_field = true;
+  return w;
+}
+
 inline std::string shape_string(const py::array& a) {
   std::string s = "(";
-  for (py::ssize_t i = 0; i < a.ndim(); ++i) {
-    if (i) s += ", ";
-    s += std::to_string(a.shape(i));
-  }
-  if (a.ndim() == 1) s += ",";
-  return s + ")";
+  for (py::ssize_t i = 0; i < a.ndim(); ++i) s += (i ? ", " : "") + std::to_string(a.shape(i));
+  return s + (a.ndim() == 1 ? ",)" : ")");
 }
 
+/// A shape expected, as numpy prints it; a size < 0 (any) is "n" on the
+/// first axis, "m" on the second.
+inline std::string shape_string(std::initializer_list<py::ssize_t> shape) {
+  std::string s = "(";
+  for (std::size_t i = 0; i < shape.size(); ++i) {
+    const py::ssize_t n = shape.begin()[i];
+    s += (i ? ", " : "") + (n >= 0 ? std::to_string(n) : std::string(i ? "m" : "n"));
+  }
+  return s + (shape.size() == 1 ? ",)" : ")");
+}
+/// (rows, cols), or (rows,) for cols < 0.
 inline std::string shape_string(py::ssize_t rows, py::ssize_t cols) {
-  if (cols < 0) return "(" + (rows < 0 ? std::string("n") : std::to_string(rows)) + ",)";
-  return "(" + (rows < 0 ? std::string("n") : std::to_string(rows)) + ", " +
-         (cols < 0 ? std::string("m") : std::to_string(cols)) + ")";
+  return cols < 0 ? shape_string({rows}) : shape_string({rows, cols});
 }
 
-/// obj as a C-contiguous float64 array of real numbers; TypeError otherwise.
-inline py::array_t<double, py::array::c_style> real_array(const py::handle& obj, const char* name,
+/// Whether a's shape is `shape` (-1: any size on that axis).
+inline bool has_shape(const py::array& a, std::initializer_list<py::ssize_t> shape) {
+  if (a.ndim() != static_cast<py::ssize_t>(shape.size())) return false;
+  for (std::size_t i = 0; i < shape.size(); ++i)
+    if (shape.begin()[i] >= 0 && a.shape(static_cast<py::ssize_t>(i)) != shape.begin()[i]) return false;
+  return true;
+}
+
+/// obj (any array-like, not None) as a C-contiguous float64 array of real
+/// numbers, of any shape; TypeError naming `who` and the shape `expected`.
+inline py::array_t<double, py::array::c_style> real_array(const py::handle& obj, const Who& who,
                                                           const std::string& expected) {
-  if (obj.is_none())
-    throw py::type_error(std::string("argument '") + name + "' must be a float array of shape " +
-                         expected + ", got None");
-  py::array arr;
-  try {
-    arr = py::array::ensure(obj);
-  } catch (const py::error_already_set&) {
-    arr = py::array();
+  py::object converted;  // null: None, or not an array-like
+  if (!obj.is_none()) {
+    try {
+      converted = py::array::ensure(obj);
+    } catch (const py::error_already_set&) {
+    }
   }
-  if (!arr) {
-    throw py::type_error(std::string("argument '") + name + "' must be a float array of shape " +
-                         expected + ", got " + type_name(obj));
-  }
+  if (!converted)
+    throw py::type_error(who.str() + " must be a float array of shape " + expected + ", got " +
+                         (obj.is_none() ? std::string("None") : type_name(obj)));
+  const auto arr = py::reinterpret_borrow<py::array>(converted);
   const char kind = arr.dtype().kind();
-  if (kind != 'f' && kind != 'i' && kind != 'u') {
-    throw py::type_error(std::string("argument '") + name + "' must hold real numbers (shape " +
-                         expected + "), got dtype " + std::string(py::str(arr.dtype())));
-  }
+  if (kind != 'f' && kind != 'i' && kind != 'u')
+    throw py::type_error(who.str() + " must hold real numbers (shape " + expected + "), got dtype " +
+                         std::string(py::str(arr.dtype())));
   return py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(arr);
+}
+
+inline void require_finite(const double* data, py::ssize_t n, const Who& who) {
+  for (py::ssize_t i = 0; i < n; ++i)
+    if (!std::isfinite(data[i]))
+      throw py::value_error(who.str() + " must be finite; element " + std::to_string(i) + " is " +
+                            num(data[i]));
+}
+
+/// The one reader of a real array: obj as a C-contiguous float64 array whose
+/// shape is `shape` (-1: any size on that axis), with no NaN or Inf when
+/// `finite`. The errors name `who` and the shape expected (`expected`, or
+/// `shape` written by shape_string).
+inline py::array_t<double, py::array::c_style> real(const py::handle& obj, const Who& who,
+                                                    std::initializer_list<py::ssize_t> shape,
+                                                    bool finite = true, std::string expected = {}) {
+  if (expected.empty()) expected = shape_string(shape);
+  auto a = real_array(obj, who, expected);
+  if (!has_shape(a, shape))
+    throw py::value_error(who.str() + " must have shape " + expected + ", got " + shape_string(a));
+  if (finite) require_finite(a.data(), a.size(), who);
+  return a;
 }
 
 /// Why numpy_array refuses an argument: its type or dtype (a TypeError to
@@ -97,10 +146,7 @@ py::array_t<T, py::array::c_style> numpy_array(const py::handle& obj, std::initi
   if constexpr (std::is_same_v<T, double>) dtype_ok = dtype_ok || kind == 'f';
   if constexpr (std::is_same_v<T, bool>) dtype_ok = kind == 'b';
   if (!dtype_ok) refuse(Refusal::type, "dtype " + std::string(py::str(a.dtype())));
-  bool shape_ok = a.ndim() == static_cast<py::ssize_t>(shape.size());
-  py::ssize_t axis = 0;
-  for (const py::ssize_t n : shape) shape_ok = shape_ok && (n < 0 || a.shape(axis++) == n);
-  if (!shape_ok) refuse(Refusal::value, "shape " + shape_string(a));
+  if (!has_shape(a, shape)) refuse(Refusal::value, "shape " + shape_string(a));
   if constexpr (std::is_same_v<T, std::uint64_t>) {
     if (kind == 'i') {
       const auto s = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(a);
@@ -128,42 +174,17 @@ D integer(const py::handle& obj, const std::string& name) {
   return i.cast<D>();
 }
 
-inline void require_finite(const double* data, py::ssize_t n, const char* name) {
-  for (py::ssize_t i = 0; i < n; ++i) {
-    if (!std::isfinite(data[i])) {
-      throw py::value_error(std::string("argument '") + name + "' must be finite; element " +
-                            std::to_string(i) + " is " + num(data[i]));
-    }
-  }
-}
-
 /// obj as a C-contiguous float64 array of shape (rows, cols), or (rows,)
-/// for cols < 0; rows < 0 takes any number of rows (any length). `finite` refuses NaN
-/// and Inf. The errors name `name` and the shape expected.
-inline py::array_t<double, py::array::c_style> real_rows(const py::handle& obj, const char* name, py::ssize_t rows,
+/// for cols < 0; rows < 0 takes any number of rows (real()).
+inline py::array_t<double, py::array::c_style> real_rows(const py::handle& obj, const Who& who, py::ssize_t rows,
                                                          py::ssize_t cols, bool finite = true) {
-  const std::string expected = shape_string(rows, cols);
-  auto a = real_array(obj, name, expected);
-  const bool ok = a.ndim() == (cols < 0 ? 1 : 2) && (rows < 0 || a.shape(0) == rows) &&
-                  (cols < 0 || a.shape(1) == cols);
-  if (!ok)
-    throw py::value_error(std::string("argument '") + name + "' must have shape " + expected + ", got " +
-                          shape_string(a));
-  if (finite) require_finite(a.data(), a.size(), name);
-  return a;
+  return cols < 0 ? real(obj, who, {rows}, finite) : real(obj, who, {rows, cols}, finite);
 }
 
 /// A vector of fixed length N.
 template <int N>
-Eigen::Matrix<double, N, 1> vector(const py::handle& obj, const char* name) {
-  return Eigen::Map<const Eigen::Matrix<double, N, 1>>(real_rows(obj, name, N, -1).data());
-}
-
-/// A vector of length N, or zero for None (an optional argument).
-template <int N>
-Eigen::Matrix<double, N, 1> vector_or_zero(const py::handle& obj, const char* name) {
-  if (obj.is_none()) return Eigen::Matrix<double, N, 1>::Zero();
-  return vector<N>(obj, name);
+Eigen::Matrix<double, N, 1> vector(const py::handle& obj, const Who& who, bool finite = true) {
+  return Eigen::Map<const Eigen::Matrix<double, N, 1>>(real(obj, who, {N}, finite).data());
 }
 
 /// The arguments of the plant's functions, checked in this order: eta, nu,
@@ -175,112 +196,73 @@ struct PlantArgs {
 };
 inline PlantArgs plant_args(const py::handle& eta, const py::handle& nu, const py::handle& tau,
                             const py::handle& current, bool tau_may_be_none = false) {
-  return {vector<6>(eta, "eta"), vector<6>(nu, "nu"),
-          tau_may_be_none ? vector_or_zero<6>(tau, "tau") : vector<6>(tau, "tau"),
-          vector_or_zero<3>(current, "current")};
-}
-
-/// A matrix of fixed size R x C.
-template <int R, int C>
-Eigen::Matrix<double, R, C> matrix(const py::handle& obj, const char* name) {
-  return Eigen::Map<const Eigen::Matrix<double, R, C, Eigen::RowMajor>>(real_rows(obj, name, R, C).data());
+  PlantArgs a{vector<6>(eta, "eta"), vector<6>(nu, "nu"), Eigen::Matrix<double, 6, 1>::Zero(),
+              Eigen::Matrix<double, 3, 1>::Zero()};
+  if (!(tau_may_be_none && tau.is_none())) a.tau = vector<6>(tau, "tau");
+  if (!current.is_none()) a.current = vector<3>(current, "current");
+  return a;
 }
 
 /// A square N x N matrix, or a length-N vector taken as its diagonal.
 template <int N>
-Eigen::Matrix<double, N, N> matrix_or_diagonal(const py::handle& obj, const char* name) {
-  const std::string expected = shape_string(N, N) + " or its diagonal " + shape_string(N, -1);
-  auto a = real_array(obj, name, expected);
-  if (a.ndim() == 1 && a.shape(0) == N) {
-    require_finite(a.data(), N, name);
-    return Eigen::Map<const Eigen::Matrix<double, N, 1>>(a.data()).asDiagonal();
-  }
-  if (a.ndim() == 2 && a.shape(0) == N && a.shape(1) == N) {
-    require_finite(a.data(), N * N, name);
-    return Eigen::Map<const Eigen::Matrix<double, N, N, Eigen::RowMajor>>(a.data());
-  }
-  throw py::value_error(std::string("argument '") + name + "' must have shape " + expected +
-                        ", got " + shape_string(a));
+Eigen::Matrix<double, N, N> matrix_or_diagonal(const py::handle& obj, const Who& who) {
+  const std::string expected = shape_string({N, N}) + " or its diagonal " + shape_string({N});
+  const auto a = real_array(obj, who, expected);
+  if (has_shape(a, {N})) return Eigen::Map<const Eigen::Matrix<double, N, 1>>(real(a, who, {N}, true, expected).data()).asDiagonal();
+  return Eigen::Map<const Eigen::Matrix<double, N, N, Eigen::RowMajor>>(real(a, who, {N, N}, true, expected).data());
 }
 
 /// A dynamic matrix; rows or cols < 0 mean "any".
-inline Eigen::MatrixXd dynamic_matrix(const py::handle& obj, const char* name, py::ssize_t rows,
-                                      py::ssize_t cols) {
-  const std::string expected = shape_string(rows, cols);
-  auto a = real_array(obj, name, expected);
-  if (a.ndim() != 2 || (rows >= 0 && a.shape(0) != rows) || (cols >= 0 && a.shape(1) != cols))
-    throw py::value_error(std::string("argument '") + name + "' must have shape " + expected +
-                          ", got " + shape_string(a));
-  require_finite(a.data(), a.size(), name);
+inline Eigen::MatrixXd dynamic_matrix(const py::handle& obj, const Who& who, py::ssize_t rows, py::ssize_t cols,
+                                      bool finite = true) {
+  const auto a = real(obj, who, {rows, cols}, finite);
   return Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
       a.data(), a.shape(0), a.shape(1));
 }
 
 /// A dynamic vector; n < 0 means any length.
-inline Eigen::VectorXd dynamic_vector(const py::handle& obj, const char* name, py::ssize_t n) {
-  const auto a = real_rows(obj, name, n, -1);
+inline Eigen::VectorXd dynamic_vector(const py::handle& obj, const Who& who, py::ssize_t n, bool finite = true) {
+  const auto a = real(obj, who, {n}, finite);
   return Eigen::Map<const Eigen::VectorXd>(a.data(), a.shape(0));
 }
 
-/// A finite real number (Python int or float; bool is refused).
-inline double scalar(const py::handle& obj, const char* name) {
+/// A real number (Python int or float, or anything with __float__ but a bool
+/// or an array of one or more dimensions), finite unless `finite` is false.
+inline double scalar(const py::handle& obj, const Who& who, bool finite = true) {
   // A numpy array has __float__ but only a 0-d one is a number.
-  if (py::isinstance<py::array>(obj) && py::reinterpret_borrow<py::array>(obj).ndim() != 0) {
-    throw py::type_error(std::string("argument '") + name +
-                         "' must be a real number, got an array of shape " +
+  if (py::isinstance<py::array>(obj) && py::reinterpret_borrow<py::array>(obj).ndim() != 0)
+    throw py::type_error(who.str() + " must be a real number, got an array of shape " +
                          shape_string(py::reinterpret_borrow<py::array>(obj)));
-  }
-  if (py::isinstance<py::bool_>(obj) ||
-      !(py::isinstance<py::float_>(obj) || py::isinstance<py::int_>(obj) ||
-        py::hasattr(obj, "__float__"))) {
-    throw py::type_error(std::string("argument '") + name + "' must be a real number, got " +
-                         type_name(obj));
-  }
+  if (py::isinstance<py::bool_>(obj) || !py::hasattr(obj, "__float__"))
+    throw py::type_error(who.str() + " must be a real number, got " + type_name(obj));
   const double v = obj.cast<double>();
-  if (!std::isfinite(v))
-    throw py::value_error(std::string("argument '") + name + "' must be finite, got " +
-                          num(v));
+  if (finite && !std::isfinite(v)) throw py::value_error(who.str() + " must be finite, got " + num(v));
   return v;
 }
 
 /// A string from a fixed set of choices (TypeError or ValueError naming it).
-inline std::string choice(const py::handle& obj, const char* name,
-                          std::initializer_list<const char*> choices) {
+inline std::string choice(const py::handle& obj, const Who& who, std::initializer_list<const char*> choices) {
   std::string allowed;
   for (const char* c : choices) allowed += (allowed.empty() ? "'" : ", '") + std::string(c) + "'";
   if (!py::isinstance<py::str>(obj))
-    throw py::type_error(std::string("argument '") + name + "' must be a str, one of " + allowed +
-                         "; got " + type_name(obj));
+    throw py::type_error(who.str() + " must be a str, one of " + allowed + "; got " + type_name(obj));
   const auto s = obj.cast<std::string>();
   for (const char* c : choices)
     if (s == c) return s;
-  throw py::value_error(std::string("argument '") + name + "' must be one of " + allowed +
-                        ", got '" + s + "'");
-}
-
-/// A finite number > 0.
-inline double positive(const py::handle& obj, const char* name) {
-  const double v = scalar(obj, name);
-  if (!(v > 0.0))
-    throw py::value_error(std::string("argument '") + name + "' must be > 0, got " +
-                          num(v));
-  return v;
+  throw py::value_error(who.str() + " must be one of " + allowed + ", got '" + s + "'");
 }
 
 /// A time step of an integrator: finite, > 0 and <= neurov::kMaxStep.
-inline double step(const py::handle& obj, const char* name) {
-  const double v = scalar(obj, name);
-  if (detail::check_step(name, v))
-    throw py::value_error(std::string("argument '") + name + "' must be > 0 and <= " +
-                          num(kMaxStep) + " s (the longest step neurov integrates, " +
-                          "docs/reliability.md), got " + num(v));
+inline double step(const py::handle& obj, const Who& who) {
+  const double v = scalar(obj, who);
+  if (detail::check_step(who.name, v))
+    throw py::value_error(who.str() + " must be > 0 and <= " + num(kMaxStep) +
+                          " s (the longest step neurov integrates, docs/reliability.md), got " + num(v));
   return v;
 }
 
 /// Raises neurov._core.ValidationError (a ValueError carrying the field and
 /// index) for a failed validation.
-inline void raise_if_invalid(const ValidationError& e, const char* what) {
-  bindings::raise_validation_error(e, what);
-}
+inline void raise_if_invalid(const ValidationError& e, const char* what) { bindings::raise_validation_error(e, what); }
 
 }  // namespace neurov::py_args

@@ -36,24 +36,23 @@ namespace names {
 using py::detail::const_name;
 using py::detail::make_caster;
 
-struct ArrayLike {
-  static constexpr auto name = const_name("numpy.typing.ArrayLike");
+/// A type named by its text (a char array of static storage).
+template <const auto& Text>
+struct Named {
+  static constexpr auto name = const_name(Text);
 };
-struct Real {
-  static constexpr auto name = const_name("typing.SupportsFloat");
-};
-struct Index {
-  static constexpr auto name = const_name("typing.SupportsIndex");
-};
-struct Bool {
-  static constexpr auto name = const_name("bool");
-};
-struct Str {
-  static constexpr auto name = const_name("str");
-};
-struct RealOrArrayLike {
-  static constexpr auto name = const_name("typing.SupportsFloat | numpy.typing.ArrayLike");
-};
+inline constexpr char array_like[] = "numpy.typing.ArrayLike";
+inline constexpr char real[] = "typing.SupportsFloat";
+inline constexpr char index[] = "typing.SupportsIndex";
+inline constexpr char boolean[] = "bool";
+inline constexpr char str[] = "str";
+inline constexpr char real_or_array_like[] = "typing.SupportsFloat | numpy.typing.ArrayLike";
+using RealOrArrayLike = Named<real_or_array_like>;
+/// A TypedDict that tools/generate_stubs.py writes into the stub (pybind11
+/// cannot declare one).
+inline constexpr char simulation_result[] = "_SimulationResult";
+inline constexpr char arrays[] = "dict[str, numpy.typing.NDArray[numpy.float64]]";
+inline constexpr char any_values[] = "dict[str, typing.Any]";
 /// A bound class or enum (its registered Python name).
 template <typename T>
 struct Of {
@@ -73,26 +72,15 @@ template <typename E>
 struct EnumOrStr {
   static constexpr auto name = make_caster<E>::name + const_name(" | str");
 };
-/// A TypedDict that tools/generate_stubs.py writes into the stub (pybind11
-/// cannot declare one).
-struct SimulationResult {
-  static constexpr auto name = const_name("_SimulationResult");
-};
-struct Arrays {
-  static constexpr auto name = const_name("dict[str, numpy.typing.NDArray[numpy.float64]]");
-};
-struct AnyValues {
-  static constexpr auto name = const_name("dict[str, typing.Any]");
-};
 }  // namespace names
 
-using ArrayLike = Arg<names::ArrayLike>;
-using OptionalArrayLike = Arg<names::OrNone<names::ArrayLike>>;
-using Real = Arg<names::Real>;
-using Index = Arg<names::Index>;
-using OptionalIndex = Arg<names::OrNone<names::Index>>;
-using Bool = Arg<names::Bool>;
-using Str = Arg<names::Str>;
+using ArrayLike = Arg<names::Named<names::array_like>>;
+using OptionalArrayLike = Arg<names::OrNone<names::Named<names::array_like>>>;
+using Real = Arg<names::Named<names::real>>;
+using Index = Arg<names::Named<names::index>>;
+using OptionalIndex = Arg<names::OrNone<names::Named<names::index>>>;
+using Bool = Arg<names::Named<names::boolean>>;
+using Str = Arg<names::Named<names::str>>;
 using RealOrArrayLike = Arg<names::RealOrArrayLike>;
 template <typename T>
 using Of = Arg<names::Of<T>>;
@@ -104,11 +92,11 @@ template <typename E>
 using EnumOrStr = Arg<names::EnumOrStr<E>>;
 
 /// What run_closed_loop, Simulator.result and drain return.
-using SimulationResultDict = Dict<names::SimulationResult>;
+using SimulationResultDict = Dict<names::Named<names::simulation_result>>;
 /// A dict of float64 arrays (a tracking error, a controller's snapshot).
-using ArraysDict = Dict<names::Arrays>;
+using ArraysDict = Dict<names::Named<names::arrays>>;
 /// A dict of mixed values (a vehicle's parameters).
-using AnyDict = Dict<names::AnyValues>;
+using AnyDict = Dict<names::Named<names::any_values>>;
 
 }  // namespace neurov::typed
 

@@ -79,16 +79,11 @@ void bind_kinematics(py::module_& m) {
   m.def(
       "to_body",
       [](const typed::ArrayLike& eta_in, const typed::ArrayLike& vectors_in) {
-        const auto eta = py_args::real_array(eta_in, "eta", "(K, 6)");
-        const auto v = py_args::real_array(vectors_in, "vectors", "(K, M, 6)");
-        if (eta.ndim() != 2 || eta.shape(1) != 6)
-          throw py::value_error("argument 'eta' must have shape (K, 6), got " +
-                                py_args::shape_string(eta));
-        if (v.ndim() != 3 || v.shape(0) != eta.shape(0) || v.shape(2) != 6)
-          throw py::value_error("argument 'vectors' must have shape (" +
-                                std::to_string(eta.shape(0)) + ", M, 6), got " +
-                                py_args::shape_string(v));
-        const py::ssize_t k_runs = v.shape(0), m_vectors = v.shape(1);
+        const auto eta = py_args::real(eta_in, "eta", {-1, 6}, false, "(K, 6)");
+        const py::ssize_t k_runs = eta.shape(0);
+        const auto v = py_args::real(vectors_in, "vectors", {k_runs, -1, 6}, false,
+                                     "(" + std::to_string(k_runs) + ", M, 6)");
+        const py::ssize_t m_vectors = v.shape(1);
         py::array_t<double> out({k_runs, m_vectors, py::ssize_t{6}});
         const double* e = eta.data();
         const double* in = v.data();

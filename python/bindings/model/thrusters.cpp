@@ -51,7 +51,7 @@ struct FieldForm<std::array<double, kThrusterCurveCapacity>> {
           return a;
         },
         [](T& c, const typed::ArrayLike& v, const std::string& qualified) {
-          const auto t = py_args::dynamic_matrix(v, qualified.c_str(), -1, 2);
+          const auto t = py_args::dynamic_matrix(v, py_args::field(qualified), -1, 2);
           if (t.rows() > kThrusterCurveCapacity)
             throw py::value_error(qualified + " must have at most " +
                                   std::to_string(kThrusterCurveCapacity) + " rows, got " +
