@@ -12,24 +12,13 @@
 
 #include "neurov/model/vehicle.hpp"
 #include "neurov/sim/tracking_lanes.hpp"
+#include "noisy_run.hpp"
 
 namespace {
 
 using namespace neurov;
+using neurov_test::noisy_run;
 
-/// A short run with noise: lanes differ by their seed.
-SimulationConfig<double> noisy_run(std::uint64_t seed) {
-  SimulationConfig<double> c;
-  c.duration = 2.0;
-  c.command.times.resize(2);
-  c.command.times << 0, 2;
-  c.command.poses.setZero(2, 6);
-  c.command.poses.row(1) << 1, 0, 0.5, 0, 0, 0.3;
-  c.noise_eta.setConstant(0.01);
-  c.noise_nu.setConstant(0.005);
-  c.seed = seed;
-  return c;
-}
 
 /// What a step of K lanes writes, with the readout pointing at it.
 struct Outcome {

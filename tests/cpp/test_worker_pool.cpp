@@ -20,6 +20,7 @@
 #include "neurov/neurov.hpp"
 #include "neurov/sim/batch.hpp"
 #include "neurov/sim/worker_pool.hpp"
+#include "noisy_run.hpp"
 
 namespace {
 
@@ -97,13 +98,7 @@ TEST(WorkerPool, AForkedChildIsRefusedAndLeavesWithoutHanging) {
 #endif
 
 TEST(WorkerPool, ABatchSteppedThroughItIsStep) {
-  SimulationConfig<double> c;
-  c.duration = 2.0;
-  c.command.times.resize(2);
-  c.command.times << 0, 2;
-  c.command.poses.setZero(2, 6);
-  c.command.poses.row(1) << 1, 0, 0.5, 0, 0, 0.3;
-  c.noise_eta.setConstant(0.01);
+  const SimulationConfig<double> c = neurov_test::noisy_run(0, 0.0);
   // Two shares (a third of a block in the second).
   const std::size_t lanes = 2 * kMinLanesPerThread + 16;
   std::vector<Vehicle<double>> vehicles(lanes, Vehicle<double>(nerov_parameters<double>()));
