@@ -59,8 +59,7 @@ struct FieldForm<VehicleParameters<double>> {
         },
         [member](T& c, const Argument& v, const std::string& qualified) {
           if (!py::isinstance<Vehicle<double>>(v))
-            throw py::type_error(qualified + " must be a Vehicle, got " +
-                                 std::string(py::str(py::type::handle_of(v))));
+            throw py::type_error(qualified + " must be a Vehicle, got " + py_args::type_name(v));
           c.*member = v.cast<const Vehicle<double>&>().parameters();
         },
         doc);

@@ -110,7 +110,7 @@ py::array_t<double> rk4_segments(const Vehicle<double>& v, const py::handle& eta
   const py::array steps_any = py::array::ensure(steps_in);
   if (!steps_any || steps_any.ndim() != 1 || (steps_any.dtype().kind() != 'i' && steps_any.dtype().kind() != 'u'))
     throw py::type_error(std::string(where) + ": argument 'steps' must be a 1-d integer array (intervals per "
-                         "segment), got " + std::string(py::str(py::type::handle_of(steps_in).attr("__name__"))));
+                         "segment), got " + py_args::type_name(steps_in));
   const auto steps = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(steps_any);
   const py::ssize_t segments = steps.shape(0);
   py::ssize_t intervals = 0;
